@@ -1,0 +1,43 @@
+// Reading and writing Wavefront OBJ with OpenSubdiv's tags (the format of its regression shapes):
+//   t crease 2/1/0 A B S          edge A-B (0-based) has sharpness S
+//   t corner 1/1/0 V S            vertex V has corner sharpness S
+//   t interpolateboundary 1/0/0 M RenderMan numbering: 1 edges and corners, 2 edges only (0 is refused)
+//   t creasemethod 0/0/1 chaikin  Chaikin decay of semi-sharp creases (or "uniform")
+//   t cone 1/0/0 V                vertex V is a cone (Hoppe94 rules)
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+
+namespace loopsub::obj {
+
+struct ObjMesh {
+    std::vector<float> positions;         // 3 per vertex
+    std::vector<float> uvs;               // 2 per `vt`
+    std::vector<std::int32_t> triangles;  // 3 per triangle, 0-based vertex indices
+    std::vector<std::int32_t> triangle_uvs;  // 3 per triangle, 0-based `vt` indices; empty when the faces have none
+    std::vector<std::int32_t> crease_edges;  // pairs
+    std::vector<float> crease_sharpness;
+    std::vector<std::int32_t> corner_vertices;
+    std::vector<float> corner_sharpness;
+    std::vector<std::int32_t> cone_vertices;
+    std::optional<Boundary> boundary;          // from `t interpolateboundary`
+    std::optional<CreaseMethod> crease_method;  // from `t creasemethod`
+    int polygons_triangulated = 0;  // faces with more than three corners, split as fans
+
+    int num_vertices() const { return int(positions.size() / 3); }
+    int num_triangles() const { return int(triangles.size() / 3); }
+    MeshView view() const;  // points into this mesh: valid while it lives
+};
+
+// Throws InputError naming the file and line for anything it cannot read.
+ObjMesh read_obj(const std::string& path);
+ObjMesh parse_obj(const std::string& text, const std::string& name = "<string>");
+
+// Writes v, vt (if any), f and the crease / corner / cone tags.
+void write_obj(const std::string& path, const ObjMesh& mesh);
+
+}  // namespace loopsub::obj

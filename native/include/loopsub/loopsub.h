@@ -1,0 +1,178 @@
+// Loop subdivision of triangle meshes with creases.
+//
+// Two rule sets, chosen at run time:
+//   * Rules::Hoppe94    - the GDC'99 seed's rules (after Hoppe et al. 94): smooth, dart, crease (regular and
+//                         irregular), corner and cone vertices; edge masks {3,3,1,1}, {5,3,0,0}, {1,1,0,0}.
+//   * Rules::OpenSubdiv - OpenSubdiv's Sdc::SCHEME_LOOP: semi-sharp creases, vertex sharpness, Chaikin creasing,
+//                         both boundary modes, non-manifold topology made sharp.
+//
+// Usage is two-phase, as in OpenSubdiv's Far: a Plan holds all topology work (edges, classification, child
+// connectivity, stencil weights) and is built once per mesh; Plan::evaluate() then refines vertex data (positions
+// and any other per-vertex channels) and is the only work done per frame.
+//
+// Output order follows the seed (slides 28-29): at every level the old vertices keep their indices, then one new
+// vertex per edge of that level, in the order of Plan::level_edges(). Child triangle 4f+k has parent f; the
+// three corner children come first, in the parent's corner order, and the middle triangle last.
+//
+// All input errors throw loopsub::InputError (never crash, never return garbage).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace loopsub {
+
+// Invalid input: the message says what and where (index, value).
+class InputError : public std::invalid_argument {
+public:
+    using std::invalid_argument::invalid_argument;
+};
+
+// The requested refinement would need more memory than Options::memory_limit_bytes allows.
+class MemoryLimitError : public std::runtime_error {
+public:
+    MemoryLimitError(const std::string& what, std::uint64_t required_bytes)
+        : std::runtime_error(what), required_bytes(required_bytes) {}
+    std::uint64_t required_bytes;
+};
+
+enum class Rules { Hoppe94, OpenSubdiv };
+
+// How a boundary vertex with a single incident face is treated (OpenSubdiv's Sdc::Options::VtxBoundaryInterpolation).
+enum class Boundary {
+    EdgesOnly,       // VTX_BOUNDARY_EDGE_ONLY: Blender's "Boundary Smooth: All"
+    EdgesAndCorners  // VTX_BOUNDARY_EDGE_AND_CORNER: Blender's "Keep Corners"
+};
+
+enum class CreaseMethod { Uniform, Chaikin };  // OpenSubdiv only: how semi-sharp sharpness decays per level
+
+// Which evaluation kernels run. Auto picks the widest the CPU supports; Scalar is the reference path.
+enum class Kernel { Auto, Scalar, SSE41, AVX2 };
+
+inline constexpr float kInfiniteSharpness = 10.0f;  // Sdc::Crease::SHARPNESS_INFINITE
+
+struct Options {
+    Rules rules = Rules::Hoppe94;
+    int levels = 1;
+    // Hoppe94: an edge is a crease when its sharpness is > 0 and >= crease_threshold (0: any positive sharpness).
+    float crease_threshold = 0.0f;
+    Boundary boundary = Boundary::EdgesOnly;
+    CreaseMethod crease_method = CreaseMethod::Uniform;
+    Kernel kernel = Kernel::Auto;
+    int threads = 1;  // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores)
+    // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
+    std::uint64_t memory_limit_bytes = std::uint64_t(4) << 30;
+};
+
+// A triangle mesh with crease tags. Plain arrays, not owned; only read while building a Plan.
+struct MeshView {
+    int num_vertices = 0;
+    const std::int32_t* triangles = nullptr;  // 3 * num_triangles vertex indices, counter-clockwise
+    int num_triangles = 0;
+
+    const std::int32_t* crease_edges = nullptr;  // 2 * num_crease_edges vertex indices (edge a-b, either order)
+    const float* crease_sharpness = nullptr;     // num_crease_edges values >= 0 (kInfiniteSharpness = sharp)
+    int num_crease_edges = 0;
+
+    const std::int32_t* corner_vertices = nullptr;  // num_corners vertex indices
+    const float* corner_sharpness = nullptr;        // num_corners values >= 0 (Hoppe94: > 0 makes a corner)
+    int num_corners = 0;
+
+    const std::int32_t* cone_vertices = nullptr;  // Hoppe94 only: vertices tagged as cones
+    int num_cones = 0;
+};
+
+// Vertex classes of RULES.md section 1 (Hoppe94) and Sdc::Crease::Rule (OpenSubdiv: smooth, dart, crease, corner).
+enum class VertexType : std::uint8_t { Smooth = 0, Dart = 1, RegularCrease = 2, IrregularCrease = 3, Corner = 4, Cone = 5 };
+
+// A view of per-vertex float data: value of channel c at vertex i is data[c * channel_stride + i * element_stride].
+// Interleaved (n x C, row-major): channel_stride = 1, element_stride = C. Planar (C x n): channel_stride = n,
+// element_stride = 1.
+template <typename Float>
+struct ChannelsView {
+    Float* data = nullptr;
+    int num_channels = 0;
+    std::size_t channel_stride = 1;
+    std::size_t element_stride = 1;
+};
+
+inline ChannelsView<const float> interleaved(const float* data, int num_channels) {
+    return {data, num_channels, 1, std::size_t(num_channels)};
+}
+inline ChannelsView<float> interleaved(float* data, int num_channels) {
+    return {data, num_channels, 1, std::size_t(num_channels)};
+}
+
+struct PlanImpl;
+
+class Plan {
+public:
+    // Validates the mesh and tags (InputError), checks the memory estimate (MemoryLimitError), and does all the
+    // topology work for options.levels levels.
+    Plan(const MeshView& mesh, const Options& options);
+    ~Plan();
+    Plan(Plan&&) noexcept;
+    Plan& operator=(Plan&&) noexcept;
+    Plan(const Plan&) = delete;
+    Plan& operator=(const Plan&) = delete;
+
+    const Options& options() const;
+    int levels() const;
+
+    int num_input_vertices() const;
+    int num_output_vertices() const;
+    int num_output_triangles() const;
+
+    // Output connectivity: 3 * num_output_triangles() indices, winding kept.
+    const std::int32_t* output_triangles() const;
+    // For each output triangle, the input triangle it came from.
+    const std::int32_t* output_parent_triangles() const;
+
+    // Crease tags of the output mesh, so that it can be fed back in: edges with positive sharpness (OpenSubdiv:
+    // decremented per level; Hoppe94: the input value carried over) and vertices with positive corner sharpness.
+    const std::vector<std::int32_t>& output_crease_edges() const;  // pairs
+    const std::vector<float>& output_crease_sharpness() const;
+    const std::vector<std::int32_t>& output_corner_vertices() const;
+    const std::vector<float>& output_corner_sharpness() const;
+
+    // Edges of level L (0 <= L < levels()), as vertex pairs: edge k of level L becomes vertex
+    // (number of level-L vertices + k) of level L+1.
+    const std::vector<std::int32_t>& level_edges(int level) const;
+    int level_num_vertices(int level) const;  // 0 <= level <= levels()
+    // Class of each vertex of level L under the chosen rules (what the repositioning at level L used).
+    const std::vector<VertexType>& level_vertex_types(int level) const;
+
+    // Refines per-vertex data: in has num_input_vertices() elements, out num_output_vertices(), both with the same
+    // channel count. Throws InputError on a non-finite input value. Not reentrant: the plan owns scratch buffers.
+    void evaluate(ChannelsView<const float> in, ChannelsView<float> out);
+
+    // Refines face-varying data (UVs): in holds num_channels floats per corner of each input triangle
+    // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face.
+    void evaluate_face_varying(const float* in, float* out, int num_channels) const;
+
+    // The kernel the plan actually uses (Auto resolved against the CPU).
+    Kernel kernel() const;
+
+    // Milliseconds spent in the constructor (topology) and in the last evaluate() call.
+    double topology_ms() const;
+    double last_evaluate_ms() const;
+
+    // Bytes the plan and one evaluation of C channels would hold for a given input: what the memory check uses.
+    static std::uint64_t estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels);
+
+private:
+    std::unique_ptr<PlanImpl> impl_;
+};
+
+const char* kernel_name(Kernel kernel);
+Kernel best_kernel();  // the widest kernel this CPU runs
+
+// The seed's coefficient constants (RULES.md section 1), exposed so that tests can check the seed's worked example.
+double loop_b(int valence);  // (3 + 2 cos(2 pi / n)) / 8
+double loop_a(int valence);  // 5/8 - b(n)^2
+
+}  // namespace loopsub

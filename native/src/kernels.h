@@ -1,0 +1,31 @@
+// Per-frame evaluation kernels: one level of refinement of a range of vertex points and edge points.
+// Each instruction set has its own file with the scalar twin as the reference (kernels_scalar.cpp).
+#pragma once
+
+#include <cstddef>
+
+#include "loopsub/loopsub.h"
+#include "stencils.h"
+
+namespace loopsub::detail {
+
+struct Range {
+    int begin = 0;
+    int end = 0;
+};
+
+// Computes, for every channel, output vertex points [vertices.begin, vertices.end) and output edge points
+// num_vertices + [edges.begin, edges.end), special masks included. Ranges of different calls may run on
+// different threads at once: a call writes only its own outputs.
+using RefineFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
+                          Range vertices, Range edges);
+
+void refine_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+void refine_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+void refine_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+
+// The function for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
+Kernel resolve_kernel(Kernel requested);
+RefineFn refine_function(Kernel resolved);
+
+}  // namespace loopsub::detail

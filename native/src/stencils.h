@@ -1,0 +1,51 @@
+// The per-level stencil tables: the only thing the per-frame kernels read besides the vertex data.
+//
+// Every Loop mask in both rule sets has the same shape, which keeps the kernels branch-free:
+//   vertex point  v' = w_self * v + w_ring * (sum of the one-ring) + w_crease * (p + q)
+//   edge point    e' = wa * A + wb * B + wcd * (C + D)
+// (smooth, dart, crease, corner and cone masks, the {5,3} and {1,1} edge masks, and OpenSubdiv's blends of two
+// of them are all of this form). Most vertices and edges are smooth, so a kernel first applies the smooth mask
+// to every vertex and edge of its range (weights by valence from a small table) and then overwrites the few
+// special ones from short sorted lists.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace loopsub::detail {
+
+struct SpecialVertex {
+    std::int32_t vertex;
+    std::int32_t crease_a, crease_b;  // the two crease neighbours (any valid index when w_crease == 0)
+    float w_self, w_ring, w_crease;
+};
+
+struct SpecialEdge {
+    std::int32_t edge;
+    float wa, wb, wcd;
+};
+
+struct LevelStencils {
+    int num_vertices = 0;  // of this level; output vertex i < num_vertices is vertex i repositioned
+    int num_edges = 0;     // output vertex num_vertices + e is edge e bisected
+
+    // One-rings in CSR form: neighbours of vertex i are ring[ring_offsets[i] .. ring_offsets[i + 1]).
+    std::vector<std::int32_t> ring_offsets;
+    std::vector<std::int32_t> ring;
+    // Smooth mask by valence n: w_self = smooth_self[n], w_ring = smooth_ring[n] (n = 0: copy the vertex).
+    std::vector<float> smooth_self;
+    std::vector<float> smooth_ring;
+    std::vector<SpecialVertex> special_vertices;  // sorted by vertex
+
+    // Edge points, one array per role (structure of arrays): the endpoints A, B and the opposite vertices C, D
+    // of the edge's first two faces. Where a face is missing, C / D repeat A / B (the edge is then special,
+    // with wcd == 0, so the smooth pass's value is overwritten).
+    std::vector<std::int32_t> edge_a, edge_b, edge_c, edge_d;
+    std::vector<SpecialEdge> special_edges;  // sorted by edge
+};
+
+// Smooth edge mask {3, 3, 1, 1} / 8.
+inline constexpr float kSmoothEdgeEndWeight = 0.375f;
+inline constexpr float kSmoothEdgeWingWeight = 0.125f;
+
+}  // namespace loopsub::detail
