@@ -1,0 +1,350 @@
+// The OBJ reader and writer of the CLI: statement forms, OpenSubdiv's tags, fan triangulation, errors that name
+// the file and line, and an exact write -> read round trip.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "obj_io.h"
+
+namespace {
+
+using loopsub::obj::ObjMesh;
+using loopsub::obj::parse_obj;
+using Indices = std::vector<std::int32_t>;
+using Floats = std::vector<float>;
+
+constexpr const char* kFourVertices =
+    "v 0 0 0\n"
+    "v 1 0 0\n"
+    "v 1 1 0\n"
+    "v 0 1 0\n";
+
+// The message of the InputError that parsing `text` (named "bad.obj") throws; a test failure when none is thrown.
+std::string parse_error(const std::string& text) {
+    try {
+        parse_obj(text, "bad.obj");
+    } catch (const loopsub::InputError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text;
+    return "";
+}
+
+void expect_error(const std::string& text, int line, const std::string& fragment) {
+    std::string message = parse_error(text);
+    std::string location = "bad.obj:" + std::to_string(line) + ": ";
+    EXPECT_EQ(message.rfind(location, 0), 0u) << "expected the message to start with '" << location << "': " << message;
+    EXPECT_NE(message.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << message;
+}
+
+std::string temp_path(const std::string& name) { return ::testing::TempDir() + "loopsub_test_obj_io_" + name; }
+
+TEST(ObjRead, VerticesUvsAndEveryFaceForm) {
+    ObjMesh mesh = parse_obj(std::string(kFourVertices) +
+                             "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                             "vn 0 0 1\n"
+                             "f 1/1 2/2 3/3\n"
+                             "f 1/1/1 3/3/1 4/4/1\n"
+                             "f -4/-4/1 -2/-2/1 -1/-1/1\n");
+    EXPECT_EQ(mesh.num_vertices(), 4);
+    EXPECT_EQ(mesh.positions, (Floats{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}));
+    EXPECT_EQ(mesh.uvs, (Floats{0, 0, 1, 0, 1, 1, 0, 1}));
+    EXPECT_EQ(mesh.triangles, (Indices{0, 1, 2, 0, 2, 3, 0, 2, 3}));
+    EXPECT_EQ(mesh.triangle_uvs, (Indices{0, 1, 2, 0, 2, 3, 0, 2, 3}));
+    EXPECT_EQ(mesh.polygons_triangulated, 0);
+
+    ObjMesh plain = parse_obj(std::string(kFourVertices) + "vn 0 0 1\nf 1 2 3\nf 1//1 3//1 4//1\nf -4 -2 -1\n");
+    EXPECT_EQ(plain.triangles, (Indices{0, 1, 2, 0, 2, 3, 0, 2, 3}));
+    EXPECT_TRUE(plain.triangle_uvs.empty()) << "v//vn names no texture coordinate";
+}
+
+TEST(ObjRead, NegativeIndicesCountBackFromTheVerticesDefinedSoFar) {
+    ObjMesh mesh = parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 1 1 0\nf -3 -1 -2\n");
+    EXPECT_EQ(mesh.triangles, (Indices{0, 1, 2, 1, 3, 2}));
+}
+
+TEST(ObjRead, IgnoresNormalsGroupsMaterialsCommentsAndCarriageReturns) {
+    ObjMesh mesh = parse_obj(
+        "# a comment\r\n"
+        "mtllib scene.mtl\r\n"
+        "o thing\r\n"
+        "g group\r\n"
+        "\r\n"
+        "   \t\r\n"
+        "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\n"
+        "vn 0 0 1\r\n"
+        "s off\r\n"
+        "usemtl red\r\n"
+        "f 1 2 3\r\n");
+    EXPECT_EQ(mesh.num_vertices(), 3);
+    EXPECT_EQ(mesh.triangles, (Indices{0, 1, 2}));
+}
+
+TEST(ObjRead, NumberForms) {
+    // A leading '+', exponents, a homogeneous w and the "v x y z r g b" colour extension.
+    ObjMesh mesh = parse_obj("v +1.5 -2e-3 3E2\nv 1 2 3 1\nv 1 2 3 0.5 0.5 0.5\nvt 0.25\nvt 0.5 0.75 0\n");
+    EXPECT_EQ(mesh.positions, (Floats{1.5f, -2e-3f, 300.0f, 1, 2, 3, 1, 2, 3}));
+    EXPECT_EQ(mesh.uvs, (Floats{0.25f, 0.0f, 0.5f, 0.75f}));
+}
+
+TEST(ObjRead, PolygonsAreTriangulatedAsFansAndCounted) {
+    ObjMesh mesh = parse_obj(std::string(kFourVertices) +
+                             "v 0.5 2 0\n"
+                             "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 1\n"
+                             "f 1/1 2/2 3/3 4/4\n"
+                             "f 1/1 2/2 3/3\n"
+                             "f 1/1 2/2 3/3 5/5 4/4\n");
+    EXPECT_EQ(mesh.polygons_triangulated, 2);
+    EXPECT_EQ(mesh.triangles, (Indices{0, 1, 2, 0, 2, 3,  //
+                                       0, 1, 2,           //
+                                       0, 1, 2, 0, 2, 4, 0, 4, 3}));
+    EXPECT_EQ(mesh.triangle_uvs, mesh.triangles) << "each fan corner keeps its own texture index";
+}
+
+TEST(ObjRead, CreaseTags) {
+    ObjMesh mesh = parse_obj(std::string(kFourVertices) +
+                             "f 1 2 3\nf 1 3 4\n"
+                             "t crease 2/1/0 0 1 2.8\n"
+                             "t crease 2/1/0  1  2   10\n"
+                             "t crease 4/1/0 2 3 3 0 0.5\n"
+                             "t crease 4/2/0 0 2 3 0 1.5 2.5\n");
+    EXPECT_EQ(mesh.crease_edges, (Indices{0, 1, 1, 2, 2, 3, 3, 0, 0, 2, 3, 0}));
+    EXPECT_EQ(mesh.crease_sharpness, (Floats{2.8f, 10.0f, 0.5f, 0.5f, 1.5f, 2.5f}));
+    loopsub::MeshView view = mesh.view();
+    EXPECT_EQ(view.num_crease_edges, 6);
+    EXPECT_EQ(view.crease_edges, mesh.crease_edges.data());
+    EXPECT_EQ(view.crease_sharpness, mesh.crease_sharpness.data());
+}
+
+TEST(ObjRead, CornerAndConeTags) {
+    ObjMesh mesh = parse_obj(std::string(kFourVertices) +
+                             "f 1 2 3\nf 1 3 4\n"
+                             "t corner 1/1/0   2   2.5\n"
+                             "t corner 2/1/0 0 1 10\n"
+                             "t corner 2/2/0 3 2 1 4\n"
+                             "t cone 1/0/0 3\n"
+                             "t cone 2/0/0 0 1\n");
+    EXPECT_EQ(mesh.corner_vertices, (Indices{2, 0, 1, 3, 2}));
+    EXPECT_EQ(mesh.corner_sharpness, (Floats{2.5f, 10.0f, 10.0f, 1.0f, 4.0f}));
+    EXPECT_EQ(mesh.cone_vertices, (Indices{3, 0, 1}));
+    loopsub::MeshView view = mesh.view();
+    EXPECT_EQ(view.num_vertices, 4);
+    EXPECT_EQ(view.num_triangles, 2);
+    EXPECT_EQ(view.num_corners, 5);
+    EXPECT_EQ(view.num_cones, 3);
+    EXPECT_EQ(view.cone_vertices, mesh.cone_vertices.data());
+}
+
+TEST(ObjRead, TagsMayComeBeforeTheVerticesTheyName) {
+    ObjMesh mesh = parse_obj("t corner 1/1/0 2 1\nt crease 2/1/0 0 1 3\n" + std::string(kFourVertices) + "f 1 2 3\n");
+    EXPECT_EQ(mesh.corner_vertices, (Indices{2}));
+    EXPECT_EQ(mesh.crease_edges, (Indices{0, 1}));
+}
+
+TEST(ObjRead, InterpolateBoundaryUsesRenderMansNumbering) {
+    EXPECT_FALSE(parse_obj(kFourVertices).boundary.has_value());
+    EXPECT_EQ(parse_obj("t interpolateboundary 1/0/0 1\n").boundary, loopsub::Boundary::EdgesAndCorners);
+    EXPECT_EQ(parse_obj("t interpolateboundary 1/0/0 2\n").boundary, loopsub::Boundary::EdgesOnly);
+    expect_error("\nt interpolateboundary 1/0/0 0\n", 2, "not supported");
+    expect_error("t interpolateboundary 1/0/0 3\n", 1, "unknown");
+}
+
+TEST(ObjRead, CreaseMethod) {
+    EXPECT_FALSE(parse_obj(kFourVertices).crease_method.has_value());
+    EXPECT_EQ(parse_obj("t creasemethod 0/0/1 chaikin\n").crease_method, loopsub::CreaseMethod::Chaikin);
+    // OpenSubdiv's shapes (loop_chaikin0) name the uniform method "normal".
+    EXPECT_EQ(parse_obj("t creasemethod 0/0/1 normal\n").crease_method, loopsub::CreaseMethod::Uniform);
+    EXPECT_EQ(parse_obj("t creasemethod 0/0/1 uniform\n").crease_method, loopsub::CreaseMethod::Uniform);
+    expect_error("t creasemethod 0/0/1 wobbly\n", 1, "wobbly");
+}
+
+TEST(ObjRead, EmptyText) {
+    ObjMesh mesh = parse_obj("");
+    EXPECT_EQ(mesh.num_vertices(), 0);
+    EXPECT_EQ(mesh.num_triangles(), 0);
+}
+
+TEST(ObjReadErrors, FaceIndicesOutOfRange) {
+    std::string mesh = kFourVertices;  // lines 1-4
+    expect_error(mesh + "f 1 2 5\n", 5, "vertex index 5 is out of range");
+    expect_error(mesh + "f 1 2 0\n", 5, "start at 1");
+    expect_error(mesh + "f 1 2 -5\n", 5, "vertex index -5 is out of range");
+    expect_error(mesh + "vt 0 0\nf 1/1 2/2 3/2\n", 6, "texture index 2 is out of range");
+    expect_error(mesh + "f 1 2 99999999999999999999\n", 5, "vertex index");
+}
+
+TEST(ObjReadErrors, MalformedStatements) {
+    std::string mesh = kFourVertices;
+    expect_error("v 1 2\n", 1, "missing coordinate");
+    expect_error("v 1 2 x3\n", 1, "x3");
+    expect_error("v 1 2 3 4 oops\n", 1, "oops");
+    expect_error("\nvt\n", 2, "missing texture coordinate");
+    expect_error("vt 0 0 0 7\n", 1, "unexpected '7'");
+    expect_error(mesh + "f 1 2\n", 5, "at least 3 corners");
+    expect_error(mesh + "f 1 2 3a\n", 5, "3a");
+    expect_error(mesh + "f 1 2 /3\n", 5, "vertex index");
+    expect_error("vt 0 0\n" + mesh + "f 1/1 2 3/1\n", 6, "some corners");
+    expect_error("vt 0 0\n" + mesh + "f 1/1 2/1 3/1\nf 1 3 4\n", 7, "earlier faces have them");
+    expect_error("vt 0 0\n" + mesh + "f 1 2 3\nf 1/1 3/1 4/1\n", 7, "earlier faces have none");
+    expect_error(mesh + "l 1 2\n", 5, "unsupported OBJ statement 'l'");
+}
+
+TEST(ObjReadErrors, NonFiniteCoordinates) {
+    expect_error("v 0 nan 0\n", 1, "not finite");
+    expect_error("v 0 0 0\nv inf 0 0\n", 2, "not finite");
+    expect_error("v 1e39 0 0\n", 1, "out of range");
+    expect_error("vt 0 -inf\n", 1, "not finite");
+}
+
+TEST(ObjReadErrors, MalformedTags) {
+    std::string mesh = std::string(kFourVertices) + "f 1 2 3\nf 1 3 4\n";  // lines 1-6
+    expect_error(mesh + "t hole 1/0/0 0\n", 7, "unsupported tag 'hole'");
+    expect_error(mesh + "t crease 2/1 0 1 3\n", 7, "argument counts");
+    expect_error(mesh + "t crease two/1/0 0 1 3\n", 7, "argument counts");
+    expect_error(mesh + "t crease 2/1/0 0 1\n", 7, "missing tag value");
+    expect_error(mesh + "t crease 2/1/0 0 1 3 4\n", 7, "unexpected '4'");
+    expect_error(mesh + "t crease 2/1/0 0 one 3\n", 7, "one");
+    expect_error(mesh + "t crease 3/1/0 0 1 2 3\n", 7, "vertex pairs");
+    expect_error(mesh + "t crease 4/3/0 0 1 1 2 3 3 3\n", 7, "vertex pairs");
+    expect_error(mesh + "t corner 1/0/0 0\n", 7, "one sharpness");
+    expect_error(mesh + "t cone 1/1/0 0 1\n", 7, "vertices only");
+    expect_error(mesh + "t creasemethod 0/0/0\n", 7, "one string");
+}
+
+TEST(ObjReadErrors, TagIndicesNameTheTagsLine) {
+    std::string mesh = std::string(kFourVertices) + "f 1 2 3\nf 1 3 4\n";  // lines 1-6
+    expect_error(mesh + "t crease 2/1/0 0 4 3\n", 7, "crease vertex 4 is out of range");
+    expect_error(mesh + "t crease 2/1/0 -1 0 3\n", 7, "crease vertex -1 is out of range");
+    expect_error(mesh + "t corner 1/1/0 9 1\n", 7, "corner vertex 9 is out of range");
+    expect_error(mesh + "t corner 1/1/0 1 1\nt cone 1/0/0 -2\n", 8, "cone vertex -2 is out of range");
+    // 1-3 is a diagonal that no triangle has.
+    expect_error(mesh + "t crease 2/1/0 0 1 3\n\nt crease 2/1/0 1 3 3\n", 9, "crease 1-3 is not an edge of the mesh");
+}
+
+TEST(ObjReadErrors, MissingFile) {
+    std::string path = temp_path("does_not_exist.obj");
+    std::remove(path.c_str());
+    try {
+        loopsub::obj::read_obj(path);
+        FAIL() << "no InputError for a missing file";
+    } catch (const loopsub::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+}
+
+TEST(ObjWrite, RoundTripIsExact) {
+    ObjMesh mesh;
+    // Values whose shortest decimal form is long or extreme: the writer must not round them.
+    mesh.positions = {0.1f, -1.0f / 3.0f, 1e-7f, 3.4028235e38f, -0.0f, 123456.789f, 2.0f / 7.0f, 5.0f, -6.5f,
+                      1.17549435e-38f, 7.0f, 8.0f};
+    mesh.uvs = {0.0f, 0.0f, 1.0f, 0.0f, 0.3f, 0.7f};
+    mesh.triangles = {0, 1, 2, 0, 2, 3};
+    mesh.triangle_uvs = {0, 1, 2, 0, 2, 1};
+    mesh.crease_edges = {0, 1, 2, 0};
+    mesh.crease_sharpness = {10.0f, 2.8f};
+    mesh.corner_vertices = {3};
+    mesh.corner_sharpness = {0.25f};
+    mesh.cone_vertices = {1, 2};
+    mesh.boundary = loopsub::Boundary::EdgesAndCorners;
+    mesh.crease_method = loopsub::CreaseMethod::Chaikin;
+
+    std::string path = temp_path("round_trip.obj");
+    loopsub::obj::write_obj(path, mesh);
+    ObjMesh back = loopsub::obj::read_obj(path);
+    EXPECT_EQ(back.positions, mesh.positions);
+    EXPECT_EQ(back.uvs, mesh.uvs);
+    EXPECT_EQ(back.triangles, mesh.triangles);
+    EXPECT_EQ(back.triangle_uvs, mesh.triangle_uvs);
+    EXPECT_EQ(back.crease_edges, mesh.crease_edges);
+    EXPECT_EQ(back.crease_sharpness, mesh.crease_sharpness);
+    EXPECT_EQ(back.corner_vertices, mesh.corner_vertices);
+    EXPECT_EQ(back.corner_sharpness, mesh.corner_sharpness);
+    EXPECT_EQ(back.cone_vertices, mesh.cone_vertices);
+    EXPECT_EQ(back.boundary, mesh.boundary);
+    EXPECT_EQ(back.crease_method, mesh.crease_method);
+    EXPECT_EQ(back.polygons_triangulated, 0);
+    std::remove(path.c_str());
+}
+
+TEST(ObjWrite, TagLinesInOpenSubdivsFormat) {
+    ObjMesh mesh;
+    mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    mesh.triangles = {0, 1, 2};
+    mesh.crease_edges = {1, 2};
+    mesh.crease_sharpness = {2.5f};
+    mesh.corner_vertices = {0};
+    mesh.corner_sharpness = {10.0f};
+    mesh.cone_vertices = {2};
+    mesh.boundary = loopsub::Boundary::EdgesOnly;
+    mesh.crease_method = loopsub::CreaseMethod::Uniform;
+    std::string path = temp_path("tags.obj");
+    loopsub::obj::write_obj(path, mesh);
+
+    std::ifstream file(path);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(file, line);) lines.push_back(line);
+    EXPECT_EQ(lines, (std::vector<std::string>{"v 0 0 0", "v 1 0 0", "v 0 1 0", "f 1 2 3", "t crease 2/1/0 1 2 2.5",
+                                               "t corner 1/1/0 0 10", "t cone 1/0/0 2", "t interpolateboundary 1/0/0 2",
+                                               "t creasemethod 0/0/1 normal"}));
+    std::remove(path.c_str());
+}
+
+TEST(ObjWrite, FacesWithUvsUseVertexSlashTexture) {
+    ObjMesh mesh;
+    mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    mesh.uvs = {0.5f, 0.25f};
+    mesh.triangles = {0, 1, 2};
+    mesh.triangle_uvs = {0, 0, 0};
+    std::string path = temp_path("uvs.obj");
+    loopsub::obj::write_obj(path, mesh);
+    std::ifstream file(path);
+    std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("vt 0.5 0.25\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("f 1/1 2/1 3/1\n"), std::string::npos) << text;
+    std::remove(path.c_str());
+}
+
+TEST(ObjWrite, UnwritablePathThrows) {
+    EXPECT_THROW(loopsub::obj::write_obj("/nonexistent-directory/out.obj", ObjMesh{}), std::runtime_error);
+}
+
+// OpenSubdiv's own shapes load with the tags their headers declare.
+TEST(ObjPeerShapes, LoadWithTheirTags) {
+    const std::string dir = LOOPSUB_PEER_SHAPES;
+    ObjMesh cube = loopsub::obj::read_obj(dir + "/loop_cube_creases0.obj");
+    EXPECT_EQ(cube.num_vertices(), 8);
+    EXPECT_EQ(cube.num_triangles(), 12);
+    EXPECT_EQ(cube.uvs.size(), 2u * 14);
+    EXPECT_EQ(cube.triangle_uvs.size(), 3u * 12);
+    EXPECT_EQ(cube.crease_edges, (Indices{1, 3, 3, 2}));
+    EXPECT_EQ(cube.crease_sharpness, (Floats{2.8f, 2.8f}));
+    EXPECT_EQ(cube.boundary, loopsub::Boundary::EdgesOnly);
+    EXPECT_EQ(cube.polygons_triangulated, 0);
+
+    ObjMesh icos = loopsub::obj::read_obj(dir + "/loop_icos_semisharp.obj");
+    EXPECT_EQ(icos.corner_vertices, (Indices{4, 16}));
+    EXPECT_EQ(icos.corner_sharpness, (Floats{2.5f, 4.5f}));
+    EXPECT_EQ(icos.crease_sharpness.size(), 15u);
+
+    ObjMesh chaikin = loopsub::obj::read_obj(dir + "/loop_chaikin0.obj");
+    EXPECT_EQ(chaikin.crease_sharpness.size(), 28u);
+    EXPECT_EQ(chaikin.crease_method, loopsub::CreaseMethod::Uniform);
+
+    ObjMesh saddle = loopsub::obj::read_obj(dir + "/loop_saddle_edgecorner.obj");
+    EXPECT_EQ(saddle.num_triangles(), 4);
+    EXPECT_EQ(saddle.boundary, loopsub::Boundary::EdgesAndCorners);
+
+    for (const char* name : {"loop_chaikin0", "loop_cube", "loop_fvar_bound0", "loop_icosahedron", "loop_nonman_edges",
+                             "loop_pole8", "loop_tetrahedron", "loop_triangle_edgecorner", "loop_xord_interior"}) {
+        SCOPED_TRACE(name);
+        ObjMesh mesh = loopsub::obj::read_obj(dir + "/" + name + ".obj");
+        EXPECT_GT(mesh.num_triangles(), 0);
+        EXPECT_EQ(mesh.polygons_triangulated, 0);
+    }
+}
+
+}  // namespace
