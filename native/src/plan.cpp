@@ -1,0 +1,539 @@
+// The Plan: all topology work for N levels, done once (validation, connectivity, classification, sharpness
+// decay, stencil weights), and the per-frame evaluation that only runs the kernels over the stencils.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <thread>
+
+#include "kernels.h"
+#include "loopsub/loopsub.h"
+#include "rules.h"
+#include "stencils.h"
+#include "topology.h"
+
+namespace loopsub {
+
+using detail::Index;
+using detail::Topology;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+
+[[noreturn]] void fail(const std::string& message) { throw InputError(message); }
+
+// Counts of one level, in 64 bits so that the memory check cannot overflow.
+struct LevelCounts {
+    std::uint64_t vertices, edges, faces;
+    LevelCounts child() const { return {vertices + edges, 2 * edges + 3 * faces, 4 * faces}; }
+};
+
+std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channels) {
+    const std::uint64_t i32 = 4, f32 = 4;
+    std::uint64_t kept = 0, largest_transient = 0;
+    LevelCounts previous = level;
+    for (int l = 0; l < levels; ++l) {
+        // Kept per level: stencils (rings, edge points, offsets), the level's edges, vertex types.
+        kept += i32 * (2 * level.edges + level.vertices + 1) + i32 * 4 * level.edges + i32 * 2 * level.edges + level.vertices;
+        // Held while refining it: connectivity (faces, face edges, edge faces, vertex edges) and sharpness.
+        const std::uint64_t transient = i32 * (6 * level.faces + 2 * level.edges + 3 * level.faces + level.edges +
+                                               level.vertices + 2 * level.edges) +
+                                        f32 * 2 * (level.edges + level.vertices);
+        largest_transient = std::max(largest_transient, transient);
+        previous = level;
+        level = level.child();
+    }
+    // The last level's triangles and parents, the output, and the two scratch levels of evaluation.
+    kept += i32 * 4 * level.faces + f32 * num_channels * (level.vertices + 2 * previous.vertices);
+    return kept + 2 * largest_transient;  // a child level is built while its parent still lives
+}
+
+std::string describe_bytes(std::uint64_t bytes) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2f GiB (%llu bytes)", double(bytes) / double(1ull << 30), (unsigned long long)bytes);
+    return text;
+}
+
+Index find_edge(const Topology& t, Index a, Index b) {
+    for (Index k = t.vertex_edge_offsets[a]; k < t.vertex_edge_offsets[a + 1]; ++k)
+        if (t.other_end(t.vertex_edges[k], a) == b) return t.vertex_edges[k];
+    return -1;
+}
+
+bool finite_non_negative(float value) { return std::isfinite(value) && value >= 0.0f; }
+
+void validate_mesh(const MeshView& mesh, const Options& options) {
+    if (options.levels < 0) fail("levels must be >= 0, got " + std::to_string(options.levels));
+    if (options.threads < 1) fail("threads must be >= 1, got " + std::to_string(options.threads));
+    if (!finite_non_negative(options.crease_threshold))
+        fail("crease threshold must be a finite number >= 0, got " + std::to_string(options.crease_threshold));
+    if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0)
+        fail("negative element count");
+    auto require = [](const void* pointer, int count, const char* what) {
+        if (count > 0 && pointer == nullptr) fail(std::string(what) + " is missing (null) but its count is " + std::to_string(count));
+    };
+    require(mesh.triangles, mesh.num_triangles, "triangles");
+    require(mesh.crease_edges, mesh.num_crease_edges, "crease edges");
+    require(mesh.crease_sharpness, mesh.num_crease_edges, "crease sharpness");
+    require(mesh.corner_vertices, mesh.num_corners, "corner vertices");
+    require(mesh.corner_sharpness, mesh.num_corners, "corner sharpness");
+    require(mesh.cone_vertices, mesh.num_cones, "cone vertices");
+
+    auto check_index = [&](Index v, const std::string& where) {
+        if (v < 0 || v >= mesh.num_vertices)
+            fail(where + " refers to vertex " + std::to_string(v) + ", outside 0.." + std::to_string(mesh.num_vertices - 1) +
+                 " (the mesh has " + std::to_string(mesh.num_vertices) + " vertices)");
+    };
+    for (int f = 0; f < mesh.num_triangles; ++f) {
+        const Index* v = mesh.triangles + 3 * std::size_t(f);
+        for (int k = 0; k < 3; ++k) check_index(v[k], "triangle " + std::to_string(f));
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
+            fail("triangle " + std::to_string(f) + " is degenerate: it repeats a vertex (" + std::to_string(v[0]) + ", " +
+                 std::to_string(v[1]) + ", " + std::to_string(v[2]) + ")");
+    }
+    for (int k = 0; k < mesh.num_crease_edges; ++k) {
+        const std::string where = "crease edge " + std::to_string(k);
+        check_index(mesh.crease_edges[2 * k], where);
+        check_index(mesh.crease_edges[2 * k + 1], where);
+        if (!finite_non_negative(mesh.crease_sharpness[k]))
+            fail(where + " has sharpness " + std::to_string(mesh.crease_sharpness[k]) + "; it must be a finite number >= 0");
+    }
+    for (int k = 0; k < mesh.num_corners; ++k) {
+        check_index(mesh.corner_vertices[k], "corner " + std::to_string(k));
+        if (!finite_non_negative(mesh.corner_sharpness[k]))
+            fail("corner " + std::to_string(k) + " has sharpness " + std::to_string(mesh.corner_sharpness[k]) +
+                 "; it must be a finite number >= 0");
+    }
+    for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone " + std::to_string(k));
+}
+
+// What one level knows besides its connectivity.
+struct LevelState {
+    Topology topology;
+    std::vector<float> edge_sharpness;    // OpenSubdiv: current sharpness; Hoppe94: infinite on creases, else 0
+    std::vector<float> vertex_sharpness;  // likewise (Hoppe94: infinite on corners)
+    std::vector<float> edge_tag;          // the crease tag each edge carries into the output (0: none)
+    std::vector<float> vertex_tag;        // the corner tag each vertex carries into the output (0: none)
+};
+
+}  // namespace
+
+struct PlanImpl {
+    Options options;
+    Kernel kernel = Kernel::Scalar;
+    int num_input_vertices = 0;
+    int num_input_triangles = 0;
+    std::vector<int> level_num_vertices;
+    std::vector<std::vector<Index>> level_edges;
+    std::vector<std::vector<VertexType>> level_vertex_types;
+    std::vector<detail::LevelStencils> stencils;
+    std::vector<Index> output_triangles, output_parents;
+    std::vector<Index> output_crease_edges, output_corner_vertices;
+    std::vector<float> output_crease_sharpness, output_corner_sharpness;
+    std::vector<std::uint8_t> cone;  // Hoppe94 cone tags of the input vertices
+    std::vector<float> scratch[2];
+    double topology_ms = 0.0, evaluate_ms = 0.0;
+
+    void build(const MeshView& mesh);
+    LevelState base_level(const MeshView& mesh);
+    // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
+    void plan_level(LevelState& level, LevelState& child, bool child_is_last);
+    void collect_output_tags(const LevelState& last);
+};
+
+LevelState PlanImpl::base_level(const MeshView& mesh) {
+    LevelState level;
+    level.topology = detail::build_base_topology(mesh.triangles, mesh.num_triangles, mesh.num_vertices);
+    const Topology& t = level.topology;
+    const bool hoppe = options.rules == Rules::Hoppe94;
+
+    level.edge_tag.assign(t.num_edges(), 0.0f);
+    for (int k = 0; k < mesh.num_crease_edges; ++k) {
+        const Index a = mesh.crease_edges[2 * k], b = mesh.crease_edges[2 * k + 1];
+        const Index e = a == b ? -1 : find_edge(t, a, b);
+        if (e < 0)
+            fail("crease edge " + std::to_string(k) + " (" + std::to_string(a) + ", " + std::to_string(b) +
+                 ") is not an edge of the mesh");
+        level.edge_tag[e] = mesh.crease_sharpness[k];  // a repeated tag overrides, as in OpenSubdiv
+    }
+    level.vertex_tag.assign(t.num_vertices, 0.0f);
+    for (int k = 0; k < mesh.num_corners; ++k) level.vertex_tag[mesh.corner_vertices[k]] = mesh.corner_sharpness[k];
+    cone.assign(t.num_vertices, 0);
+    for (int k = 0; k < mesh.num_cones; ++k) cone[mesh.cone_vertices[k]] = 1;
+
+    // Boundary and non-manifold edges are infinitely sharp; so are non-manifold vertices (unless they sit on
+    // exactly two non-manifold edges: a non-manifold crease) and, when corners are kept, boundary vertices with
+    // a single face. Both rule sets share this (Far's prepareComponentTagsAndSharpness for OpenSubdiv).
+    const std::vector<std::uint8_t> non_manifold_edge = detail::non_manifold_edges(t);
+    const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge);
+    level.edge_sharpness.resize(t.num_edges());
+    for (int e = 0; e < t.num_edges(); ++e) {
+        const float tag = level.edge_tag[e];
+        const bool crease = hoppe ? tag > 0.0f && tag >= options.crease_threshold : tag > 0.0f;
+        const float sharpness = hoppe ? (crease ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
+        level.edge_sharpness[e] = t.edge_face_count(e) < 2 || non_manifold_edge[e] ? kInfiniteSharpness : sharpness;
+    }
+    level.vertex_sharpness.resize(t.num_vertices);
+    for (int v = 0; v < t.num_vertices; ++v) {
+        const float tag = level.vertex_tag[v];
+        float sharpness = hoppe ? (tag > 0.0f ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
+        int faces = 0, non_manifold = 0;
+        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+            faces += t.edge_face_count(t.vertex_edges[k]);
+            non_manifold += non_manifold_edge[t.vertex_edges[k]];
+        }
+        const bool single_face_corner = t.valence(v) == 2 && faces == 2;
+        if (single_face_corner && options.boundary == Boundary::EdgesAndCorners) sharpness = kInfiniteSharpness;
+        else if (non_manifold_vertex[v] && non_manifold != 2) sharpness = kInfiniteSharpness;
+        level.vertex_sharpness[v] = sharpness;
+    }
+    return level;
+}
+
+namespace {
+
+// Regular crease vertex (RULES.md section 1): interior with valence 6 and three faces on each side of its
+// crease, or on the boundary with valence 4 and its two crease edges the boundary edges.
+bool is_regular_crease(const Topology& t, Index v, Index crease_a, Index crease_b) {
+    bool boundary = false;
+    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+        const int faces = t.edge_face_count(t.vertex_edges[k]);
+        if (faces > 2) return false;
+        boundary |= faces == 1;
+    }
+    if (boundary) return t.valence(v) == 4 && t.edge_face_count(crease_a) == 1 && t.edge_face_count(crease_b) == 1;
+    return t.valence(v) == 6 && detail::faces_between(t, v, crease_a, crease_b) == 3;
+}
+
+detail::VertexMask mask_for_rule(detail::SdcRule rule, int valence) {
+    switch (rule) {
+        case detail::SdcRule::Crease: return detail::crease_vertex_mask();
+        case detail::SdcRule::Corner: return detail::corner_vertex_mask();
+        default: return detail::smooth_vertex_mask(valence);
+    }
+}
+
+bool is_smooth_edge_mask(const detail::EdgeMask& m) { return m.a == 0.375 && m.b == 0.375 && m.wings == 0.125; }
+
+}  // namespace
+
+void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_last) {
+    const Topology& t = level.topology;
+    const int nv = t.num_vertices, ne = t.num_edges();
+    const bool hoppe = options.rules == Rules::Hoppe94;
+    const bool chaikin = options.crease_method == CreaseMethod::Chaikin;
+
+    detail::LevelStencils& s = stencils.emplace_back();
+    s.num_vertices = nv;
+    s.num_edges = ne;
+    s.ring_offsets = t.vertex_edge_offsets;
+    s.ring.resize(t.vertex_edges.size());
+    int max_valence = 0;
+    for (int v = 0; v < nv; ++v) {
+        max_valence = std::max(max_valence, t.valence(v));
+        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) s.ring[k] = t.other_end(t.vertex_edges[k], v);
+    }
+    s.smooth_self.resize(max_valence + 1);
+    s.smooth_ring.resize(max_valence + 1);
+    for (int n = 0; n <= max_valence; ++n) {
+        const detail::VertexMask m = detail::smooth_vertex_mask(n);
+        s.smooth_self[n] = float(m.self);
+        s.smooth_ring[n] = float(m.ring);
+    }
+
+    // Child sharpness: the halves of each edge get theirs at their own end vertex (Chaikin looks at the other
+    // edges there); interior edges are smooth; vertices decay.
+    child.edge_sharpness.assign(std::size_t(2) * ne + 3 * std::size_t(t.num_faces()), 0.0f);
+    child.edge_tag.assign(child.edge_sharpness.size(), 0.0f);
+    child.vertex_sharpness.assign(std::size_t(nv) + ne, 0.0f);
+    child.vertex_tag.assign(child.vertex_sharpness.size(), 0.0f);
+
+    std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
+    std::vector<float> parent_sharpness, child_sharpness;  // around one vertex
+    for (int v = 0; v < nv; ++v) {
+        const Index first = t.vertex_edge_offsets[v];
+        const int valence = t.valence(v);
+        parent_sharpness.resize(valence);
+        child_sharpness.resize(valence);
+        int sharp_edges = 0, child_sharp_edges = 0;
+        Index crease[2] = {-1, -1}, child_crease[2] = {-1, -1};
+        for (int k = 0; k < valence; ++k) {
+            const Index e = t.vertex_edges[first + k];
+            parent_sharpness[k] = level.edge_sharpness[e];
+            if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = e;
+        }
+        for (int k = 0; k < valence; ++k) {
+            const Index e = t.vertex_edges[first + k];
+            const float decayed = hoppe ? parent_sharpness[k]
+                                  : chaikin ? detail::chaikin_sharpness_at_vertex(parent_sharpness[k], parent_sharpness.data(), valence)
+                                            : detail::decrement_sharpness(parent_sharpness[k]);
+            child_sharpness[k] = decayed;
+            if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
+            const Index half = detail::child_edge_at(t, e, v);
+            child.edge_sharpness[half] = decayed;
+            const float tag = level.edge_tag[e];
+            child.edge_tag[half] = hoppe || tag == 0.0f ? tag : decayed;
+        }
+        const float vertex_sharpness = level.vertex_sharpness[v];
+        const float child_vertex_sharpness = hoppe ? vertex_sharpness : detail::decrement_sharpness(vertex_sharpness);
+        child.vertex_sharpness[v] = child_vertex_sharpness;
+        child.vertex_tag[v] = hoppe || level.vertex_tag[v] == 0.0f ? level.vertex_tag[v] : child_vertex_sharpness;
+
+        const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, sharp_edges);
+        detail::VertexMask mask = detail::smooth_vertex_mask(valence);
+        Index ends[2] = {crease[0], crease[1]};
+        const bool tagged_cone = hoppe && v < num_input_vertices && cone[v];
+        switch (rule) {
+            case detail::SdcRule::Smooth: types[v] = tagged_cone ? VertexType::Cone : VertexType::Smooth; break;
+            case detail::SdcRule::Dart: types[v] = tagged_cone ? VertexType::Cone : VertexType::Dart; break;
+            case detail::SdcRule::Crease:
+                types[v] = tagged_cone ? VertexType::Corner
+                           : is_regular_crease(t, v, crease[0], crease[1]) ? VertexType::RegularCrease
+                                                                           : VertexType::IrregularCrease;
+                break;
+            case detail::SdcRule::Corner: types[v] = VertexType::Corner; break;
+        }
+        if (hoppe) {
+            if (types[v] == VertexType::Cone) mask = detail::cone_vertex_mask(valence);
+            else if (types[v] == VertexType::Corner) mask = detail::corner_vertex_mask();
+            else if (rule == detail::SdcRule::Crease) mask = detail::crease_vertex_mask();
+        } else if (rule == detail::SdcRule::Crease || rule == detail::SdcRule::Corner) {
+            // OpenSubdiv blends the parent's mask with the child's where the rule changes between the levels.
+            mask = mask_for_rule(rule, valence);
+            const detail::SdcRule child_rule = detail::sdc_vertex_rule(child_vertex_sharpness, child_sharp_edges);
+            if (child_rule != rule) {
+                const float weight = detail::transition_weight(options.crease_method, vertex_sharpness, child_vertex_sharpness,
+                                                               parent_sharpness.data(), child_sharpness.data(), valence);
+                mask = detail::blend(mask, weight, mask_for_rule(child_rule, valence));
+                if (child_rule == detail::SdcRule::Crease) ends[0] = child_crease[0], ends[1] = child_crease[1];
+            }
+        }
+        const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
+        if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
+            const bool has_ends = mask.crease != 0.0;
+            s.special_vertices.push_back({Index(v), has_ends ? t.other_end(ends[0], v) : Index(v),
+                                          has_ends ? t.other_end(ends[1], v) : Index(v), float(mask.self), float(mask.ring),
+                                          float(mask.crease)});
+        }
+    }
+
+    s.edge_a.resize(ne), s.edge_b.resize(ne), s.edge_c.resize(ne), s.edge_d.resize(ne);
+    for (int e = 0; e < ne; ++e) {
+        const Index a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
+        const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
+        const int face_count = t.edge_face_count(e);
+        s.edge_a[e] = a, s.edge_b[e] = b;
+        s.edge_c[e] = face_count > 0 ? t.opposite_vertex(faces[0], e) : a;
+        s.edge_d[e] = face_count > 1 ? t.opposite_vertex(faces[1], e) : b;
+
+        const float sharpness = level.edge_sharpness[e];
+        if (!detail::is_sharp(sharpness)) continue;
+        detail::EdgeMask mask = detail::crease_edge_mask();
+        if (hoppe) {
+            const VertexType ta = types[a], tb = types[b];
+            const auto irregular_or_corner = [](VertexType type) {
+                return type == VertexType::IrregularCrease || type == VertexType::Corner;
+            };
+            if ((ta == VertexType::Dart || tb == VertexType::Dart) && face_count == 2) mask = detail::smooth_edge_mask();
+            else if (ta == VertexType::RegularCrease && irregular_or_corner(tb)) mask = detail::five_three_edge_mask(true);
+            else if (tb == VertexType::RegularCrease && irregular_or_corner(ta)) mask = detail::five_three_edge_mask(false);
+        } else if (!detail::is_infinite(sharpness)) {
+            // The new vertex's rule comes from its two halves; short of a crease, the smooth mask is blended
+            // with the crease mask by the parent's sharpness (Sdc::Scheme::ComputeEdgeVertexMask).
+            const bool child_crease = detail::is_sharp(child.edge_sharpness[2 * e]) && detail::is_sharp(child.edge_sharpness[2 * e + 1]);
+            if (!child_crease) {
+                const double w = sharpness;
+                mask = {w * 0.5 + (1.0 - w) * 0.375, w * 0.5 + (1.0 - w) * 0.375, (1.0 - w) * 0.125};
+            }
+        }
+        if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({Index(e), float(mask.a), float(mask.b), float(mask.wings)});
+    }
+
+    level_edges.push_back(t.edge_vertices);
+    child.topology = detail::refine_topology(t, child_is_last);
+    level_num_vertices.push_back(child.topology.num_vertices);
+}
+
+void PlanImpl::collect_output_tags(const LevelState& last) {
+    // The last level's edges were not built; its tagged edges are the halves of the previous level's edges,
+    // whose endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b)).
+    if (!level_edges.empty()) {
+        const std::vector<Index>& parent_edges = level_edges.back();
+        const Index parent_vertices = level_num_vertices[level_num_vertices.size() - 2];
+        for (std::size_t half = 0; half < last.edge_tag.size() && half < parent_edges.size(); ++half) {
+            if (last.edge_tag[half] <= 0.0f) continue;
+            const Index e = Index(half / 2), m = parent_vertices + e;
+            output_crease_edges.push_back(half % 2 == 0 ? parent_edges[2 * e] : m);
+            output_crease_edges.push_back(half % 2 == 0 ? m : parent_edges[2 * e + 1]);
+            output_crease_sharpness.push_back(last.edge_tag[half]);
+        }
+    } else {
+        const std::vector<Index>& edges = last.topology.edge_vertices;
+        for (std::size_t e = 0; e < last.edge_tag.size(); ++e) {
+            if (last.edge_tag[e] <= 0.0f) continue;
+            output_crease_edges.push_back(edges[2 * e]);
+            output_crease_edges.push_back(edges[2 * e + 1]);
+            output_crease_sharpness.push_back(last.edge_tag[e]);
+        }
+    }
+    for (std::size_t v = 0; v < last.vertex_tag.size(); ++v) {
+        if (last.vertex_tag[v] <= 0.0f) continue;
+        output_corner_vertices.push_back(Index(v));
+        output_corner_sharpness.push_back(last.vertex_tag[v]);
+    }
+}
+
+void PlanImpl::build(const MeshView& mesh) {
+    const auto start = Clock::now();
+    validate_mesh(mesh, options);
+    kernel = detail::resolve_kernel(options.kernel);
+    num_input_vertices = mesh.num_vertices;
+    num_input_triangles = mesh.num_triangles;
+    level_num_vertices.push_back(mesh.num_vertices);
+
+    LevelState level = base_level(mesh);
+    const LevelCounts counts{std::uint64_t(mesh.num_vertices), std::uint64_t(level.topology.num_edges()),
+                             std::uint64_t(mesh.num_triangles)};
+    LevelCounts last = counts;
+    for (int l = 0; l < options.levels; ++l) last = last.child();
+    const std::uint64_t needed = estimate_for_counts(counts, options.levels, 3);
+    const std::uint64_t index_limit = std::uint64_t(std::numeric_limits<Index>::max());
+    if (needed > options.memory_limit_bytes || 3 * last.faces > index_limit || 2 * last.edges > index_limit)
+        throw MemoryLimitError("subdividing " + std::to_string(mesh.num_triangles) + " triangles " + std::to_string(options.levels) +
+                                   " times gives " + std::to_string(last.faces) + " triangles and would need about " +
+                                   describe_bytes(needed) + ", more than the limit of " +
+                                   describe_bytes(options.memory_limit_bytes),
+                               needed);
+
+    for (int l = 0; l < options.levels; ++l) {
+        LevelState child;
+        plan_level(level, child, l + 1 == options.levels);
+        level = std::move(child);
+    }
+    output_triangles = std::move(level.topology.face_vertices);
+    output_parents.resize(output_triangles.size() / 3);
+    for (std::size_t f = 0; f < output_parents.size(); ++f) output_parents[f] = Index(f >> (2 * options.levels));
+    collect_output_tags(level);
+    topology_ms = ms_since(start);
+}
+
+Plan::Plan(const MeshView& mesh, const Options& options) : impl_(std::make_unique<PlanImpl>()) {
+    impl_->options = options;
+    impl_->build(mesh);
+}
+Plan::~Plan() = default;
+Plan::Plan(Plan&&) noexcept = default;
+Plan& Plan::operator=(Plan&&) noexcept = default;
+
+const Options& Plan::options() const { return impl_->options; }
+int Plan::levels() const { return impl_->options.levels; }
+int Plan::num_input_vertices() const { return impl_->num_input_vertices; }
+int Plan::num_output_vertices() const { return impl_->level_num_vertices.back(); }
+int Plan::num_output_triangles() const { return int(impl_->output_triangles.size() / 3); }
+const std::int32_t* Plan::output_triangles() const { return impl_->output_triangles.data(); }
+const std::int32_t* Plan::output_parent_triangles() const { return impl_->output_parents.data(); }
+const std::vector<std::int32_t>& Plan::output_crease_edges() const { return impl_->output_crease_edges; }
+const std::vector<float>& Plan::output_crease_sharpness() const { return impl_->output_crease_sharpness; }
+const std::vector<std::int32_t>& Plan::output_corner_vertices() const { return impl_->output_corner_vertices; }
+const std::vector<float>& Plan::output_corner_sharpness() const { return impl_->output_corner_sharpness; }
+Kernel Plan::kernel() const { return impl_->kernel; }
+double Plan::topology_ms() const { return impl_->topology_ms; }
+double Plan::last_evaluate_ms() const { return impl_->evaluate_ms; }
+
+const std::vector<std::int32_t>& Plan::level_edges(int level) const {
+    if (level < 0 || level >= levels()) throw std::out_of_range("level_edges: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels() - 1));
+    return impl_->level_edges[level];
+}
+int Plan::level_num_vertices(int level) const {
+    if (level < 0 || level > levels()) throw std::out_of_range("level_num_vertices: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels()));
+    return impl_->level_num_vertices[level];
+}
+const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
+    if (level < 0 || level >= levels()) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels() - 1));
+    return impl_->level_vertex_types[level];
+}
+
+std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels) {
+    // Before the edges are known, a closed manifold's count stands in: three halves per triangle.
+    const LevelCounts counts{std::uint64_t(num_vertices), std::uint64_t(num_triangles) * 3 / 2, std::uint64_t(num_triangles)};
+    return estimate_for_counts(counts, levels, num_channels);
+}
+
+void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
+    PlanImpl& p = *impl_;
+    const auto start = Clock::now();
+    if (in.num_channels != out.num_channels)
+        fail("evaluate: input has " + std::to_string(in.num_channels) + " channels but output has " + std::to_string(out.num_channels));
+    if (in.num_channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(in.num_channels));
+    if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
+        fail("evaluate: missing (null) data");
+    for (int c = 0; c < in.num_channels; ++c)
+        for (int v = 0; v < p.num_input_vertices; ++v)
+            if (!std::isfinite(in.data[c * in.channel_stride + v * in.element_stride]))
+                fail("vertex " + std::to_string(v) + " has a non-finite value (" +
+                     std::to_string(in.data[c * in.channel_stride + v * in.element_stride]) + ") in channel " + std::to_string(c));
+
+    const int levels = p.options.levels;
+    if (levels == 0) {
+        for (int c = 0; c < in.num_channels; ++c)
+            for (int v = 0; v < p.num_input_vertices; ++v)
+                out.data[c * out.channel_stride + v * out.element_stride] = in.data[c * in.channel_stride + v * in.element_stride];
+    }
+    const detail::RefineFn refine = detail::refine_function(p.kernel);
+    const int threads = std::max(1, p.options.threads);
+    ChannelsView<const float> source = in;
+    for (int l = 0; l < levels; ++l) {
+        const detail::LevelStencils& s = p.stencils[l];
+        ChannelsView<float> target = out;
+        if (l + 1 < levels) {
+            // Intermediate levels are planar (structure of arrays), alternating between two scratch buffers.
+            std::vector<float>& buffer = p.scratch[l % 2];
+            const std::size_t n = std::size_t(p.level_num_vertices[l + 1]);
+            buffer.resize(n * in.num_channels);
+            target = {buffer.data(), in.num_channels, n, 1};
+        }
+        if (threads == 1 || s.num_vertices + s.num_edges < 4096) {
+            refine(s, source, target, {0, s.num_vertices}, {0, s.num_edges});
+        } else {
+            std::vector<std::thread> workers;
+            auto split = [threads](int n, int i) { return int(std::int64_t(n) * i / threads); };
+            for (int i = 1; i < threads; ++i)
+                workers.emplace_back(refine, std::cref(s), source, target, detail::Range{split(s.num_vertices, i), split(s.num_vertices, i + 1)},
+                                     detail::Range{split(s.num_edges, i), split(s.num_edges, i + 1)});
+            refine(s, source, target, {0, split(s.num_vertices, 1)}, {0, split(s.num_edges, 1)});
+            for (std::thread& worker : workers) worker.join();
+        }
+        source = {target.data, target.num_channels, target.channel_stride, target.element_stride};
+    }
+    p.evaluate_ms = ms_since(start);
+}
+
+void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) const {
+    const PlanImpl& p = *impl_;
+    if (num_channels < 1) fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(num_channels));
+    const std::size_t corner = std::size_t(num_channels), face = 3 * corner;
+    std::vector<float> current(in, in + face * p.num_input_triangles), next;
+    for (int l = 0; l < p.options.levels; ++l) {
+        const std::size_t faces = current.size() / face;
+        next.resize(4 * current.size());
+        for (std::size_t f = 0; f < faces; ++f) {
+            const float* u = &current[f * face];
+            float* child = &next[4 * f * face];
+            for (std::size_t c = 0; c < corner; ++c) {
+                const float u0 = u[c], u1 = u[corner + c], u2 = u[2 * corner + c];
+                const float m0 = 0.5f * (u0 + u1), m1 = 0.5f * (u1 + u2), m2 = 0.5f * (u2 + u0);
+                // Children (v0, m0, m2), (v1, m1, m0), (v2, m2, m1), (m0, m1, m2), as in refine_topology.
+                const float values[12] = {u0, m0, m2, u1, m1, m0, u2, m2, m1, m0, m1, m2};
+                for (int k = 0; k < 12; ++k) child[k * corner + c] = values[k];
+            }
+        }
+        current.swap(next);
+    }
+    std::copy(current.begin(), current.end(), out);
+}
+
+}  // namespace loopsub

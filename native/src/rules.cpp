@@ -1,0 +1,98 @@
+#include "rules.h"
+
+#include <cmath>
+
+namespace loopsub {
+
+double loop_b(int valence) { return (3.0 + 2.0 * std::cos(2.0 * M_PI / valence)) / 8.0; }
+double loop_a(int valence) { return 5.0 / 8.0 - loop_b(valence) * loop_b(valence); }
+
+}  // namespace loopsub
+
+namespace loopsub::detail {
+
+VertexMask smooth_vertex_mask(int valence) {
+    if (valence == 0) return corner_vertex_mask();
+    if (valence == 6) return {0.625, 0.0625, 0.0};
+    // The seed's c0 = n / a(n) - n with ci = 1, divided by their sum n / a(n).
+    const double a = loop_a(valence);
+    return {1.0 - a, a / valence, 0.0};
+}
+
+VertexMask crease_vertex_mask() { return {0.75, 0.0, 0.125}; }
+
+VertexMask corner_vertex_mask() { return {1.0, 0.0, 0.0}; }
+
+VertexMask cone_vertex_mask(int valence) {
+    // c0 = n / (5/8 - b(n)) - n with ci = 1: normalised, the centre keeps 3/8 + b(n).
+    const double spread = 5.0 / 8.0 - loop_b(valence);
+    return {1.0 - spread, spread / valence, 0.0};
+}
+
+VertexMask blend(const VertexMask& a, double weight_a, const VertexMask& b) {
+    const double weight_b = 1.0 - weight_a;
+    return {weight_a * a.self + weight_b * b.self, weight_a * a.ring + weight_b * b.ring,
+            weight_a * a.crease + weight_b * b.crease};
+}
+
+EdgeMask smooth_edge_mask() { return {0.375, 0.375, 0.125}; }
+
+EdgeMask crease_edge_mask() { return {0.5, 0.5, 0.0}; }
+
+EdgeMask five_three_edge_mask(bool five_on_a) {
+    return five_on_a ? EdgeMask{0.625, 0.375, 0.0} : EdgeMask{0.375, 0.625, 0.0};
+}
+
+SdcRule sdc_vertex_rule(float vertex_sharpness, int sharp_edge_count) {
+    if (is_sharp(vertex_sharpness) || sharp_edge_count > 2) return SdcRule::Corner;
+    if (sharp_edge_count == 2) return SdcRule::Crease;
+    return sharp_edge_count == 1 ? SdcRule::Dart : SdcRule::Smooth;
+}
+
+float decrement_sharpness(float sharpness) {
+    if (is_infinite(sharpness)) return kInfiniteSharpness;
+    return sharpness > 1.0f ? sharpness - 1.0f : 0.0f;
+}
+
+float chaikin_sharpness_at_vertex(float edge_sharpness, const float* incident_sharpness, int incident_count) {
+    if (!is_semi_sharp(edge_sharpness)) return is_infinite(edge_sharpness) ? kInfiniteSharpness : 0.0f;
+    float sharp_sum = 0.0f;
+    int sharp_count = 0;
+    for (int i = 0; i < incident_count; ++i) {
+        if (is_semi_sharp(incident_sharpness[i])) {
+            sharp_sum += incident_sharpness[i];
+            ++sharp_count;
+        }
+    }
+    if (sharp_count > 1) {
+        // 3/4 of its own sharpness and 1/4 of the average of the other semi-sharp edges at the vertex.
+        const float others_average = (sharp_sum - edge_sharpness) / float(sharp_count - 1);
+        edge_sharpness = 0.75f * edge_sharpness + 0.25f * others_average;
+    }
+    edge_sharpness -= 1.0f;
+    return is_sharp(edge_sharpness) ? edge_sharpness : 0.0f;
+}
+
+float transition_weight(CreaseMethod method, float parent_vertex_sharpness, float child_vertex_sharpness,
+                        const float* parent_edge_sharpness, const float* child_edge_sharpness, int edge_count) {
+    int count = 0;
+    float sum = 0.0f;
+    if (is_sharp(parent_vertex_sharpness) && !is_sharp(child_vertex_sharpness)) {
+        count = 1;
+        sum = parent_vertex_sharpness;
+    }
+    for (int i = 0; i < edge_count; ++i) {
+        // Uniform decay reaches zero exactly for sharpness in (0, 1]; Chaikin has to be asked.
+        const bool decays = method == CreaseMethod::Uniform ? parent_edge_sharpness[i] <= 1.0f
+                                                            : !is_sharp(child_edge_sharpness[i]);
+        if (is_sharp(parent_edge_sharpness[i]) && decays) {
+            sum += parent_edge_sharpness[i];
+            ++count;
+        }
+    }
+    if (count == 0) return 0.0f;
+    const float weight = sum / float(count);
+    return weight > 1.0f ? 1.0f : weight;
+}
+
+}  // namespace loopsub::detail

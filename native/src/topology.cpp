@@ -1,0 +1,281 @@
+#include "topology.h"
+
+#include <numeric>
+
+namespace loopsub::detail {
+
+namespace {
+
+inline int next_corner(int corner) { return corner == 2 ? 0 : corner + 1; }
+inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
+
+// Prefix sums of per-item counts: offsets has one more entry than counts.
+std::vector<Index> offsets_from_counts(const std::vector<Index>& counts) {
+    std::vector<Index> offsets(counts.size() + 1);
+    offsets[0] = 0;
+    std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
+    return offsets;
+}
+
+void fill_edge_faces(Topology& t) {
+    const int ne = t.num_edges(), nf = t.num_faces();
+    std::vector<Index> counts(ne, 0);
+    for (Index e : t.face_edges) ++counts[e];
+    t.edge_face_offsets = offsets_from_counts(counts);
+    t.edge_faces.resize(t.edge_face_offsets[ne]);
+    std::vector<Index> cursor(t.edge_face_offsets.begin(), t.edge_face_offsets.end() - 1);
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) t.edge_faces[cursor[t.face_edges[3 * f + k]]++] = f;
+}
+
+void fill_vertex_edges(Topology& t) {
+    const int ne = t.num_edges();
+    std::vector<Index> counts(t.num_vertices, 0);
+    for (Index v : t.edge_vertices) ++counts[v];
+    t.vertex_edge_offsets = offsets_from_counts(counts);
+    t.vertex_edges.resize(t.vertex_edge_offsets[t.num_vertices]);
+    std::vector<Index> cursor(t.vertex_edge_offsets.begin(), t.vertex_edge_offsets.end() - 1);
+    for (int e = 0; e < ne; ++e) {
+        t.vertex_edges[cursor[t.edge_vertices[2 * e]]++] = e;
+        t.vertex_edges[cursor[t.edge_vertices[2 * e + 1]]++] = e;
+    }
+}
+
+}  // namespace
+
+Index Topology::opposite_vertex(Index f, Index e) const {
+    for (int k = 0; k < 3; ++k)
+        if (face_edges[3 * f + k] == e) return face_vertices[3 * f + prev_corner(k)];
+    return face_vertices[3 * f];  // not reached for an edge of f
+}
+
+Index Topology::other_edge_at_vertex(Index f, Index v, Index e) const {
+    for (int k = 0; k < 3; ++k) {
+        if (face_vertices[3 * f + k] != v) continue;
+        const Index leaving = face_edges[3 * f + k], arriving = face_edges[3 * f + prev_corner(k)];
+        return leaving == e ? arriving : leaving;
+    }
+    return e;  // not reached for a vertex of f
+}
+
+Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices) {
+    Topology t;
+    t.num_vertices = num_vertices;
+    t.face_vertices.assign(triangles, triangles + 3 * std::size_t(num_triangles));
+    const int num_corners = 3 * num_triangles;
+
+    // Bucket the corners' edges by their lower vertex, in corner order, so that finding an edge's first
+    // corner is a scan of a bucket of about half a valence: no hashing, no sort.
+    std::vector<Index> bucket_counts(num_vertices, 0);
+    auto low_end = [&](int c) {
+        const Index a = t.face_vertices[c], b = t.face_vertices[c - c % 3 + next_corner(c % 3)];
+        return a < b ? a : b;
+    };
+    auto high_end = [&](int c) {
+        const Index a = t.face_vertices[c], b = t.face_vertices[c - c % 3 + next_corner(c % 3)];
+        return a < b ? b : a;
+    };
+    for (int c = 0; c < num_corners; ++c) ++bucket_counts[low_end(c)];
+    const std::vector<Index> bucket_offsets = offsets_from_counts(bucket_counts);
+    std::vector<Index> bucket(num_corners);
+    {
+        std::vector<Index> cursor(bucket_offsets.begin(), bucket_offsets.end() - 1);
+        for (int c = 0; c < num_corners; ++c) bucket[cursor[low_end(c)]++] = c;
+    }
+
+    t.face_edges.resize(num_corners);
+    t.edge_vertices.reserve(num_corners);  // at most one edge per corner
+    for (int c = 0; c < num_corners; ++c) {
+        const Index lo = low_end(c), hi = high_end(c);
+        int first = c;
+        for (Index k = bucket_offsets[lo]; k < bucket_offsets[lo + 1]; ++k) {
+            if (high_end(bucket[k]) == hi) {
+                first = bucket[k];
+                break;
+            }
+        }
+        if (first == c) {
+            t.face_edges[c] = t.num_edges();
+            t.edge_vertices.push_back(t.face_vertices[c]);
+            t.edge_vertices.push_back(t.face_vertices[c - c % 3 + next_corner(c % 3)]);
+        } else {
+            t.face_edges[c] = t.face_edges[first];
+        }
+    }
+    fill_edge_faces(t);
+    fill_vertex_edges(t);
+    return t;
+}
+
+Topology refine_topology(const Topology& p, bool faces_only) {
+    const int nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
+    Topology c;
+    c.num_vertices = nv + ne;
+
+    c.face_vertices.resize(12 * std::size_t(nf));
+    for (int f = 0; f < nf; ++f) {
+        const Index* v = &p.face_vertices[3 * f];
+        const Index m0 = nv + p.face_edges[3 * f], m1 = nv + p.face_edges[3 * f + 1], m2 = nv + p.face_edges[3 * f + 2];
+        Index* out = &c.face_vertices[12 * std::size_t(f)];
+        out[0] = v[0], out[1] = m0, out[2] = m2;
+        out[3] = v[1], out[4] = m1, out[5] = m0;
+        out[6] = v[2], out[7] = m2, out[8] = m1;
+        out[9] = m0, out[10] = m1, out[11] = m2;
+    }
+    if (faces_only) return c;
+
+    const Index interior_base = 2 * ne;
+    c.edge_vertices.resize(2 * (std::size_t(2 * ne) + 3 * std::size_t(nf)));
+    for (int e = 0; e < ne; ++e) {
+        const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
+        c.edge_vertices[4 * e + 0] = a, c.edge_vertices[4 * e + 1] = m;
+        c.edge_vertices[4 * e + 2] = m, c.edge_vertices[4 * e + 3] = b;
+    }
+    c.face_edges.resize(12 * std::size_t(nf));
+    for (int f = 0; f < nf; ++f) {
+        const Index* v = &p.face_vertices[3 * f];
+        const Index* fe = &p.face_edges[3 * f];
+        const Index interior = interior_base + 3 * f;  // interior edge k joins midpoints k and k + 1
+        for (int k = 0; k < 3; ++k) {
+            const Index edge = 2 * (interior + k);
+            c.edge_vertices[edge] = nv + fe[k];
+            c.edge_vertices[edge + 1] = nv + fe[next_corner(k)];
+        }
+        Index* out = &c.face_edges[12 * std::size_t(f)];
+        for (int k = 0; k < 3; ++k) {
+            // Corner child k = (v_k, m_k, m_{k-1}): half of edge k at v_k, interior edge k-1, half of edge k-1 at v_k.
+            out[3 * k + 0] = child_edge_at(p, fe[k], v[k]);
+            out[3 * k + 1] = interior + prev_corner(k);
+            out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
+        }
+        out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
+    }
+
+    // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
+    // edge k of face f lies in the corner child k + 1 and the middle child.
+    c.edge_face_offsets.resize(c.num_edges() + 1);
+    c.edge_face_offsets[0] = 0;
+    for (int e = 0; e < ne; ++e) {
+        const Index count = p.edge_face_count(e);
+        c.edge_face_offsets[2 * e + 1] = c.edge_face_offsets[2 * e] + count;
+        c.edge_face_offsets[2 * e + 2] = c.edge_face_offsets[2 * e + 1] + count;
+    }
+    for (int k = interior_base; k < c.num_edges(); ++k) c.edge_face_offsets[k + 1] = c.edge_face_offsets[k] + 2;
+    c.edge_faces.resize(c.edge_face_offsets.back());
+    for (int e = 0; e < ne; ++e) {
+        Index* at_a = &c.edge_faces[c.edge_face_offsets[2 * e]];
+        Index* at_b = &c.edge_faces[c.edge_face_offsets[2 * e + 1]];
+        const Index a = p.edge_vertices[2 * e];
+        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+            const Index f = p.edge_faces[k];
+            const Index* fe = &p.face_edges[3 * f];
+            const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;  // edge `local` runs from corner local to local+1
+            const bool a_first = p.face_vertices[3 * f + local] == a;
+            *at_a++ = 4 * f + (a_first ? local : next_corner(local));
+            *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
+        }
+    }
+    for (int f = 0; f < nf; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            Index* faces = &c.edge_faces[c.edge_face_offsets[interior_base + 3 * f + k]];
+            faces[0] = 4 * f + next_corner(k);
+            faces[1] = 4 * f + 3;
+        }
+    }
+
+    // Vertex edges: an old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e
+    // has its two halves and, per face of e, the two interior edges that meet it.
+    c.vertex_edge_offsets.resize(c.num_vertices + 1);
+    c.vertex_edge_offsets[0] = 0;
+    for (int v = 0; v < nv; ++v) c.vertex_edge_offsets[v + 1] = c.vertex_edge_offsets[v] + p.valence(v);
+    for (int e = 0; e < ne; ++e) c.vertex_edge_offsets[nv + e + 1] = c.vertex_edge_offsets[nv + e] + 2 + 2 * p.edge_face_count(e);
+    c.vertex_edges.resize(c.vertex_edge_offsets.back());
+    for (int v = 0; v < nv; ++v) {
+        Index* out = &c.vertex_edges[c.vertex_edge_offsets[v]];
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *out++ = child_edge_at(p, p.vertex_edges[k], v);
+    }
+    for (int e = 0; e < ne; ++e) {
+        Index* out = &c.vertex_edges[c.vertex_edge_offsets[nv + e]];
+        *out++ = 2 * e;
+        *out++ = 2 * e + 1;
+        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+            const Index f = p.edge_faces[k];
+            const Index* fe = &p.face_edges[3 * f];
+            const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
+            *out++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
+            *out++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
+        }
+    }
+    return c;
+}
+
+std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
+    std::vector<std::uint8_t> flags(t.num_edges(), 0);
+    for (int e = 0; e < t.num_edges(); ++e) {
+        const int count = t.edge_face_count(e);
+        if (count > 2) {
+            flags[e] = 1;
+        } else if (count == 2) {
+            // Consistently wound neighbours run along a shared edge in opposite directions.
+            int direction = 0;
+            for (Index k = t.edge_face_offsets[e]; k < t.edge_face_offsets[e + 1]; ++k) {
+                const Index f = t.edge_faces[k];
+                for (int corner = 0; corner < 3; ++corner)
+                    if (t.face_edges[3 * f + corner] == e) direction += t.face_vertices[3 * f + corner] == t.edge_vertices[2 * e] ? 1 : -1;
+            }
+            flags[e] = direction != 0;
+        }
+    }
+    return flags;
+}
+
+std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::vector<std::uint8_t>& non_manifold_edge) {
+    std::vector<std::uint8_t> flags(t.num_vertices, 0);
+    for (int v = 0; v < t.num_vertices; ++v) {
+        const Index first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
+        if (first == last) continue;
+        int face_corners = 0;  // each face at v has two edges at v
+        Index boundary_edge = -1;
+        bool bad = false;
+        for (Index k = first; k < last; ++k) {
+            const Index e = t.vertex_edges[k];
+            bad |= non_manifold_edge[e] != 0;
+            face_corners += t.edge_face_count(e);
+            if (t.edge_face_count(e) == 1) boundary_edge = e;
+        }
+        if (bad) {
+            flags[v] = 1;
+            continue;
+        }
+        const int num_faces = face_corners / 2;
+        // Walk the fan from a boundary edge (or any edge) and count the faces reached.
+        Index e = boundary_edge >= 0 ? boundary_edge : t.vertex_edges[first];
+        const Index start = e;
+        Index f = t.edge_faces[t.edge_face_offsets[e]];
+        int reached = 0;
+        while (true) {
+            ++reached;
+            e = t.other_edge_at_vertex(f, v, e);
+            if (e == start || t.edge_face_count(e) != 2 || reached > num_faces) break;
+            const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
+            f = faces[0] == f ? faces[1] : faces[0];
+        }
+        flags[v] = reached != num_faces;
+    }
+    return flags;
+}
+
+int faces_between(const Topology& t, Index v, Index from, Index to) {
+    Index e = from;
+    Index f = t.edge_faces[t.edge_face_offsets[e]];
+    int count = 0;
+    while (true) {
+        ++count;
+        e = t.other_edge_at_vertex(f, v, e);
+        if (e == to || e == from || t.edge_face_count(e) != 2) return count;
+        const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
+        f = faces[0] == f ? faces[1] : faces[0];
+    }
+}
+
+}  // namespace loopsub::detail

@@ -1,0 +1,46 @@
+// The subdivision rules, as pure functions of local quantities: no mesh here (OpenSubdiv's Sdc in spirit).
+//
+// Every mask is expressed in the shape the kernels evaluate (stencils.h):
+//   vertex  v' = self * v + ring * (sum of all neighbours) + crease * (the two crease neighbours)
+//   edge    e' = a * A + b * B + wings * (C + D)
+#pragma once
+
+#include "loopsub/loopsub.h"
+
+namespace loopsub::detail {
+
+struct VertexMask {
+    double self = 1.0, ring = 0.0, crease = 0.0;
+};
+
+struct EdgeMask {
+    double a = 0.375, b = 0.375, wings = 0.125;
+};
+
+// Loop's smooth vertex mask for valence n: self 1 - a(n), each neighbour a(n) / n (seed: c0 = n / a(n) - n, ci = 1).
+// Valence 6 uses OpenSubdiv's exact 5/8 and 1/16.
+VertexMask smooth_vertex_mask(int valence);
+VertexMask crease_vertex_mask();  // (6 v0 + the two crease neighbours) / 8
+VertexMask corner_vertex_mask();  // the vertex stays
+VertexMask cone_vertex_mask(int valence);  // seed / Hoppe: c0 = n / (5/8 - b(n)) - n, ci = 1
+VertexMask blend(const VertexMask& a, double weight_a, const VertexMask& b);  // weight_a * a + (1 - weight_a) * b
+
+EdgeMask smooth_edge_mask();                  // {3, 3, 1, 1} / 8
+EdgeMask crease_edge_mask();                  // {1, 1, 0, 0} / 2
+EdgeMask five_three_edge_mask(bool five_on_a);  // {5, 3, 0, 0} / 8 with the 5 on the regular crease vertex
+
+// OpenSubdiv's creasing (Sdc::Crease), single precision as OpenSubdiv computes it.
+enum class SdcRule { Smooth, Dart, Crease, Corner };
+SdcRule sdc_vertex_rule(float vertex_sharpness, int sharp_edge_count);
+float decrement_sharpness(float sharpness);  // uniform decay: s - 1, 0 below 1, infinite stays infinite
+// Chaikin decay of one edge's sharpness at one of its end vertices, given the sharpness of all edges there.
+float chaikin_sharpness_at_vertex(float edge_sharpness, const float* incident_sharpness, int incident_count);
+// Weight of the parent mask when a vertex's rule changes between levels (Sdc::Crease::ComputeFractionalWeightAtVertex).
+float transition_weight(CreaseMethod method, float parent_vertex_sharpness, float child_vertex_sharpness,
+                        const float* parent_edge_sharpness, const float* child_edge_sharpness, int edge_count);
+
+inline bool is_sharp(float sharpness) { return sharpness > 0.0f; }
+inline bool is_infinite(float sharpness) { return sharpness >= kInfiniteSharpness; }
+inline bool is_semi_sharp(float sharpness) { return sharpness > 0.0f && sharpness < kInfiniteSharpness; }
+
+}  // namespace loopsub::detail

@@ -1,0 +1,55 @@
+// Mesh connectivity as flat index arrays with offsets (OpenSubdiv's Vtr in spirit): the seed's winged-edge
+// information (slides 18-19) — per edge its vertices and faces, per vertex its edges — and no more.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace loopsub::detail {
+
+using Index = std::int32_t;
+
+struct Topology {
+    int num_vertices = 0;
+    std::vector<Index> face_vertices;  // 3 per face, counter-clockwise
+    std::vector<Index> face_edges;     // 3 per face: edge i joins corner i and corner i + 1
+    std::vector<Index> edge_vertices;  // 2 per edge
+    // Faces of edge e: edge_faces[edge_face_offsets[e] .. edge_face_offsets[e + 1]).
+    std::vector<Index> edge_face_offsets, edge_faces;
+    // Edges of vertex v: vertex_edges[vertex_edge_offsets[v] .. vertex_edge_offsets[v + 1]).
+    std::vector<Index> vertex_edge_offsets, vertex_edges;
+
+    int num_faces() const { return int(face_vertices.size() / 3); }
+    int num_edges() const { return int(edge_vertices.size() / 2); }
+    int edge_face_count(Index e) const { return edge_face_offsets[e + 1] - edge_face_offsets[e]; }
+    int valence(Index v) const { return vertex_edge_offsets[v + 1] - vertex_edge_offsets[v]; }
+    Index other_end(Index e, Index v) const { return edge_vertices[2 * e] == v ? edge_vertices[2 * e + 1] : edge_vertices[2 * e]; }
+    // The vertex of face f that is not on edge e.
+    Index opposite_vertex(Index f, Index e) const;
+    // The edge of face f at vertex v other than e (both edges of f at v must exist).
+    Index other_edge_at_vertex(Index f, Index v, Index e) const;
+};
+
+// Connectivity of a validated triangle list. Edges are numbered in order of first appearance, walking the
+// triangles and their corners in order.
+Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices);
+
+// Child connectivity of one Loop split, derived from the parent without any search: vertex v stays v, edge e
+// gives vertex (num_vertices + e) and child edges 2e (at its first vertex) and 2e + 1; face f gives child faces
+// 4f + k (corner k for k < 3, the middle one last) and interior edges 2 * num_edges + 3f + k joining the
+// midpoints of face edges k and k + 1. With faces_only, only face_vertices is filled (the last level).
+Topology refine_topology(const Topology& parent, bool faces_only);
+
+// Child edge of parent edge e at its end vertex v.
+inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }
+
+// An edge is non-manifold when it has more than two faces, or two faces that run along it the same way.
+std::vector<std::uint8_t> non_manifold_edges(const Topology& topology);
+// A vertex is non-manifold when one of its edges is, or its faces do not form a single fan.
+std::vector<std::uint8_t> non_manifold_vertices(const Topology& topology, const std::vector<std::uint8_t>& non_manifold_edge);
+
+// Number of faces met walking around vertex v from edge `from` until edge `to` (both with two faces), through
+// the first face of `from`. Manifold neighbourhood required.
+int faces_between(const Topology& topology, Index v, Index from, Index to);
+
+}  // namespace loopsub::detail
