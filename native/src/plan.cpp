@@ -166,8 +166,9 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     for (int k = 0; k < mesh.num_cones; ++k) cone[mesh.cone_vertices[k]] = 1;
 
     // Boundary and non-manifold edges are infinitely sharp; so are non-manifold vertices (unless they sit on
-    // exactly two non-manifold edges: a non-manifold crease) and, when corners are kept, boundary vertices with
-    // a single face. Both rule sets share this (Far's prepareComponentTagsAndSharpness for OpenSubdiv).
+    // exactly two edges with more than two faces: a non-manifold crease; OpenSubdiv 3.5 does not count edges
+    // that are non-manifold by their winding alone) and, when corners are kept, boundary vertices with a single
+    // face. Both rule sets share this (Far's prepareComponentTagsAndSharpness for OpenSubdiv).
     const std::vector<std::uint8_t> non_manifold_edge = detail::non_manifold_edges(t);
     const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge);
     level.edge_sharpness.resize(t.num_edges());
@@ -181,14 +182,15 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     for (int v = 0; v < t.num_vertices; ++v) {
         const float tag = level.vertex_tag[v];
         float sharpness = hoppe ? (tag > 0.0f ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
-        int faces = 0, non_manifold = 0;
+        int faces = 0, fins = 0;
         for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
-            faces += t.edge_face_count(t.vertex_edges[k]);
-            non_manifold += non_manifold_edge[t.vertex_edges[k]];
+            const int edge_faces = t.edge_face_count(t.vertex_edges[k]);
+            faces += edge_faces;
+            fins += edge_faces > 2;
         }
         const bool single_face_corner = t.valence(v) == 2 && faces == 2;
         if (single_face_corner && options.boundary == Boundary::EdgesAndCorners) sharpness = kInfiniteSharpness;
-        else if (non_manifold_vertex[v] && non_manifold != 2) sharpness = kInfiniteSharpness;
+        else if (non_manifold_vertex[v] && fins != 2) sharpness = kInfiniteSharpness;
         level.vertex_sharpness[v] = sharpness;
     }
     return level;

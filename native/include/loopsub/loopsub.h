@@ -22,6 +22,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace loopsub {
@@ -98,6 +99,12 @@ struct ChannelsView {
     int num_channels = 0;
     std::size_t channel_stride = 1;
     std::size_t element_stride = 1;
+
+    // A writable view can be read from.
+    template <typename T = Float, typename = std::enable_if_t<!std::is_const_v<T>>>
+    operator ChannelsView<const T>() const {
+        return {data, num_channels, channel_stride, element_stride};
+    }
 };
 
 inline ChannelsView<const float> interleaved(const float* data, int num_channels) {
