@@ -1,7 +1,12 @@
 #include "mesh_gen.h"
 
+#include "obj_io.h"
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <map>
 #include <random>
 #include <set>
@@ -289,6 +294,33 @@ TestMesh hemisphere(int splits) {
     return mesh;
 }
 
+TestMesh fin_on_grid() {
+    TestMesh mesh = grid(3, 3);
+    mesh.name = "fin_on_grid";
+    // The fin's tip stands above the edge's midpoint.
+    const int a = grid_vertex(3, 1, 1), b = grid_vertex(3, 2, 2);
+    add_vertex(mesh, 0.5 * (mesh.positions[3 * a] + mesh.positions[3 * b]),
+               0.5 * (mesh.positions[3 * a + 1] + mesh.positions[3 * b + 1]), 0.4);
+    add_triangle(mesh, a, b, mesh.num_vertices() - 1);
+    return mesh;
+}
+
+TestMesh bowtie(int n) {
+    TestMesh mesh;
+    mesh.name = "bowtie" + std::to_string(n);
+    add_vertex(mesh, 0, 0, 0);
+    for (int side = 0; side < 2; ++side) {
+        const double sign = side == 0 ? 1.0 : -1.0;
+        const int first = mesh.num_vertices();
+        for (int k = 0; k <= n; ++k) {
+            double u = 0.5 * kPi * k / n - 0.25 * kPi;  // a quarter turn of fan on each side
+            add_vertex(mesh, sign * std::cos(u), std::sin(u), 0.2 * sign * std::sin(2 * u));
+        }
+        for (int k = 0; k < n; ++k) add_triangle(mesh, 0, first + k, first + k + 1);
+    }
+    return mesh;
+}
+
 void jitter(TestMesh& mesh, unsigned seed, float amount) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> offset(-amount, amount);
@@ -336,6 +368,59 @@ void add_uvs_with_seam(TestMesh& mesh) {
         int offset = cx > 0 ? n : 0;
         for (int k = 0; k < 3; ++k) mesh.triangle_uvs[3 * t + k] = mesh.triangles[3 * t + k] + offset;
     }
+}
+
+namespace {
+
+// True for an `f` line that names the same vertex twice (the vertex index is what precedes the first '/').
+bool is_degenerate_face_line(const std::string& line) {
+    std::istringstream tokens(line);
+    std::string token;
+    tokens >> token;
+    if (token != "f") return false;
+    std::set<std::string> seen;
+    while (tokens >> token)
+        if (!seen.insert(token.substr(0, token.find('/'))).second) return true;
+    return false;
+}
+
+}  // namespace
+
+TestMesh peer_shape(const std::string& file_name, bool drop_degenerate_faces) {
+    const std::string path = std::string(LOOPSUB_PEER_SHAPES) + "/" + file_name;
+    obj::ObjMesh obj;
+    if (drop_degenerate_faces) {
+        std::ifstream in(path);
+        if (!in) throw std::runtime_error("cannot open " + path);
+        std::string text, line;
+        while (std::getline(in, line))
+            if (!is_degenerate_face_line(line)) text += line + "\n";
+        obj = obj::parse_obj(text, path);
+    } else {
+        obj = obj::read_obj(path);
+    }
+    TestMesh mesh;
+    mesh.name = file_name.substr(0, file_name.rfind('.'));
+    mesh.positions = obj.positions;
+    mesh.triangles = obj.triangles;
+    mesh.crease_edges = obj.crease_edges;
+    mesh.crease_sharpness = obj.crease_sharpness;
+    mesh.corner_vertices = obj.corner_vertices;
+    mesh.corner_sharpness = obj.corner_sharpness;
+    mesh.cone_vertices = obj.cone_vertices;
+    if (!obj.triangle_uvs.empty()) {
+        mesh.uvs = obj.uvs;
+        mesh.triangle_uvs = obj.triangle_uvs;
+    }
+    mesh.boundary = obj.boundary.value_or(Boundary::EdgesOnly);
+    mesh.crease_method = obj.crease_method.value_or(CreaseMethod::Uniform);
+    return mesh;
+}
+
+std::vector<float> evaluate_positions(Plan& plan, const TestMesh& mesh) {
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices()));
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3));
+    return out;
 }
 
 }  // namespace loopsub::testing

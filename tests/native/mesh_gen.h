@@ -69,6 +69,12 @@ TestMesh open_fan(int n);
 // The upper half (triangle centroids with z > -0.05) of icosphere(splits); one boundary loop.
 TestMesh hemisphere(int splits);
 
+// --- Non-manifold meshes (OpenSubdiv makes such edges and vertices sharp) -----------------------------------
+// grid(3, 3) with a fin: an extra triangle on the interior edge (1,1)-(2,2), which then has three faces.
+TestMesh fin_on_grid();
+// Two open fans of n triangles touching only at their apex (vertex 0): a non-manifold vertex.
+TestMesh bowtie(int n);
+
 // --- Changes applied to a mesh -------------------------------------------------------------------------------
 // Moves every vertex by a seeded random offset of up to `amount` per coordinate: breaks the symmetry under which a
 // wrong weight could still produce the right point.
@@ -81,5 +87,14 @@ void add_random_corners(TestMesh& mesh, unsigned seed, int count, bool semi_shar
 // UVs from the x, y coordinates; triangles whose centroid has x > 0 get their own copies of their UV values, so
 // that a seam (the same vertex with two UVs) runs through the mesh.
 void add_uvs_with_seam(TestMesh& mesh);
+
+// One of OpenSubdiv's Loop regression shapes (file name in LOOPSUB_PEER_SHAPES), with its tags (boundary mode
+// and crease method as tagged, else edges only / uniform) and UVs. OpenSubdiv accepts faces that repeat a vertex
+// (loop_nonman_edges has four); the project refuses them as bad input, so drop_degenerate_faces removes those
+// `f` lines before parsing, to compare the rest of the shape.
+TestMesh peer_shape(const std::string& file_name, bool drop_degenerate_faces = false);
+
+// Refines the mesh's positions with a plan built for it: 3 floats per output vertex.
+std::vector<float> evaluate_positions(Plan& plan, const TestMesh& mesh);
 
 }  // namespace loopsub::testing
