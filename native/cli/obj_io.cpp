@@ -182,6 +182,15 @@ private:
             }
         }
         if (corner_vertices_.size() < 3) fail("a face needs at least 3 corners, this one has " + std::to_string(corner_vertices_.size()));
+        // The core refuses degenerate triangles too, but only the reader can say on which line the face is.
+        for (std::size_t i = 0; i < corner_vertices_.size(); ++i) {
+            for (std::size_t j = i + 1; j < corner_vertices_.size(); ++j) {
+                if (corner_vertices_[i] == corner_vertices_[j]) {
+                    fail("the face repeats vertex " + std::to_string(corner_vertices_[i] + 1) +
+                         " (a degenerate face; every corner must be a different vertex)");
+                }
+            }
+        }
 
         bool mesh_has_uvs = !mesh_.triangle_uvs.empty();
         if (!mesh_.triangles.empty() && face_has_uvs != mesh_has_uvs) {

@@ -191,6 +191,8 @@ TEST(ObjReadErrors, MalformedStatements) {
     expect_error("vt 0 0\n" + mesh + "f 1/1 2/1 3/1\nf 1 3 4\n", 7, "earlier faces have them");
     expect_error("vt 0 0\n" + mesh + "f 1 2 3\nf 1/1 3/1 4/1\n", 7, "earlier faces have none");
     expect_error(mesh + "l 1 2\n", 5, "unsupported OBJ statement 'l'");
+    expect_error(mesh + "f 1 2 3\nf 2 2 3\n", 6, "repeats vertex 2");
+    expect_error(mesh + "f 1 2 3 -4\n", 5, "repeats vertex 1");
 }
 
 TEST(ObjReadErrors, NonFiniteCoordinates) {
@@ -338,8 +340,16 @@ TEST(ObjPeerShapes, LoadWithTheirTags) {
     EXPECT_EQ(saddle.num_triangles(), 4);
     EXPECT_EQ(saddle.boundary, loopsub::Boundary::EdgesAndCorners);
 
-    for (const char* name : {"loop_chaikin0", "loop_cube", "loop_fvar_bound0", "loop_icosahedron", "loop_nonman_edges",
-                             "loop_pole8", "loop_tetrahedron", "loop_triangle_edgecorner", "loop_xord_interior"}) {
+    // loop_nonman_edges holds degenerate triangles (OpenSubdiv accepts them, loopsub does not): the first is on
+    // line 193, "f 46/59 46/59 49/62".
+    try {
+        loopsub::obj::read_obj(dir + "/loop_nonman_edges.obj");
+        ADD_FAILURE() << "loop_nonman_edges.obj read without an error";
+    } catch (const loopsub::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("loop_nonman_edges.obj:193: the face repeats vertex 46"), std::string::npos)
+            << e.what();
+    }
+    for (const char* name : {"loop_chaikin0", "loop_cube", "loop_fvar_bound0", "loop_icosahedron", "loop_pole8", "loop_tetrahedron", "loop_triangle_edgecorner", "loop_xord_interior"}) {
         SCOPED_TRACE(name);
         ObjMesh mesh = loopsub::obj::read_obj(dir + "/" + name + ".obj");
         EXPECT_GT(mesh.num_triangles(), 0);

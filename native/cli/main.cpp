@@ -1,0 +1,270 @@
+// loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
+// Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+#include "obj_io.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: loopsub IN.obj OUT.obj --levels N [options]\n"
+    "\n"
+    "Subdivides the triangle mesh IN.obj N times by Loop's scheme and writes OUT.obj with the child crease,\n"
+    "corner and cone tags. Polygons with more than 3 corners are triangulated as fans (with a notice).\n"
+    "\n"
+    "options:\n"
+    "  --levels N                    subdivision levels, N >= 0 (required)\n"
+    "  --rules hoppe94|opensubdiv    rule set (default hoppe94)\n"
+    "  --crease-threshold S          hoppe94: an edge is a crease when its sharpness is >= S (default 0: any\n"
+    "                                positive sharpness)\n"
+    "  --boundary edges|edges-and-corners\n"
+    "                                boundary rule (default: the file's interpolateboundary tag, else edges)\n"
+    "  --crease-method uniform|chaikin\n"
+    "                                opensubdiv: semi-sharp decay (default: the file's creasemethod tag, else\n"
+    "                                uniform)\n"
+    "  --threads N                   worker threads, N >= 1 (default 1)\n"
+    "  --scalar                      force the scalar reference kernel instead of SIMD\n"
+    "  --memory-limit-mb N           refuse a refinement that would need more than N MiB (default 4096)\n"
+    "  --stats                       print one line of timings and counts on stdout\n"
+    "  --help                        print this help\n";
+
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct Command {
+    std::string input, output;
+    loopsub::Options options;
+    std::optional<loopsub::Boundary> boundary;  // from the flag; else the file's tag decides
+    std::optional<loopsub::CreaseMethod> crease_method;
+    bool stats = false;
+    bool help = false;
+};
+
+std::int64_t parse_integer(std::string_view flag, std::string_view text, std::int64_t min, std::int64_t max) {
+    std::int64_t value = 0;
+    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error == std::errc::result_out_of_range) throw UsageError(std::string(flag) + " is out of range: " + std::string(text));
+    if (error != std::errc() || end != text.data() + text.size() || text.empty()) {
+        throw UsageError(std::string(flag) + " expects an integer, got '" + std::string(text) + "'");
+    }
+    if (value < min) throw UsageError(std::string(flag) + " must be >= " + std::to_string(min) + ", got " + std::string(text));
+    if (value > max) throw UsageError(std::string(flag) + " must be <= " + std::to_string(max) + ", got " + std::string(text));
+    return value;
+}
+
+float parse_nonnegative_float(std::string_view flag, std::string_view text) {
+    float value = 0.0f;
+    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
+        throw UsageError(std::string(flag) + " expects a number, got '" + std::string(text) + "'");
+    }
+    if (value < 0.0f) throw UsageError(std::string(flag) + " must be >= 0, got " + std::string(text));
+    return value;
+}
+
+Command parse_command_line(int argc, char** argv) {
+    Command command;
+    std::vector<std::string> positional;
+    bool levels_given = false;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
+            positional.push_back(arg);
+            continue;
+        }
+        // Both "--flag value" and "--flag=value".
+        std::optional<std::string> inline_value;
+        if (std::size_t eq = arg.find('='); eq != std::string::npos) {
+            inline_value = arg.substr(eq + 1);
+            arg.resize(eq);
+        }
+        auto value = [&]() -> std::string {
+            if (inline_value) return *inline_value;
+            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
+            return argv[++i];
+        };
+        auto no_value = [&] {
+            if (inline_value) throw UsageError(arg + " takes no value");
+        };
+
+        if (arg == "--help") {
+            no_value();
+            command.help = true;
+        } else if (arg == "--levels") {
+            command.options.levels = int(parse_integer(arg, value(), 0, INT32_MAX));
+            levels_given = true;
+        } else if (arg == "--rules") {
+            std::string rules = value();
+            if (rules == "hoppe94") command.options.rules = loopsub::Rules::Hoppe94;
+            else if (rules == "opensubdiv") command.options.rules = loopsub::Rules::OpenSubdiv;
+            else throw UsageError("--rules expects hoppe94 or opensubdiv, got '" + rules + "'");
+        } else if (arg == "--crease-threshold") {
+            command.options.crease_threshold = parse_nonnegative_float(arg, value());
+        } else if (arg == "--boundary") {
+            std::string boundary = value();
+            if (boundary == "edges") command.boundary = loopsub::Boundary::EdgesOnly;
+            else if (boundary == "edges-and-corners") command.boundary = loopsub::Boundary::EdgesAndCorners;
+            else throw UsageError("--boundary expects edges or edges-and-corners, got '" + boundary + "'");
+        } else if (arg == "--crease-method") {
+            std::string method = value();
+            if (method == "uniform") command.crease_method = loopsub::CreaseMethod::Uniform;
+            else if (method == "chaikin") command.crease_method = loopsub::CreaseMethod::Chaikin;
+            else throw UsageError("--crease-method expects uniform or chaikin, got '" + method + "'");
+        } else if (arg == "--threads") {
+            command.options.threads = int(parse_integer(arg, value(), 1, 256));
+        } else if (arg == "--scalar") {
+            no_value();
+            command.options.kernel = loopsub::Kernel::Scalar;
+        } else if (arg == "--memory-limit-mb") {
+            command.options.memory_limit_bytes = std::uint64_t(parse_integer(arg, value(), 1, std::int64_t(1) << 40)) << 20;
+        } else if (arg == "--stats") {
+            no_value();
+            command.stats = true;
+        } else {
+            throw UsageError("unknown option '" + arg + "'");
+        }
+    }
+    if (command.help) return command;
+    if (positional.size() != 2) {
+        throw UsageError("expected IN.obj and OUT.obj, got " + std::to_string(positional.size()) + " file argument(s)");
+    }
+    if (!levels_given) throw UsageError("--levels N is required");
+    command.input = positional[0];
+    command.output = positional[1];
+    return command;
+}
+
+std::string mebibytes(std::uint64_t bytes) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1 << 20));
+    return text;
+}
+
+// Face-varying UVs come out of the plan as one value per output corner. In the file, corners of the same vertex
+// with the same value share one vt, and differing values keep their own: seams stay seams without writing three
+// vt lines per triangle. Corners are grouped by vertex with a counting sort, so this is linear in their number.
+void set_output_uvs(const std::vector<float>& corner_uvs, loopsub::obj::ObjMesh& out) {
+    const std::vector<std::int32_t>& triangles = out.triangles;
+    const std::size_t num_corners = triangles.size();
+    std::vector<std::int32_t> bucket_start(std::size_t(out.num_vertices()) + 1, 0);
+    for (std::int32_t v : triangles) ++bucket_start[std::size_t(v) + 1];
+    for (std::size_t v = 1; v < bucket_start.size(); ++v) bucket_start[v] += bucket_start[v - 1];
+    std::vector<std::int32_t> corners_by_vertex(num_corners);
+    {
+        std::vector<std::int32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
+        for (std::size_t c = 0; c < num_corners; ++c) corners_by_vertex[std::size_t(fill[std::size_t(triangles[c])]++)] = std::int32_t(c);
+    }
+
+    out.uvs.clear();
+    out.triangle_uvs.assign(num_corners, 0);
+    for (std::size_t v = 0; v + 1 < bucket_start.size(); ++v) {
+        const std::size_t first_uv_of_vertex = out.uvs.size() / 2;
+        for (std::int32_t i = bucket_start[v]; i < bucket_start[v + 1]; ++i) {
+            const std::size_t corner = std::size_t(corners_by_vertex[std::size_t(i)]);
+            const float u = corner_uvs[2 * corner], w = corner_uvs[2 * corner + 1];
+            std::size_t uv = first_uv_of_vertex;
+            while (uv < out.uvs.size() / 2 && !(out.uvs[2 * uv] == u && out.uvs[2 * uv + 1] == w)) ++uv;
+            if (uv == out.uvs.size() / 2) {
+                out.uvs.push_back(u);
+                out.uvs.push_back(w);
+            }
+            out.triangle_uvs[corner] = std::int32_t(uv);
+        }
+    }
+}
+
+int run(const Command& command) {
+    const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
+    if (in.polygons_triangulated > 0) {
+        std::fprintf(stderr, "loopsub: note: %s: triangulated %d polygon(s) with more than 3 corners as fans\n",
+                     command.input.c_str(), in.polygons_triangulated);
+    }
+
+    loopsub::Options options = command.options;
+    options.boundary = command.boundary.value_or(in.boundary.value_or(loopsub::Boundary::EdgesOnly));
+    options.crease_method = command.crease_method.value_or(in.crease_method.value_or(loopsub::CreaseMethod::Uniform));
+
+    loopsub::Plan plan(in.view(), options);
+
+    loopsub::obj::ObjMesh out;
+    out.positions.resize(std::size_t(plan.num_output_vertices()) * 3);
+    plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
+    const double evaluate_ms = plan.last_evaluate_ms();
+
+    const std::int32_t* triangles = plan.output_triangles();
+    out.triangles.assign(triangles, triangles + std::size_t(plan.num_output_triangles()) * 3);
+
+    if (!in.triangle_uvs.empty()) {
+        std::vector<float> corner_uvs_in(in.triangle_uvs.size() * 2);
+        for (std::size_t c = 0; c < in.triangle_uvs.size(); ++c) {
+            corner_uvs_in[2 * c] = in.uvs[2 * std::size_t(in.triangle_uvs[c])];
+            corner_uvs_in[2 * c + 1] = in.uvs[2 * std::size_t(in.triangle_uvs[c]) + 1];
+        }
+        std::vector<float> corner_uvs_out(out.triangles.size() * 2);
+        plan.evaluate_face_varying(corner_uvs_in.data(), corner_uvs_out.data(), 2);
+        set_output_uvs(corner_uvs_out, out);
+    }
+
+    out.crease_edges = plan.output_crease_edges();
+    out.crease_sharpness = plan.output_crease_sharpness();
+    out.corner_vertices = plan.output_corner_vertices();
+    out.corner_sharpness = plan.output_corner_sharpness();
+    // Old vertices keep their indices at every level, so the cone tags carry over unchanged.
+    out.cone_vertices = in.cone_vertices;
+    // The rules that shaped the output go with it, so that refining it again continues the same surface.
+    out.boundary = command.boundary ? command.boundary : in.boundary;
+    out.crease_method = command.crease_method ? command.crease_method : in.crease_method;
+    loopsub::obj::write_obj(command.output, out);
+
+    if (command.stats) {
+        std::printf("topology_ms=%.3f evaluate_ms=%.3f levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
+                    "triangles_out=%d kernel=%s threads=%d\n",
+                    plan.topology_ms(), evaluate_ms, plan.levels(), in.num_vertices(), in.num_triangles(),
+                    plan.num_output_vertices(), plan.num_output_triangles(), loopsub::kernel_name(plan.kernel()),
+                    plan.options().threads);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Command command;
+    try {
+        command = parse_command_line(argc, argv);
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "loopsub: error: %s\n%s", e.what(), kUsage);
+        return 2;
+    }
+    if (command.help) {
+        std::fputs(kUsage, stdout);
+        return 0;
+    }
+    try {
+        return run(command);
+    } catch (const loopsub::MemoryLimitError& e) {
+        std::fprintf(stderr, "loopsub: error: %s (it would need %llu bytes = %s; the limit is %s, see --memory-limit-mb)\n",
+                     e.what(), static_cast<unsigned long long>(e.required_bytes), mebibytes(e.required_bytes).c_str(),
+                     mebibytes(command.options.memory_limit_bytes).c_str());
+    } catch (const loopsub::InputError& e) {
+        std::fprintf(stderr, "loopsub: error: %s\n", e.what());
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "loopsub: error: out of memory (try fewer --levels)\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "loopsub: error: %s\n", e.what());
+    }
+    return 1;
+}
