@@ -1,0 +1,28 @@
+"""Loop Subdivision: Loop subdivision of triangle meshes with creases, through the loopsub native core.
+
+A "Loop Subdivision" entry in Properties ▸ Modifiers with a live viewport preview, an apply operator, and crease tags
+written as attributes. See docs/addon.md.
+"""
+from . import operators, preview, properties, ui
+
+bl_info = {
+    "name": "Loop Subdivision",
+    "author": "loopsub team",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "Properties ▸ Modifiers ▸ Add Loop Subdivision; 3D Viewport ▸ Object ▸ Loop Subdivision",
+    "description": "Loop subdivision of triangle meshes with creases (Hoppe 94 and OpenSubdiv rules)",
+    "category": "Mesh",
+}
+
+_modules = (properties, operators, ui, preview)
+
+
+def register():
+    for module in _modules:
+        module.register()
+
+
+def unregister():
+    for module in reversed(_modules):
+        module.unregister()

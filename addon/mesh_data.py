@@ -1,0 +1,348 @@
+"""Moving mesh data between Blender and the core: numpy arrays through foreach_get / foreach_set.
+
+Apply builds the subdivided mesh completely in a new data-block and only then swaps it in, so any error leaves the
+object's mesh untouched.
+"""
+import bpy
+import numpy as np
+
+from . import compat, geometry, native
+from .native import LoopSubError
+
+CREASE_TAG = "loop_crease"
+VERTEX_TYPE_TAG = "loop_vertex_type"
+# Temporary name of a float point attribute on its way to becoming a vertex group.
+_GROUP_TRANSFER = "loop_subdivision_group_transfer"
+
+
+def _get(collection, prop, count, width, dtype):
+    values = np.empty(count * width, dtype=dtype)
+    collection.foreach_get(prop, values)
+    return values.reshape(count, width) if width > 1 else values
+
+
+def _get_attribute(attribute, count):
+    prop, width, dtype = geometry.ATTRIBUTE_LAYOUT[attribute.data_type]
+    return _get(attribute.data, prop, count, width, dtype).reshape(count, width)
+
+
+def _set_attribute(mesh, name, domain, data_type, values):
+    prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
+    attribute = mesh.attributes.new(name, data_type, domain)
+    attribute.data.foreach_set(prop, np.ascontiguousarray(values).ravel())
+    return attribute
+
+
+class Cage:
+    """The control mesh as the core sees it: Blender's triangulation of its faces, and its crease weights."""
+
+    def __init__(self, mesh):
+        self.num_vertices = len(mesh.vertices)
+        self.positions = _get(mesh.vertices, "co", self.num_vertices, 3, np.float32)
+        mesh.calc_loop_triangles()
+        num_triangles = len(mesh.loop_triangles)
+        self.triangles = _get(mesh.loop_triangles, "vertices", num_triangles, 3, np.int32)
+        self.triangle_loops = _get(mesh.loop_triangles, "loops", num_triangles, 3, np.int32)
+        self.triangle_polygons = _get(mesh.loop_triangles, "polygon_index", num_triangles, 1, np.int32)
+        self.num_polygons = len(mesh.polygons)
+        self.num_loops = len(mesh.loops)
+        loop_totals = _get(mesh.polygons, "loop_total", self.num_polygons, 1, np.int32)
+        self.num_triangulated = int(np.count_nonzero(loop_totals != 3))
+        self.edge_vertices = _get(mesh.edges, "vertices", len(mesh.edges), 2, np.int32)
+        loop_edges = _get(mesh.loops, "edge_index", self.num_loops, 1, np.int32)
+        self.edge_face_counts = geometry.edge_face_counts(loop_edges, len(mesh.edges))
+        self.edge_weights = compat.read_edge_creases(mesh)
+        self.vertex_weights = compat.read_vertex_creases(mesh)
+
+    def validate(self, name):
+        """The checks that give a clearer message here than the core's own."""
+        if not len(self.triangles):
+            raise LoopSubError(f"{name} has no faces to subdivide")
+        bad = np.flatnonzero(~np.isfinite(self.positions).all(axis=1))
+        if len(bad):
+            raise LoopSubError(f"{name}: vertex {bad[0]} has a non-finite coordinate "
+                               f"({len(bad)} such vertices)")
+        degenerate = geometry.degenerate_triangles(self.triangles)
+        if len(degenerate):
+            face = self.triangle_polygons[degenerate[0]]
+            raise LoopSubError(f"{name}: face {face} repeats a vertex ({len(degenerate)} degenerate triangles); "
+                               "Mesh ▸ Clean Up ▸ Merge by Distance or Delete Loose can fix it")
+
+    def tags(self, options):
+        if not options.use_creases:
+            return geometry.crease_tags(self.edge_vertices[:0], self.edge_weights[:0], self.vertex_weights[:0],
+                                        options.rules, options.crease_threshold)
+        return geometry.crease_tags(self.edge_vertices, self.edge_weights, self.vertex_weights,
+                                    options.rules, options.crease_threshold)
+
+    def plan(self, options, levels, cones):
+        return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones)
+
+
+def read_vertex_groups(mesh, num_groups):
+    """(V, G) weights. Blender has no bulk accessor for deform weights (they are per-vertex lists), so this is the one
+    place that walks the cage's vertices in Python; it runs on the cage, never on the 4^L larger result."""
+    weights = np.zeros((len(mesh.vertices), num_groups), dtype=np.float32)
+    for vertex in mesh.vertices:
+        for element in vertex.groups:
+            if element.group < num_groups:
+                weights[vertex.index, element.group] = element.weight
+    return weights
+
+
+def cone_group_index(obj, options):
+    """Index of the cone vertex group, or None when the rules or settings use no cones."""
+    if options.rules != 'HOPPE94' or not options.cone_group:
+        return None
+    group = obj.vertex_groups.get(options.cone_group)
+    if group is None:
+        raise LoopSubError(f"{obj.name}: cone vertex group \"{options.cone_group}\" does not exist")
+    return group.index
+
+
+def cone_vertices(group_weights, cone_index):
+    if cone_index is None:
+        return np.zeros(0, dtype=np.int32)
+    return np.flatnonzero(group_weights[:, cone_index] > 0).astype(np.int32)
+
+
+def check_object(obj):
+    if obj.type != 'MESH':
+        raise LoopSubError(f"{obj.name} is not a mesh")
+    mesh = obj.data
+    if mesh.users > 1:
+        raise LoopSubError(f"{obj.name}: cannot apply to multi-user mesh data \"{mesh.name}\"")
+    if mesh.shape_keys is not None:
+        raise LoopSubError(f"{obj.name}: cannot apply to a mesh with shape keys")
+    if mesh.is_editmode:
+        raise LoopSubError(f"{obj.name} is in Edit Mode")
+
+
+class Result:
+    """A subdivided mesh data-block, built but not yet on the object, and what the artist should be told."""
+
+    def __init__(self, mesh, messages, group_names, group_locks, active_group):
+        self.mesh = mesh
+        self.messages = messages
+        self.group_names = group_names
+        self.group_locks = group_locks
+        self.active_group = active_group
+
+
+def subdivide(obj, options, progress):
+    """Builds the subdivided copy of obj's mesh. progress() is called between the long stages."""
+    check_object(obj)
+    mesh = obj.data
+    cage = Cage(mesh)
+    cage.validate(obj.name)
+    messages = []
+    if cage.num_triangulated:
+        messages.append(('INFO', f"{obj.name}: triangulated {cage.num_triangulated} non-triangle faces "
+                                 "with Blender's tessellation first"))
+    cracks = geometry.shared_positions(cage.positions)
+    if cracks:
+        messages.append(('WARNING', f"{obj.name}: {cracks} vertices share a position with another; the cracks "
+                                    "stay open (Merge by Distance welds them)"))
+
+    group_names = [group.name for group in obj.vertex_groups]
+    group_weights = read_vertex_groups(mesh, len(group_names)) if group_names else np.zeros((cage.num_vertices, 0),
+                                                                                             np.float32)
+    cone_index = cone_group_index(obj, options)
+    plan = cage.plan(options, options.levels, cone_vertices(group_weights, cone_index))
+    progress()
+
+    # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs.
+    skip = ({CREASE_TAG, VERTEX_TYPE_TAG, "position", "material_index", "sharp_face", "sharp_edge"}
+            | compat.crease_attribute_names() | {uv.name for uv in mesh.uv_layers})
+    point, corner, face, dropped = geometry.plan_attributes(
+        [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
+    if dropped:
+        messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
+                                    + ", ".join(f"{n} ({d.lower()} {t.lower()})" for n, d, t in dropped)))
+
+    # Vertex channels: positions, point attributes and vertex groups refine together with the same weights.
+    point_values = [_get_attribute(mesh.attributes[name], cage.num_vertices) for name, _, _ in point]
+    vertex_channels = np.ascontiguousarray(np.concatenate([cage.positions, *point_values, group_weights], axis=1),
+                                           dtype=np.float32)
+    refined = native.run(plan.evaluate, vertex_channels)
+    progress()
+
+    # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
+    # Corner barycentrics come along when flagged edges (seams, sharp edges) must pass to their child edges.
+    seams = _get(mesh.edges, "use_seam", len(mesh.edges), 1, np.bool_)
+    sharp = _get(mesh.edges, "use_edge_sharp", len(mesh.edges), 1, np.bool_)
+    flagged = seams.any() or sharp.any()
+    uv_values = [_get(uv.data, "uv", cage.num_loops, 2, np.float32) for uv in mesh.uv_layers]
+    corner_values = [_get_attribute(mesh.attributes[name], cage.num_loops) for name, _, _ in corner]
+    per_corner = [values[cage.triangle_loops] for values in uv_values + corner_values]
+    if flagged:
+        per_corner.insert(0, geometry.corner_barycentrics(len(cage.triangles)))
+    refined_corners = None
+    if per_corner:
+        face_varying = np.ascontiguousarray(np.concatenate(per_corner, axis=2), dtype=np.float32)
+        refined_corners = native.run(plan.evaluate_face_varying, face_varying)
+    progress()
+
+    new = mesh.copy()
+    try:
+        new.clear_geometry()
+        _fill(new, mesh, cage, plan, options, refined, refined_corners, flagged, seams, sharp,
+              point, corner, face, uv_values, group_weights.shape[1], cone_index)
+        group_channels = refined[:, refined.shape[1] - len(group_names):]
+        _write_vertex_groups(new, group_names, group_channels, cone_index, group_weights, cage.num_vertices)
+        try:
+            # Cone vertices keep their indices in the result, so its cones are the cage's.
+            write_tags(new, Cage(new), options, cone_vertices(group_weights, cone_index))
+        except LoopSubError as error:
+            messages.append(('WARNING', f"{obj.name}: tags not refreshed on the result ({error})"))
+    except Exception:
+        bpy.data.meshes.remove(new)
+        raise
+    progress()
+    locks = [group.lock_weight for group in obj.vertex_groups]
+    return Result(new, messages, group_names, locks, obj.vertex_groups.active_index)
+
+
+def _fill(new, mesh, cage, plan, options, refined, refined_corners, flagged, seams, sharp,
+          point, corner, face, uv_values, num_groups, cone_index):
+    positions = refined[:, :3]
+    triangles = plan.triangles
+    num_vertices, num_triangles = len(positions), len(triangles)
+
+    new.vertices.add(num_vertices)
+    new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
+    new.loops.add(3 * num_triangles)
+    new.loops.foreach_set("vertex_index", np.ascontiguousarray(triangles, dtype=np.int32).ravel())
+    new.polygons.add(num_triangles)
+    compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
+    new.update(calc_edges=True)
+
+    # Per-face data comes from the parent face of the cage (through its triangle).
+    parent_polygons = cage.triangle_polygons[plan.parent_triangles]
+    materials = _get(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
+    new.polygons.foreach_set("material_index", np.ascontiguousarray(materials[parent_polygons]))
+    smooth = _get(mesh.polygons, "use_smooth", cage.num_polygons, 1, np.bool_)
+    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth[parent_polygons]))
+    for name, domain, data_type in face:
+        values = _get_attribute(mesh.attributes[name], cage.num_polygons)
+        _set_attribute(new, name, domain, data_type, values[parent_polygons])
+
+    # Point attributes sit after the positions in the vertex channels.
+    column = 3
+    for name, domain, data_type in point:
+        width = geometry.ATTRIBUTE_LAYOUT[data_type][1]
+        _set_attribute(new, name, domain, data_type, refined[:, column:column + width])
+        column += width
+
+    new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
+    # Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights.
+    child_edges = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
+    if len(child_edges) or cage.edge_weights.any():
+        weights = np.zeros(len(new_edges), dtype=np.float32)
+        weights[child_edges[child_edges >= 0]] = geometry.child_crease_weights(
+            plan.crease_sharpness[child_edges >= 0], options.rules)
+        compat.write_edge_creases(new, weights)
+    if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
+        weights = np.zeros(num_vertices, dtype=np.float32)
+        weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
+        compat.write_vertex_creases(new, weights)
+
+    column = 0
+    if flagged:
+        barycentrics = refined_corners[:, :, :3]
+        for prop, flags in (("use_seam", seams), ("use_edge_sharp", sharp)):
+            if flags.any():
+                pairs = geometry.inherited_edges(triangles, plan.parent_triangles, barycentrics, cage.triangles,
+                                                 flags, cage.edge_vertices, cage.num_vertices)
+                child_flags = np.zeros(len(new_edges), dtype=np.bool_)
+                found = geometry.lookup_edges(new_edges, pairs, num_vertices)
+                child_flags[found[found >= 0]] = True
+                new.edges.foreach_set(prop, child_flags)
+        column = 3
+
+    for uv, values in zip(mesh.uv_layers, uv_values):
+        layer = new.uv_layers.new(name=uv.name, do_init=False)
+        layer.data.foreach_set("uv", np.ascontiguousarray(refined_corners[:, :, column:column + 2]).ravel())
+        column += 2
+    for uv, layer in zip(mesh.uv_layers, new.uv_layers):
+        layer.active_render = uv.active_render
+    new.uv_layers.active_index = mesh.uv_layers.active_index
+    for name, domain, data_type in corner:
+        width = geometry.ATTRIBUTE_LAYOUT[data_type][1]
+        _set_attribute(new, name, domain, data_type,
+                       refined_corners[:, :, column:column + width].reshape(-1, width))
+        column += width
+    _restore_color_choice(new, mesh)
+    new.update()
+
+
+def _restore_color_choice(new, mesh):
+    colors = new.color_attributes
+    active = mesh.color_attributes.active_color
+    if active is not None and active.name in colors:
+        colors.active_color = colors[active.name]
+    if mesh.color_attributes.default_color_name in colors:
+        colors.render_color_index = colors.find(mesh.color_attributes.default_color_name)
+
+
+def _write_vertex_groups(new, group_names, refined_groups, cone_index, cage_groups, num_cage_vertices):
+    """Vertex groups through Blender's Convert Attribute operator, which writes the weights in C (the API has no
+    bulk setter). The cone group holds tags, not weights: it stays on the cage's vertices, which keep their indices."""
+    if not group_names:
+        return
+    holder = bpy.data.objects.new("Loop Subdivision (temporary)", new)
+    try:
+        holder.vertex_groups.clear()
+        for index, name in enumerate(group_names):
+            if index == cone_index:
+                weights = np.zeros(len(new.vertices), dtype=np.float32)
+                weights[:num_cage_vertices] = cage_groups[:, index]
+            else:
+                weights = np.clip(refined_groups[:, index], 0.0, 1.0)
+            attribute = _set_attribute(new, _GROUP_TRANSFER, 'POINT', 'FLOAT', weights)
+            new.attributes.active = attribute
+            with bpy.context.temp_override(object=holder, active_object=holder):
+                bpy.ops.geometry.attribute_convert(mode='VERTEX_GROUP')
+            holder.vertex_groups[index].name = name
+    finally:
+        bpy.data.objects.remove(holder)
+
+
+def replace_mesh(obj, result):
+    """Swaps the built mesh in; the old data-block goes when nothing else uses it (undo brings it back)."""
+    old = obj.data
+    name = old.name
+    obj.data = result.mesh
+    for group, lock in zip(obj.vertex_groups, result.group_locks):
+        group.lock_weight = lock
+    obj.vertex_groups.active_index = result.active_group
+    if old.users == 0:
+        bpy.data.meshes.remove(old)
+    result.mesh.name = name
+
+
+def write_tags(mesh, cage, options, cones):
+    """Writes what the rules derive from the crease weights: "loop_crease" (edges) and "loop_vertex_type" (points)."""
+    if not len(cage.triangles):
+        raise LoopSubError(f"\"{mesh.name}\" has no faces to tag")
+    plan = cage.plan(options, 1, cones)
+    types = np.asarray(plan.level_vertex_types(0), dtype=np.int32)
+    creases = geometry.crease_edge_mask(cage.edge_weights, cage.edge_face_counts, options.rules,
+                                        options.crease_threshold, options.use_creases)
+    for name, domain, data_type, values in ((CREASE_TAG, 'EDGE', 'BOOLEAN', creases),
+                                            (VERTEX_TYPE_TAG, 'POINT', 'INT', types)):
+        existing = mesh.attributes.get(name)
+        if existing is not None:
+            mesh.attributes.remove(existing)
+        _set_attribute(mesh, name, domain, data_type, values)
+
+
+def tag_object(obj, options):
+    """The Refresh Tags operator's work on one object (its own mesh, in place)."""
+    if obj.data.is_editmode:
+        raise LoopSubError(f"{obj.name} is in Edit Mode")
+    cage = Cage(obj.data)
+    cage.validate(obj.name)
+    cone_index = cone_group_index(obj, options)
+    weights = read_vertex_groups(obj.data, cone_index + 1) if cone_index is not None else None
+    write_tags(obj.data, cage, options, cone_vertices(weights, cone_index))

@@ -1,0 +1,45 @@
+"""Access to the native core (_loopsub, built by scripts/setup.sh into this package).
+
+The module is imported on first use, so that the add-on registers and reports a missing build instead of failing to
+load. Every error of the core becomes a LoopSubError, which the operators turn into an error report.
+"""
+import numpy as np
+
+from . import geometry
+
+
+class LoopSubError(Exception):
+    """A problem the artist can act on; the message is shown as a Blender report."""
+
+
+def load():
+    try:
+        from . import _loopsub
+    except ImportError as error:
+        raise LoopSubError("The native Loop subdivision module is missing or does not load "
+                           f"({error}); build it with scripts/setup.sh") from error
+    return _loopsub
+
+
+def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices):
+    """A reusable plan (all topology work) for the triangulated cage.
+
+    tags: the dict of geometry.crease_tags (empty arrays when creases are off); cone_vertices: int32 indices, used by
+    the seed's rules only (OpenSubdiv has no cones).
+    """
+    if options.rules != 'HOPPE94':
+        cone_vertices = np.zeros(0, dtype=np.int32)
+    try:
+        return load().Plan(triangles, num_vertices, levels, cone_vertices=cone_vertices,
+                           **tags, **options.plan_keywords())
+    # The bindings raise ValueError/TypeError for bad input, RuntimeError/MemoryError for limits.
+    except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
+        raise LoopSubError(str(error)) from error
+
+
+def run(call, *args):
+    """Calls a plan method, turning the core's errors into LoopSubError."""
+    try:
+        return call(*args)
+    except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
+        raise LoopSubError(str(error)) from error
