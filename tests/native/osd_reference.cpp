@@ -206,6 +206,16 @@ MappedReference OsdReference::map(const Plan& plan) const {
     out.triangles.resize(3 * std::size_t(nf));
     out.ancestors.resize(nf);
     if (impl_->has_uvs) out.face_uvs.resize(6 * std::size_t(nf));
+    for (int e = 0; e < last.GetNumEdges(); ++e) {
+        Far::ConstIndexArray ev = last.GetEdgeVertices(e);
+        out.edge_tags.push_back({osd_to_our[ev[0]], osd_to_our[ev[1]], last.GetEdgeSharpness(e),
+                                 last.IsEdgeBoundary(e) || last.IsEdgeNonManifold(e)});
+    }
+    out.vertex_tags.resize(out.our_to_osd[levels].size());
+    for (std::size_t v = 0; v < out.vertex_tags.size(); ++v) {
+        const Far::Index ov = out.our_to_osd[levels][v];
+        out.vertex_tags[v] = {last.GetVertexSharpness(ov), last.IsVertexBoundary(ov) || last.IsVertexNonManifold(ov)};
+    }
     for (int f = 0; f < nf; ++f) {
         Far::ConstIndexArray fv = last.GetFaceVertices(f);
         if (fv.size() != 3) return fail("OpenSubdiv produced a face with " + std::to_string(fv.size()) + " sides");
@@ -341,6 +351,60 @@ std::string compare_triangles(const Plan& plan, const MappedReference& mapped) {
     std::ostringstream head;
     head << missing << " triangles not in OpenSubdiv's output, " << wrong_parent << " with a wrong parent:\n";
     return head.str() + s.str();
+}
+
+std::string compare_crease_tags(const Plan& plan, const MappedReference& mapped) {
+    std::ostringstream s;
+    int bad = 0;
+    auto report = [&](const std::string& line) {
+        if (bad++ < 8) s << "  " << line << "\n";
+    };
+    std::map<std::pair<std::int32_t, std::int32_t>, float> ours;
+    const std::vector<std::int32_t>& edges = plan.output_crease_edges();
+    const std::vector<float>& sharpness = plan.output_crease_sharpness();
+    if (edges.size() != 2 * sharpness.size()) return "output_crease_edges and output_crease_sharpness sizes differ";
+    for (std::size_t k = 0; k < sharpness.size(); ++k) {
+        auto key = std::minmax(edges[2 * k], edges[2 * k + 1]);
+        if (!ours.emplace(key, sharpness[k]).second)
+            report("edge " + std::to_string(key.first) + "-" + std::to_string(key.second) + " tagged twice");
+    }
+    for (const MappedReference::EdgeTag& tag : mapped.edge_tags) {
+        auto key = std::minmax(tag.a, tag.b);
+        auto it = ours.find(key);
+        const float got = it == ours.end() ? 0.0f : it->second;
+        if (it != ours.end()) ours.erase(it);
+        if (tag.implicit) continue;
+        if (!(std::abs(got - tag.sharpness) <= 1e-5f)) {
+            std::ostringstream line;
+            line << "edge " << key.first << "-" << key.second << ": OpenSubdiv sharpness " << tag.sharpness << ", ours "
+                 << got;
+            report(line.str());
+        }
+    }
+    for (const auto& left : ours)
+        report("tagged edge " + std::to_string(left.first.first) + "-" + std::to_string(left.first.second) +
+               " is not an edge of the output");
+
+    std::map<std::int32_t, float> corners;
+    const std::vector<std::int32_t>& corner_vertices = plan.output_corner_vertices();
+    const std::vector<float>& corner_sharpness = plan.output_corner_sharpness();
+    if (corner_vertices.size() != corner_sharpness.size()) return "output corner vertex and sharpness sizes differ";
+    for (std::size_t k = 0; k < corner_vertices.size(); ++k)
+        if (!corners.emplace(corner_vertices[k], corner_sharpness[k]).second)
+            report("vertex " + std::to_string(corner_vertices[k]) + " tagged twice");
+    for (std::size_t v = 0; v < mapped.vertex_tags.size(); ++v) {
+        auto it = corners.find(std::int32_t(v));
+        const float got = it == corners.end() ? 0.0f : it->second;
+        const MappedReference::VertexTag& tag = mapped.vertex_tags[v];
+        if (tag.implicit && tag.sharpness >= 10.0f) continue;  // OpenSubdiv's own boundary corner
+        if (!(std::abs(got - tag.sharpness) <= 1e-5f)) {
+            std::ostringstream line;
+            line << "vertex " << v << ": OpenSubdiv sharpness " << tag.sharpness << ", ours " << got;
+            report(line.str());
+        }
+    }
+    if (bad == 0) return "";
+    return std::to_string(bad) + " crease / corner tags differ from OpenSubdiv's last level:\n" + s.str();
 }
 
 }  // namespace loopsub::testing

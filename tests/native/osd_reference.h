@@ -46,6 +46,21 @@ struct MappedReference {
     std::vector<std::int32_t> ancestors;
     // 2 floats per corner of each of `triangles` (empty without UVs).
     std::vector<double> face_uvs;
+    // Sharpness of every last-level edge (ends in our numbering) and vertex (our order), as OpenSubdiv's refiner
+    // carries them down (decremented per level, Chaikin-averaged, ...). OpenSubdiv makes boundary and
+    // non-manifold edges infinitely sharp whatever their tags (and one-face boundary vertices too under
+    // EdgesAndCorners), which `implicit` marks: there an output tag does not matter.
+    struct EdgeTag {
+        std::int32_t a, b;
+        float sharpness;
+        bool implicit;
+    };
+    struct VertexTag {
+        float sharpness;
+        bool implicit;
+    };
+    std::vector<EdgeTag> edge_tags;
+    std::vector<VertexTag> vertex_tags;
     // Why the numbering could not be matched (the Plan's edges or counts differ from OpenSubdiv's); empty when
     // all is well. Everything above is only meaningful when this is empty.
     std::vector<std::string> errors;
@@ -94,5 +109,9 @@ std::string compare_positions(const OsdReference& reference, const Plan& plan, c
 // Compares the Plan's output triangles with OpenSubdiv's last level as sets of oriented faces; also the level-0
 // parent of each (output_parent_triangles against OpenSubdiv's parent links). Returns "" when equal.
 std::string compare_triangles(const Plan& plan, const MappedReference& mapped);
+
+// Compares the Plan's output crease and corner tags with OpenSubdiv's last-level edge and vertex sharpness
+// (within 1e-5), skipping implicit ones. Returns "" when equal.
+std::string compare_crease_tags(const Plan& plan, const MappedReference& mapped);
 
 }  // namespace loopsub::testing

@@ -65,6 +65,10 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     EXPECT_TRUE(position_report.empty()) << position_report;
     const std::string triangle_report = compare_triangles(plan, mapped);
     EXPECT_TRUE(triangle_report.empty()) << triangle_report;
+    // The output's tags are what OpenSubdiv carries to its last level, so that feeding the output back in continues
+    // the same surface.
+    const std::string tag_report = compare_crease_tags(plan, mapped);
+    EXPECT_TRUE(tag_report.empty()) << tag_report;
 
     if (mesh.triangle_uvs.empty()) return;
     // Face-varying: our per-corner UVs against OpenSubdiv's for the same (oriented) face, corner by corner.
