@@ -114,10 +114,17 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
 // What one level knows besides its connectivity.
 struct LevelState {
     Topology topology;
-    std::vector<float> edge_sharpness;    // OpenSubdiv: current sharpness; Hoppe94: infinite on creases, else 0
-    std::vector<float> vertex_sharpness;  // likewise (Hoppe94: infinite on corners)
-    std::vector<float> edge_tag;          // the crease tag each edge carries into the output (0: none)
-    std::vector<float> vertex_tag;        // the corner tag each vertex carries into the output (0: none)
+    detail::LargeVector<float> edge_sharpness;    // OpenSubdiv: current sharpness; Hoppe94: infinite on creases, else 0
+    detail::LargeVector<float> vertex_sharpness;  // likewise (Hoppe94: infinite on corners)
+    detail::LargeVector<float> edge_tag;          // the crease tag each edge carries into the output (0: none)
+    detail::LargeVector<float> vertex_tag;        // the corner tag each vertex carries into the output (0: none)
+    // A refined level stores these only for the halves of the parent's edges and for the parent's vertices (the
+    // leading indices): the rest are smooth and untagged.
+    static float at(const detail::LargeVector<float>& values, Index i) { return std::size_t(i) < values.size() ? values[i] : 0.0f; }
+    float edge_sharpness_at(Index e) const { return at(edge_sharpness, e); }
+    float vertex_sharpness_at(Index v) const { return at(vertex_sharpness, v); }
+    float edge_tag_at(Index e) const { return at(edge_tag, e); }
+    float vertex_tag_at(Index v) const { return at(vertex_tag, v); }
 };
 
 }  // namespace
@@ -131,11 +138,11 @@ struct PlanImpl {
     std::vector<std::vector<Index>> level_edges;
     std::vector<std::vector<VertexType>> level_vertex_types;
     std::vector<detail::LevelStencils> stencils;
-    std::vector<Index> output_triangles, output_parents;
+    detail::LargeVector<Index> output_triangles, output_parents;
     std::vector<Index> output_crease_edges, output_corner_vertices;
     std::vector<float> output_crease_sharpness, output_corner_sharpness;
     std::vector<std::uint8_t> cone;  // Hoppe94 cone tags of the input vertices
-    std::vector<float> scratch[2];
+    detail::LargeVector<float> scratch[2];
     double topology_ms = 0.0, evaluate_ms = 0.0;
 
     void build(const MeshView& mesh);
@@ -224,15 +231,16 @@ bool is_smooth_edge_mask(const detail::EdgeMask& m) { return m.a == 0.375 && m.b
 }  // namespace
 
 void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_last) {
-    const Topology& t = level.topology;
-    const int nv = t.num_vertices, ne = t.num_edges();
+    Topology& t = level.topology;
+    const int nv = t.num_vertices, ne = t.num_edges(), nf = t.num_faces();
     const bool hoppe = options.rules == Rules::Hoppe94;
     const bool chaikin = options.crease_method == CreaseMethod::Chaikin;
+    child.topology = detail::refine_topology(t, child_is_last);
+    level_num_vertices.push_back(child.topology.num_vertices);
 
     detail::LevelStencils& s = stencils.emplace_back();
     s.num_vertices = nv;
     s.num_edges = ne;
-    s.ring_offsets = t.vertex_edge_offsets;
     s.ring.resize(t.vertex_edges.size());
     int max_valence = 0;
     for (int v = 0; v < nv; ++v) {
@@ -248,24 +256,39 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
     }
 
     // Child sharpness: the halves of each edge get theirs at their own end vertex (Chaikin looks at the other
-    // edges there); interior edges are smooth; vertices decay.
-    child.edge_sharpness.assign(std::size_t(2) * ne + 3 * std::size_t(t.num_faces()), 0.0f);
+    // edges there) and old vertices decay. Edges inside faces and vertices on edges start smooth, so only the
+    // halves and the old vertices are stored.
+    child.edge_sharpness.assign(std::size_t(2) * ne, 0.0f);
     child.edge_tag.assign(child.edge_sharpness.size(), 0.0f);
-    child.vertex_sharpness.assign(std::size_t(nv) + ne, 0.0f);
-    child.vertex_tag.assign(child.vertex_sharpness.size(), 0.0f);
+    child.vertex_sharpness.assign(nv, 0.0f);
+    child.vertex_tag.assign(nv, 0.0f);
 
     std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     std::vector<float> parent_sharpness, child_sharpness;  // around one vertex
     for (int v = 0; v < nv; ++v) {
         const Index first = t.vertex_edge_offsets[v];
         const int valence = t.valence(v);
+        const float vertex_sharpness = level.vertex_sharpness_at(v);
+        bool sharp_around = detail::is_sharp(vertex_sharpness);
+        for (int k = 0; k < valence && !sharp_around; ++k) sharp_around = detail::is_sharp(level.edge_sharpness_at(t.vertex_edges[first + k]));
+        const bool tagged_cone = hoppe && v < num_input_vertices && cone[v];
+        if (!sharp_around) {
+            // Most vertices: smooth, nothing decays, the kernels' smooth pass is their mask.
+            if (tagged_cone) {
+                types[v] = VertexType::Cone;
+                const detail::VertexMask m = detail::cone_vertex_mask(valence);
+                s.special_vertices.push_back({Index(v), Index(v), Index(v), float(m.self), float(m.ring), 0.0f});
+            }
+            continue;
+        }
+
         parent_sharpness.resize(valence);
         child_sharpness.resize(valence);
         int sharp_edges = 0, child_sharp_edges = 0;
         Index crease[2] = {-1, -1}, child_crease[2] = {-1, -1};
         for (int k = 0; k < valence; ++k) {
             const Index e = t.vertex_edges[first + k];
-            parent_sharpness[k] = level.edge_sharpness[e];
+            parent_sharpness[k] = level.edge_sharpness_at(e);
             if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = e;
         }
         for (int k = 0; k < valence; ++k) {
@@ -277,18 +300,15 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
             const Index half = detail::child_edge_at(t, e, v);
             child.edge_sharpness[half] = decayed;
-            const float tag = level.edge_tag[e];
+            const float tag = level.edge_tag_at(e);
             child.edge_tag[half] = hoppe || tag == 0.0f ? tag : decayed;
         }
-        const float vertex_sharpness = level.vertex_sharpness[v];
         const float child_vertex_sharpness = hoppe ? vertex_sharpness : detail::decrement_sharpness(vertex_sharpness);
         child.vertex_sharpness[v] = child_vertex_sharpness;
-        child.vertex_tag[v] = hoppe || level.vertex_tag[v] == 0.0f ? level.vertex_tag[v] : child_vertex_sharpness;
+        const float vertex_tag = level.vertex_tag_at(v);
+        child.vertex_tag[v] = hoppe || vertex_tag == 0.0f ? vertex_tag : child_vertex_sharpness;
 
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, sharp_edges);
-        detail::VertexMask mask = detail::smooth_vertex_mask(valence);
-        Index ends[2] = {crease[0], crease[1]};
-        const bool tagged_cone = hoppe && v < num_input_vertices && cone[v];
         switch (rule) {
             case detail::SdcRule::Smooth: types[v] = tagged_cone ? VertexType::Cone : VertexType::Smooth; break;
             case detail::SdcRule::Dart: types[v] = tagged_cone ? VertexType::Cone : VertexType::Dart; break;
@@ -299,6 +319,8 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
                 break;
             case detail::SdcRule::Corner: types[v] = VertexType::Corner; break;
         }
+        detail::VertexMask mask = detail::smooth_vertex_mask(valence);
+        Index ends[2] = {crease[0], crease[1]};
         if (hoppe) {
             if (types[v] == VertexType::Cone) mask = detail::cone_vertex_mask(valence);
             else if (types[v] == VertexType::Corner) mask = detail::corner_vertex_mask();
@@ -323,24 +345,33 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
         }
     }
 
+    // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
+    // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
     s.edge_a.resize(ne), s.edge_b.resize(ne), s.edge_c.resize(ne), s.edge_d.resize(ne);
     for (int e = 0; e < ne; ++e) {
-        const Index a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
-        const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
-        const int face_count = t.edge_face_count(e);
-        s.edge_a[e] = a, s.edge_b[e] = b;
-        s.edge_c[e] = face_count > 0 ? t.opposite_vertex(faces[0], e) : a;
-        s.edge_d[e] = face_count > 1 ? t.opposite_vertex(faces[1], e) : b;
-
-        const float sharpness = level.edge_sharpness[e];
+        s.edge_a[e] = s.edge_c[e] = t.edge_vertices[2 * e];
+        s.edge_b[e] = s.edge_d[e] = t.edge_vertices[2 * e + 1];
+    }
+    for (int f = 0; f < nf; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const Index e = t.face_edges[3 * f + k];
+            const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
+            const Index opposite = t.face_vertices[3 * f + (k == 0 ? 2 : k - 1)];
+            if (faces[0] == f) s.edge_c[e] = opposite;
+            else if (t.edge_face_count(e) > 1 && faces[1] == f) s.edge_d[e] = opposite;
+        }
+    }
+    for (int e = 0; e < ne; ++e) {
+        const float sharpness = level.edge_sharpness_at(e);
         if (!detail::is_sharp(sharpness)) continue;
+        const Index a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
         detail::EdgeMask mask = detail::crease_edge_mask();
         if (hoppe) {
             const VertexType ta = types[a], tb = types[b];
             const auto irregular_or_corner = [](VertexType type) {
                 return type == VertexType::IrregularCrease || type == VertexType::Corner;
             };
-            if ((ta == VertexType::Dart || tb == VertexType::Dart) && face_count == 2) mask = detail::smooth_edge_mask();
+            if ((ta == VertexType::Dart || tb == VertexType::Dart) && t.edge_face_count(e) == 2) mask = detail::smooth_edge_mask();
             else if (ta == VertexType::RegularCrease && irregular_or_corner(tb)) mask = detail::five_three_edge_mask(true);
             else if (tb == VertexType::RegularCrease && irregular_or_corner(ta)) mask = detail::five_three_edge_mask(false);
         } else if (!detail::is_infinite(sharpness)) {
@@ -355,9 +386,9 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
         if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({Index(e), float(mask.a), float(mask.b), float(mask.wings)});
     }
 
-    level_edges.push_back(t.edge_vertices);
-    child.topology = detail::refine_topology(t, child_is_last);
-    level_num_vertices.push_back(child.topology.num_vertices);
+    // The level's connectivity is not needed any more: hand its arrays over rather than copy them.
+    s.ring_offsets = std::move(t.vertex_edge_offsets);
+    level_edges.emplace_back(t.edge_vertices.begin(), t.edge_vertices.end());
 }
 
 void PlanImpl::collect_output_tags(const LevelState& last) {
@@ -374,7 +405,7 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
             output_crease_sharpness.push_back(last.edge_tag[half]);
         }
     } else {
-        const std::vector<Index>& edges = last.topology.edge_vertices;
+        const detail::LargeVector<Index>& edges = last.topology.edge_vertices;
         for (std::size_t e = 0; e < last.edge_tag.size(); ++e) {
             if (last.edge_tag[e] <= 0.0f) continue;
             output_crease_edges.push_back(edges[2 * e]);
@@ -493,7 +524,7 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         ChannelsView<float> target = out;
         if (l + 1 < levels) {
             // Intermediate levels are planar (structure of arrays), alternating between two scratch buffers.
-            std::vector<float>& buffer = p.scratch[l % 2];
+            detail::LargeVector<float>& buffer = p.scratch[l % 2];
             const std::size_t n = std::size_t(p.level_num_vertices[l + 1]);
             buffer.resize(n * in.num_channels);
             target = {buffer.data(), in.num_channels, n, 1};

@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "large_allocator.h"
+
 namespace loopsub::detail {
 
 struct SpecialVertex {
@@ -30,8 +32,8 @@ struct LevelStencils {
     int num_edges = 0;     // output vertex num_vertices + e is edge e bisected
 
     // One-rings in CSR form: neighbours of vertex i are ring[ring_offsets[i] .. ring_offsets[i + 1]).
-    std::vector<std::int32_t> ring_offsets;
-    std::vector<std::int32_t> ring;
+    LargeVector<std::int32_t> ring_offsets;
+    LargeVector<std::int32_t> ring;
     // Smooth mask by valence n: w_self = smooth_self[n], w_ring = smooth_ring[n] (n = 0: copy the vertex).
     std::vector<float> smooth_self;
     std::vector<float> smooth_ring;
@@ -40,7 +42,7 @@ struct LevelStencils {
     // Edge points, one array per role (structure of arrays): the endpoints A, B and the opposite vertices C, D
     // of the edge's first two faces. Where a face is missing, C / D repeat A / B (the edge is then special,
     // with wcd == 0, so the smooth pass's value is overwritten).
-    std::vector<std::int32_t> edge_a, edge_b, edge_c, edge_d;
+    LargeVector<std::int32_t> edge_a, edge_b, edge_c, edge_d;
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 };
 

@@ -10,8 +10,8 @@ inline int next_corner(int corner) { return corner == 2 ? 0 : corner + 1; }
 inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
 
 // Prefix sums of per-item counts: offsets has one more entry than counts.
-std::vector<Index> offsets_from_counts(const std::vector<Index>& counts) {
-    std::vector<Index> offsets(counts.size() + 1);
+LargeVector<Index> offsets_from_counts(const LargeVector<Index>& counts) {
+    LargeVector<Index> offsets(counts.size() + 1);
     offsets[0] = 0;
     std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
     return offsets;
@@ -19,22 +19,22 @@ std::vector<Index> offsets_from_counts(const std::vector<Index>& counts) {
 
 void fill_edge_faces(Topology& t) {
     const int ne = t.num_edges(), nf = t.num_faces();
-    std::vector<Index> counts(ne, 0);
+    LargeVector<Index> counts(ne, 0);
     for (Index e : t.face_edges) ++counts[e];
     t.edge_face_offsets = offsets_from_counts(counts);
     t.edge_faces.resize(t.edge_face_offsets[ne]);
-    std::vector<Index> cursor(t.edge_face_offsets.begin(), t.edge_face_offsets.end() - 1);
+    LargeVector<Index> cursor(t.edge_face_offsets.begin(), t.edge_face_offsets.end() - 1);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 3; ++k) t.edge_faces[cursor[t.face_edges[3 * f + k]]++] = f;
 }
 
 void fill_vertex_edges(Topology& t) {
     const int ne = t.num_edges();
-    std::vector<Index> counts(t.num_vertices, 0);
+    LargeVector<Index> counts(t.num_vertices, 0);
     for (Index v : t.edge_vertices) ++counts[v];
     t.vertex_edge_offsets = offsets_from_counts(counts);
     t.vertex_edges.resize(t.vertex_edge_offsets[t.num_vertices]);
-    std::vector<Index> cursor(t.vertex_edge_offsets.begin(), t.vertex_edge_offsets.end() - 1);
+    LargeVector<Index> cursor(t.vertex_edge_offsets.begin(), t.vertex_edge_offsets.end() - 1);
     for (int e = 0; e < ne; ++e) {
         t.vertex_edges[cursor[t.edge_vertices[2 * e]]++] = e;
         t.vertex_edges[cursor[t.edge_vertices[2 * e + 1]]++] = e;
@@ -66,7 +66,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
 
     // Bucket the corners' edges by their lower vertex, in corner order, so that finding an edge's first
     // corner is a scan of a bucket of about half a valence: no hashing, no sort.
-    std::vector<Index> bucket_counts(num_vertices, 0);
+    LargeVector<Index> bucket_counts(num_vertices, 0);
     auto low_end = [&](int c) {
         const Index a = t.face_vertices[c], b = t.face_vertices[c - c % 3 + next_corner(c % 3)];
         return a < b ? a : b;
@@ -76,10 +76,10 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
         return a < b ? b : a;
     };
     for (int c = 0; c < num_corners; ++c) ++bucket_counts[low_end(c)];
-    const std::vector<Index> bucket_offsets = offsets_from_counts(bucket_counts);
-    std::vector<Index> bucket(num_corners);
+    const LargeVector<Index> bucket_offsets = offsets_from_counts(bucket_counts);
+    LargeVector<Index> bucket(num_corners);
     {
-        std::vector<Index> cursor(bucket_offsets.begin(), bucket_offsets.end() - 1);
+        LargeVector<Index> cursor(bucket_offsets.begin(), bucket_offsets.end() - 1);
         for (int c = 0; c < num_corners; ++c) bucket[cursor[low_end(c)]++] = c;
     }
 

@@ -5,19 +5,21 @@
 #include <cstdint>
 #include <vector>
 
+#include "large_allocator.h"
+
 namespace loopsub::detail {
 
 using Index = std::int32_t;
 
 struct Topology {
     int num_vertices = 0;
-    std::vector<Index> face_vertices;  // 3 per face, counter-clockwise
-    std::vector<Index> face_edges;     // 3 per face: edge i joins corner i and corner i + 1
-    std::vector<Index> edge_vertices;  // 2 per edge
+    LargeVector<Index> face_vertices;  // 3 per face, counter-clockwise
+    LargeVector<Index> face_edges;     // 3 per face: edge i joins corner i and corner i + 1
+    LargeVector<Index> edge_vertices;  // 2 per edge
     // Faces of edge e: edge_faces[edge_face_offsets[e] .. edge_face_offsets[e + 1]).
-    std::vector<Index> edge_face_offsets, edge_faces;
+    LargeVector<Index> edge_face_offsets, edge_faces;
     // Edges of vertex v: vertex_edges[vertex_edge_offsets[v] .. vertex_edge_offsets[v + 1]).
-    std::vector<Index> vertex_edge_offsets, vertex_edges;
+    LargeVector<Index> vertex_edge_offsets, vertex_edges;
 
     int num_faces() const { return int(face_vertices.size() / 3); }
     int num_edges() const { return int(edge_vertices.size() / 2); }
