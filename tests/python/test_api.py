@@ -1,0 +1,198 @@
+"""Shapes, dtypes, properties, output order and zero-copy behaviour of the `_loopsub` module."""
+import gc
+
+import numpy as np
+import pytest
+
+import _loopsub
+from conftest import edges_of, grid, icosahedron, tetrahedron
+
+
+@pytest.mark.parametrize("levels", [0, 1, 2, 3])
+def test_counts_shapes_and_dtypes(levels):
+    """Closed mesh: F' = 4F, E' = 2E + 3F, V' = V + E at every level (hand-derived, not from the code)."""
+    p, t = icosahedron()
+    plan = _loopsub.Plan(t, len(p), levels)
+    v, e, f = 12, 30, 20
+    for level in range(levels):
+        assert plan.level_num_vertices(level) == v
+        assert plan.level_edges(level).shape == (e, 2)
+        assert plan.level_vertex_types(level).shape == (v,)
+        v, e, f = v + e, 2 * e + 3 * f, 4 * f
+    assert plan.level_num_vertices(levels) == v
+    assert (plan.levels, plan.num_input_vertices, plan.num_input_triangles) == (levels, 12, 20)
+    assert (plan.num_output_vertices, plan.num_output_triangles) == (v, f)
+
+    out = plan.evaluate(p)
+    assert out.shape == (v, 3) and out.dtype == np.float32 and out.flags.c_contiguous
+    for name, shape, dtype in [("triangles", (f, 3), np.int32), ("parent_triangles", (f,), np.int32)]:
+        a = getattr(plan, name)
+        assert a.shape == shape and a.dtype == dtype, name
+    assert plan.evaluate(np.ascontiguousarray(p[:, 0])).shape == (v,)
+    assert plan.evaluate(np.zeros((12, 5), np.float32)).shape == (v, 5)
+    assert plan.evaluate_face_varying(np.zeros((20, 3, 2), np.float32)).shape == (f, 3, 2)
+    assert plan.evaluate_face_varying(np.zeros((20, 3), np.float32)).shape == (f, 3)
+
+
+def test_level_zero_is_the_input():
+    p, t = tetrahedron()
+    r = _loopsub.subdivide(p, t, 0)
+    np.testing.assert_array_equal(r["positions"], p)
+    np.testing.assert_array_equal(r["triangles"], t)
+    np.testing.assert_array_equal(r["parent_triangles"], np.arange(4))
+
+
+def test_parent_triangles_and_child_order():
+    """Child 4f + k of a level has parent f, so after L levels triangle i comes from input triangle i // 4**L.
+    The three corner children come first in the parent's corner order: child k holds parent corner k."""
+    p, t = icosahedron()
+    plan = _loopsub.Plan(t, len(p), 2)
+    np.testing.assert_array_equal(plan.parent_triangles, np.arange(20 * 16) // 16)
+    one = _loopsub.Plan(t, len(p), 1)
+    children = one.triangles.reshape(20, 4, 3)
+    for f in range(20):
+        for k in range(3):
+            assert t[f, k] in children[f, k], (f, k)
+        assert (children[f, 3] >= 12).all(), "the middle child has only edge vertices"
+
+
+def test_winding_is_kept():
+    """Every output triangle's normal points the same way as its parent's (outward on the icosahedron)."""
+    p, t = icosahedron()
+    r = _loopsub.subdivide(p, t, 2)
+    q, tt = r["positions"].astype(np.float64), r["triangles"]
+    normals = np.cross(q[tt[:, 1]] - q[tt[:, 0]], q[tt[:, 2]] - q[tt[:, 0]])
+    assert (np.einsum("ij,ij->i", normals, q[tt].mean(1)) > 0).all()
+    # Each undirected edge is shared by exactly two triangles, in opposite directions: still a closed manifold.
+    directed = {(a, b) for a, b, c in tt.tolist() for a, b in ((a, b), (b, c), (c, a))}
+    assert len(directed) == 3 * len(tt)
+    assert all((b, a) in directed for a, b in directed)
+
+
+def test_subdivide_result_keys_and_plan():
+    p, t = tetrahedron()
+    r = _loopsub.subdivide(p, t, 1)
+    assert set(r) == {"positions", "triangles", "parent_triangles", "crease_edges", "crease_sharpness",
+                      "corner_vertices", "corner_sharpness", "vertex_data", "face_varying", "plan"}
+    assert r["vertex_data"] is None and r["face_varying"] is None
+    assert r["crease_edges"].shape == (0, 2) and r["crease_edges"].dtype == np.int32
+    assert r["crease_sharpness"].shape == (0,) and r["crease_sharpness"].dtype == np.float32
+    assert r["corner_vertices"].dtype == np.int32 and r["corner_sharpness"].dtype == np.float32
+    assert isinstance(r["plan"], _loopsub.Plan)
+    np.testing.assert_array_equal(r["plan"].evaluate(p), r["positions"])
+
+
+def test_properties_and_repr():
+    p, t = icosahedron()
+    plan = _loopsub.Plan(t, len(p), 2, rules="opensubdiv", scalar=True)
+    assert plan.rules == "opensubdiv"
+    assert plan.kernel == "scalar"
+    assert _loopsub.best_kernel() in ("scalar", "sse4.1", "avx2")
+    assert plan.topology_ms >= 0
+    plan.evaluate(p)
+    assert plan.last_evaluate_ms >= 0
+    assert "levels=2" in repr(plan)
+    assert _loopsub.VERTEX_TYPES[0] == "smooth" and len(_loopsub.VERTEX_TYPES) == 6
+    assert "Parameters" in _loopsub.Plan.__doc__ and "Returns" in _loopsub.subdivide.__doc__
+
+
+def test_level_accessors_reject_bad_levels():
+    p, t = tetrahedron()
+    plan = _loopsub.Plan(t, 4, 2)
+    for bad in (-1, 2):
+        with pytest.raises(IndexError):
+            plan.level_edges(bad)
+        with pytest.raises(IndexError):
+            plan.level_vertex_types(bad)
+    with pytest.raises(IndexError):
+        plan.level_num_vertices(3)
+    assert set(map(tuple, np.sort(plan.level_edges(0), axis=1).tolist())) == set(edges_of(t))
+
+
+def test_empty_mesh_gives_empty_result():
+    for levels in (0, 1, 3):
+        r = _loopsub.subdivide(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.int32), levels,
+                               vertex_data=np.zeros((0, 2), np.float32), face_varying=np.zeros((0, 3, 2), np.float32))
+        assert r["positions"].shape == (0, 3) and r["positions"].dtype == np.float32
+        assert r["triangles"].shape == (0, 3) and r["parent_triangles"].shape == (0,)
+        assert r["vertex_data"].shape == (0, 2) and r["face_varying"].shape == (0, 3, 2)
+        assert r["crease_edges"].shape == (0, 2)
+
+
+def test_loose_vertex_is_kept():
+    """A vertex in no triangle (Blender meshes have them) keeps its index and position."""
+    p, t = tetrahedron()
+    p5 = np.vstack([p, [[5, 6, 7]]]).astype(np.float32)
+    r = _loopsub.subdivide(p5, t, 2)
+    np.testing.assert_array_equal(r["positions"][4], [5, 6, 7])
+    assert not (r["triangles"] == 4).any()
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Zero copy
+
+
+def test_out_is_written_in_place():
+    p, t = grid(5)
+    plan = _loopsub.Plan(t, len(p), 2)
+    out = np.full((plan.num_output_vertices, 3), np.nan, np.float32)
+    result = plan.evaluate(p, out=out)
+    assert result is out
+    assert np.shares_memory(result, out)
+    assert np.isfinite(out).all()
+    np.testing.assert_array_equal(out, plan.evaluate(p))
+
+    fv_out = np.full((plan.num_output_triangles, 3, 2), np.nan, np.float32)
+    fv = plan.evaluate_face_varying(np.ones((len(t), 3, 2), np.float32), out=fv_out)
+    assert fv is fv_out and (fv_out == 1).all()
+
+
+def test_out_may_be_a_view_into_a_bigger_buffer():
+    """A C-contiguous slice of rows of a preallocated buffer is a valid `out` (Blender's foreach_set buffers)."""
+    p, t = tetrahedron()
+    plan = _loopsub.Plan(t, 4, 1)
+    buffer = np.zeros((plan.num_output_vertices + 2, 3), np.float32)
+    plan.evaluate(p, out=buffer[1:-1])
+    np.testing.assert_array_equal(buffer[1:-1], plan.evaluate(p))
+    assert (buffer[0] == 0).all() and (buffer[-1] == 0).all()
+
+
+def test_views_share_the_plans_memory_and_are_read_only():
+    p, t = icosahedron()
+    plan = _loopsub.Plan(t, len(p), 1, crease_edges=np.array([[0, 1]], np.int32))
+    for get in (lambda: plan.triangles, lambda: plan.parent_triangles, lambda: plan.crease_edges,
+                lambda: plan.crease_sharpness, lambda: plan.level_edges(0), lambda: plan.level_vertex_types(0)):
+        a, b = get(), get()
+        assert a.size > 0
+        assert np.shares_memory(a, b), "two reads must be views of the same memory, not copies"
+        assert not a.flags.writeable
+        with pytest.raises(ValueError):
+            a[0] = 0
+        assert a.base is plan
+
+
+def test_views_keep_the_plan_alive():
+    p, t = icosahedron()
+    plan = _loopsub.Plan(t, len(p), 3)
+    triangles, edges = plan.triangles, plan.level_edges(2)
+    expected_triangles, expected_edges = triangles.copy(), edges.copy()
+    del plan
+    gc.collect()
+    # The arrays' base is still the plan, which must still be a working object...
+    assert isinstance(triangles.base, _loopsub.Plan)
+    assert triangles.base.num_output_triangles == len(triangles)
+    # ...and memory churn does not change what the views show.
+    junk = [np.full(len(expected_triangles) * 3, -7, np.int32) for _ in range(20)]
+    del junk
+    np.testing.assert_array_equal(triangles, expected_triangles)
+    np.testing.assert_array_equal(edges, expected_edges)
+
+
+def test_subdivide_arrays_outlive_the_call():
+    p, t = icosahedron()
+    r = _loopsub.subdivide(p, t, 2)
+    triangles = r["triangles"]
+    del r
+    gc.collect()
+    assert isinstance(triangles.base, _loopsub.Plan)
+    assert triangles.max() < triangles.base.num_output_vertices
