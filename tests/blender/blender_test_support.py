@@ -1,0 +1,205 @@
+"""Shared helpers of the Blender background tests (not a test itself: ctest runs only test_*.py).
+
+Each test script imports this file from its own folder, registers the add-on from --addon-dir, builds meshes, runs
+Blender's own Subdivision Surface modifier for reference, and ends with check.finish(), which prints a summary and
+raises AssertionError on any failure so that `--python-exit-code 1` fails the run.
+"""
+import argparse
+import importlib
+import os
+import sys
+import tempfile
+import time
+
+import bmesh
+import bpy
+import numpy as np
+
+_started = time.time()
+
+
+def load_addon():
+    """Imports the add-on package from --addon-dir (its folder name is the package name) and registers it."""
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--addon-dir", required=True)
+    args = parser.parse_args(argv)
+    addon_dir = os.path.abspath(args.addon_dir)
+    sys.path.insert(0, os.path.dirname(addon_dir))
+    package = importlib.import_module(os.path.basename(addon_dir))
+    package.register()
+    return package
+
+
+class Check:
+    """Collects results so that one run reports every failure, then fails once at the end."""
+
+    def __init__(self, name):
+        self.name = name
+        self.passed = 0
+        self.failures = []
+
+    def __call__(self, condition, what):
+        if condition:
+            self.passed += 1
+            print(f"  ok    {what}")
+        else:
+            self.failures.append(what)
+            print(f"  FAIL  {what}")
+        return condition
+
+    def finish(self):
+        elapsed = time.time() - _started
+        print(f"\n{self.name}: {self.passed} passed, {len(self.failures)} failed ({elapsed:.1f} s)")
+        for what in self.failures:
+            print(f"  failed: {what}")
+        assert not self.failures, f"{self.name}: {len(self.failures)} checks failed"
+
+
+def clear_scene():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    for mesh in list(bpy.data.meshes):
+        bpy.data.meshes.remove(mesh)
+
+
+def object_from_bmesh(name, bm, triangulate=True):
+    """A mesh object in the scene, made active and the only one selected. Triangulated here (not by the add-on)
+    when Blender's own modifier must see the very same triangles."""
+    if triangulate:
+        bmesh.ops.triangulate(bm, faces=bm.faces[:])
+    mesh = bpy.data.meshes.new(name)
+    bm.to_mesh(mesh)
+    bm.free()
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    select_only(obj)
+    return obj
+
+
+def select_only(*objects):
+    for other in bpy.context.view_layer.objects:
+        other.select_set(False)
+    for obj in objects:
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = objects[0]
+
+
+def cube(name, subdivisions=0):
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=2.0)
+    if subdivisions:
+        bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=subdivisions, use_grid_fill=True)
+    return bm
+
+
+def uv_sphere(segments=8, rings=6):
+    bm = bmesh.new()
+    bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=1.0)
+    return bm
+
+
+def octahedron():
+    bm = bmesh.new()
+    verts = [bm.verts.new(p) for p in ((1, 0, 0), (0, 1, 0), (-1, 0, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))]
+    for i in range(4):
+        a, b = verts[i], verts[(i + 1) % 4]
+        bm.faces.new((a, b, verts[4]))
+        bm.faces.new((b, a, verts[5]))
+    return bm
+
+
+def grid(cuts=3, size=2.0):
+    bm = bmesh.new()
+    bmesh.ops.create_grid(bm, x_segments=cuts, y_segments=cuts, size=size / 2)
+    return bm
+
+
+def positions(mesh):
+    values = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", values)
+    return values.reshape(-1, 3)
+
+
+def edges(mesh):
+    values = np.empty(len(mesh.edges) * 2, dtype=np.int32)
+    mesh.edges.foreach_get("vertices", values)
+    return values.reshape(-1, 2)
+
+
+def edge_face_counts(mesh):
+    loop_edges = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("edge_index", loop_edges)
+    return np.bincount(loop_edges, minlength=len(mesh.edges))
+
+
+def set_edge_creases(mesh, edge_indices, weight, compat):
+    weights = compat.read_edge_creases(mesh)
+    weights[np.asarray(edge_indices, dtype=np.int64)] = weight
+    compat.write_edge_creases(mesh, weights)
+
+
+def blender_subdivision(obj, levels, boundary_smooth='ALL', use_limit_surface=False):
+    """Blender's own Subdivision Surface (Catmull-Clark through OpenSubdiv) of obj, as positions and a mesh copy
+    (the caller removes the copy). The modifier is removed again, so obj is left as it was."""
+    modifier = obj.modifiers.new("Reference", 'SUBSURF')
+    modifier.levels = levels
+    modifier.use_limit_surface = use_limit_surface
+    modifier.use_creases = True
+    modifier.boundary_smooth = boundary_smooth
+    modifier.uv_smooth = 'NONE'
+    if use_limit_surface:
+        modifier.quality = 6
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    result = bpy.data.meshes.new_from_object(obj.evaluated_get(depsgraph))
+    obj.modifiers.remove(modifier)
+    return result
+
+
+def copy_object(obj, name):
+    duplicate = obj.copy()
+    duplicate.data = obj.data.copy()
+    duplicate.name = name
+    bpy.context.scene.collection.objects.link(duplicate)
+    return duplicate
+
+
+def bbox_diagonal(points):
+    return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+
+
+def nearest_distances(points, cloud):
+    """For each point, the distance to the nearest point of cloud and its index (brute force in blocks)."""
+    points = np.asarray(points, dtype=np.float64)
+    cloud = np.asarray(cloud, dtype=np.float64)
+    distances = np.empty(len(points))
+    indices = np.empty(len(points), dtype=np.int64)
+    block = max(1, 4_000_000 // max(len(cloud), 1))
+    for start in range(0, len(points), block):
+        d = np.linalg.norm(points[start:start + block, None, :] - cloud[None, :, :], axis=2)
+        indices[start:start + block] = d.argmin(axis=1)
+        distances[start:start + block] = d.min(axis=1)
+    return distances, indices
+
+
+def apply_loop(obj, **arguments):
+    select_only(obj)
+    return bpy.ops.object.loop_subdivision_apply(**arguments)
+
+
+def capture_output(function):
+    """Runs function and returns (its result, what was printed to stdout at the C level, e.g. operator reports)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    with tempfile.TemporaryFile(mode="w+b") as capture:
+        os.dup2(capture.fileno(), 1)
+        try:
+            result = function()
+        finally:
+            sys.stdout.flush()
+            os.dup2(saved, 1)
+            os.close(saved)
+        capture.seek(0)
+        text = capture.read().decode("utf-8", "replace")
+    print(text, end="")
+    return result, text
