@@ -428,9 +428,11 @@ void translate_exception(std::exception_ptr p) {
     try {
         if (p) std::rethrow_exception(p);
     } catch (const loopsub::MemoryLimitError& e) {
-        // The message carries the size in bytes; the exception also carries it as `required_bytes`.
-        const std::string msg = std::string(e.what()) + " [requires " + std::to_string(e.required_bytes) + " bytes = " +
-                                human_bytes(e.required_bytes) + "; raise memory_limit_bytes to allow it]";
+        // The message must say how much: the core's usually does; otherwise it is added. The exception also
+        // carries the number as `required_bytes`, for callers that want to offer a lower level.
+        std::string msg = e.what();
+        if (msg.find(std::to_string(e.required_bytes)) == std::string::npos)
+            msg += " (requires " + std::to_string(e.required_bytes) + " bytes = " + human_bytes(e.required_bytes) + ")";
         py::object exc = py::reinterpret_steal<py::object>(PyObject_CallFunction(PyExc_MemoryError, "s", msg.c_str()));
         if (!exc) return;  // PyObject_CallFunction set its own error
         exc.attr("required_bytes") = e.required_bytes;

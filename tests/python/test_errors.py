@@ -1,4 +1,9 @@
 """Every class of bad input raises a clear Python exception (never a crash, never a silent conversion)."""
+import os
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 import pytest
 
@@ -272,3 +277,37 @@ def test_absurd_levels_hit_the_default_limit(mesh, levels):
         _loopsub.subdivide(p, t, levels)
     assert e.value.required_bytes > 4 << 30
     still_works()
+
+
+# Runs in a child process capped at 2 GiB of address space: if the size check is wrong, the core's allocations
+# fail there (std::bad_alloc, a MemoryError *without* required_bytes) instead of exhausting the shared machine.
+_HUGE_LEVELS_CHILD = textwrap.dedent("""
+    import resource, sys
+    import numpy as np
+    import _loopsub
+    resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+    t = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]], np.int32)
+    try:
+        _loopsub.Plan(t, 4, int(sys.argv[1]), memory_limit_bytes=2**63 - 1)
+    except MemoryError as e:
+        print("required_bytes" if hasattr(e, "required_bytes") else "allocator: " + str(e))
+    else:
+        print("built")
+""")
+
+
+@pytest.mark.parametrize("levels", [
+    16,  # 4**17 triangles: past the int32 indices, far below the limit
+    pytest.param(31, marks=pytest.mark.xfail(strict=True, reason=(
+        "core: LevelCounts / estimate_for_counts (plan.cpp) wrap around uint64 for levels >= 28; at 31 the "
+        "triangle count and 2 * edges wrap to 0 and the estimate to 9.03e18 bytes, below this limit, so the "
+        "Plan starts building and dies in the allocator"))),
+    40,
+])
+def test_absurd_levels_are_refused_even_with_no_memory_limit(levels):
+    """With the limit out of the way the count check must still refuse, before allocating anything."""
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(_loopsub.__file__))
+    child = subprocess.run([sys.executable, "-c", _HUGE_LEVELS_CHILD, str(levels)], env=env, capture_output=True,
+                           text=True, timeout=120)
+    assert child.returncode == 0, child.stderr
+    assert child.stdout.strip() == "required_bytes"

@@ -237,6 +237,13 @@ def test_cone_vertex():
     assert _loopsub.VERTEX_TYPES[plan.level_vertex_types(0)[0]] == "cone"
 
 
+def test_cones_are_ignored_under_opensubdiv_rules():
+    """OpenSubdiv has no cones (RULES.md section 3): the tag changes nothing there, as documented."""
+    p, t = tetrahedron()
+    _, tagged = refine(p, t, rules="opensubdiv", cone_vertices=np.array([0], np.int32))
+    np.testing.assert_allclose(tagged[:4], smooth_loop_reference(p, t)[0], atol=TOL)
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # Boundaries and the {5,3} rule
 
