@@ -133,6 +133,8 @@ struct AgreementCase {
     std::function<TestMesh()> make;
     int level;
 };
+// gtest prints a parameter with this (instead of its bytes) when a case fails.
+void PrintTo(const AgreementCase& c, std::ostream* os) { *os << c.name; }
 
 // Crease loops along j = const on a torus: every crease vertex is interior, valence 6, three faces on each side:
 // regular, and no loop ends (no dart, no corner).

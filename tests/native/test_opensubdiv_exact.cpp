@@ -34,6 +34,8 @@ struct ExactCase {
     std::function<TestMesh()> make;
     int level;
 };
+// gtest prints a parameter with this (instead of its bytes) when a case fails.
+void PrintTo(const ExactCase& c, std::ostream* os) { *os << c.name; }
 
 std::string level_suffix(int level) { return "_L" + std::to_string(level); }
 
