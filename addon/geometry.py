@@ -97,6 +97,14 @@ def degenerate_triangles(triangles):
     return np.flatnonzero((t[:, 0] == t[:, 1]) | (t[:, 1] == t[:, 2]) | (t[:, 2] == t[:, 0]))
 
 
+def duplicate_triangles(triangles):
+    """Pairs (first, later) of triangles with the same three vertices, in any order."""
+    keys = np.sort(triangles, axis=1)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    later = np.flatnonzero(first[inverse.ravel()] != np.arange(len(triangles)))
+    return np.stack([first[inverse.ravel()[later]], later], axis=1)
+
+
 def corner_barycentrics(num_triangles):
     """Face-varying channels that put each parent corner at a unit barycentric coordinate. Refined linearly they say
     where every child corner sits in its parent triangle: a zero coordinate means "on the opposite parent edge", exactly,

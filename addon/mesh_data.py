@@ -67,6 +67,11 @@ class Cage:
             face = self.triangle_polygons[degenerate[0]]
             raise LoopSubError(f"{name}: face {face} repeats a vertex ({len(degenerate)} degenerate triangles); "
                                "Mesh ▸ Clean Up ▸ Merge by Distance or Delete Loose can fix it")
+        duplicates = geometry.duplicate_triangles(self.triangles)
+        if len(duplicates):
+            first, second = self.triangle_polygons[duplicates[0]]
+            raise LoopSubError(f"{name}: faces {first} and {second} share a triangle of the same three vertices "
+                               f"({len(duplicates)} such pairs); their subdivision would overlap")
 
     def tags(self, options):
         if not options.use_creases:
