@@ -147,12 +147,6 @@ Command parse_command_line(int argc, char** argv) {
     return command;
 }
 
-std::string mebibytes(std::uint64_t bytes) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1 << 20));
-    return text;
-}
-
 // Face-varying UVs come out of the plan as one value per output corner. In the file, corners of the same vertex
 // with the same value share one vt, and differing values keep their own: seams stay seams without writing three
 // vt lines per triangle. Corners are grouped by vertex with a counting sort, so this is linear in their number.
@@ -256,9 +250,10 @@ int main(int argc, char** argv) {
     try {
         return run(command);
     } catch (const loopsub::MemoryLimitError& e) {
-        std::fprintf(stderr, "loopsub: error: %s (it would need %llu bytes = %s; the limit is %s, see --memory-limit-mb)\n",
-                     e.what(), static_cast<unsigned long long>(e.required_bytes), mebibytes(e.required_bytes).c_str(),
-                     mebibytes(command.options.memory_limit_bytes).c_str());
+        // The core's message gives the bytes; the flag value that would allow it is in the CLI's unit.
+        const std::uint64_t needed_mib = e.required_bytes / (1u << 20) + (e.required_bytes % (1u << 20) != 0);
+        std::fprintf(stderr, "loopsub: error: %s (it would need --memory-limit-mb %llu)\n", e.what(),
+                     static_cast<unsigned long long>(needed_mib));
     } catch (const loopsub::InputError& e) {
         std::fprintf(stderr, "loopsub: error: %s\n", e.what());
     } catch (const std::bad_alloc&) {

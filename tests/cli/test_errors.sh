@@ -1,0 +1,110 @@
+# Bad command lines exit 2 with the usage, bad inputs exit 1 with "loopsub: error: " and a message that says
+# what and where; nothing crashes. A quad mesh is triangulated, with a notice.
+source "$(dirname "$0")/cli_lib.sh"
+
+good="$SHAPES/loop_tetrahedron.obj"
+out="$WORK/out.obj"
+
+# Usage errors: exit 2, the message and the usage on stderr.
+run_cli 2 "$good" "$out" --levels 1 --frobnicate
+expect_stderr "loopsub: error: unknown option '--frobnicate'"
+expect_stderr "usage: loopsub IN.obj OUT.obj --levels N"
+run_cli 2 "$good" "$out" --levels -1
+expect_stderr "loopsub: error: --levels must be >= 0, got -1"
+run_cli 2 "$good" "$out" --levels two
+expect_stderr "loopsub: error: --levels expects an integer, got 'two'"
+run_cli 2 "$good" "$out" --levels 1.5
+expect_stderr "--levels expects an integer, got '1.5'"
+run_cli 2 "$good" "$out" --levels 1 --crease-threshold 0.5x
+expect_stderr "--crease-threshold expects a number, got '0.5x'"
+run_cli 2 "$good" "$out" --levels 1 --crease-threshold -1
+expect_stderr "--crease-threshold must be >= 0"
+run_cli 2 "$good" "$out" --levels 1 --threads 0
+expect_stderr "--threads must be >= 1"
+run_cli 2 "$good" "$out" --levels 1 --rules catmull
+expect_stderr "--rules expects hoppe94 or opensubdiv, got 'catmull'"
+run_cli 2 "$good" "$out" --levels 1 --boundary none
+expect_stderr "--boundary expects edges or edges-and-corners"
+run_cli 2 "$good" "$out" --levels 1 --crease-method wobbly
+expect_stderr "--crease-method expects uniform or chaikin"
+run_cli 2 "$good" "$out" --levels
+expect_stderr "--levels needs a value"
+run_cli 2 "$good" "$out"
+expect_stderr "--levels N is required"
+run_cli 2 "$good" --levels 1
+expect_stderr "expected IN.obj and OUT.obj"
+run_cli 2 "$good" "$out" --levels=1 --scalar=yes
+expect_stderr "--scalar takes no value"
+
+run_cli 0 --help
+grep -q -- "--memory-limit-mb N" "$WORK/stdout" || fail "--help does not list the options: $(cat "$WORK/stdout")"
+
+# Input errors: exit 1.
+run_cli 1 "$WORK/missing.obj" "$out" --levels 1
+expect_stderr "loopsub: error: $WORK/missing.obj: cannot open for reading"
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n' >"$WORK/bad_index.obj"
+run_cli 1 "$WORK/bad_index.obj" "$out" --levels 1
+expect_stderr "loopsub: error: $WORK/bad_index.obj:5: vertex index 9 is out of range"
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n' >"$WORK/bad_negative.obj"
+run_cli 1 "$WORK/bad_negative.obj" "$out" --levels 1
+expect_stderr "bad_negative.obj:4: vertex index -4 is out of range"
+
+printf 'v 0 0 0\nv 1 zero 0\n' >"$WORK/garbage.obj"
+run_cli 1 "$WORK/garbage.obj" "$out" --levels 1
+expect_stderr "garbage.obj:2: expected a number for coordinate, got 'zero'"
+
+printf 'v 0 0 0\nv 1 nan 0\n' >"$WORK/nan.obj"
+run_cli 1 "$WORK/nan.obj" "$out" --levels 1
+expect_stderr "nan.obj:2: coordinate is not finite"
+
+run_cli 1 "$SHAPES/loop_nonman_edges.obj" "$out" --levels 1
+expect_stderr "loop_nonman_edges.obj:193: the face repeats vertex 46"
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 -2\n' >"$WORK/negative_sharpness.obj"
+run_cli 1 "$WORK/negative_sharpness.obj" "$out" --levels 1
+expect_stderr "sharpness"
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nt crease 2/1/0 0 3 1\n' >"$WORK/not_an_edge.obj"
+run_cli 1 "$WORK/not_an_edge.obj" "$out" --levels 1
+expect_stderr "not_an_edge.obj:6: crease 0-3 is not an edge of the mesh"
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt interpolateboundary 1/0/0 0\n' >"$WORK/boundary_none.obj"
+run_cli 1 "$WORK/boundary_none.obj" "$out" --levels 1
+expect_stderr "boundary_none.obj:5: interpolateboundary 0"
+
+run_cli 1 "$good" "$out" --levels 8 --memory-limit-mb 1
+expect_stderr "loopsub: error: "
+expect_stderr "(it would need --memory-limit-mb "
+
+run_cli 1 "$good" "$WORK/no/such/directory/out.obj" --levels 1
+expect_stderr "cannot open for writing"
+
+# An empty file is an empty mesh.
+: >"$WORK/empty.obj"
+run_cli 0 "$WORK/empty.obj" "$out" --levels 2
+[ -s "$out" ] && fail "the output of an empty mesh is not empty: $(head -3 "$out")"
+
+# A cube of six quads: triangulated as fans (two triangles each), with a notice, then subdivided.
+cat >"$WORK/quads.obj" <<'OBJ'
+v -1 -1 -1
+v 1 -1 -1
+v 1 1 -1
+v -1 1 -1
+v -1 -1 1
+v 1 -1 1
+v 1 1 1
+v -1 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+OBJ
+run_cli 0 "$WORK/quads.obj" "$out" --levels 1
+expect_stderr "loopsub: note: $WORK/quads.obj: triangulated 6 polygon(s) with more than 3 corners as fans"
+check_valid_obj "$out" 26 48  # 8 vertices + 18 edges (12 sides, 6 diagonals); 12 triangles x 4
+
+finish
