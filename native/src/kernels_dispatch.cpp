@@ -3,11 +3,15 @@
 
 namespace loopsub::detail {
 
+// A forced kernel the CPU cannot run steps down to the next narrower one rather than crash.
 Kernel resolve_kernel(Kernel requested) {
-    if (requested != Kernel::Auto) return requested == Kernel::AVX2 && !__builtin_cpu_supports("avx2") ? Kernel::SSE41 : requested;
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return Kernel::AVX2;
-    if (__builtin_cpu_supports("sse4.1")) return Kernel::SSE41;
-    return Kernel::Scalar;
+    const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    const bool sse41 = __builtin_cpu_supports("sse4.1");
+    switch (requested) {
+        case Kernel::Scalar: return Kernel::Scalar;
+        case Kernel::SSE41: return sse41 ? Kernel::SSE41 : Kernel::Scalar;
+        default: return avx2 ? Kernel::AVX2 : sse41 ? Kernel::SSE41 : Kernel::Scalar;  // Auto or AVX2
+    }
 }
 
 RefineFn refine_function(Kernel resolved) {

@@ -1,0 +1,95 @@
+// The "quads" layout shared by the SIMD kernels: each element's channels contiguous and padded to a multiple of
+// four floats (channel_stride 1, element_stride a multiple of 4), so that one 16-byte load fetches four channels of
+// a neighbour. This is the seed's advice (slides 36-45: keep a vertex's x, y, z in one load) and the layout the
+// plan's scratch levels should use: there a smooth edge point costs four loads, against twelve (one per channel
+// and neighbour) for planar data, and the loads are what bounds these kernels (docs/benchmark.md).
+//
+// Everything here has internal linkage: the header is compiled into translation units built for different
+// instruction sets, and one shared inline copy (the linker keeps any one) could carry AVX2 code into the SSE4.1 path.
+#pragma once
+
+#include <emmintrin.h>
+
+#include <cstddef>
+#include <cstdint>
+
+#include "loopsub/loopsub.h"
+#include "stencils.h"
+
+namespace loopsub::detail {
+namespace {
+
+constexpr int kQuad = 4;
+
+// True when every element's channels can be read as whole quads. Lanes past num_channels are read too (they lie
+// inside the element) and go through the same arithmetic without being stored; scratch padding should hold zeros
+// (garbage there could be a denormal, which slows the arithmetic down).
+inline bool reads_as_quads(const ChannelsView<const float>& v) {
+    return v.channel_stride == 1 && v.element_stride % kQuad == 0;
+}
+
+// The input of a quad pass: quad of element i at in + i * step. Step is a compile-time 4 in the common case (up to
+// four channels), which turns the address arithmetic into shifts; 0 means the run-time `step`.
+template <std::size_t Step>
+struct QuadSource {
+    const float* in;
+    std::size_t step;
+
+    const float* at(std::size_t element) const { return in + element * (Step ? Step : step); }
+};
+
+// Where quad h (channels 4h .. 4h + lanes - 1) of an output goes: channel 4h + j of element i is at
+// data + i * element_stride + j * channel_stride. Only those `lanes` channels are written.
+struct QuadTarget {
+    float* data;
+    std::size_t element_stride, channel_stride;
+    int lanes;  // 4, or fewer in the last quad when the channel count is not a multiple of 4
+
+    // Quads of four channels, four floats apart: a plan's scratch level (see PackedQuads).
+    bool packed() const { return channel_stride == 1 && lanes == kQuad && element_stride == kQuad; }
+
+    // Any layout: contiguous lanes (a user's n x 3 array) with one or two stores, others lane by lane.
+    void store(std::size_t element, __m128 v) const {
+        float* q = data + element * element_stride;
+        if (channel_stride == 1) {
+            switch (lanes) {
+                case 4: _mm_storeu_ps(q, v); return;
+                case 3: _mm_storel_pi(reinterpret_cast<__m64*>(q), v); _mm_store_ss(q + 2, _mm_movehl_ps(v, v)); return;
+                case 2: _mm_storel_pi(reinterpret_cast<__m64*>(q), v); return;
+                default: _mm_store_ss(q, v); return;
+            }
+        }
+        alignas(16) float lane_values[kQuad];
+        _mm_store_ps(lane_values, v);
+        for (int j = 0; j < lanes; ++j) q[j * channel_stride] = lane_values[j];
+    }
+};
+
+// A packed QuadTarget, known to be one at compile time: the kernels' passes are templates on their output type,
+// so that the common case stores without testing the layout.
+struct PackedQuads {
+    float* data;
+
+    void store(std::size_t element, __m128 v) const { _mm_storeu_ps(data + element * kQuad, v); }
+};
+
+inline QuadTarget quad_target(const ChannelsView<float>& out, int quad) {
+    const int lanes = out.num_channels - quad * kQuad < kQuad ? out.num_channels - quad * kQuad : kQuad;
+    return {out.data + std::size_t(quad) * kQuad * out.channel_stride, out.element_stride, out.channel_stride, lanes};
+}
+
+// The tables a pass reads, as plain pointers: vector stores may alias anything, so the compiler would otherwise
+// reload the data pointers of LevelStencils' vectors after every output.
+struct Tables {
+    const std::int32_t *ring_offsets, *ring, *edge_a, *edge_b, *edge_c, *edge_d;
+    const float *smooth_self, *smooth_ring;
+    std::size_t first_edge_point;  // output element of edge point 0
+
+    explicit Tables(const LevelStencils& s)
+        : ring_offsets(s.ring_offsets.data()), ring(s.ring.data()), edge_a(s.edge_a.data()), edge_b(s.edge_b.data()),
+          edge_c(s.edge_c.data()), edge_d(s.edge_d.data()), smooth_self(s.smooth_self.data()),
+          smooth_ring(s.smooth_ring.data()), first_edge_point(std::size_t(s.num_vertices)) {}
+};
+
+}  // namespace
+}  // namespace loopsub::detail
