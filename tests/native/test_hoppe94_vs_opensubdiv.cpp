@@ -15,6 +15,7 @@
 #include <cctype>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -399,6 +400,134 @@ TEST(Hoppe94VsOpenSubdiv, ConeOnCreaseBecomesCorner) {
         }
         return values;
     });
+}
+
+// --- Random crease sets: the seed's classification, derived here by hand -------------------------------------
+
+enum class SeedClass { Smooth, Dart, RegularCrease, IrregularCrease, Corner };
+
+// RULES.md section 1: s = crease edges at the vertex (boundary edges count); 0 smooth, 1 dart, 2 crease, >= 3 or
+// tagged corner. A crease vertex is regular when interior with valence 6 and three faces on each side of its
+// crease, or on the boundary with valence 4 (three faces) and its crease edges the boundary edges.
+// For manifold meshes only.
+std::vector<SeedClass> classify_by_hand(const TestMesh& mesh, const std::set<std::pair<int, int>>& creases) {
+    const int n = mesh.num_vertices();
+    std::vector<std::map<int, int>> next(n);  // around v: for face (v, x, y) counter-clockwise, next[v][x] = y
+    std::vector<int> faces(n, 0);
+    for (int t = 0; t < mesh.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int v = mesh.triangles[3 * t + k];
+            next[v][mesh.triangles[3 * t + (k + 1) % 3]] = mesh.triangles[3 * t + (k + 2) % 3];
+            ++faces[v];
+        }
+    std::set<int> corners;
+    for (std::size_t k = 0; k < mesh.corner_vertices.size(); ++k)
+        if (mesh.corner_sharpness[k] > 0) corners.insert(mesh.corner_vertices[k]);
+    std::vector<SeedClass> type(n);
+    for (int v = 0; v < n; ++v) {
+        std::set<int> neighbours;
+        for (const auto& [x, y] : next[v]) {
+            neighbours.insert(x);
+            neighbours.insert(y);
+        }
+        std::vector<int> crease_neighbours;
+        for (int u : neighbours)
+            if (creases.count({std::min(u, v), std::max(u, v)})) crease_neighbours.push_back(u);
+        const int valence = int(neighbours.size());
+        const bool boundary = faces[v] < valence;
+        const int s = int(crease_neighbours.size());
+        if (corners.count(v) || s >= 3) {
+            type[v] = SeedClass::Corner;
+        } else if (s == 0) {
+            type[v] = SeedClass::Smooth;
+        } else if (s == 1) {
+            type[v] = SeedClass::Dart;
+        } else if (boundary) {
+            // s == 2 with two boundary edges at v: the creases are the boundary edges.
+            type[v] = valence == 4 ? SeedClass::RegularCrease : SeedClass::IrregularCrease;
+        } else {
+            int faces_one_side = 0;
+            for (int u = crease_neighbours[0]; u != crease_neighbours[1]; u = next[v].at(u)) ++faces_one_side;
+            type[v] = (valence == 6 && faces_one_side == 3) ? SeedClass::RegularCrease : SeedClass::IrregularCrease;
+        }
+    }
+    return type;
+}
+
+// On random sets of sharp creases and corners, open and closed, every level-1 vertex is OpenSubdiv's except the
+// edge points of crease edges with a dart end ({3,3,1,1}) or between a regular crease vertex and an irregular one
+// or a corner ({5,3,0,0}, the 5 on the regular end), which have the seed's value.
+TEST(Hoppe94VsOpenSubdiv, RandomCreaseSetsLevel1) {
+    struct Random {
+        std::string name;
+        TestMesh mesh;
+    };
+    std::vector<Random> meshes;
+    for (unsigned seed : {1u, 2u, 3u}) {
+        TestMesh m = icosphere(2);
+        jitter(m, 400 + seed, 0.01f);
+        add_random_creases(m, 400 + seed, 0.2, false);
+        add_random_corners(m, 500 + seed, 3, false);
+        meshes.push_back({"icosphere320 seed " + std::to_string(seed), m});
+    }
+    {
+        TestMesh m = grid(7, 6);
+        jitter(m, 410, 0.01f);
+        add_random_creases(m, 410, 0.25, false);
+        meshes.push_back({"grid7x6", m});
+    }
+    {
+        TestMesh m = hemisphere(2);
+        jitter(m, 411, 0.01f);
+        add_random_creases(m, 411, 0.2, false);
+        meshes.push_back({"hemisphere", m});
+    }
+    int fivethree = 0, dart = 0;
+    for (const Random& r : meshes) {
+        SCOPED_TRACE(r.name);
+        const TestMesh& mesh = r.mesh;
+        std::set<std::pair<int, int>> creases;
+        for (std::size_t k = 0; k < mesh.crease_sharpness.size(); ++k)
+            creases.insert(std::minmax(mesh.crease_edges[2 * k], mesh.crease_edges[2 * k + 1]));
+        std::map<std::pair<int, int>, int> faces_per_edge;
+        for (int t = 0; t < mesh.num_triangles(); ++t)
+            for (int k = 0; k < 3; ++k)
+                ++faces_per_edge[std::minmax(mesh.triangles[3 * t + k], mesh.triangles[3 * t + (k + 1) % 3])];
+        for (const auto& [edge, faces] : faces_per_edge)
+            if (faces == 1) creases.insert(edge);  // boundary edges are creases
+        const std::vector<SeedClass> type = classify_by_hand(mesh, creases);
+
+        expect_seed_values_and_opensubdiv_elsewhere(mesh, 1, [&](const Plan& plan, const MappedReference&) {
+            std::vector<SeedValue> values;
+            for (const auto& [a, b] : creases) {
+                const Vec3 pa = point(mesh.positions, a), pb = point(mesh.positions, b);
+                if (type[a] == SeedClass::Dart || type[b] == SeedClass::Dart) {
+                    const std::vector<int> cd = opposite_vertices(mesh, a, b);
+                    if (cd.size() != 2) continue;  // a boundary edge cannot have a dart end
+                    values.push_back({edge_point(plan, 0, a, b),
+                                      (1.0 / 8) * (3 * pa + 3 * pb + point(mesh.positions, cd[0]) + point(mesh.positions, cd[1])),
+                                      "dart-ended crease edge " + std::to_string(a) + "-" + std::to_string(b)});
+                    ++dart;
+                    continue;
+                }
+                auto irregular_or_corner = [&](int v) {
+                    return type[v] == SeedClass::IrregularCrease || type[v] == SeedClass::Corner;
+                };
+                int regular = -1, other = -1;
+                if (type[a] == SeedClass::RegularCrease && irregular_or_corner(b)) regular = a, other = b;
+                if (type[b] == SeedClass::RegularCrease && irregular_or_corner(a)) regular = b, other = a;
+                if (regular < 0) continue;
+                values.push_back({edge_point(plan, 0, a, b),
+                                  (1.0 / 8) * (5 * point(mesh.positions, regular) + 3 * point(mesh.positions, other)),
+                                  "{5,3} edge, regular " + std::to_string(regular) + ", other " + std::to_string(other)});
+                ++fivethree;
+            }
+            return values;
+        });
+    }
+    // The random sets must really contain both kinds of difference, or this test proves less than it says.
+    EXPECT_GT(fivethree, 10);
+    EXPECT_GT(dart, 10);
 }
 
 }  // namespace
