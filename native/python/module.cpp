@@ -470,7 +470,9 @@ Example
 >>> moved = plan.evaluate(positions * 2)     # new positions, same topology: no topology work
 )doc";
 
-constexpr const char* kPlanDoc = R"doc(The topology work of Loop subdivision, done once for a mesh and reused per frame.
+constexpr const char* kPlanDoc = R"doc(Plan(triangles, num_vertices, levels=1, *, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
+
+The topology work of Loop subdivision, done once for a mesh and reused per frame.
 
 Parameters
 ----------
@@ -491,11 +493,12 @@ corner_vertices : numpy.ndarray of int32, shape (K,), optional
 corner_sharpness : numpy.ndarray of float32, shape (K,), optional
     Sharpness of each corner vertex (default 10). Under ``"hoppe94"`` any positive value makes a corner.
 cone_vertices : numpy.ndarray of int32, shape (Q,), optional
-    Vertices tagged as cones (``"hoppe94"`` only).
+    Vertices tagged as cones (``"hoppe94"``; ignored under ``"opensubdiv"``, which has no cones).
 crease_threshold : float, optional
     ``"hoppe94"``: an edge is a crease when its sharpness is positive and at least this (default 0).
 boundary : {"edges", "edges-and-corners"}, optional
-    ``"edges-and-corners"`` keeps boundary vertices with a single face fixed (Blender's "Keep Corners").
+    ``"edges-and-corners"`` makes boundary vertices with a single face corners, under either rule set
+    (Blender's "Keep Corners"). Default ``"edges"``: boundary edges are creases.
 crease_method : {"uniform", "chaikin"}, optional
     ``"opensubdiv"``: how semi-sharp sharpness decays from level to level.
 threads : int, optional
@@ -521,7 +524,9 @@ vertex per edge of that level (``level_edges``). Child triangle ``4*f + k`` of a
 Array properties are read-only views of the plan's memory (no copy); they keep the plan alive.
 )doc";
 
-constexpr const char* kEvaluateDoc = R"doc(Refine per-vertex data (positions, weights, colours) on the plan's topology.
+constexpr const char* kEvaluateDoc = R"doc(evaluate(values, out=None)
+
+Refine per-vertex data (positions, weights, colours) on the plan's topology.
 
 Parameters
 ----------
@@ -541,7 +546,9 @@ ValueError
     Wrong shape or layout, or a non-finite value (``out`` may then be partly written).
 )doc";
 
-constexpr const char* kFaceVaryingDoc = R"doc(Refine face-varying data (UVs), linearly within each face.
+constexpr const char* kFaceVaryingDoc = R"doc(evaluate_face_varying(values, out=None)
+
+Refine face-varying data (UVs), linearly within each face.
 
 Parameters
 ----------
@@ -557,7 +564,9 @@ numpy.ndarray of float32, shape (T_out, 3, C) or (T_out, 3)
     Seams stay seams: each output corner depends only on its parent face's values.
 )doc";
 
-constexpr const char* kSubdivideDoc = R"doc(Subdivide a mesh in one call (builds a Plan and evaluates it).
+constexpr const char* kSubdivideDoc = R"doc(subdivide(positions, triangles, levels=1, *, <the options of Plan>, vertex_data=None, face_varying=None)
+
+Subdivide a mesh in one call (builds a Plan and evaluates it).
 
 Parameters
 ----------
@@ -583,6 +592,9 @@ dict
     The index and tag arrays are read-only views of the plan's memory.
 )doc";
 
+// The Plan docstring spells out the default memory limit.
+static_assert(loopsub::Options{}.memory_limit_bytes == 4294967296u, "update kPlanDoc's memory_limit_bytes default");
+
 }  // namespace
 
 // The keyword-only options shared by Plan() and subdivide(), with their defaults.
@@ -596,6 +608,10 @@ dict
 
 PYBIND11_MODULE(_loopsub, m) {
     m.doc() = kModuleDoc;
+    // pybind11's generated signatures would name the array arguments "handle": each docstring starts with a
+    // hand-written signature instead, as numpy's own functions do.
+    py::options options;
+    options.disable_function_signatures();
     py::register_exception_translator(translate_exception);
 
     py::class_<PyPlan>(m, "Plan", kPlanDoc)
@@ -686,7 +702,7 @@ PYBIND11_MODULE(_loopsub, m) {
                 return plan_view(v.data(), {py::ssize_t(v.size() / 2), 2}, self);
             },
             py::arg("level"),
-            "(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k of level L+1.")
+            "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k of level L+1.")
         .def(
             "level_num_vertices",
             [](PyPlan& p, int level) {
@@ -695,7 +711,7 @@ PYBIND11_MODULE(_loopsub, m) {
                                           std::to_string(level));
                 return p.plan.level_num_vertices(level);
             },
-            py::arg("level"), "Number of vertices of level L (0 <= L <= levels).")
+            py::arg("level"), "level_num_vertices(level)\n\nNumber of vertices of level L (0 <= L <= levels).")
         .def(
             "level_vertex_types",
             [](py::object self, int level) {
@@ -708,7 +724,7 @@ PYBIND11_MODULE(_loopsub, m) {
                 return plan_view(reinterpret_cast<const std::uint8_t*>(v.data()), {py::ssize_t(v.size())}, self);
             },
             py::arg("level"),
-            "(N_L,) uint8: the class of each vertex of level L as used to reposition it; "
+            "level_vertex_types(level)\n\n(N_L,) uint8: the class of each vertex of level L as used to reposition it; "
             "names in VERTEX_TYPES (read-only view).")
         .def("__repr__", [](PyPlan& p) {
             return "<_loopsub.Plan rules=" + std::string(rules_name(p.plan.options().rules)) +
@@ -732,7 +748,7 @@ PYBIND11_MODULE(_loopsub, m) {
         py::arg("vertex_data") = py::none(), py::arg("face_varying") = py::none());
 
     m.def("best_kernel", [] { return loopsub::kernel_name(loopsub::best_kernel()); },
-          "Name of the widest evaluation kernel this CPU runs ('avx2', 'sse4.1' or 'scalar').");
+          "best_kernel()\n\nName of the widest evaluation kernel this CPU runs ('avx2', 'sse4.1' or 'scalar').");
 
     // Index = the uint8 value of Plan.level_vertex_types() (loopsub::VertexType).
     m.attr("VERTEX_TYPES") = py::make_tuple("smooth", "dart", "regular_crease", "irregular_crease", "corner", "cone");

@@ -196,3 +196,9 @@ def test_subdivide_arrays_outlive_the_call():
     gc.collect()
     assert isinstance(triangles.base, _loopsub.Plan)
     assert triangles.max() < triangles.base.num_output_vertices
+
+
+def test_module_docstring_example_runs():
+    import doctest
+    result = doctest.testmod(_loopsub)
+    assert result.attempted > 0 and result.failed == 0
