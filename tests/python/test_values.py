@@ -458,13 +458,17 @@ def test_plan_reevaluated_equals_fresh_subdivide(rules):
 
 
 @pytest.mark.parametrize("rules", RULES)
-def test_scalar_and_simd_and_threads_agree(rules):
+@pytest.mark.parametrize("channels", [1, 2, 3, 4, 5, 8, 13])
+def test_scalar_and_simd_and_threads_agree(rules, channels):
+    """The SIMD kernels (several layouts depending on the channel count) and the two-thread split (used from a
+    few thousand outputs per level on, hence level 5) give the scalar reference kernel's values."""
     p, t = icosahedron()
-    scalar_plan = _loopsub.Plan(t, len(p), 4, rules=rules, scalar=True)
+    values = np.ascontiguousarray(np.tile(p, 5)[:, :channels] * np.linspace(1, 2, channels, dtype=np.float32))
+    creases = dict(crease_edges=np.array([[0, 11], [11, 5]], np.int32), crease_sharpness=np.array([10, 1.5], np.float32))
+    scalar_plan = _loopsub.Plan(t, len(p), 5, rules=rules, scalar=True, **creases)
     assert scalar_plan.kernel == "scalar"
-    auto_plan = _loopsub.Plan(t, len(p), 4, rules=rules)
-    assert auto_plan.kernel == _loopsub.best_kernel()
-    two = _loopsub.Plan(t, len(p), 4, rules=rules, threads=2)
-    reference = scalar_plan.evaluate(p)
-    np.testing.assert_allclose(auto_plan.evaluate(p), reference, atol=1e-6)
-    np.testing.assert_allclose(two.evaluate(p), reference, atol=1e-6)
+    reference = scalar_plan.evaluate(values)
+    for options in (dict(), dict(threads=2), dict(threads=2, scalar=True)):
+        plan = _loopsub.Plan(t, len(p), 5, rules=rules, **options, **creases)
+        assert plan.kernel == ("scalar" if options.get("scalar") else _loopsub.best_kernel())
+        np.testing.assert_allclose(plan.evaluate(values), reference, atol=2e-6, err_msg=str(options))
