@@ -244,6 +244,71 @@ std::vector<ExactCase> generated_cases() {
         add(cases, "fin_on_grid" + mode, [boundary] { return with_boundary(fin_on_grid(), boundary); });
         add(cases, "bowtie4" + mode, [boundary] { return with_boundary(bowtie(4), boundary); });
     }
+    // Harder tag sets. Level 4 lets sharpness up to 3.7 decay all the way (and Chaikin average it along the way).
+    for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
+        const std::string method_name = method == CreaseMethod::Chaikin ? "chaikin" : "uniform";
+        cases.push_back({"icosphere80_semisharp_" + method_name + "_L4", [method] {
+                             TestMesh m = icosphere(1);
+                             jitter(m, 71, 0.01f);
+                             add_random_creases(m, 71, 0.3, true);
+                             add_random_corners(m, 72, 5, true);
+                             m.crease_method = method;
+                             return m;
+                         }, 4});
+        // Every edge tagged: vertices where many semi-sharp edges meet, and no smooth edge at all.
+        add(cases, "icosphere80_every_edge_semisharp_" + method_name, [method] {
+            TestMesh m = icosphere(1);
+            jitter(m, 73, 0.01f);
+            add_random_creases(m, 73, 1.0, true);
+            m.crease_method = method;
+            return m;
+        });
+        // Valence-64 vertices on semi-sharp creases and with vertex sharpness.
+        add(cases, "bipyramid64_apex_creases_" + method_name, [method] {
+            TestMesh m = bipyramid(64);
+            jitter(m, 74, 0.005f);
+            m.add_crease(0, 2, 2.5f);
+            m.add_crease(0, 34, 0.7f);
+            m.add_crease(1, 10, kInfiniteSharpness);
+            m.add_crease(1, 20, 1.5f);
+            m.add_crease(1, 40, 3.0f);  // three sharp edges at apex 1
+            m.add_corner(0, 0.5f);
+            m.crease_method = method;
+            return m;
+        });
+        // The peer's non-manifold shape with random semi-sharp creases, in both boundary modes.
+        for (Boundary boundary : {Boundary::EdgesOnly, Boundary::EdgesAndCorners}) {
+            add(cases, "loop_nonman_edges_semisharp_" + method_name +
+                           (boundary == Boundary::EdgesOnly ? "_edges" : "_edges_and_corners"),
+                [method, boundary] {
+                    TestMesh m = peer_shape("loop_nonman_edges.obj", true);
+                    add_random_creases(m, 75, 0.2, true);
+                    add_random_corners(m, 76, 4, true);
+                    m.crease_method = method;
+                    m.boundary = boundary;
+                    return m;
+                });
+        }
+    }
+    // Crease pairs given end-first (b, a): the tags name an edge, not a direction.
+    add(cases, "icosphere320_reversed_crease_pairs", [] {
+        TestMesh m = icosphere(2);
+        jitter(m, 77, 0.01f);
+        add_random_creases(m, 77, 0.2, true);
+        for (std::size_t k = 0; k < m.crease_sharpness.size(); ++k)
+            std::swap(m.crease_edges[2 * k], m.crease_edges[2 * k + 1]);
+        return m;
+    });
+    // Semi-sharp corners and an interior crease reaching the boundary.
+    add(cases, "grid6x5_boundary_corners_and_crease_edges_and_corners", [] {
+        TestMesh m = with_boundary(grid(6, 5), Boundary::EdgesAndCorners);
+        jitter(m, 78, 0.01f);
+        for (int i = 0; i < 6; ++i) m.add_crease(grid_vertex(6, i, 2), grid_vertex(6, i + 1, 2), 1.7f);
+        m.add_corner(grid_vertex(6, 3, 0), 2.2f);    // on the boundary
+        m.add_corner(grid_vertex(6, 2, 2), 0.4f);    // on the crease
+        m.add_corner(grid_vertex(6, 6, 0), 1.0f);    // a boundary corner that the mode already makes sharp
+        return m;
+    });
     // UVs with a seam on meshes whose shape also exercises creases and boundaries.
     add(cases, "icosphere320_semisharp_uv_seam", [] {
         TestMesh m = icosphere(2);
