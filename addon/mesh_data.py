@@ -66,7 +66,7 @@ class Cage:
         if len(degenerate):
             face = self.triangle_polygons[degenerate[0]]
             raise LoopSubError(f"{name}: face {face} repeats a vertex ({len(degenerate)} degenerate triangles); "
-                               "Mesh ▸ Clean Up ▸ Merge by Distance or Delete Loose can fix it")
+                               "Mesh ▸ Clean Up ▸ Degenerate Dissolve can fix it")
         duplicates = geometry.duplicate_triangles(self.triangles)
         if len(duplicates):
             first, second = self.triangle_polygons[duplicates[0]]
