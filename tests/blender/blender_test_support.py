@@ -109,6 +109,20 @@ def octahedron():
     return bm
 
 
+def creased_cube(compat, weight=1.0):
+    """A cube cut 2x2 per side (triangulated) with its 12 sides creased: 24 crease edges in curves from corner to
+    corner. Returns the object and the crease edges' indices."""
+    obj = object_from_bmesh("CreasedCube", cube("CreasedCube", subdivisions=1))
+    p = positions(obj.data)
+    e = edges(obj.data)
+    on_side = (np.abs(np.abs(p) - 1.0) < 1e-6).sum(axis=1) >= 2
+    axis_aligned = (np.abs(p[e[:, 0]] - p[e[:, 1]]) > 1e-6).sum(axis=1) == 1  # not the triangulation's diagonals
+    sides = np.flatnonzero(on_side[e[:, 0]] & on_side[e[:, 1]] & axis_aligned)
+    assert len(sides) == 24
+    set_edge_creases(obj.data, sides, weight, compat)
+    return obj, sides
+
+
 def grid(cuts=3, size=2.0):
     bm = bmesh.new()
     bmesh.ops.create_grid(bm, x_segments=cuts, y_segments=cuts, size=size / 2)
@@ -203,3 +217,19 @@ def capture_output(function):
         text = capture.read().decode("utf-8", "replace")
     print(text, end="")
     return result, text
+
+
+def is_regular_crease(vert, creases):
+    """RULES.md §1 for a bmesh vertex with two crease edges: interior, valence 6 with three faces on each side of the
+    crease; boundary, valence 4 with the boundary edges as its creases."""
+    if vert.is_boundary:
+        return len(vert.link_edges) == 4 and all(edge.is_boundary for edge in creases)
+    if len(vert.link_edges) != 6:
+        return False
+    edge, face, count = creases[0], creases[0].link_faces[0], 0
+    while True:
+        count += 1
+        edge = next(e for e in face.edges if vert in e.verts and e != edge)
+        if edge == creases[1]:
+            return count == 3
+        face = next(f for f in edge.link_faces if f != face)

@@ -33,13 +33,7 @@ TOLERANCE = 1e-5  # of the bounding-box diagonal (RULES.md §4)
 # --- test meshes (triangulated here, so that Blender's modifier sees the same triangles) -------------------------
 
 def creased_cube():
-    """A cube cut 2x2 per side with its 12 sides creased: 24 crease edges in curves from corner to corner."""
-    obj = support.object_from_bmesh("CreasedCube", support.cube("CreasedCube", subdivisions=1))
-    p = support.positions(obj.data)
-    e = support.edges(obj.data)
-    on_side = (np.abs(np.abs(p) - 1.0) < 1e-6).sum(axis=1) >= 2
-    support.set_edge_creases(obj.data, np.flatnonzero(on_side[e[:, 0]] & on_side[e[:, 1]]), 1.0, compat)
-    return obj
+    return support.creased_cube(compat)[0]
 
 
 def ringed_sphere(weight=1.0):
@@ -87,7 +81,7 @@ def crease_curves(obj, boundary):
         if len(creases) >= 3 or (boundary == 'KEEP_CORNERS' and vert.is_boundary and len(vert.link_faces) == 1):
             kinds[vert.index] = 'corner'
         elif len(creases) == 2:
-            kinds[vert.index] = 'regular' if is_regular(vert, creases) else 'irregular'
+            kinds[vert.index] = 'regular' if support.is_regular_crease(vert, creases) else 'irregular'
         elif len(creases) == 1:
             raise AssertionError("test meshes have no darts on their curves")
     neighbours = {v: [] for v in kinds}
@@ -120,21 +114,6 @@ def crease_curves(obj, boundary):
                 chain = walk(v, n)
                 chains.append((chain[:-1], True))
     return chains, kinds, positions
-
-
-def is_regular(vert, creases):
-    """Interior: valence 6 with three faces on each side of the crease; boundary: valence 4, crease = boundary."""
-    if vert.is_boundary:
-        return len(vert.link_edges) == 4 and all(edge.is_boundary for edge in creases)
-    if len(vert.link_edges) != 6:
-        return False
-    edge, face, count = creases[0], creases[0].link_faces[0], 0
-    while True:
-        count += 1
-        edge = next(e for e in face.edges if vert in e.verts and e != edge)
-        if edge == creases[1]:
-            return count == 3
-        face = next(f for f in edge.link_faces if f != face)
 
 
 def subdivide_curve(points, kinds, closed, levels, seed_rules):
