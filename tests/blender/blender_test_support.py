@@ -18,7 +18,7 @@ import numpy as np
 _started = time.time()
 
 
-def load_addon():
+def load_addon(register=True):
     """Imports the add-on package from --addon-dir (its folder name is the package name) and registers it."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser()
@@ -27,7 +27,8 @@ def load_addon():
     addon_dir = os.path.abspath(args.addon_dir)
     sys.path.insert(0, os.path.dirname(addon_dir))
     package = importlib.import_module(os.path.basename(addon_dir))
-    package.register()
+    if register:
+        package.register()
     return package
 
 
@@ -78,6 +79,7 @@ def object_from_bmesh(name, bm, triangulate=True):
 
 
 def select_only(*objects):
+    bpy.context.view_layer.update()  # objects removed since the last update linger as None otherwise
     for other in bpy.context.view_layer.objects:
         other.select_set(False)
     for obj in objects:

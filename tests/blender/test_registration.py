@@ -1,0 +1,96 @@
+"""Registering and unregistering the add-on twice in one session leaves nothing behind; the extension manifest
+parses and has what Blender 4.2 requires; bl_info serves Blender 3.4 to 4.1.
+"""
+import os
+import re
+import sys
+import tomllib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bpy  # noqa: E402
+
+import blender_test_support as support  # noqa: E402
+
+addon = support.load_addon(register=False)
+check = support.Check("test_registration")
+
+OPERATORS = ("add", "remove", "apply", "refresh_tags")
+CLASSES = tuple(f"OBJECT_OT_loop_subdivision_{name}" for name in OPERATORS) + (
+    "LoopSubdivisionSettings", "DATA_PT_loop_subdivision", "VIEW3D_MT_object_loop_subdivision")
+
+
+def footprint():
+    """Everything the add-on may add to a session."""
+    return {
+        "classes": {name for name in CLASSES
+                    if hasattr(bpy.types, name) or bpy.types.PropertyGroup.bl_rna_get_subclass_py(name)},
+        "object property": hasattr(bpy.types.Object, "loop_subdivision"),
+        "operators": {name for name in OPERATORS if _operator_exists(name)},
+        "depsgraph handlers": len(bpy.app.handlers.depsgraph_update_post),
+        "load handlers": len(bpy.app.handlers.load_post),
+        "object menu entries": len(bpy.types.VIEW3D_MT_object._dyn_ui_initialize()),
+    }
+
+
+def _operator_exists(name):
+    try:
+        getattr(bpy.ops.object, f"loop_subdivision_{name}").get_rna_type()
+        return True
+    except KeyError:
+        return False
+
+
+def registration():
+    empty = footprint()
+    check(not empty["classes"] and not empty["object property"] and not empty["operators"],
+          "nothing of the add-on is there before registering")
+    for round_ in (1, 2):
+        addon.register()
+        full = footprint()
+        check(full["classes"] == set(CLASSES) and full["object property"] and full["operators"] == set(OPERATORS),
+              f"round {round_}: register adds the classes, Object.loop_subdivision and the operators {full}")
+        check(full["depsgraph handlers"] == empty["depsgraph handlers"] + 1
+              and full["load handlers"] == empty["load handlers"] + 1
+              and full["object menu entries"] == empty["object menu entries"] + 1,
+              f"round {round_}: one depsgraph handler, one load handler, one Object menu entry")
+        for name in OPERATORS:
+            rna = getattr(bpy.ops.object, f"loop_subdivision_{name}").get_rna_type()
+            check({'REGISTER', 'UNDO'} <= set(bpy.types.Operator.bl_rna_get_subclass_py(
+                f"OBJECT_OT_loop_subdivision_{name}").bl_options) and rna.description,
+                  f"round {round_}: object.loop_subdivision_{name} has REGISTER, UNDO and a description")
+        check(bpy.types.DATA_PT_loop_subdivision.bl_context == "modifier", "the panel is in Properties ▸ Modifiers")
+        cube = support.object_from_bmesh("Cube", support.cube("Cube"))
+        bpy.ops.object.loop_subdivision_add()
+        check(cube.loop_subdivision.enabled, f"round {round_}: the add operator works")
+        addon.unregister()
+        bpy.data.objects.remove(cube)
+        check(footprint() == empty, f"round {round_}: unregister leaves nothing behind {footprint()}")
+
+
+def manifest():
+    path = os.path.join(os.path.dirname(addon.__file__), "blender_manifest.toml")
+    with open(path, "rb") as file:
+        data = tomllib.load(file)
+    required = ("schema_version", "id", "version", "name", "tagline", "maintainer", "type", "blender_version_min",
+                "license")
+    check(all(key in data for key in required), f"the manifest has Blender 4.2's required fields {required}")
+    check(data["schema_version"] == "1.0.0" and data["type"] == "add-on", "schema 1.0.0, type add-on")
+    check(re.fullmatch(r"[a-z][a-z0-9_]*", data["id"]) is not None, f"id {data['id']!r} is a valid identifier")
+    check(re.fullmatch(r"\d+\.\d+\.\d+", data["version"]) is not None
+          and tuple(map(int, data["version"].split("."))) == addon.bl_info["version"],
+          "version is semantic and matches bl_info")
+    check(len(data["tagline"]) <= 64 and data["tagline"][-1] not in ".!?,;:",
+          "tagline at most 64 characters, no closing punctuation")
+    check(tuple(map(int, data["blender_version_min"].split("."))) >= (4, 2, 0), "blender_version_min >= 4.2.0")
+    check(all(entry.startswith("SPDX:") for entry in data["license"]), "licenses are SPDX identifiers")
+    check(set(data.get("platforms", [])) <= {"windows-x64", "windows-arm64", "macos-x64", "macos-arm64", "linux-x64"}
+          and data.get("platforms"), "platforms names the built binary's platform")
+    info = addon.bl_info
+    check(info["blender"] <= bpy.app.version and info["name"] == data["name"],
+          f"bl_info loads on Blender {bpy.app.version_string} with the manifest's name")
+
+
+support.clear_scene()
+registration()
+manifest()
+check.finish()
