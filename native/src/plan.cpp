@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <system_error>
 #include <thread>
 
 #include "kernels.h"
@@ -26,35 +27,41 @@ double ms_since(Clock::time_point start) { return std::chrono::duration<double, 
 
 [[noreturn]] void fail(const std::string& message) { throw InputError(message); }
 
-// Counts of one level, in 64 bits so that the memory check cannot overflow.
+// Saturating arithmetic: a request for 40 levels must say "too much", not wrap around to a small number.
+constexpr std::uint64_t kSaturated = std::numeric_limits<std::uint64_t>::max();
+std::uint64_t add(std::uint64_t a, std::uint64_t b) { return a > kSaturated - b ? kSaturated : a + b; }
+std::uint64_t mul(std::uint64_t a, std::uint64_t b) { return b != 0 && a > kSaturated / b ? kSaturated : a * b; }
+
+// Counts of one level.
 struct LevelCounts {
     std::uint64_t vertices, edges, faces;
-    LevelCounts child() const { return {vertices + edges, 2 * edges + 3 * faces, 4 * faces}; }
+    LevelCounts child() const { return {add(vertices, edges), add(mul(2, edges), mul(3, faces)), mul(4, faces)}; }
 };
 
 std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channels) {
-    const std::uint64_t i32 = 4, f32 = 4;
+    // Bytes per element, summed over the arrays that hold them.
     std::uint64_t kept = 0, largest_transient = 0;
     LevelCounts previous = level;
     for (int l = 0; l < levels; ++l) {
-        // Kept per level: stencils (rings, edge points, offsets), the level's edges, vertex types.
-        kept += i32 * (2 * level.edges + level.vertices + 1) + i32 * 4 * level.edges + i32 * 2 * level.edges + level.vertices;
-        // Held while refining it: connectivity (faces, face edges, edge faces, vertex edges) and sharpness.
-        const std::uint64_t transient = i32 * (6 * level.faces + 2 * level.edges + 3 * level.faces + level.edges +
-                                               level.vertices + 2 * level.edges) +
-                                        f32 * 2 * (level.edges + level.vertices);
+        // Kept per level: stencils (rings 8, edge points 16, offsets 4), the level's edges (8), vertex types (1).
+        kept = add(kept, add(mul(32, level.edges), mul(5, level.vertices)));
+        // Held while refining it: connectivity (faces and face edges 24 + edge faces 12 per face-edge pair,
+        // vertex edges 12) and sharpness (8 per edge and vertex).
+        const std::uint64_t transient = add(mul(36, level.faces), add(mul(20, level.edges), mul(12, level.vertices)));
         largest_transient = std::max(largest_transient, transient);
         previous = level;
         level = level.child();
     }
-    // The last level's triangles and parents, the output, and the two scratch levels of evaluation.
-    kept += i32 * 4 * level.faces + f32 * num_channels * (level.vertices + 2 * previous.vertices);
-    return kept + 2 * largest_transient;  // a child level is built while its parent still lives
+    // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation.
+    kept = add(kept, add(mul(16, level.faces), mul(mul(4, std::uint64_t(num_channels)), add(level.vertices, mul(2, previous.vertices)))));
+    return add(kept, mul(2, largest_transient));  // a child level is built while its parent still lives
 }
 
 std::string describe_bytes(std::uint64_t bytes) {
     char text[64];
-    std::snprintf(text, sizeof text, "%.2f GiB (%llu bytes)", double(bytes) / double(1ull << 30), (unsigned long long)bytes);
+    const bool gib = bytes >= (std::uint64_t(1) << 30);
+    std::snprintf(text, sizeof text, "%.2f %s (%llu bytes)", double(bytes) / double(std::uint64_t(1) << (gib ? 30 : 20)),
+                  gib ? "GiB" : "MiB", (unsigned long long)bytes);
     return text;
 }
 
@@ -62,6 +69,23 @@ Index find_edge(const Topology& t, Index a, Index b) {
     for (Index k = t.vertex_edge_offsets[a]; k < t.vertex_edge_offsets[a + 1]; ++k)
         if (t.other_end(t.vertex_edges[k], a) == b) return t.vertex_edges[k];
     return -1;
+}
+
+// Runs work(0) .. work(parts - 1), each on its own thread but work(0) on the caller's. A thread the system
+// refuses to start costs parallelism, never the process: its part runs on the caller.
+template <typename Work>
+void run_in_parts(int parts, const Work& work) {
+    std::vector<std::thread> workers;
+    workers.reserve(parts);
+    for (int i = 1; i < parts; ++i) {
+        try {
+            workers.emplace_back(work, i);
+        } catch (const std::system_error&) {
+            work(i);
+        }
+    }
+    work(0);
+    for (std::thread& worker : workers) worker.join();
 }
 
 bool finite_non_negative(float value) { return std::isfinite(value) && value >= 0.0f; }
@@ -435,11 +459,15 @@ void PlanImpl::build(const MeshView& mesh) {
     for (int l = 0; l < options.levels; ++l) last = last.child();
     const std::uint64_t needed = estimate_for_counts(counts, options.levels, 3);
     const std::uint64_t index_limit = std::uint64_t(std::numeric_limits<Index>::max());
-    if (needed > options.memory_limit_bytes || 3 * last.faces > index_limit || 2 * last.edges > index_limit)
-        throw MemoryLimitError("subdividing " + std::to_string(mesh.num_triangles) + " triangles " + std::to_string(options.levels) +
-                                   " times gives " + std::to_string(last.faces) + " triangles and would need about " +
-                                   describe_bytes(needed) + ", more than the limit of " +
+    const std::string request = "subdividing " + std::to_string(mesh.num_triangles) + " triangles " +
+                                std::to_string(options.levels) + " times gives " +
+                                (last.faces == kSaturated ? std::string("more than 2^64") : std::to_string(last.faces)) + " triangles";
+    if (needed > options.memory_limit_bytes)
+        throw MemoryLimitError(request + " and would need about " + describe_bytes(needed) + ", more than the limit of " +
                                    describe_bytes(options.memory_limit_bytes),
+                               needed);
+    if (mul(3, last.faces) > index_limit || mul(2, last.edges) > index_limit)
+        throw MemoryLimitError(request + ", more than 32-bit indices can address (about " + describe_bytes(needed) + " would be needed)",
                                needed);
 
     for (int l = 0; l < options.levels; ++l) {
@@ -492,7 +520,8 @@ const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
 
 std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels) {
     // Before the edges are known, a closed manifold's count stands in: three halves per triangle.
-    const LevelCounts counts{std::uint64_t(num_vertices), std::uint64_t(num_triangles) * 3 / 2, std::uint64_t(num_triangles)};
+    const LevelCounts counts{std::uint64_t(std::max(num_vertices, 0)), std::uint64_t(std::max(num_triangles, 0)) * 3 / 2,
+                             std::uint64_t(std::max(num_triangles, 0))};
     return estimate_for_counts(counts, levels, num_channels);
 }
 
@@ -529,17 +558,13 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
             buffer.resize(n * in.num_channels);
             target = {buffer.data(), in.num_channels, n, 1};
         }
-        if (threads == 1 || s.num_vertices + s.num_edges < 4096) {
-            refine(s, source, target, {0, s.num_vertices}, {0, s.num_edges});
-        } else {
-            std::vector<std::thread> workers;
-            auto split = [threads](int n, int i) { return int(std::int64_t(n) * i / threads); };
-            for (int i = 1; i < threads; ++i)
-                workers.emplace_back(refine, std::cref(s), source, target, detail::Range{split(s.num_vertices, i), split(s.num_vertices, i + 1)},
-                                     detail::Range{split(s.num_edges, i), split(s.num_edges, i + 1)});
-            refine(s, source, target, {0, split(s.num_vertices, 1)}, {0, split(s.num_edges, 1)});
-            for (std::thread& worker : workers) worker.join();
-        }
+        // Small levels are not worth a thread's start-up.
+        const int parts = s.num_vertices + s.num_edges < 4096 ? 1 : threads;
+        auto split = [parts](int n, int i) { return int(std::int64_t(n) * i / parts); };
+        run_in_parts(parts, [&](int i) {
+            refine(s, source, target, {split(s.num_vertices, i), split(s.num_vertices, i + 1)},
+                   {split(s.num_edges, i), split(s.num_edges, i + 1)});
+        });
         source = {target.data, target.num_channels, target.channel_stride, target.element_stride};
     }
     p.evaluate_ms = ms_since(start);
