@@ -1,0 +1,140 @@
+"""The add-on's bpy-free helpers (addon/geometry.py), loaded by path with plain Python: no Blender needed."""
+import importlib.util
+import os
+
+import numpy as np
+import pytest
+
+import _loopsub
+
+_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "geometry.py")
+_spec = importlib.util.spec_from_file_location("loop_subdivision_geometry", _PATH)
+geometry = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(geometry)
+
+
+def test_crease_to_sharpness_is_blenders_float32_mapping():
+    weights = np.array([0.0, 0.5, 0.6, 0.8, 1.0], np.float32)
+    sharpness = geometry.crease_to_sharpness(weights)
+    assert sharpness.dtype == np.float32
+    # Blender: edge_crease * edge_crease * 10.0f, in float.
+    expected = np.array([w * w * np.float32(10.0) for w in weights], np.float32)
+    assert np.array_equal(sharpness, expected)
+    assert sharpness[-1] == 10.0 and sharpness[1] == 2.5
+    assert abs(float(sharpness[2]) - 3.6) < 1e-6 and abs(float(sharpness[3]) - 6.4) < 1e-6
+
+
+def test_sharpness_to_crease_round_trips_and_clips():
+    weights = np.linspace(0, 1, 101, dtype=np.float32)
+    back = geometry.sharpness_to_crease(geometry.crease_to_sharpness(weights))
+    assert np.abs(back - weights).max() < 1e-6
+    assert np.array_equal(geometry.sharpness_to_crease(np.array([-1.0, 0.0, 12.0], np.float32)), [0.0, 0.0, 1.0])
+
+
+def test_crease_tags_per_rule_set():
+    edges = np.array([[0, 1], [1, 2], [2, 0], [0, 3]], np.int32)
+    edge_weights = np.array([0.0, 0.3, 0.6, 1.0], np.float32)
+    vertex_weights = np.array([0.0, 0.4, 0.0, 0.9], np.float32)
+
+    osd = geometry.crease_tags(edges, edge_weights, vertex_weights, 'OPENSUBDIV', 0.5)
+    assert osd["crease_edges"].tolist() == [[1, 2], [2, 0], [0, 3]]
+    assert np.array_equal(osd["crease_sharpness"], geometry.crease_to_sharpness(edge_weights[1:]))
+    assert osd["corner_vertices"].tolist() == [1, 3]
+    assert np.array_equal(osd["corner_sharpness"], geometry.crease_to_sharpness([0.4, 0.9]))
+
+    # Seed rules: the weights go to the core (which applies the threshold to edges); corners are thresholded here.
+    seed = geometry.crease_tags(edges, edge_weights, vertex_weights, 'HOPPE94', 0.5)
+    assert seed["crease_edges"].tolist() == [[1, 2], [2, 0], [0, 3]]
+    assert np.array_equal(seed["crease_sharpness"], edge_weights[1:])
+    assert seed["corner_vertices"].tolist() == [3]
+    for tags in (osd, seed):
+        assert {k: v.dtype for k, v in tags.items()} == {"crease_edges": np.int32, "crease_sharpness": np.float32,
+                                                        "corner_vertices": np.int32, "corner_sharpness": np.float32}
+        assert all(v.flags.c_contiguous for v in tags.values())
+
+
+def test_tags_are_accepted_by_the_module():
+    positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], np.float32)
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    edges = np.array([[1, 2], [0, 1]], np.int32)
+    for rules in ('HOPPE94', 'OPENSUBDIV'):
+        options = geometry.Options(levels=2, rules=rules, boundary='KEEP_CORNERS')
+        tags = geometry.crease_tags(edges, np.array([1.0, 0.6], np.float32), np.zeros(4, np.float32), rules, 0.5)
+        plan = _loopsub.Plan(triangles, 4, 2, **tags, **options.plan_keywords())
+        assert plan.evaluate(positions).shape == (plan.num_output_vertices, 3)
+
+
+def test_child_crease_weights():
+    assert np.allclose(geometry.child_crease_weights(np.array([10.0, 2.6], np.float32), 'OPENSUBDIV'),
+                       [1.0, np.sqrt(0.26)])
+    kept = np.array([0.6, 1.0], np.float32)
+    assert np.array_equal(geometry.child_crease_weights(kept, 'HOPPE94'), kept)
+
+
+def test_crease_edge_mask():
+    weights = np.array([0.0, 0.4, 0.6, 0.0], np.float32)
+    faces = np.array([2, 2, 2, 1])
+    assert geometry.crease_edge_mask(weights, faces, 'HOPPE94', 0.5, True).tolist() == [False, False, True, True]
+    assert geometry.crease_edge_mask(weights, faces, 'OPENSUBDIV', 0.5, True).tolist() == [False, True, True, True]
+    assert geometry.crease_edge_mask(weights, faces, 'HOPPE94', 0.5, False).tolist() == [False, False, False, True]
+
+
+def test_lookup_edges_either_direction():
+    table = np.array([[0, 1], [2, 1], [3, 0]], np.int32)
+    query = np.array([[1, 0], [1, 2], [0, 3], [2, 3]], np.int32)
+    assert geometry.lookup_edges(table, query, 4).tolist() == [0, 1, 2, -1]
+    assert geometry.lookup_edges(table[:0], query, 4).tolist() == [-1] * 4
+
+
+def test_degenerate_and_duplicate_triangles():
+    triangles = np.array([[0, 1, 2], [2, 1, 0], [1, 1, 3], [0, 2, 3], [3, 0, 2]], np.int32)
+    assert geometry.degenerate_triangles(triangles).tolist() == [2]
+    assert geometry.duplicate_triangles(triangles).tolist() == [[0, 1], [3, 4]]
+
+
+def test_inherited_edges_follow_flagged_parent_edges():
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    parent_edges = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32)
+    flags = np.array([True, True, False, False, False])  # a border edge and the shared inner edge
+    levels = 2
+    plan = _loopsub.Plan(triangles, 4, levels, rules="opensubdiv")
+    barycentrics = plan.evaluate_face_varying(geometry.corner_barycentrics(len(triangles)))
+    pairs = geometry.inherited_edges(plan.triangles, plan.parent_triangles, barycentrics, triangles, flags,
+                                     parent_edges, 4)
+    unique = np.unique(np.sort(pairs, axis=1), axis=0)
+    assert len(unique) == 2 * 2 ** levels
+    # Placed linearly (positions as face-varying data), every inherited edge lies on the flagged parent edges: the
+    # bottom 0-1 or the diagonal 1-2 of the unit square.
+    square = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float32)
+    linear = plan.evaluate_face_varying(np.ascontiguousarray(square[triangles]))
+    positions = np.zeros((plan.num_output_vertices, 2), np.float32)
+    positions[plan.triangles.ravel()] = linear.reshape(-1, 2)
+    p = positions[unique]
+    on_bottom = np.all(np.abs(p[:, :, 1]) < 1e-6, axis=1)
+    on_diagonal = np.all(np.abs(p[:, :, 0] + p[:, :, 1] - 1) < 1e-6, axis=1)
+    assert np.all(on_bottom | on_diagonal) and on_bottom.sum() == on_diagonal.sum() == 2 ** levels
+
+
+def test_plan_attributes():
+    point, corner, face, dropped = geometry.plan_attributes(
+        [("Col", 'POINT', 'FLOAT_COLOR'), ("uv", 'CORNER', 'FLOAT2'), ("id", 'FACE', 'INT'),
+         ("flag", 'EDGE', 'BOOLEAN'), ("count", 'POINT', 'INT'), (".select_vert", 'POINT', 'BOOLEAN'),
+         ("position", 'POINT', 'FLOAT_VECTOR')], skip={"position"})
+    assert [n for n, _, _ in point] == ["Col"] and [n for n, _, _ in corner] == ["uv"]
+    assert [n for n, _, _ in face] == ["id"] and [n for n, _, _ in dropped] == ["flag", "count"]
+
+
+def test_options_keywords():
+    assert geometry.Options(rules='OPENSUBDIV', boundary='KEEP_CORNERS', crease_threshold=0.7).plan_keywords() == {
+        "rules": "opensubdiv", "boundary": "edges-and-corners", "crease_threshold": 0.0}
+    assert geometry.Options(crease_threshold=0.7).plan_keywords() == {
+        "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7)}
+
+
+def test_shared_positions_and_normals():
+    positions = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1], [1, 1, 1]], np.float32)
+    assert geometry.shared_positions(positions) == 1
+    triangles = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]], np.int32)
+    normals = geometry.vertex_normals(positions[:4], triangles)
+    assert np.all(np.sum(normals * positions[:4], axis=1) > 0)  # outward
+    assert np.allclose(np.linalg.norm(normals, axis=1), 1)
