@@ -298,10 +298,7 @@ _HUGE_LEVELS_CHILD = textwrap.dedent("""
 
 @pytest.mark.parametrize("levels", [
     16,  # 4**17 triangles: past the int32 indices, far below the limit
-    pytest.param(31, marks=pytest.mark.xfail(strict=True, reason=(
-        "core: LevelCounts / estimate_for_counts (plan.cpp) wrap around uint64 for levels >= 28; at 31 the "
-        "triangle count and 2 * edges wrap to 0 and the estimate to 9.03e18 bytes, below this limit, so the "
-        "Plan starts building and dies in the allocator"))),
+    31,  # 4**32 triangles: past 64 bits, which must saturate rather than wrap around
     40,
 ])
 def test_absurd_levels_are_refused_even_with_no_memory_limit(levels):
