@@ -140,6 +140,17 @@ def preview():
     check(entry.plan_builds == 1 and not np.array_equal(entry.positions, before),
           "moving a vertex re-evaluates the same plan (depsgraph update)")
 
+    bpy.ops.object.mode_set(mode='EDIT')
+    edited = bmesh.from_edit_mesh(mesh)
+    edited.verts.ensure_lookup_table()
+    before = entry.positions.copy()
+    edited.verts[2].co.x += 0.25
+    bmesh.update_edit_mesh(mesh)
+    bpy.context.view_layer.update()
+    check(entry.plan_builds == 1 and not np.array_equal(entry.positions, before) and not entry.error,
+          "in Edit Mode, moving a vertex re-evaluates the same plan")
+    bpy.ops.object.mode_set(mode='OBJECT')
+
     bm = bmesh.new()
     bm.from_mesh(mesh)
     bm.faces.ensure_lookup_table()
