@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <string_view>
@@ -338,14 +339,17 @@ struct FileCloser {
 };
 using File = std::unique_ptr<std::FILE, FileCloser>;
 
-// Buffered formatting into a file: to_chars into a block, one fwrite per block.
+// Buffered formatting into a file: text and to_chars straight into a block, one fwrite per block. (Appending to a
+// std::string cost a third of the CLI's time on a million-triangle output.)
 class Writer {
 public:
-    Writer(std::FILE* file, const std::string& path) : file_(file), path_(path) { buffer_.reserve(kBlock + 256); }
+    Writer(std::FILE* file, const std::string& path) : file_(file), path_(path), block_(new char[kBlock]) {}
 
     Writer& text(std::string_view s) {
-        buffer_.append(s);
-        return flush_if_full();
+        make_room(s.size());
+        std::memcpy(block_.get() + used_, s.data(), s.size());
+        used_ += s.size();
+        return *this;
     }
     Writer& number(float value) { return format(value); }
     Writer& number(std::int64_t value) { return format(value); }
@@ -357,30 +361,29 @@ public:
 
 private:
     static constexpr std::size_t kBlock = 1 << 20;
+    static constexpr std::size_t kLongestNumber = 64;
 
     template <typename T>
     Writer& format(T value) {
-        char digits[64];
-        auto result = std::to_chars(digits, digits + sizeof digits, value);
-        buffer_.append(digits, result.ptr);
-        return flush_if_full();
-    }
-
-    Writer& flush_if_full() {
-        if (buffer_.size() >= kBlock) flush();
+        make_room(kLongestNumber);
+        used_ = std::size_t(std::to_chars(block_.get() + used_, block_.get() + kBlock, value).ptr - block_.get());
         return *this;
     }
 
+    // Every piece written is a short keyword or one number, far below the block size.
+    void make_room(std::size_t bytes) {
+        if (used_ + bytes > kBlock) flush();
+    }
+
     void flush() {
-        if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
-            throw std::runtime_error("cannot write " + path_);
-        }
-        buffer_.clear();
+        if (used_ > 0 && std::fwrite(block_.get(), 1, used_, file_) != used_) throw std::runtime_error("cannot write " + path_);
+        used_ = 0;
     }
 
     std::FILE* file_;
     const std::string& path_;
-    std::string buffer_;
+    std::unique_ptr<char[]> block_;
+    std::size_t used_ = 0;
 };
 
 }  // namespace
