@@ -85,9 +85,11 @@ class Cage:
 
 
 def read_vertex_groups(mesh, num_groups):
-    """(V, G) weights. Blender has no bulk accessor for deform weights (they are per-vertex lists), so this is the one
+    """(V, G) weights (G may be 0). Blender has no bulk accessor for deform weights (they are per-vertex lists), so this is the one
     place that walks the cage's vertices in Python; it runs on the cage, never on the 4^L larger result."""
     weights = np.zeros((len(mesh.vertices), num_groups), dtype=np.float32)
+    if not num_groups:
+        return weights
     for vertex in mesh.vertices:
         for element in vertex.groups:
             if element.group < num_groups:
@@ -134,6 +136,23 @@ class Result:
         self.active_group = active_group
 
 
+class _Channels:
+    """Several arrays packed side by side along their last axis for one native call, unpacked by key afterwards."""
+
+    def __init__(self):
+        self.parts = []
+        self.columns = {}
+        self.width = 0
+
+    def add(self, key, values):
+        self.columns[key] = slice(self.width, self.width + values.shape[-1])
+        self.width += values.shape[-1]
+        self.parts.append(values)
+
+    def packed(self):
+        return np.ascontiguousarray(np.concatenate(self.parts, axis=-1), dtype=np.float32)
+
+
 def subdivide(obj, options, progress):
     """Builds the subdivided copy of obj's mesh. progress() is called between the long stages."""
     check_object(obj)
@@ -150,10 +169,10 @@ def subdivide(obj, options, progress):
                                     "stay open (Merge by Distance welds them)"))
 
     group_names = [group.name for group in obj.vertex_groups]
-    group_weights = read_vertex_groups(mesh, len(group_names)) if group_names else np.zeros((cage.num_vertices, 0),
-                                                                                             np.float32)
+    group_weights = read_vertex_groups(mesh, len(group_names))
     cone_index = cone_group_index(obj, options)
-    plan = cage.plan(options, options.levels, cone_vertices(group_weights, cone_index))
+    cones = cone_vertices(group_weights, cone_index)
+    plan = cage.plan(options, options.levels, cones)
     progress()
 
     # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs.
@@ -166,38 +185,45 @@ def subdivide(obj, options, progress):
                                     + ", ".join(f"{n} ({d.lower()} {t.lower()})" for n, d, t in dropped)))
 
     # Vertex channels: positions, point attributes and vertex groups refine together with the same weights.
-    point_values = [_get_attribute(mesh.attributes[name], cage.num_vertices) for name, _, _ in point]
-    vertex_channels = np.ascontiguousarray(np.concatenate([cage.positions, *point_values, group_weights], axis=1),
-                                           dtype=np.float32)
-    refined = native.run(plan.evaluate, vertex_channels)
+    vertex = _Channels()
+    vertex.add("position", cage.positions)
+    for name, _, _ in point:
+        vertex.add(("attribute", name), _get_attribute(mesh.attributes[name], cage.num_vertices))
+    vertex.add("groups", group_weights)
+    refined = native.run(plan.evaluate, vertex.packed())
     progress()
 
     # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
     # Corner barycentrics come along when flagged edges (seams, sharp edges) must pass to their child edges.
-    seams = _get(mesh.edges, "use_seam", len(mesh.edges), 1, np.bool_)
-    sharp = _get(mesh.edges, "use_edge_sharp", len(mesh.edges), 1, np.bool_)
-    flagged = seams.any() or sharp.any()
-    uv_values = [_get(uv.data, "uv", cage.num_loops, 2, np.float32) for uv in mesh.uv_layers]
-    corner_values = [_get_attribute(mesh.attributes[name], cage.num_loops) for name, _, _ in corner]
-    per_corner = [values[cage.triangle_loops] for values in uv_values + corner_values]
-    if flagged:
-        per_corner.insert(0, geometry.corner_barycentrics(len(cage.triangles)))
-    refined_corners = None
-    if per_corner:
-        face_varying = np.ascontiguousarray(np.concatenate(per_corner, axis=2), dtype=np.float32)
-        refined_corners = native.run(plan.evaluate_face_varying, face_varying)
+    edge_flags = {prop: _get(mesh.edges, prop, len(mesh.edges), 1, np.bool_) for prop in ("use_seam", "use_edge_sharp")}
+    corners = _Channels()
+    if any(flags.any() for flags in edge_flags.values()):
+        corners.add("barycentric", geometry.corner_barycentrics(len(cage.triangles)))
+    for uv in mesh.uv_layers:
+        corners.add(("uv", uv.name), _get(uv.data, "uv", cage.num_loops, 2, np.float32)[cage.triangle_loops])
+    for name, _, _ in corner:
+        corners.add(("attribute", name), _get_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
+    refined_corners = native.run(plan.evaluate_face_varying, corners.packed()) if corners.parts else None
     progress()
 
     new = mesh.copy()
     try:
         new.clear_geometry()
-        _fill(new, mesh, cage, plan, options, refined, refined_corners, flagged, seams, sharp,
-              point, corner, face, uv_values, group_weights.shape[1], cone_index)
-        group_channels = refined[:, refined.shape[1] - len(group_names):]
-        _write_vertex_groups(new, group_names, group_channels, cone_index, group_weights, cage.num_vertices)
+        _write_geometry(new, refined[:, vertex.columns["position"]], plan.triangles)
+        _write_face_data(new, mesh, cage.triangle_polygons[plan.parent_triangles], face)
+        for name, domain, data_type in point:
+            _set_attribute(new, name, domain, data_type, refined[:, vertex.columns["attribute", name]])
+        new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
+        _write_creases(new, mesh, cage, plan, options, new_edges)
+        if "barycentric" in corners.columns:
+            _write_edge_flags(new, cage, plan, refined_corners[:, :, corners.columns["barycentric"]], edge_flags,
+                              new_edges)
+        _write_corner_data(new, mesh, corner, refined_corners, corners.columns)
+        new.update()
+        _write_vertex_groups(new, group_names, refined[:, vertex.columns["groups"]], cone_index, group_weights)
         try:
             # Cone vertices keep their indices in the result, so its cones are the cage's.
-            write_tags(new, Cage(new), options, cone_vertices(group_weights, cone_index))
+            write_tags(new, Cage(new), options, cones)
         except LoopSubError as error:
             messages.append(('WARNING', f"{obj.name}: tags not refreshed on the result ({error})"))
     except Exception:
@@ -208,13 +234,10 @@ def subdivide(obj, options, progress):
     return Result(new, messages, group_names, locks, obj.vertex_groups.active_index)
 
 
-def _fill(new, mesh, cage, plan, options, refined, refined_corners, flagged, seams, sharp,
-          point, corner, face, uv_values, num_groups, cone_index):
-    positions = refined[:, :3]
-    triangles = plan.triangles
-    num_vertices, num_triangles = len(positions), len(triangles)
-
-    new.vertices.add(num_vertices)
+def _write_geometry(new, positions, triangles):
+    """Vertices and triangles; Blender derives the edges (in C)."""
+    num_triangles = len(triangles)
+    new.vertices.add(len(positions))
     new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
     new.loops.add(3 * num_triangles)
     new.loops.foreach_set("vertex_index", np.ascontiguousarray(triangles, dtype=np.int32).ravel())
@@ -222,63 +245,56 @@ def _fill(new, mesh, cage, plan, options, refined, refined_corners, flagged, sea
     compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
     new.update(calc_edges=True)
 
-    # Per-face data comes from the parent face of the cage (through its triangle).
-    parent_polygons = cage.triangle_polygons[plan.parent_triangles]
-    materials = _get(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
+
+def _write_face_data(new, mesh, parent_polygons, face_attributes):
+    """Per-face data comes from the parent face of the cage (through its triangle)."""
+    num_polygons = len(mesh.polygons)
+    materials = _get(mesh.polygons, "material_index", num_polygons, 1, np.int32)
     new.polygons.foreach_set("material_index", np.ascontiguousarray(materials[parent_polygons]))
-    smooth = _get(mesh.polygons, "use_smooth", cage.num_polygons, 1, np.bool_)
+    smooth = _get(mesh.polygons, "use_smooth", num_polygons, 1, np.bool_)
     new.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth[parent_polygons]))
-    for name, domain, data_type in face:
-        values = _get_attribute(mesh.attributes[name], cage.num_polygons)
+    for name, domain, data_type in face_attributes:
+        values = _get_attribute(mesh.attributes[name], num_polygons)
         _set_attribute(new, name, domain, data_type, values[parent_polygons])
 
-    # Point attributes sit after the positions in the vertex channels.
-    column = 3
-    for name, domain, data_type in point:
-        width = geometry.ATTRIBUTE_LAYOUT[data_type][1]
-        _set_attribute(new, name, domain, data_type, refined[:, column:column + width])
-        column += width
 
-    new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
-    # Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights.
-    child_edges = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
-    if len(child_edges) or cage.edge_weights.any():
+def _write_creases(new, mesh, cage, plan, options, new_edges):
+    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
+    num_vertices = len(new.vertices)
+    found = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
+    if len(found) or cage.edge_weights.any():
         weights = np.zeros(len(new_edges), dtype=np.float32)
-        weights[child_edges[child_edges >= 0]] = geometry.child_crease_weights(
-            plan.crease_sharpness[child_edges >= 0], options.rules)
+        weights[found[found >= 0]] = geometry.child_crease_weights(plan.crease_sharpness[found >= 0], options.rules)
         compat.write_edge_creases(new, weights)
     if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
         weights = np.zeros(num_vertices, dtype=np.float32)
         weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
         compat.write_vertex_creases(new, weights)
 
-    column = 0
-    if flagged:
-        barycentrics = refined_corners[:, :, :3]
-        for prop, flags in (("use_seam", seams), ("use_edge_sharp", sharp)):
-            if flags.any():
-                pairs = geometry.inherited_edges(triangles, plan.parent_triangles, barycentrics, cage.triangles,
-                                                 flags, cage.edge_vertices, cage.num_vertices)
-                child_flags = np.zeros(len(new_edges), dtype=np.bool_)
-                found = geometry.lookup_edges(new_edges, pairs, num_vertices)
-                child_flags[found[found >= 0]] = True
-                new.edges.foreach_set(prop, child_flags)
-        column = 3
 
-    for uv, values in zip(mesh.uv_layers, uv_values):
+def _write_edge_flags(new, cage, plan, barycentrics, edge_flags, new_edges):
+    """Seam and sharp marks pass to the child edges that lie on a marked cage edge."""
+    for prop, flags in edge_flags.items():
+        if flags.any():
+            pairs = geometry.inherited_edges(plan.triangles, plan.parent_triangles, barycentrics, cage.triangles,
+                                             flags, cage.edge_vertices, cage.num_vertices)
+            found = geometry.lookup_edges(new_edges, pairs, len(new.vertices))
+            child_flags = np.zeros(len(new_edges), dtype=np.bool_)
+            child_flags[found[found >= 0]] = True
+            new.edges.foreach_set(prop, child_flags)
+
+
+def _write_corner_data(new, mesh, corner_attributes, refined_corners, columns):
+    """UV maps (with the active and render choices) and corner attributes, one value per loop (3 per triangle)."""
+    for uv in mesh.uv_layers:
         layer = new.uv_layers.new(name=uv.name, do_init=False)
-        layer.data.foreach_set("uv", np.ascontiguousarray(refined_corners[:, :, column:column + 2]).ravel())
-        column += 2
-    for uv, layer in zip(mesh.uv_layers, new.uv_layers):
+        layer.data.foreach_set("uv", np.ascontiguousarray(refined_corners[:, :, columns["uv", uv.name]]).ravel())
         layer.active_render = uv.active_render
     new.uv_layers.active_index = mesh.uv_layers.active_index
-    for name, domain, data_type in corner:
-        width = geometry.ATTRIBUTE_LAYOUT[data_type][1]
-        _set_attribute(new, name, domain, data_type,
-                       refined_corners[:, :, column:column + width].reshape(-1, width))
-        column += width
+    for name, domain, data_type in corner_attributes:
+        values = refined_corners[:, :, columns["attribute", name]]
+        _set_attribute(new, name, domain, data_type, values.reshape(-1, values.shape[-1]))
     _restore_color_choice(new, mesh)
-    new.update()
 
 
 def _restore_color_choice(new, mesh):
@@ -290,7 +306,7 @@ def _restore_color_choice(new, mesh):
         colors.render_color_index = colors.find(mesh.color_attributes.default_color_name)
 
 
-def _write_vertex_groups(new, group_names, refined_groups, cone_index, cage_groups, num_cage_vertices):
+def _write_vertex_groups(new, group_names, refined_groups, cone_index, cage_groups):
     """Vertex groups through Blender's Convert Attribute operator, which writes the weights in C (the API has no
     bulk setter). The cone group holds tags, not weights: it stays on the cage's vertices, which keep their indices."""
     if not group_names:
@@ -301,7 +317,7 @@ def _write_vertex_groups(new, group_names, refined_groups, cone_index, cage_grou
         for index, name in enumerate(group_names):
             if index == cone_index:
                 weights = np.zeros(len(new.vertices), dtype=np.float32)
-                weights[:num_cage_vertices] = cage_groups[:, index]
+                weights[:len(cage_groups)] = cage_groups[:, index]
             else:
                 weights = np.clip(refined_groups[:, index], 0.0, 1.0)
             attribute = _set_attribute(new, _GROUP_TRANSFER, 'POINT', 'FLOAT', weights)
