@@ -250,10 +250,16 @@ int main(int argc, char** argv) {
     try {
         return run(command);
     } catch (const loopsub::MemoryLimitError& e) {
-        // The core's message gives the bytes; the flag value that would allow it is in the CLI's unit.
-        const std::uint64_t needed_mib = e.required_bytes / (1u << 20) + (e.required_bytes % (1u << 20) != 0);
-        std::fprintf(stderr, "loopsub: error: %s (it would need --memory-limit-mb %llu)\n", e.what(),
-                     static_cast<unsigned long long>(needed_mib));
+        // The core's message gives the bytes; when the limit is what refused it, restate both in the flag's unit.
+        // (A refinement can also be refused for passing 32-bit indices, which no limit would allow.)
+        const std::uint64_t limit = command.options.memory_limit_bytes;
+        if (e.required_bytes > limit) {
+            std::fprintf(stderr, "loopsub: error: %s (%llu MiB needed, --memory-limit-mb is %llu)\n", e.what(),
+                         static_cast<unsigned long long>(e.required_bytes / (1u << 20) + (e.required_bytes % (1u << 20) != 0)),
+                         static_cast<unsigned long long>(limit >> 20));
+        } else {
+            std::fprintf(stderr, "loopsub: error: %s\n", e.what());
+        }
     } catch (const loopsub::InputError& e) {
         std::fprintf(stderr, "loopsub: error: %s\n", e.what());
     } catch (const std::bad_alloc&) {

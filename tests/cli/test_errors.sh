@@ -74,9 +74,13 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt interpolateboundary 1/0/0 0\n' >"$
 run_cli 1 "$WORK/boundary_none.obj" "$out" --levels 1
 expect_stderr "boundary_none.obj:5: interpolateboundary 0"
 
+# 4 x 4^8 triangles of three 4-byte indices alone are 3 MiB: the message gives the need against the limit.
 run_cli 1 "$good" "$out" --levels 8 --memory-limit-mb 1
 expect_stderr "loopsub: error: "
-expect_stderr "(it would need --memory-limit-mb "
+expect_stderr "bytes"
+grep -Eq 'MiB needed, --memory-limit-mb is 1\)$' "$WORK/stderr" || fail "no MiB needed vs limit: $(cat "$WORK/stderr")"
+needed=$(sed -E 's/.*\(([0-9]+) MiB needed.*/\1/' "$WORK/stderr")
+((needed >= 3)) || fail "the refinement reportedly needs only $needed MiB: $(cat "$WORK/stderr")"
 
 run_cli 1 "$good" "$WORK/no/such/directory/out.obj" --levels 1
 expect_stderr "cannot open for writing"
