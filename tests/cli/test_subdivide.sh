@@ -74,6 +74,29 @@ seam_uvs=$(awk '$1 == "vt" { n++; uv[n] = $2 " " $3 }
                 END { for (k in seen) count++; print count + 0 }' "$WORK/uv1.obj")
 [ "$seam_uvs" -ge 2 ] || fail "vertex 1 lies on a UV seam but has $seam_uvs distinct UV(s) at level 1"
 
+# The file's interpolateboundary and creasemethod tags choose the rules unless a flag does; the output records them.
+same_file() { cmp -s "$1" "$2"; }
+saddle="$SHAPES/loop_saddle_edgecorner.obj"  # t interpolateboundary 1/0/0 1: edges and corners
+run_cli 0 "$saddle" "$WORK/tag.obj" --levels 2 --rules opensubdiv
+run_cli 0 "$saddle" "$WORK/corners.obj" --levels 2 --rules opensubdiv --boundary edges-and-corners
+run_cli 0 "$saddle" "$WORK/edges.obj" --levels 2 --rules opensubdiv --boundary edges
+same_file "$WORK/tag.obj" "$WORK/corners.obj" || fail "the interpolateboundary 1 tag is not 'edges and corners'"
+same_file "$WORK/tag.obj" "$WORK/edges.obj" && fail "--boundary edges does not override the file's tag"
+grep -qx 't interpolateboundary 1/0/0 2' "$WORK/edges.obj" || fail "the output does not record --boundary edges"
+chaikin="$SHAPES/loop_chaikin0.obj"  # t creasemethod 0/0/1 normal
+run_cli 0 "$chaikin" "$WORK/tag.obj" --levels 2 --rules opensubdiv
+run_cli 0 "$chaikin" "$WORK/uniform.obj" --levels 2 --rules opensubdiv --crease-method uniform
+run_cli 0 "$chaikin" "$WORK/chaikin.obj" --levels 2 --rules opensubdiv --crease-method chaikin
+same_file "$WORK/tag.obj" "$WORK/uniform.obj" || fail "the creasemethod normal tag is not the uniform method"
+same_file "$WORK/tag.obj" "$WORK/chaikin.obj" && fail "--crease-method chaikin does not override the file's tag"
+grep -qx 't creasemethod 0/0/1 chaikin' "$WORK/chaikin.obj" || fail "the output does not record --crease-method chaikin"
+# Hoppe94: sharpness 1 to 5 are all creases by default; a threshold of 3 keeps only those >= 3.
+run_cli 0 "$chaikin" "$WORK/all.obj" --levels 1
+run_cli 0 "$chaikin" "$WORK/some.obj" --levels 1 --crease-threshold 3
+same_file "$WORK/all.obj" "$WORK/some.obj" && fail "--crease-threshold 3 changed nothing"
+run_cli 0 "$chaikin" "$WORK/low.obj" --levels 1 --crease-threshold 1
+same_file "$WORK/all.obj" "$WORK/low.obj" || fail "--crease-threshold 1 changed the surface though every sharpness is >= 1"
+
 # Fed back in: one level on the output of one level is the same surface as two levels at once.
 for rules in hoppe94 opensubdiv; do
   for shape in loop_icos_semisharp loop_cube_creases0 loop_chaikin0; do
