@@ -298,6 +298,10 @@ def bad_meshes():
     expect_error(obj, "a mesh with shape keys", "shape keys", levels=1)
     remove(obj)
 
+    obj = support.object_from_bmesh("TooFine", support.uv_sphere(64, 32))  # 3,968 triangles: ~19 GiB at level 8
+    expect_error(obj, "a level past the core's memory limit", "would need about", levels=8)
+    remove(obj)
+
     obj = uv_cube("NoCone")
     obj.loop_subdivision.cone_group = "Missing"
     expect_error(obj, "a missing cone group", "does not exist", levels=1, rules='HOPPE94')

@@ -59,6 +59,8 @@ def registration():
                 f"OBJECT_OT_loop_subdivision_{name}").bl_options) and rna.description,
                   f"round {round_}: object.loop_subdivision_{name} has REGISTER, UNDO and a description")
         check(bpy.types.DATA_PT_loop_subdivision.bl_context == "modifier", "the panel is in Properties ▸ Modifiers")
+        check(f"{addon.__name__}.preview_draw" not in sys.modules and "gpu" not in sys.modules,
+              f"round {round_}: background mode imports neither the drawing code nor gpu")
         cube = support.object_from_bmesh("Cube", support.cube("Cube"))
         bpy.ops.object.loop_subdivision_add()
         check(cube.loop_subdivision.enabled, f"round {round_}: the add operator works")
