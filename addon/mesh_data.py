@@ -209,12 +209,14 @@ def subdivide(obj, options, progress):
     new = mesh.copy()
     try:
         new.clear_geometry()
+        if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
+            compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
         _write_geometry(new, refined[:, vertex.columns["position"]], plan.triangles)
         _write_face_data(new, mesh, cage.triangle_polygons[plan.parent_triangles], face)
         for name, domain, data_type in point:
             _set_attribute(new, name, domain, data_type, refined[:, vertex.columns["attribute", name]])
         new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
-        _write_creases(new, mesh, cage, plan, options, new_edges)
+        _write_creases(new, cage, plan, options, new_edges)
         if "barycentric" in corners.columns:
             _write_edge_flags(new, cage, plan, refined_corners[:, :, corners.columns["barycentric"]], edge_flags,
                               new_edges)
@@ -258,7 +260,7 @@ def _write_face_data(new, mesh, parent_polygons, face_attributes):
         _set_attribute(new, name, domain, data_type, values[parent_polygons])
 
 
-def _write_creases(new, mesh, cage, plan, options, new_edges):
+def _write_creases(new, cage, plan, options, new_edges):
     """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
     num_vertices = len(new.vertices)
     found = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
@@ -266,7 +268,7 @@ def _write_creases(new, mesh, cage, plan, options, new_edges):
         weights = np.zeros(len(new_edges), dtype=np.float32)
         weights[found[found >= 0]] = geometry.child_crease_weights(plan.crease_sharpness[found >= 0], options.rules)
         compat.write_edge_creases(new, weights)
-    if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
+    if compat.has_vertex_creases(new):
         weights = np.zeros(num_vertices, dtype=np.float32)
         weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
         compat.write_vertex_creases(new, weights)

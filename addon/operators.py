@@ -53,12 +53,14 @@ Non-triangle faces are triangulated first. Arguments that are set override each 
     bl_label = "Apply Loop Subdivision"
     bl_options = {'REGISTER', 'UNDO'}
 
-    levels: IntProperty(name="Levels", default=2, min=1, max=8, soft_max=5,
+    # SKIP_SAVE: a value given once must not stick to later calls, which would then ignore the panel's settings.
+    levels: IntProperty(name="Levels", default=2, min=1, max=8, soft_max=5, options={'SKIP_SAVE'},
                         description="Number of subdivisions to perform")
-    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94')
+    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'})
     crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
+                                    options={'SKIP_SAVE'},
                                     description="Crease weights at or above this value are creases (Seed rules)")
-    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default='SMOOTH')
+    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'})
 
     @classmethod
     def poll(cls, context):
