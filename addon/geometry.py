@@ -107,8 +107,8 @@ def duplicate_triangles(triangles):
 
 def corner_barycentrics(num_triangles):
     """Face-varying channels that put each parent corner at a unit barycentric coordinate. Refined linearly they say
-    where every child corner sits in its parent triangle: a zero coordinate means "on the opposite parent edge", exactly,
-    because the linear refinement of zeros is zero."""
+    where every child corner sits in its parent triangle: a zero coordinate means "on the opposite parent edge",
+    exactly, because the linear refinement of zeros is zero."""
     return np.ascontiguousarray(np.broadcast_to(np.eye(3, dtype=np.float32), (num_triangles, 3, 3)))
 
 

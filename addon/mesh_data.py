@@ -33,26 +33,49 @@ def _set_attribute(mesh, name, domain, data_type, values):
     return attribute
 
 
-class Cage:
+class Topology:
+    """What the rules see of a mesh: its triangles, its edges with their face counts, and its crease weights."""
+
+    def __init__(self, num_vertices, triangles, edge_vertices, edge_face_counts, edge_weights, vertex_weights):
+        self.num_vertices = num_vertices
+        self.triangles = triangles
+        self.edge_vertices = edge_vertices
+        self.edge_face_counts = edge_face_counts
+        self.edge_weights = edge_weights
+        self.vertex_weights = vertex_weights
+
+    def tags(self, options):
+        if not options.use_creases:
+            return geometry.crease_tags(self.edge_vertices[:0], self.edge_weights[:0], self.vertex_weights[:0],
+                                        options.rules, options.crease_threshold)
+        return geometry.crease_tags(self.edge_vertices, self.edge_weights, self.vertex_weights,
+                                    options.rules, options.crease_threshold)
+
+    def plan(self, options, levels, cones):
+        return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones)
+
+
+class Cage(Topology):
     """The control mesh as the core sees it: Blender's triangulation of its faces, and its crease weights."""
 
     def __init__(self, mesh):
-        self.num_vertices = len(mesh.vertices)
-        self.positions = _get(mesh.vertices, "co", self.num_vertices, 3, np.float32)
+        num_vertices = len(mesh.vertices)
+        self.positions = _get(mesh.vertices, "co", num_vertices, 3, np.float32)
         mesh.calc_loop_triangles()
         num_triangles = len(mesh.loop_triangles)
-        self.triangles = _get(mesh.loop_triangles, "vertices", num_triangles, 3, np.int32)
         self.triangle_loops = _get(mesh.loop_triangles, "loops", num_triangles, 3, np.int32)
         self.triangle_polygons = _get(mesh.loop_triangles, "polygon_index", num_triangles, 1, np.int32)
         self.num_polygons = len(mesh.polygons)
         self.num_loops = len(mesh.loops)
         loop_totals = _get(mesh.polygons, "loop_total", self.num_polygons, 1, np.int32)
         self.num_triangulated = int(np.count_nonzero(loop_totals != 3))
-        self.edge_vertices = _get(mesh.edges, "vertices", len(mesh.edges), 2, np.int32)
         loop_edges = _get(mesh.loops, "edge_index", self.num_loops, 1, np.int32)
-        self.edge_face_counts = geometry.edge_face_counts(loop_edges, len(mesh.edges))
-        self.edge_weights = compat.read_edge_creases(mesh)
-        self.vertex_weights = compat.read_vertex_creases(mesh)
+        super().__init__(num_vertices,
+                         _get(mesh.loop_triangles, "vertices", num_triangles, 3, np.int32),
+                         _get(mesh.edges, "vertices", len(mesh.edges), 2, np.int32),
+                         geometry.edge_face_counts(loop_edges, len(mesh.edges)),
+                         compat.read_edge_creases(mesh),
+                         compat.read_vertex_creases(mesh))
 
     def validate(self, name):
         """The checks that give a clearer message here than the core's own."""
@@ -73,20 +96,11 @@ class Cage:
             raise LoopSubError(f"{name}: faces {first} and {second} share a triangle of the same three vertices "
                                f"({len(duplicates)} such pairs); their subdivision would overlap")
 
-    def tags(self, options):
-        if not options.use_creases:
-            return geometry.crease_tags(self.edge_vertices[:0], self.edge_weights[:0], self.vertex_weights[:0],
-                                        options.rules, options.crease_threshold)
-        return geometry.crease_tags(self.edge_vertices, self.edge_weights, self.vertex_weights,
-                                    options.rules, options.crease_threshold)
-
-    def plan(self, options, levels, cones):
-        return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones)
-
 
 def read_vertex_groups(mesh, num_groups):
-    """(V, G) weights (G may be 0). Blender has no bulk accessor for deform weights (they are per-vertex lists), so this is the one
-    place that walks the cage's vertices in Python; it runs on the cage, never on the 4^L larger result."""
+    """(V, G) weights (G may be 0). Blender has no bulk accessor for deform weights (they are per-vertex lists), so
+    this is the one place that walks the cage's vertices in Python; it runs on the cage, never on the 4^L larger
+    result."""
     weights = np.zeros((len(mesh.vertices), num_groups), dtype=np.float32)
     if not num_groups:
         return weights
@@ -216,7 +230,7 @@ def subdivide(obj, options, progress):
         for name, domain, data_type in point:
             _set_attribute(new, name, domain, data_type, refined[:, vertex.columns["attribute", name]])
         new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
-        _write_creases(new, cage, plan, options, new_edges)
+        edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
         if "barycentric" in corners.columns:
             _write_edge_flags(new, cage, plan, refined_corners[:, :, corners.columns["barycentric"]], edge_flags,
                               new_edges)
@@ -225,7 +239,10 @@ def subdivide(obj, options, progress):
         _write_vertex_groups(new, group_names, refined[:, vertex.columns["groups"]], cone_index, group_weights)
         try:
             # Cone vertices keep their indices in the result, so its cones are the cage's.
-            write_tags(new, Cage(new), options, cones)
+            loop_edges = _get(new.loops, "edge_index", len(new.loops), 1, np.int32)
+            result = Topology(len(new.vertices), plan.triangles, new_edges,
+                              geometry.edge_face_counts(loop_edges, len(new_edges)), edge_weights, vertex_weights)
+            write_tags(new, result, options, cones)
         except LoopSubError as error:
             messages.append(('WARNING', f"{obj.name}: tags not refreshed on the result ({error})"))
     except Exception:
@@ -261,17 +278,19 @@ def _write_face_data(new, mesh, parent_polygons, face_attributes):
 
 
 def _write_creases(new, cage, plan, options, new_edges):
-    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
+    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights.
+    Returns the edge and vertex crease weights of the result."""
     num_vertices = len(new.vertices)
+    edge_weights = np.zeros(len(new_edges), dtype=np.float32)
     found = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
+    edge_weights[found[found >= 0]] = geometry.child_crease_weights(plan.crease_sharpness[found >= 0], options.rules)
     if len(found) or cage.edge_weights.any():
-        weights = np.zeros(len(new_edges), dtype=np.float32)
-        weights[found[found >= 0]] = geometry.child_crease_weights(plan.crease_sharpness[found >= 0], options.rules)
-        compat.write_edge_creases(new, weights)
+        compat.write_edge_creases(new, edge_weights)
+    vertex_weights = np.zeros(num_vertices, dtype=np.float32)
+    vertex_weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
     if compat.has_vertex_creases(new):
-        weights = np.zeros(num_vertices, dtype=np.float32)
-        weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
-        compat.write_vertex_creases(new, weights)
+        compat.write_vertex_creases(new, vertex_weights)
+    return edge_weights, vertex_weights
 
 
 def _write_edge_flags(new, cage, plan, barycentrics, edge_flags, new_edges):
@@ -344,13 +363,13 @@ def replace_mesh(obj, result):
     result.mesh.name = name
 
 
-def write_tags(mesh, cage, options, cones):
+def write_tags(mesh, topology, options, cones):
     """Writes what the rules derive from the crease weights: "loop_crease" (edges) and "loop_vertex_type" (points)."""
-    if not len(cage.triangles):
+    if not len(topology.triangles):
         raise LoopSubError(f"\"{mesh.name}\" has no faces to tag")
-    plan = cage.plan(options, 1, cones)
+    plan = topology.plan(options, 1, cones)
     types = np.asarray(plan.level_vertex_types(0), dtype=np.int32)
-    creases = geometry.crease_edge_mask(cage.edge_weights, cage.edge_face_counts, options.rules,
+    creases = geometry.crease_edge_mask(topology.edge_weights, topology.edge_face_counts, options.rules,
                                         options.crease_threshold, options.use_creases)
     for name, domain, data_type, values in ((CREASE_TAG, 'EDGE', 'BOOLEAN', creases),
                                             (VERTEX_TYPE_TAG, 'POINT', 'INT', types)):
