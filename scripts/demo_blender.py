@@ -1,0 +1,481 @@
+"""Blender side of scripts/demo.sh: subdivide a cage with the add-on and render it beside Blender's own subdivision.
+
+Run inside Blender (scripts/demo.sh does it):
+    blender --background --factory-startup --python-exit-code 1 --python scripts/demo_blender.py -- \
+        [PATH.obj|PATH.blend] [--levels N] [--rules HOPPE94|OPENSUBDIV] [--out DIR]
+
+Without a path the cage is built here: a tufted cushion with a creased seam and tagged corners.
+Writes DIR/demo.blend (cage, Loop result, Subdivision Surface, camera and lights) and DIR/demo.png (Cycles, CPU).
+Any failure raises, and --python-exit-code turns it into a non-zero exit status.
+"""
+import argparse
+import math
+import os
+import sys
+import time
+
+import bmesh
+import bpy
+import numpy as np
+from mathutils import Matrix, Vector
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# Layout: every model is scaled so that its largest dimension is MODEL_SIZE, and the three stand SPACING apart on X.
+MODEL_SIZE = 2.0
+SPACING = 3.0
+TURN = math.radians(-35)  # each model turns the same way, so the three read as one object seen three times
+ELEVATION = math.radians(28)  # of the camera, looking along +Y
+RESOLUTION = (960, 400)
+SAMPLES = 24
+BACKDROP = (0.80, 0.82, 0.85, 1.0)  # linear RGB behind the shadow-catching floor
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(
+        prog="scripts/demo.sh",
+        description="Loop-subdivide a cage with the add-on and render it beside Blender's Subdivision Surface.")
+    parser.add_argument("path", nargs="?", help=".obj or .blend file (default: a built-in tufted cushion)")
+    parser.add_argument("--levels", type=int, default=3, help="subdivision levels, 1-5 (default 3)")
+    parser.add_argument("--rules", choices=("HOPPE94", "OPENSUBDIV"), default="HOPPE94",
+                        help="the add-on's rule set (default HOPPE94, the add-on's own default)")
+    parser.add_argument("--out", default=os.path.join(REPO, "out"), help="output directory (default out/)")
+    args = parser.parse_args(argv)
+    if not 1 <= args.levels <= 5:
+        parser.error(f"--levels must be between 1 and 5, got {args.levels}")
+    if args.path is not None:
+        args.path = os.path.abspath(args.path)
+        if not os.path.isfile(args.path):
+            parser.error(f"no such file: {args.path}")
+        if os.path.splitext(args.path)[1].lower() not in (".obj", ".blend"):
+            parser.error(f"expected an .obj or .blend file, got {args.path}")
+    args.out = os.path.abspath(args.out)
+    return args
+
+
+def register_addon():
+    """The add-on is the package addon/ of this repository, registered directly rather than installed, so the demo
+    always runs the working tree's code."""
+    if REPO not in sys.path:
+        sys.path.insert(0, REPO)
+    import addon
+    addon.register()
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The cage
+
+
+def default_cage():
+    """A tufted cushion: a flattened box whose faces are split 2x2 and poked, so its triangles are symmetric. The seam
+    around its middle, pushed out a little, is a closed crease (edge crease 1.0) whose four corners are tagged (vertex
+    crease 1.0) so they stay pointed; the centre of the top is pulled in and tagged too, a tuft. The rest is smooth."""
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=2.0)
+    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=1, use_grid_fill=True)
+    bmesh.ops.poke(bm, faces=bm.faces[:])
+    edge_crease = bm.edges.layers.crease.verify()
+    vertex_crease = bm.verts.layers.crease.verify()
+    seam = {v for v in bm.verts if abs(v.co.z) < 1e-4}
+    tuft = next(v for v in bm.verts if v.co.z > 0.999 and v.co.xy.length < 1e-4)
+    for e in bm.edges:
+        if seam.issuperset(e.verts):
+            e[edge_crease] = 1.0
+    for v in seam:
+        v.co.xy *= 1.18
+        if abs(v.co.x) > 1 and abs(v.co.y) > 1:
+            v[vertex_crease] = 1.0
+    tuft[vertex_crease] = 1.0
+    tuft.co.z = 0.55
+    for v in bm.verts:
+        v.co.z *= 0.5
+    mesh = bpy.data.meshes.new("Tufted cushion")
+    bm.to_mesh(mesh)
+    bm.free()
+    return mesh, Matrix.Identity(4), {}
+
+
+def crease_weight(sharpness):
+    """Blender's crease weight for an OpenSubdiv sharpness, inverting Blender's own s = 10·c²."""
+    return min(1.0, math.sqrt(max(0.0, float(sharpness)) / 10.0))
+
+
+def read_obj_tags(path):
+    """OpenSubdiv's tags in the project's OBJ files (`t crease 2/1/0 A B S`, `t corner 1/1/0 V S`,
+    `t interpolateboundary 1/0/0 M`, 0-based vertex indices), which Blender's importer skips."""
+    edges, corners, boundary = [], [], None
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for number, line in enumerate(f, 1):
+            fields = line.split()
+            if len(fields) < 2 or fields[0] != "t":
+                continue
+            try:
+                if fields[1] == "crease":
+                    edges.append((int(fields[3]), int(fields[4]), crease_weight(fields[5])))
+                elif fields[1] == "corner":
+                    corners.append((int(fields[3]), crease_weight(fields[4])))
+                elif fields[1] == "interpolateboundary":
+                    # RenderMan numbering: 1 is edges and corners, 2 (and no tag) edges only.
+                    boundary = 'KEEP_CORNERS' if fields[3] == "1" else 'SMOOTH'
+            except (IndexError, ValueError):
+                raise RuntimeError(f"{path}:{number}: cannot read the tag '{line.strip()}'") from None
+    return edges, corners, boundary
+
+
+def obj_cage(path):
+    bpy.ops.wm.obj_import(filepath=path)
+    meshes = [o for o in bpy.context.selected_objects if o.type == 'MESH']
+    if len(meshes) != 1:
+        raise RuntimeError(f"{path}: expected one object, the file holds {len(meshes)}")
+    obj = meshes[0]
+    mesh, matrix = obj.data, obj.matrix_world.copy()
+    bpy.data.objects.remove(obj)
+    edges, corners, boundary = read_obj_tags(path)
+    if edges or corners:
+        # Blender's importer keeps the file's vertex order for a single object, so the tags' indices apply as is.
+        bm = bmesh.new()
+        bm.from_mesh(mesh)
+        bm.verts.ensure_lookup_table()
+        edge_crease = bm.edges.layers.crease.verify()
+        vertex_crease = bm.verts.layers.crease.verify()
+        for a, b, w in edges:
+            e = bm.edges.get((bm.verts[a], bm.verts[b])) if max(a, b) < len(bm.verts) and min(a, b) >= 0 else None
+            if e is None:
+                raise RuntimeError(f"{path}: crease tag names {a}-{b}, which is not an edge of the mesh")
+            e[edge_crease] = w
+        for v, w in corners:
+            if not 0 <= v < len(bm.verts):
+                raise RuntimeError(f"{path}: corner tag names vertex {v}, the mesh has {len(bm.verts)}")
+            bm.verts[v][vertex_crease] = w
+        bm.to_mesh(mesh)
+        bm.free()
+    return mesh, matrix, {"boundary": boundary} if boundary else {}
+
+
+def blend_cage(path):
+    """The active object of the file if it is a mesh, else its first mesh object by name. Only its mesh data and
+    transform are taken: its modifiers, materials and the rest of the file stay out of the demo scene."""
+    bpy.ops.wm.open_mainfile(filepath=path)
+    active = bpy.context.view_layer.objects.active
+    candidates = sorted((o for o in bpy.data.objects if o.type == 'MESH'), key=lambda o: o.name)
+    if active is not None and active.type == 'MESH':
+        candidates.insert(0, active)
+    if not candidates:
+        raise RuntimeError(f"{path}: no mesh object")
+    name = candidates[0].name
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    with bpy.data.libraries.load(path) as (source, loaded):
+        loaded.objects = [name]
+    obj = loaded.objects[0]
+    mesh, matrix = obj.data, obj.matrix_world.copy()
+    bpy.data.objects.remove(obj)
+    return mesh, matrix, {}
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The scene
+
+
+def material(name, color, roughness):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    return mat
+
+
+def new_object(name, data, collection):
+    obj = bpy.data.objects.new(name, data)
+    collection.objects.link(obj)
+    return obj
+
+
+def set_materials(obj, *materials):
+    obj.data.materials.clear()
+    for mat in materials:
+        obj.data.materials.append(mat)
+
+
+def world_points(obj):
+    """The evaluated object's vertices in world space, as an (N, 3) array."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    local = np.empty(3 * len(mesh.vertices), dtype=np.float64)
+    mesh.vertices.foreach_get("co", local)
+    evaluated.to_mesh_clear()
+    matrix = np.array(evaluated.matrix_world)
+    return local.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def fit_matrix(mesh, matrix, x):
+    """Object matrix that scales the cage to MODEL_SIZE, stands it on z = 0 at (x, 0) and turns it by TURN."""
+    points = [matrix @ v.co for v in mesh.vertices]
+    lo = Vector(min(p[i] for p in points) for i in range(3))
+    hi = Vector(max(p[i] for p in points) for i in range(3))
+    size = max(hi - lo)
+    if size <= 0:
+        raise RuntimeError("the cage has no extent")
+    centre = Vector(((lo.x + hi.x) / 2, (lo.y + hi.y) / 2, lo.z))
+    return (Matrix.Translation((x, 0, 0)) @ Matrix.Rotation(TURN, 4, 'Z') @ Matrix.Scale(MODEL_SIZE / size, 4)
+            @ Matrix.Translation(-centre) @ matrix)
+
+
+def stand_on_floor(obj):
+    """Subdivision shrinks a smooth bottom off the floor: lower the evaluated object until it touches z = 0."""
+    lowest = world_points(obj)[:, 2].min()
+    obj.matrix_world = Matrix.Translation((0, 0, -lowest)) @ obj.matrix_world
+
+
+def tag_markers(cage, collection, mat):
+    """The cage's crease edges as tubes and its tagged corners as beads, in the cage's object space."""
+    from addon import compat
+    mesh = cage.data
+    radius = 0.018 * MODEL_SIZE / cage.matrix_world.to_scale().x
+    edge_weights = compat.read_edge_creases(mesh)
+    vertex_weights = compat.read_vertex_creases(mesh)
+    markers = []
+    creased = [e for e in mesh.edges if edge_weights[e.index] > 0]
+    if creased:
+        curve = bpy.data.curves.new("Crease edges", 'CURVE')
+        curve.dimensions = '3D'
+        curve.bevel_depth = radius
+        curve.bevel_resolution = 2
+        for e in creased:
+            spline = curve.splines.new('POLY')
+            spline.points.add(1)
+            for point, vi in zip(spline.points, e.vertices):
+                point.co = (*mesh.vertices[vi].co, 1.0)
+        markers.append(new_object("Crease edges", curve, collection))
+    corners = [v for v in mesh.vertices if vertex_weights[v.index] > 0]
+    if corners:
+        bm = bmesh.new()
+        for v in corners:
+            bmesh.ops.create_uvsphere(bm, u_segments=12, v_segments=8, radius=2.2 * radius,
+                                      matrix=Matrix.Translation(v.co))
+        beads = bpy.data.meshes.new("Corner tags")
+        bm.to_mesh(beads)
+        bm.free()
+        for polygon in beads.polygons:
+            polygon.use_smooth = True
+        markers.append(new_object("Corner tags", beads, collection))
+    for marker in markers:
+        marker.data.materials.append(mat)
+        marker.parent = cage
+
+
+def label(text, size, location, camera, collection, mat):
+    curve = bpy.data.curves.new(text, 'FONT')
+    curve.body = text
+    curve.size = size
+    curve.align_x = 'CENTER'
+    obj = new_object("Label: " + text, curve, collection)
+    obj.data.materials.append(mat)
+    obj.location = location
+    obj.rotation_euler = camera.rotation_euler  # facing an orthographic camera: undistorted
+    obj.visible_shadow = False
+    return obj
+
+
+def style_cage(cage, collection):
+    """Flat faces with the edges drawn as thin dark bars (the Wireframe modifier keeps the faces and puts the bars in
+    the second material slot), and the crease tags in red."""
+    cage.data.polygons.foreach_set("use_smooth", [False] * len(cage.data.polygons))
+    set_materials(cage, material("Cage", (0.80, 0.80, 0.78), roughness=0.6),
+                  material("Cage edges", (0.02, 0.02, 0.02), roughness=0.8))
+    mesh = cage.data
+    co = np.empty(3 * len(mesh.vertices))
+    mesh.vertices.foreach_get("co", co)
+    ends = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", ends)
+    ends = ends.reshape(-1, 2)
+    co = co.reshape(-1, 3)
+    typical_edge = np.median(np.linalg.norm(co[ends[:, 0]] - co[ends[:, 1]], axis=1))
+    wire = cage.modifiers.new("Edges", 'WIREFRAME')
+    # Thin enough that a dense cage does not turn black; the scale is the cage's object scale (uniform, fit_matrix).
+    wire.thickness = min(0.012 * MODEL_SIZE / cage.matrix_world.to_scale().x, 0.08 * typical_edge)
+    wire.use_replace = False
+    wire.use_even_offset = True
+    wire.material_offset = 1
+    tag_markers(cage, collection, material("Crease tags", (0.85, 0.05, 0.03), roughness=0.3))
+
+
+def apply_loop(obj, levels, rules, boundary):
+    bpy.ops.object.select_all(action='DESELECT')
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    options = {"levels": levels, "rules": rules}
+    if boundary:
+        options["boundary"] = boundary
+    started = time.perf_counter()
+    result = bpy.ops.object.loop_subdivision_apply(**options)
+    if result != {'FINISHED'}:
+        raise RuntimeError(f"loop_subdivision_apply({options}) returned {result}")
+    print(f"demo: Loop subdivision to level {levels} ({rules}): {len(obj.data.polygons)} triangles "
+          f"in {time.perf_counter() - started:.2f} s")
+
+
+def add_subsurf(obj, levels, boundary):
+    subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
+    subsurf.subdivision_type = 'CATMULL_CLARK'
+    subsurf.levels = subsurf.render_levels = levels
+    subsurf.use_creases = True
+    # Both sides at the same level, not projected to the limit: where the rules coincide, the points coincide.
+    subsurf.use_limit_surface = False
+    subsurf.boundary_smooth = 'PRESERVE_CORNERS' if boundary == 'KEEP_CORNERS' else 'ALL'
+
+
+def shade_result(obj, mat):
+    """Smooth, and sharp across creases: auto smooth splits the normals where the surface folds by more than 30
+    degrees, which at these levels happens on creases only."""
+    obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
+    obj.data.use_auto_smooth = True
+    obj.data.auto_smooth_angle = math.radians(30)
+    set_materials(obj, mat)
+
+
+def frame(scene, objects, captions):
+    """An orthographic camera that frames the three models with their captions below them, whatever their shape."""
+    collection = scene.collection
+    camera_data = bpy.data.cameras.new("Camera")
+    camera_data.type = 'ORTHO'
+    camera = new_object("Camera", camera_data, collection)
+    camera.rotation_euler = (math.pi / 2 - ELEVATION, 0, 0)
+    scene.camera = camera
+    right = np.array([1.0, 0.0, 0.0])
+    up = np.array([0.0, math.sin(ELEVATION), math.cos(ELEVATION)])
+    toward_camera = Vector((0.0, -math.cos(ELEVATION), math.sin(ELEVATION)))
+
+    points = np.concatenate([world_points(obj) for obj in objects])
+    u, v = points @ right, points @ up
+    margin = 0.08 * MODEL_SIZE
+    sizes = (0.13 * MODEL_SIZE, 0.085 * MODEL_SIZE)  # title, subtitle
+    text_mat = material("Captions", (0.0, 0.0, 0.0), roughness=1.0)
+    # Captions float between the camera and the scene, where nothing hides them; an orthographic camera draws them
+    # the same size at any distance.
+    texts = []
+    for obj, lines in zip(objects, captions):
+        baseline = v.min() - margin
+        for text, size in zip(lines, sizes):
+            baseline -= 1.25 * size
+            location = Vector(obj.matrix_world.translation.x * right + baseline * up) + 10 * toward_camera
+            texts.append(label(text, size, location, camera, collection, text_mat))
+    bpy.context.view_layer.update()
+    half_widths = [0.5 * t.dimensions.x for t in texts]
+    u_lo = min(u.min(), *(t.location.x - w for t, w in zip(texts, half_widths))) - margin
+    u_hi = max(u.max(), *(t.location.x + w for t, w in zip(texts, half_widths))) + margin
+    v_lo, v_hi = baseline - 0.6 * sizes[1], v.max() + margin
+    aspect = RESOLUTION[0] / RESOLUTION[1]
+    camera_data.ortho_scale = max(u_hi - u_lo, (v_hi - v_lo) * aspect)  # the width, as the picture is wide
+    centre = 0.5 * (u_lo + u_hi) * right + 0.5 * (v_lo + v_hi) * up
+    camera.location = Vector(centre) + 20 * MODEL_SIZE * toward_camera
+    camera_data.clip_end = 40 * MODEL_SIZE
+
+
+def light(scene):
+    floor_mesh = bpy.data.meshes.new("Floor")
+    floor_mesh.from_pydata([(-30, -30, 0), (30, -30, 0), (30, 30, 0), (-30, 30, 0)], [], [(0, 1, 2, 3)])
+    floor = new_object("Floor", floor_mesh, scene.collection)
+    # The floor only catches shadows, over a flat backdrop composited in: a lit floor and a visible sky would be
+    # grainy at the few samples the demo can afford without a denoiser.
+    floor.is_shadow_catcher = True
+
+    sun_data = bpy.data.lights.new("Sun", 'SUN')
+    sun_data.energy = 3.0
+    sun_data.angle = math.radians(12)  # soft shadows
+    sun = new_object("Sun", sun_data, scene.collection)
+    sun.rotation_euler = (math.radians(52), 0, math.radians(-62))
+
+    world = bpy.data.worlds.new("Sky")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.55, 0.62, 0.72, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.8
+    scene.world = world
+
+
+def build_scene(scene, mesh, matrix, levels, rules, boundary):
+    objects = []
+    for i, name in enumerate(("Cage", "Loop subdivision", "Subdivision Surface")):
+        obj = new_object(name, mesh if i == 0 else mesh.copy(), scene.collection)
+        obj.matrix_world = fit_matrix(mesh, matrix, (i - 1) * SPACING)
+        objects.append(obj)
+    cage, loop, blender = objects
+    cage.data.name, loop.data.name, blender.data.name = (obj.name for obj in objects)
+
+    style_cage(cage, scene.collection)
+    apply_loop(loop, levels, rules, boundary)
+    add_subsurf(blender, levels, boundary)
+    # After apply, which rebuilds the mesh.
+    shade_result(loop, material("Loop result", (0.90, 0.38, 0.08), roughness=0.35))
+    shade_result(blender, material("Subdivision Surface", (0.12, 0.35, 0.75), roughness=0.35))
+    stand_on_floor(loop)
+    stand_on_floor(blender)
+
+    rules_name = "Hoppe 94 rules" if rules == 'HOPPE94' else "OpenSubdiv rules"
+    frame(scene, objects, (("Control cage", "creases and corners in red"),
+                           ("Loop subdivision", f"this add-on, {rules_name}, level {levels}"),
+                           ("Subdivision Surface", f"Blender's modifier, level {levels}")))
+    light(scene)
+
+
+def configure_render(scene, path):
+    scene.render.engine = 'CYCLES'
+    scene.cycles.device = 'CPU'
+    scene.cycles.samples = SAMPLES
+    # Debian's Blender is built without OpenImageDenoise: rendering fails with denoising on.
+    scene.cycles.use_denoising = False
+    scene.cycles.max_bounces = 4  # matte models: more bounces cost time and change nothing visible
+    scene.render.resolution_x, scene.render.resolution_y = RESOLUTION
+    scene.render.resolution_percentage = 100
+    scene.render.image_settings.file_format = 'PNG'
+    scene.render.image_settings.color_mode = 'RGB'
+    scene.render.filepath = path
+    scene.render.film_transparent = True
+    scene.use_nodes = True
+    nodes, links = scene.node_tree.nodes, scene.node_tree.links
+    backdrop = nodes.new('CompositorNodeAlphaOver')
+    backdrop.inputs[1].default_value = BACKDROP
+    links.new(nodes["Render Layers"].outputs["Image"], backdrop.inputs[2])
+    links.new(backdrop.outputs["Image"], nodes["Composite"].inputs["Image"])
+
+
+def main():
+    args = parse_args()
+    started = time.perf_counter()
+    os.makedirs(args.out, exist_ok=True)
+    blend_path = os.path.join(args.out, "demo.blend")
+    png_path = os.path.join(args.out, "demo.png")
+
+    if args.path is None:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        mesh, matrix, options = default_cage()
+    elif args.path.lower().endswith(".obj"):
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        mesh, matrix, options = obj_cage(args.path)
+    else:
+        mesh, matrix, options = blend_cage(args.path)
+    if not len(mesh.polygons):
+        raise RuntimeError(f"{args.path}: the mesh has no faces")
+    register_addon()
+
+    scene = bpy.context.scene
+    build_scene(scene, mesh, matrix, args.levels, args.rules, options.get("boundary"))
+    configure_render(scene, png_path)  # before saving, so that the .blend renders the same picture
+    bpy.ops.wm.save_as_mainfile(filepath=blend_path, check_existing=False)
+
+    if os.path.exists(png_path):
+        os.remove(png_path)  # so that a render that writes nothing cannot pass for one that did
+    print(f"demo: rendering {RESOLUTION[0]}x{RESOLUTION[1]} at {SAMPLES} samples with Cycles on the CPU "
+          "(about a minute on two cores)", flush=True)
+    render_started = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    if not os.path.isfile(png_path):
+        raise RuntimeError(f"rendering wrote no picture at {png_path}")
+    print(f"demo: rendered in {time.perf_counter() - render_started:.1f} s; "
+          f"total {time.perf_counter() - started:.1f} s")
+    print(f"demo: scene   {blend_path}")
+    print(f"demo: picture {png_path}")
+
+
+main()
