@@ -15,22 +15,6 @@
 
 namespace loopsub::obj {
 
-MeshView ObjMesh::view() const {
-    MeshView mesh;
-    mesh.num_vertices = num_vertices();
-    mesh.triangles = triangles.data();
-    mesh.num_triangles = num_triangles();
-    mesh.crease_edges = crease_edges.data();
-    mesh.crease_sharpness = crease_sharpness.data();
-    mesh.num_crease_edges = int(crease_sharpness.size());
-    mesh.corner_vertices = corner_vertices.data();
-    mesh.corner_sharpness = corner_sharpness.data();
-    mesh.num_corners = int(corner_sharpness.size());
-    mesh.cone_vertices = cone_vertices.data();
-    mesh.num_cones = int(cone_vertices.size());
-    return mesh;
-}
-
 namespace {
 
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }

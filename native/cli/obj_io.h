@@ -14,23 +14,13 @@
 
 namespace loopsub::obj {
 
-struct ObjMesh {
-    std::vector<float> positions;         // 3 per vertex
-    std::vector<float> uvs;               // 2 per `vt`
-    std::vector<std::int32_t> triangles;  // 3 per triangle, 0-based vertex indices
+// The mesh (vertices, triangles, tags) plus what an OBJ file carries besides.
+struct ObjMesh : MeshData {
+    std::vector<float> uvs;                  // 2 per `vt`
     std::vector<std::int32_t> triangle_uvs;  // 3 per triangle, 0-based `vt` indices; empty when the faces have none
-    std::vector<std::int32_t> crease_edges;  // pairs
-    std::vector<float> crease_sharpness;
-    std::vector<std::int32_t> corner_vertices;
-    std::vector<float> corner_sharpness;
-    std::vector<std::int32_t> cone_vertices;
-    std::optional<Boundary> boundary;          // from `t interpolateboundary`
+    std::optional<Boundary> boundary;           // from `t interpolateboundary`
     std::optional<CreaseMethod> crease_method;  // from `t creasemethod`
     int polygons_triangulated = 0;  // faces with more than three corners, split as fans
-
-    int num_vertices() const { return int(positions.size() / 3); }
-    int num_triangles() const { return int(triangles.size() / 3); }
-    MeshView view() const;  // points into this mesh: valid while it lives
 };
 
 // Throws InputError naming the file and line for anything it cannot read.

@@ -64,33 +64,6 @@ float random_sharpness(std::mt19937& rng) {
 
 }  // namespace
 
-MeshView TestMesh::view() const {
-    MeshView v;
-    v.num_vertices = num_vertices();
-    v.triangles = triangles.data();
-    v.num_triangles = num_triangles();
-    v.crease_edges = crease_edges.data();
-    v.crease_sharpness = crease_sharpness.data();
-    v.num_crease_edges = int(crease_sharpness.size());
-    v.corner_vertices = corner_vertices.data();
-    v.corner_sharpness = corner_sharpness.data();
-    v.num_corners = int(corner_sharpness.size());
-    v.cone_vertices = cone_vertices.data();
-    v.num_cones = int(cone_vertices.size());
-    return v;
-}
-
-void TestMesh::add_crease(int a, int b, float sharpness) {
-    crease_edges.push_back(a);
-    crease_edges.push_back(b);
-    crease_sharpness.push_back(sharpness);
-}
-
-void TestMesh::add_corner(int v, float sharpness) {
-    corner_vertices.push_back(v);
-    corner_sharpness.push_back(sharpness);
-}
-
 std::vector<std::array<std::int32_t, 2>> unique_edges(const std::vector<std::int32_t>& triangles) {
     std::vector<std::array<std::int32_t, 2>> edges;
     edges.reserve(triangles.size());

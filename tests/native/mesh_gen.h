@@ -13,28 +13,13 @@
 
 namespace loopsub::testing {
 
-struct TestMesh {
+struct TestMesh : MeshData {
     std::string name;
-    std::vector<float> positions;         // 3 per vertex
-    std::vector<std::int32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside
-    std::vector<std::int32_t> crease_edges;  // pairs
-    std::vector<float> crease_sharpness;
-    std::vector<std::int32_t> corner_vertices;
-    std::vector<float> corner_sharpness;
-    std::vector<std::int32_t> cone_vertices;
     // Face-varying UVs: 2 floats per value, 3 value indices per triangle (empty: none).
     std::vector<float> uvs;
     std::vector<std::int32_t> triangle_uvs;
     Boundary boundary = Boundary::EdgesOnly;
     CreaseMethod crease_method = CreaseMethod::Uniform;
-
-    int num_vertices() const { return int(positions.size() / 3); }
-    int num_triangles() const { return int(triangles.size() / 3); }
-    MeshView view() const;  // points into this mesh: valid while it lives and is not modified
-
-    // Crease tag helpers (no duplicates are checked: callers tag each edge once).
-    void add_crease(int a, int b, float sharpness);
-    void add_corner(int v, float sharpness);
 };
 
 // The distinct undirected edges of a triangle list, each as (min, max), sorted.

@@ -20,29 +20,10 @@ const Rules kBothRules[] = {Rules::Hoppe94, Rules::OpenSubdiv};
 const char* rules_name(Rules rules) { return rules == Rules::Hoppe94 ? "hoppe94" : "opensubdiv"; }
 
 // A tetrahedron: closed, 4 vertices, 6 edges, 4 triangles.
-struct Tetrahedron {
-    std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
-    std::vector<std::int32_t> triangles = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
-    std::vector<std::int32_t> crease_edges;
-    std::vector<float> crease_sharpness;
-    std::vector<std::int32_t> corner_vertices;
-    std::vector<float> corner_sharpness;
-    std::vector<std::int32_t> cone_vertices;
-
-    loopsub::MeshView view() const {
-        loopsub::MeshView view;
-        view.num_vertices = int(positions.size() / 3);
-        view.triangles = triangles.data();
-        view.num_triangles = int(triangles.size() / 3);
-        view.crease_edges = crease_edges.data();
-        view.crease_sharpness = crease_sharpness.data();
-        view.num_crease_edges = int(crease_sharpness.size());
-        view.corner_vertices = corner_vertices.data();
-        view.corner_sharpness = corner_sharpness.data();
-        view.num_corners = int(corner_sharpness.size());
-        view.cone_vertices = cone_vertices.data();
-        view.num_cones = int(cone_vertices.size());
-        return view;
+struct Tetrahedron : loopsub::MeshData {
+    Tetrahedron() {
+        positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+        triangles = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
     }
 };
 

@@ -28,42 +28,8 @@ struct Vec3 {
     double x = 0, y = 0, z = 0;
 };
 
-struct TestMesh {
-    std::vector<float> positions;
-    std::vector<std::int32_t> triangles;
-    std::vector<std::int32_t> crease_edges;
-    std::vector<float> crease_sharpness;
-    std::vector<std::int32_t> corner_vertices;
-    std::vector<float> corner_sharpness;
-    std::vector<std::int32_t> cone_vertices;
-
-    void crease(int a, int b, float sharpness = loopsub::kInfiniteSharpness) {
-        crease_edges.insert(crease_edges.end(), {a, b});
-        crease_sharpness.push_back(sharpness);
-    }
-    void corner(int v, float sharpness = loopsub::kInfiniteSharpness) {
-        corner_vertices.push_back(v);
-        corner_sharpness.push_back(sharpness);
-    }
-    void cone(int v) { cone_vertices.push_back(v); }
-
+struct TestMesh : loopsub::MeshData {
     Vec3 p(int v) const { return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]}; }
-
-    loopsub::MeshView view() const {
-        loopsub::MeshView view;
-        view.num_vertices = int(positions.size() / 3);
-        view.triangles = triangles.data();
-        view.num_triangles = int(triangles.size() / 3);
-        view.crease_edges = crease_edges.data();
-        view.crease_sharpness = crease_sharpness.data();
-        view.num_crease_edges = int(crease_sharpness.size());
-        view.corner_vertices = corner_vertices.data();
-        view.corner_sharpness = corner_sharpness.data();
-        view.num_corners = int(corner_sharpness.size());
-        view.cone_vertices = cone_vertices.data();
-        view.num_cones = int(cone_vertices.size());
-        return view;
-    }
 };
 
 // Irregular radii and heights, so that a wrong weight on any one neighbour shows in the result.
@@ -216,8 +182,8 @@ TEST(Hoppe94Hand, SmoothEdgeIsThreeThreeOneOne) {
 
 TEST(Hoppe94Hand, InteriorCreaseVertexUsesItsTwoCreaseNeighbours) {
     TestMesh mesh = closed_fan(6);
-    mesh.crease(0, 1);
-    mesh.crease(4, 0);
+    mesh.add_crease(0, 1);
+    mesh.add_crease(4, 0);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::RegularCrease);
     EXPECT_POINT_NEAR(refined.p(0), average(mesh, {{6, 0}, {1, 1}, {1, 4}}));
@@ -239,7 +205,7 @@ TEST(Hoppe94Hand, BoundaryEdgesAreCreases) {
 
 TEST(Hoppe94Hand, TaggedCornerStaysPut) {
     TestMesh mesh = closed_fan(5);
-    mesh.corner(0, 1.0f);
+    mesh.add_corner(0, 1.0f);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::Corner);
     EXPECT_POINT_NEAR(refined.p(0), mesh.p(0));
@@ -247,7 +213,7 @@ TEST(Hoppe94Hand, TaggedCornerStaysPut) {
 
 TEST(Hoppe94Hand, CornerTagWithZeroSharpnessIsNoCorner) {
     TestMesh mesh = closed_fan(5);
-    mesh.corner(0, 0.0f);
+    mesh.add_corner(0, 0.0f);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::Smooth);
     EXPECT_POINT_NEAR(refined.p(0), centre_with_ring(mesh, 5, kC0Valence5));
@@ -255,9 +221,9 @@ TEST(Hoppe94Hand, CornerTagWithZeroSharpnessIsNoCorner) {
 
 TEST(Hoppe94Hand, ThreeCreaseEdgesMakeACorner) {
     TestMesh mesh = closed_fan(6);
-    mesh.crease(0, 1);
-    mesh.crease(0, 3);
-    mesh.crease(0, 5);
+    mesh.add_crease(0, 1);
+    mesh.add_crease(0, 3);
+    mesh.add_crease(0, 5);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::Corner);
     EXPECT_POINT_NEAR(refined.p(0), mesh.p(0));
@@ -288,9 +254,9 @@ TEST(Hoppe94Hand, FiveThreeEdgeOnBoundaryBothOrientations) {
 // crease vertices and is bisected at its midpoint.
 TEST(Hoppe94Hand, FiveThreeEdgeOnInteriorCreaseBothOrientations) {
     TestMesh mesh = grid();
-    mesh.crease(4, 5);
-    mesh.crease(6, 5);  // tag order must not matter either
-    mesh.crease(7, 6);
+    mesh.add_crease(4, 5);
+    mesh.add_crease(6, 5);  // tag order must not matter either
+    mesh.add_crease(7, 6);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(4), VertexType::Corner);
     EXPECT_EQ(refined.type(5), VertexType::RegularCrease);
@@ -308,8 +274,8 @@ TEST(Hoppe94Hand, FiveThreeEdgeOnInteriorCreaseBothOrientations) {
 TEST(Hoppe94Hand, FiveThreeEdgeDoesNotDependOnVertexNumbering) {
     // Closed fan of 6 with crease 0-1-...-4: the centre is regular, rim vertex 1 is a corner (boundary + crease).
     TestMesh mesh = closed_fan(6);
-    mesh.crease(1, 0);
-    mesh.crease(0, 4);
+    mesh.add_crease(1, 0);
+    mesh.add_crease(0, 4);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(1), VertexType::Corner);
     EXPECT_EDGE_POINT_NEAR(refined, 0, 1, average(mesh, {{5, 0}, {3, 1}}));
@@ -329,7 +295,7 @@ TEST(Hoppe94Hand, FiveThreeEdgeDoesNotDependOnVertexNumbering) {
 TEST(Hoppe94Hand, OtherCreaseEdgesAreOneOneZeroZero) {
     // Corner next to irregular crease: the half fan's rim vertex 1 (one face) and rim vertex 2 (valence 3).
     TestMesh mesh = half_fan(3);
-    mesh.corner(1);
+    mesh.add_corner(1);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(2), VertexType::IrregularCrease);
     EXPECT_EDGE_POINT_NEAR(refined, 1, 2, average(mesh, {{1, 1}, {1, 2}}));
@@ -341,14 +307,14 @@ TEST(Hoppe94Hand, OtherCreaseEdgesAreOneOneZeroZero) {
 TEST(Hoppe94Hand, InteriorCreaseRegularityIsThreeFacesEachSide) {
     // Closed fan of 6: creases 0-1 and 0-4 leave three faces on each side; 0-1 and 0-3 leave two and four.
     TestMesh regular = closed_fan(6);
-    regular.crease(0, 1);
-    regular.crease(0, 4);
+    regular.add_crease(0, 1);
+    regular.add_crease(0, 4);
     TestMesh irregular = closed_fan(6);
-    irregular.crease(0, 1);
-    irregular.crease(0, 3);
+    irregular.add_crease(0, 1);
+    irregular.add_crease(0, 3);
     TestMesh adjacent = closed_fan(6);  // one face and five
-    adjacent.crease(0, 1);
-    adjacent.crease(0, 2);
+    adjacent.add_crease(0, 1);
+    adjacent.add_crease(0, 2);
 
     Refined r = refine(regular), i = refine(irregular), a = refine(adjacent);
     EXPECT_EQ(r.type(0), VertexType::RegularCrease);
@@ -365,8 +331,8 @@ TEST(Hoppe94Hand, InteriorCreaseRegularityIsThreeFacesEachSide) {
 
 TEST(Hoppe94Hand, InteriorValenceOtherThanSixIsAnIrregularCrease) {
     TestMesh mesh = closed_fan(8);
-    mesh.crease(0, 1);
-    mesh.crease(0, 5);  // four faces on each side, but valence 8
+    mesh.add_crease(0, 1);
+    mesh.add_crease(0, 5);  // four faces on each side, but valence 8
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::IrregularCrease);
     EXPECT_EDGE_POINT_NEAR(refined, 0, 1, average(mesh, {{1, 0}, {1, 1}}));
@@ -388,7 +354,7 @@ TEST(Hoppe94Hand, BoundaryRegularityIsValenceFour) {
 
 TEST(Hoppe94Hand, CreaseWithADartEndIsBisectedAsSmooth) {
     TestMesh mesh = closed_fan(6);
-    mesh.crease(0, 1);  // the centre's only crease edge: a dart; rim vertex 1 becomes a corner
+    mesh.add_crease(0, 1);  // the centre's only crease edge: a dart; rim vertex 1 becomes a corner
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::Dart);
     EXPECT_EQ(refined.type(1), VertexType::Corner);
@@ -424,7 +390,7 @@ TEST(Hoppe94Hand, ConeVertexWeights) {
         EXPECT_NEAR(c0 / (c0 + n), centre_weight[n], 0.5e-4) << "the hand table itself";
 
         TestMesh mesh = closed_fan(n);
-        mesh.cone(0);
+        mesh.cone_vertices.push_back(0);
         Refined refined = refine(mesh);
         EXPECT_EQ(refined.type(0), VertexType::Cone);
         EXPECT_POINT_NEAR(refined.p(0), centre_with_ring(mesh, n, c0));
@@ -433,8 +399,8 @@ TEST(Hoppe94Hand, ConeVertexWeights) {
 
 TEST(Hoppe94Hand, ConeWithOneCreaseEdgeStaysACone) {
     TestMesh mesh = closed_fan(5);
-    mesh.cone(0);
-    mesh.crease(0, 1);
+    mesh.cone_vertices.push_back(0);
+    mesh.add_crease(0, 1);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::Cone);
     EXPECT_POINT_NEAR(refined.p(0), centre_with_ring(mesh, 5, 5 / (5.0 / 8.0 - kB5) - 5));
@@ -442,9 +408,9 @@ TEST(Hoppe94Hand, ConeWithOneCreaseEdgeStaysACone) {
 
 TEST(Hoppe94Hand, ConeWithTwoCreaseEdgesBecomesACorner) {
     TestMesh mesh = closed_fan(6);
-    mesh.cone(0);
-    mesh.crease(0, 1);
-    mesh.crease(0, 4);
+    mesh.cone_vertices.push_back(0);
+    mesh.add_crease(0, 1);
+    mesh.add_crease(0, 4);
     Refined refined = refine(mesh);
     EXPECT_EQ(refined.type(0), VertexType::Corner);
     EXPECT_POINT_NEAR(refined.p(0), mesh.p(0));
@@ -452,8 +418,8 @@ TEST(Hoppe94Hand, ConeWithTwoCreaseEdgesBecomesACorner) {
 
 TEST(Hoppe94Hand, CreaseThresholdSharpnessAtOrAboveIsACrease) {
     TestMesh mesh = closed_fan(6);
-    mesh.crease(0, 1, 0.5f);
-    mesh.crease(0, 4, 0.5f);
+    mesh.add_crease(0, 1, 0.5f);
+    mesh.add_crease(0, 4, 0.5f);
     const Vec3 crease = average(mesh, {{6, 0}, {1, 1}, {1, 4}});
     const Vec3 smooth = centre_with_ring(mesh, 6, kC0Valence6);
 
@@ -470,8 +436,8 @@ TEST(Hoppe94Hand, CreaseThresholdSharpnessAtOrAboveIsACrease) {
     EXPECT_POINT_NEAR(above.p(0), smooth);
 
     TestMesh zero = closed_fan(6);
-    zero.crease(0, 1, 0.0f);
-    zero.crease(0, 4, 0.0f);
+    zero.add_crease(0, 1, 0.0f);
+    zero.add_crease(0, 4, 0.0f);
     Refined zero_sharpness = refine(zero, 1, 0.0f);
     EXPECT_EQ(zero_sharpness.type(0), VertexType::Smooth) << "sharpness 0 is no crease, even at threshold 0";
     EXPECT_POINT_NEAR(zero_sharpness.p(0), smooth);

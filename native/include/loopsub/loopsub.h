@@ -87,6 +87,23 @@ struct MeshView {
     int num_cones = 0;
 };
 
+// The owning counterpart of MeshView, for C++ callers that build a mesh: view() lends it to a Plan.
+struct MeshData {
+    std::vector<float> positions;         // 3 per vertex
+    std::vector<std::int32_t> triangles;  // 3 per triangle, counter-clockwise
+    std::vector<std::int32_t> crease_edges;  // pairs
+    std::vector<float> crease_sharpness;
+    std::vector<std::int32_t> corner_vertices;
+    std::vector<float> corner_sharpness;
+    std::vector<std::int32_t> cone_vertices;
+
+    int num_vertices() const { return int(positions.size() / 3); }
+    int num_triangles() const { return int(triangles.size() / 3); }
+    void add_crease(int a, int b, float sharpness = kInfiniteSharpness);
+    void add_corner(int v, float sharpness = kInfiniteSharpness);
+    MeshView view() const;  // valid while this mesh lives and is not modified
+};
+
 // Vertex classes of RULES.md section 1 (Hoppe94) and Sdc::Crease::Rule (OpenSubdiv: smooth, dart, crease, corner).
 enum class VertexType : std::uint8_t { Smooth = 0, Dart = 1, RegularCrease = 2, IrregularCrease = 3, Corner = 4, Cone = 5 };
 
