@@ -8,13 +8,14 @@ add-on's level-3 result (OpenSubdiv-compatible rules) to the nearest point of Bl
 The bound, measured on Blender 3.4.1 (max and mean over vertices / diagonal, level 3):
     icosphere (2 subdivisions, smooth)                       max 0.0042   mean 0.0033
     Suzanne (triangulated, open boundaries)                  max 0.0047   mean 0.0006
-    box cut 2x2 per side, 4 vertical creases ending in darts  max 0.0165   mean 0.0048
-Two things make up the distance: the level-3 control points are not yet on Loop's limit surface (each level brings
-them about 4x closer, so they still sit a little inside it: the icosphere's mean is almost all of this), and the two
-schemes' limit surfaces are different surfaces of the same cage: close on smooth cages, farthest near darts, where
-the schemes' rules differ most (RULES.md §4: crease curves ending in a dart do not coincide near it; the box's
-maximum sits there). The bound, 0.025, is the largest measurement with a 50% margin for differences between
-Blender builds; a wrong mask, a missed crease or a scrambled triangle moves vertices by several percent.
+    box cut 2x2 per side, 4 vertical creases                 max 0.0165   mean 0.0048
+Two things make up the distance: the level-3 control points are not yet on Loop's own limit surface (measured on the
+icosphere against level 6: 0.0004 of the diagonal), and, for nearly all of it, the two schemes' limit surfaces are
+different surfaces of the same cage (Catmull-Clark on triangles first splits each into three quads). They are close
+on smooth, fine cages and farthest where a coarse cage turns a right angle without a crease: the box's maximum sits
+on its rounded, uncreased horizontal sides, between the vertical creases. The bound, 0.025, is the largest
+measurement with a 50% margin for differences between Blender builds; a wrong mask, a missed crease or a scrambled
+triangle moves vertices by several percent.
 
 Also: 4^L faces per triangle, the Euler characteristic kept, and normals pointing the way Blender's result does.
 """
@@ -53,8 +54,8 @@ def suzanne():
 
 
 def creased_box():
-    """A cube cut 2x2 per side with only its four vertical sides creased: creases end in corners at the rounded
-    top and bottom."""
+    """A cube cut 2x2 per side with only its four vertical sides creased: each crease ends in a dart at a cube corner,
+    top and bottom round off."""
     obj = support.object_from_bmesh("CreasedBox", support.cube("CreasedBox", subdivisions=1))
     p = support.positions(obj.data)
     e = support.edges(obj.data)
