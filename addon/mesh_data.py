@@ -45,10 +45,10 @@ class Topology:
         self.vertex_weights = vertex_weights
 
     def tags(self, options):
-        if not options.use_creases:
-            return geometry.crease_tags(self.edge_vertices[:0], self.edge_weights[:0], self.vertex_weights[:0],
-                                        options.rules, options.crease_threshold)
-        return geometry.crease_tags(self.edge_vertices, self.edge_weights, self.vertex_weights,
+        # Loose (wire) edges are not part of the surface: the core only takes creases on its triangles' edges.
+        in_faces = self.edge_face_counts > 0 if options.use_creases else np.zeros(len(self.edge_vertices), bool)
+        vertex_weights = self.vertex_weights if options.use_creases else self.vertex_weights[:0]
+        return geometry.crease_tags(self.edge_vertices[in_faces], self.edge_weights[in_faces], vertex_weights,
                                     options.rules, options.crease_threshold)
 
     def plan(self, options, levels, cones):
@@ -177,6 +177,9 @@ def subdivide(obj, options, progress):
     if cage.num_triangulated:
         messages.append(('INFO', f"{obj.name}: triangulated {cage.num_triangulated} non-triangle faces "
                                  "with Blender's tessellation first"))
+    loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
+    if loose_edges:
+        messages.append(('WARNING', f"{obj.name}: {loose_edges} loose edges (in no face) are not carried over"))
     cracks = geometry.shared_positions(cage.positions)
     if cracks:
         messages.append(('WARNING', f"{obj.name}: {cracks} vertices share a position with another; the cracks "

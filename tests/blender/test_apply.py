@@ -236,6 +236,26 @@ def creases_written():
         remove(obj)
 
 
+def loose_geometry():
+    """A creased wire edge and a lone vertex beside the surface: the edge is left out with a warning (the core only
+    takes creases on its triangles' edges), the vertices stay."""
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=2.0)
+    bm.edges.new((bm.verts.new((3, 0, 0)), bm.verts.new((4, 0, 0))))
+    bm.verts.new((5, 0, 0))
+    obj = support.object_from_bmesh("Loose", bm)
+    weights = compat.read_edge_creases(obj.data)
+    weights[:] = 1.0
+    compat.write_edge_creases(obj.data, weights)
+    result, output = run_apply(obj, levels=1, rules='OPENSUBDIV')
+    mesh = obj.data
+    check(result == {'FINISHED'} and "1 loose edges (in no face) are not carried over" in output,
+          "a creased loose edge is left out with a warning")
+    check(np.allclose(support.positions(mesh)[8:11], [[3, 0, 0], [4, 0, 0], [5, 0, 0]]),
+          "loose vertices keep their places and indices")
+    remove(obj)
+
+
 # --- several objects, errors, undo --------------------------------------------------------------------------------
 
 def several_objects():
@@ -333,6 +353,7 @@ uv_seams()
 vertex_channels('OPENSUBDIV')
 vertex_channels('HOPPE94')
 creases_written()
+loose_geometry()
 several_objects()
 bad_meshes()
 undo_restores()
