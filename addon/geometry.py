@@ -13,9 +13,6 @@ INFINITE_SHARPNESS = np.float32(10.0)
 RULES = {'HOPPE94': "hoppe94", 'OPENSUBDIV': "opensubdiv"}
 BOUNDARY = {'SMOOTH': "edges", 'KEEP_CORNERS': "edges-and-corners"}
 
-# Vertex classes written to the "loop_vertex_type" attribute (the core's numbering).
-VERTEX_TYPES = ("Smooth", "Dart", "Regular Crease", "Irregular Crease", "Corner", "Cone")
-
 
 def crease_to_sharpness(weights):
     """Blender's own mapping, evaluated in float32 in the same order (c·c·10) so the sharpness is bit-identical."""
