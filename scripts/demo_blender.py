@@ -467,7 +467,7 @@ def main():
     if os.path.exists(png_path):
         os.remove(png_path)  # so that a render that writes nothing cannot pass for one that did
     print(f"demo: rendering {RESOLUTION[0]}x{RESOLUTION[1]} at {SAMPLES} samples with Cycles on the CPU "
-          "(about a minute on two cores)", flush=True)
+          "(20 s on two idle cores, up to a minute on busy ones)", flush=True)
     render_started = time.perf_counter()
     bpy.ops.render.render(write_still=True)
     if not os.path.isfile(png_path):
