@@ -120,16 +120,27 @@ def _on_depsgraph_update(scene, depsgraph):
                 refresh(obj, depsgraph)
 
 
+def _refresh_all():
+    """Previews for every object that has the entry: after a file loads, or when the add-on is enabled in a session
+    that has such objects (nothing would trigger them until the next edit)."""
+    for obj in bpy.data.objects:
+        if wanted(obj):
+            refresh(obj)
+
+
 @persistent
 def _on_load(_):
     # Names may now belong to other objects: start afresh.
     _entries.clear()
+    _refresh_all()
 
 
 def register():
     global _draw_handle
     bpy.app.handlers.depsgraph_update_post.append(_on_depsgraph_update)
     bpy.app.handlers.load_post.append(_on_load)
+    # Add-ons register while bpy.data is not yet accessible (at start-up): look once the event loop runs.
+    bpy.app.timers.register(_refresh_all, first_interval=0.0)
     if not bpy.app.background:
         from . import preview_draw
         _draw_handle = bpy.types.SpaceView3D.draw_handler_add(preview_draw.draw, (_entries,), 'WINDOW', 'POST_VIEW')
@@ -142,6 +153,8 @@ def unregister():
         _draw_handle = None
         from . import preview_draw
         preview_draw.release()
+    if bpy.app.timers.is_registered(_refresh_all):
+        bpy.app.timers.unregister(_refresh_all)
     bpy.app.handlers.depsgraph_update_post.remove(_on_depsgraph_update)
     bpy.app.handlers.load_post.remove(_on_load)
     _entries.clear()

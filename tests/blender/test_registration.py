@@ -29,6 +29,7 @@ def footprint():
         "depsgraph handlers": len(bpy.app.handlers.depsgraph_update_post),
         "load handlers": len(bpy.app.handlers.load_post),
         "object menu entries": len(bpy.types.VIEW3D_MT_object._dyn_ui_initialize()),
+        "timers": bpy.app.timers.is_registered(addon.preview._refresh_all),
     }
 
 

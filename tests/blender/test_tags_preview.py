@@ -8,6 +8,7 @@ settings change, and shows the core's errors instead of drawing.
 """
 import os
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
@@ -174,7 +175,16 @@ def preview():
     bpy.ops.object.loop_subdivision_remove()
     check(addon.preview.entry(obj) is None and obj.display_type == 'SOLID',
           "removing the entry drops the preview and restores the cage's display")
-    remove(obj)
+
+    bpy.ops.object.loop_subdivision_add()
+    mesh.vertices[1].co.x = 0.0
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "preview.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+    entry = addon.preview.entry(bpy.data.objects["Preview"])
+    check(entry is not None and entry.positions is not None, "opening a file shows the previews it holds")
+    remove(bpy.data.objects["Preview"])
 
 
 def remove(obj):
