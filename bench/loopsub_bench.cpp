@@ -1,0 +1,385 @@
+// loopsub against OpenSubdiv, in one run, on the same meshes and the same rules (Rules::OpenSubdiv, boundary edges
+// only, uniform creasing), to level 4:
+//   icosphere  - an icosphere of 5,120 triangles (2,562 vertices), smooth everywhere;
+//   creased    - the same icosphere with an infinitely sharp crease loop, a semi-sharp loop (sharpness 2.5) and
+//                four corners (two infinitely sharp, two of sharpness 1.5).
+// Output: 655,362 vertices and 1,310,720 triangles each. Positions are n x 3 interleaved floats on both sides.
+//
+// OpenSubdiv:
+//   opensubdiv_far_full           TopologyRefinerFactory + RefineUniform(4) + PrimvarRefiner::Interpolate, levels 1-4
+//   opensubdiv_primvar_refiner    PrimvarRefiner::Interpolate, levels 1-4 (per frame; refiner built once)
+//   opensubdiv_stencil_table      StencilTableFactory::Create from the refined refiner (last level only, offsets)
+//   opensubdiv_cpu_evaluator      Osd::CpuEvaluator::EvalStencils over that table (per frame)
+//   opensubdiv_omp_evaluator      Osd::OmpEvaluator::EvalStencils with 2 OpenMP threads (per frame)
+// loopsub (kernel: scalar, sse4.1, avx2; threads: Options::threads):
+//   loopsub_full                  Plan construction + evaluate
+//   loopsub_topology              Plan construction
+//   loopsub_evaluate              Plan::evaluate (per frame)
+// Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
+// --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
+#include <benchmark/benchmark.h>
+
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/stencilTable.h>
+#include <opensubdiv/far/stencilTableFactory.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+#include <opensubdiv/osd/cpuEvaluator.h>
+#include <opensubdiv/osd/ompEvaluator.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+
+namespace {
+
+using namespace OpenSubdiv;
+
+constexpr int kLevels = 4;
+
+// ---- Meshes ------------------------------------------------------------------------------------------------------
+
+struct Mesh {
+    std::string name;
+    std::vector<float> positions;  // 3 per vertex
+    std::vector<int> triangles;    // 3 per triangle
+    std::vector<int> crease_edges;  // pairs
+    std::vector<float> crease_sharpness;
+    std::vector<int> corners;
+    std::vector<float> corner_sharpness;
+
+    int num_vertices() const { return int(positions.size() / 3); }
+    int num_triangles() const { return int(triangles.size() / 3); }
+};
+
+// An icosahedron split `splits` times (each edge halved, points pushed onto the unit sphere).
+Mesh icosphere(int splits) {
+    const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
+    Mesh m;
+    m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
+                   0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
+    m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                   3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    for (int s = 0; s < splits; ++s) {
+        std::map<std::pair<int, int>, int> midpoint;
+        auto split = [&](int a, int b) {
+            const auto key = std::minmax(a, b);
+            const auto found = midpoint.find(key);
+            if (found != midpoint.end()) return found->second;
+            const int v = m.num_vertices();
+            for (int c = 0; c < 3; ++c) m.positions.push_back(0.5f * (m.positions[3 * a + c] + m.positions[3 * b + c]));
+            midpoint.emplace(key, v);
+            return v;
+        };
+        std::vector<int> children;
+        for (int f = 0; f < m.num_triangles(); ++f) {
+            const int a = m.triangles[3 * f], b = m.triangles[3 * f + 1], c = m.triangles[3 * f + 2];
+            const int ab = split(a, b), bc = split(b, c), ca = split(c, a);
+            children.insert(children.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+        }
+        m.triangles = std::move(children);
+    }
+    for (int v = 0; v < m.num_vertices(); ++v) {
+        float* p = &m.positions[3 * v];
+        const float length = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        for (int c = 0; c < 3; ++c) p[c] /= length;
+    }
+    return m;
+}
+
+// Tags the edges between the triangles whose centroid lies above z = height and the others: a closed loop.
+void tag_loop(Mesh& m, float height, float sharpness) {
+    std::map<std::pair<int, int>, int> above;  // per edge: triangles above minus triangles below
+    for (int f = 0; f < m.num_triangles(); ++f) {
+        const int* v = &m.triangles[3 * f];
+        const float z = (m.positions[3 * v[0] + 2] + m.positions[3 * v[1] + 2] + m.positions[3 * v[2] + 2]) / 3.0f;
+        for (int k = 0; k < 3; ++k) above[std::minmax(v[k], v[(k + 1) % 3])] += z > height ? 1 : -1;
+    }
+    for (const auto& [edge, balance] : above) {
+        if (balance != 0) continue;
+        m.crease_edges.insert(m.crease_edges.end(), {edge.first, edge.second});
+        m.crease_sharpness.push_back(sharpness);
+    }
+}
+
+Mesh creased_icosphere() {
+    Mesh m = icosphere(4);
+    m.name = "creased";
+    tag_loop(m, 0.3f, 10.0f);
+    tag_loop(m, -0.4f, 2.5f);
+    m.corners = {0, 3, 6, 9};  // icosahedron vertices (valence 5), away from and on both sides of the loops
+    m.corner_sharpness = {10.0f, 10.0f, 1.5f, 1.5f};
+    return m;
+}
+
+const std::vector<Mesh>& meshes() {
+    static const std::vector<Mesh> all = [] {
+        Mesh smooth = icosphere(4);
+        smooth.name = "icosphere";
+        return std::vector<Mesh>{smooth, creased_icosphere()};
+    }();
+    return all;
+}
+
+// ---- OpenSubdiv --------------------------------------------------------------------------------------------------
+
+struct Vertex {  // PrimvarRefiner's interface
+    float p[3];
+    void Clear(void* = nullptr) { p[0] = p[1] = p[2] = 0.0f; }
+    void AddWithWeight(const Vertex& src, float weight) {
+        p[0] += weight * src.p[0];
+        p[1] += weight * src.p[1];
+        p[2] += weight * src.p[2];
+    }
+};
+
+std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m) {
+    Sdc::Options sdc;
+    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+    const std::vector<int> three(m.num_triangles(), 3);
+    Far::TopologyDescriptor d;
+    d.numVertices = m.num_vertices();
+    d.numFaces = m.num_triangles();
+    d.numVertsPerFace = three.data();
+    d.vertIndicesPerFace = m.triangles.data();
+    d.numCreases = int(m.crease_sharpness.size());
+    d.creaseVertexIndexPairs = m.crease_edges.data();
+    d.creaseWeights = m.crease_sharpness.data();
+    d.numCorners = int(m.corners.size());
+    d.cornerVertexIndices = m.corners.data();
+    d.cornerWeights = m.corner_sharpness.data();
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::unique_ptr<Far::TopologyRefiner> refiner(
+        Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
+    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(kLevels));
+    return refiner;
+}
+
+// All levels into one buffer, level after level (OpenSubdiv's tutorial layout); returns the last level.
+const Vertex* osd_interpolate(const Far::TopologyRefiner& refiner, const Mesh& m, Vertex* all) {
+    std::copy(m.positions.begin(), m.positions.end(), &all[0].p[0]);
+    const Far::PrimvarRefiner primvar(refiner);
+    Vertex* src = all;
+    for (int level = 1; level <= kLevels; ++level) {
+        Vertex* dst = src + refiner.GetLevel(level - 1).GetNumVertices();
+        primvar.Interpolate(level, src, dst);
+        src = dst;
+    }
+    return src;
+}
+
+int output_vertices(const Far::TopologyRefiner& refiner) { return refiner.GetLevel(kLevels).GetNumVertices(); }
+
+void set_rate(benchmark::State& state, int vertices) {
+    state.counters["vertices/s"] = benchmark::Counter(double(vertices), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void osd_far_full(benchmark::State& state, const Mesh* m) {
+    int vertices = 0;
+    for (auto _ : state) {
+        const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m);
+        const std::unique_ptr<Vertex[]> all(new Vertex[refiner->GetNumVerticesTotal()]);
+        benchmark::DoNotOptimize(osd_interpolate(*refiner, *m, all.get()));
+        vertices = output_vertices(*refiner);
+    }
+    set_rate(state, vertices);
+}
+
+void osd_primvar_refiner(benchmark::State& state, const Mesh* m) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m);
+    const std::unique_ptr<Vertex[]> all(new Vertex[refiner->GetNumVerticesTotal()]);
+    for (auto _ : state) benchmark::DoNotOptimize(osd_interpolate(*refiner, *m, all.get()));
+    set_rate(state, output_vertices(*refiner));
+}
+
+std::unique_ptr<const Far::StencilTable> osd_stencils(const Far::TopologyRefiner& refiner) {
+    Far::StencilTableFactory::Options options;
+    options.generateIntermediateLevels = false;  // control vertices straight to the last level
+    options.generateOffsets = true;
+    return std::unique_ptr<const Far::StencilTable>(Far::StencilTableFactory::Create(refiner, options));
+}
+
+void osd_stencil_table(benchmark::State& state, const Mesh* m) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m);
+    for (auto _ : state) benchmark::DoNotOptimize(osd_stencils(*refiner).get());
+    set_rate(state, output_vertices(*refiner));
+}
+
+template <typename Evaluator>
+void osd_evaluator(benchmark::State& state, const Mesh* m) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m);
+    const std::unique_ptr<const Far::StencilTable> table = osd_stencils(*refiner);
+    std::vector<float> out(std::size_t(table->GetNumStencils()) * 3);
+    const Osd::BufferDescriptor desc(0, 3, 3);
+    for (auto _ : state) {
+        Evaluator::EvalStencils(m->positions.data(), desc, out.data(), desc, &table->GetSizes()[0],
+                                &table->GetOffsets()[0], &table->GetControlIndices()[0], &table->GetWeights()[0], 0,
+                                table->GetNumStencils());
+        benchmark::DoNotOptimize(out.data());
+    }
+    set_rate(state, table->GetNumStencils());
+}
+
+// ---- loopsub -----------------------------------------------------------------------------------------------------
+
+loopsub::MeshView view(const Mesh& m) {
+    loopsub::MeshView v;
+    v.num_vertices = m.num_vertices();
+    v.triangles = m.triangles.data();
+    v.num_triangles = m.num_triangles();
+    v.crease_edges = m.crease_edges.data();
+    v.crease_sharpness = m.crease_sharpness.data();
+    v.num_crease_edges = int(m.crease_sharpness.size());
+    v.corner_vertices = m.corners.data();
+    v.corner_sharpness = m.corner_sharpness.data();
+    v.num_corners = int(m.corners.size());
+    return v;
+}
+
+loopsub::Options options(loopsub::Kernel kernel, int threads) {
+    loopsub::Options o;
+    o.rules = loopsub::Rules::OpenSubdiv;
+    o.levels = kLevels;
+    o.boundary = loopsub::Boundary::EdgesOnly;
+    o.crease_method = loopsub::CreaseMethod::Uniform;
+    o.kernel = kernel;
+    o.threads = threads;
+    return o;
+}
+
+void ours_full(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads) {
+    int vertices = 0;
+    for (auto _ : state) {
+        loopsub::Plan plan(view(*m), options(kernel, threads));
+        vertices = plan.num_output_vertices();
+        const std::unique_ptr<float[]> out(new float[std::size_t(vertices) * 3]);
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.get(), 3));
+        benchmark::DoNotOptimize(out.get());
+    }
+    set_rate(state, vertices);
+}
+
+void ours_topology(benchmark::State& state, const Mesh* m, int threads) {
+    int vertices = 0;
+    for (auto _ : state) {
+        loopsub::Plan plan(view(*m), options(loopsub::Kernel::Auto, threads));
+        vertices = plan.num_output_vertices();
+        benchmark::DoNotOptimize(plan.output_triangles());
+    }
+    set_rate(state, vertices);
+}
+
+void ours_evaluate(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads) {
+    loopsub::Plan plan(view(*m), options(kernel, threads));
+    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
+    for (auto _ : state) {
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3));
+        benchmark::DoNotOptimize(out.data());
+    }
+    set_rate(state, plan.num_output_vertices());
+}
+
+// ---- Registration and the speedup table --------------------------------------------------------------------------
+
+constexpr loopsub::Kernel kKernels[] = {loopsub::Kernel::Scalar, loopsub::Kernel::SSE41, loopsub::Kernel::AVX2};
+
+std::string ours_name(const char* what, const Mesh& m, loopsub::Kernel kernel, int threads) {
+    return std::string("loopsub_") + what + "/" + m.name + "/" + loopsub::kernel_name(kernel) + "/threads:" +
+           std::to_string(threads);
+}
+
+void register_all() {
+    auto add = [](const std::string& name, auto&& fn, auto... args) {
+        benchmark::RegisterBenchmark(name.c_str(), fn, args...)->Unit(benchmark::kMillisecond)->UseRealTime();
+    };
+    for (const Mesh& m : meshes()) {
+        add("opensubdiv_far_full/" + m.name, osd_far_full, &m);
+        add("opensubdiv_primvar_refiner/" + m.name, osd_primvar_refiner, &m);
+        add("opensubdiv_stencil_table/" + m.name, osd_stencil_table, &m);
+        add("opensubdiv_cpu_evaluator/" + m.name, osd_evaluator<Osd::CpuEvaluator>, &m);
+        add("opensubdiv_omp_evaluator/" + m.name + "/threads:2", osd_evaluator<Osd::OmpEvaluator>, &m);
+        for (int threads : {1, 2}) {
+            add("loopsub_topology/" + m.name + "/threads:" + std::to_string(threads), ours_topology, &m, threads);
+            for (loopsub::Kernel kernel : kKernels) {
+                add(ours_name("full", m, kernel, threads), ours_full, &m, kernel, threads);
+                add(ours_name("evaluate", m, kernel, threads), ours_evaluate, &m, kernel, threads);
+            }
+        }
+    }
+}
+
+// Keeps each benchmark's time (ms): the median aggregate when there are repetitions, else the single run.
+// Console output as usual (colours only on a terminal); --benchmark_out=FILE writes JSON/CSV alongside.
+class RecordingReporter : public benchmark::ConsoleReporter {
+public:
+    RecordingReporter() : ConsoleReporter(isatty(fileno(stdout)) ? OO_ColorTabular : OO_Tabular) {}
+
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& run : runs) {
+            const std::string& name = run.run_name.function_name;
+            if (run.run_type == Run::RT_Aggregate && run.aggregate_name == "median") median_[name] = run.GetAdjustedRealTime();
+            else if (run.run_type == Run::RT_Iteration) single_[name] = run.GetAdjustedRealTime();
+        }
+        ConsoleReporter::ReportRuns(runs);
+    }
+
+    // Time of a benchmark, or a negative number when it did not run (filtered out).
+    double ms(const std::string& name) const {
+        if (const auto found = median_.find(name); found != median_.end()) return found->second;
+        if (const auto found = single_.find(name); found != single_.end()) return found->second;
+        return -1.0;
+    }
+
+private:
+    std::map<std::string, double> median_, single_;
+};
+
+void print_speedups(const RecordingReporter& r) {
+    std::printf("\nSpeedups, OpenSubdiv time / loopsub time (targets, one thread: full >= 5x Far, evaluate >= 2x "
+                "PrimvarRefiner):\n");
+    std::printf("%-10s %-7s %-8s %16s %22s %21s\n", "mesh", "kernel", "threads", "full vs Far", "evaluate vs Primvar",
+                "evaluate vs stencils");
+    for (const Mesh& m : meshes()) {
+        const double far = r.ms("opensubdiv_far_full/" + m.name), primvar = r.ms("opensubdiv_primvar_refiner/" + m.name);
+        for (int threads : {1, 2}) {
+            // The stencil evaluator with the same thread count: CpuEvaluator for one, OmpEvaluator for two.
+            const double stencils = r.ms(threads == 1 ? "opensubdiv_cpu_evaluator/" + m.name
+                                                      : "opensubdiv_omp_evaluator/" + m.name + "/threads:2");
+            for (loopsub::Kernel kernel : kKernels) {
+                const double full = r.ms(ours_name("full", m, kernel, threads));
+                const double evaluate = r.ms(ours_name("evaluate", m, kernel, threads));
+                auto ratio = [](double theirs, double ours) {
+                    char text[32] = "-";
+                    if (theirs > 0 && ours > 0) std::snprintf(text, sizeof text, "%.1fx", theirs / ours);
+                    return std::string(text);
+                };
+                if (full < 0 && evaluate < 0) continue;
+                std::printf("%-10s %-7s %-8d %16s %22s %21s\n", m.name.c_str(), loopsub::kernel_name(kernel), threads,
+                            ratio(far, full).c_str(), ratio(primvar, evaluate).c_str(), ratio(stencils, evaluate).c_str());
+            }
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Osd::OmpEvaluator::SetNumThreads(2);
+    register_all();
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    RecordingReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    print_speedups(reporter);
+    benchmark::Shutdown();
+    return 0;
+}
