@@ -229,7 +229,8 @@ def stand_on_floor(obj):
 
 
 def tag_markers(cage, collection, mat):
-    """The cage's crease edges as tubes and its tagged corners as beads, in the cage's object space."""
+    """The cage's crease edges as tubes and its tagged corners as beads, in the cage's object space. Returns the
+    caption that says what is shown."""
     from addon import compat
     mesh = cage.data
     radius = 0.018 * MODEL_SIZE / cage.matrix_world.to_scale().x
@@ -263,6 +264,8 @@ def tag_markers(cage, collection, mat):
     for marker in markers:
         marker.data.materials.append(mat)
         marker.parent = cage
+    shown = [what for what, present in (("creases", creased), ("corners", corners)) if present]
+    return " and ".join(shown) + " in red" if shown else "no creases or corners tagged"
 
 
 def label(text, size, location, camera, collection, mat):
@@ -280,7 +283,7 @@ def label(text, size, location, camera, collection, mat):
 
 def style_cage(cage, collection):
     """Flat faces with the edges drawn as thin dark bars (the Wireframe modifier keeps the faces and puts the bars in
-    the second material slot), and the crease tags in red."""
+    the second material slot), and the crease tags in red. Returns the caption for the tags."""
     cage.data.polygons.foreach_set("use_smooth", [False] * len(cage.data.polygons))
     set_materials(cage, material("Cage", (0.80, 0.80, 0.78), roughness=0.6),
                   material("Cage edges", (0.02, 0.02, 0.02), roughness=0.8))
@@ -298,7 +301,7 @@ def style_cage(cage, collection):
     wire.use_replace = False
     wire.use_even_offset = True
     wire.material_offset = 1
-    tag_markers(cage, collection, material("Crease tags", (0.85, 0.05, 0.03), roughness=0.3))
+    return tag_markers(cage, collection, material("Crease tags", (0.85, 0.05, 0.03), roughness=0.3))
 
 
 def apply_loop(obj, levels, rules, boundary):
@@ -403,7 +406,7 @@ def build_scene(scene, mesh, matrix, levels, rules, boundary):
     cage, loop, blender = objects
     cage.data.name, loop.data.name, blender.data.name = (obj.name for obj in objects)
 
-    style_cage(cage, scene.collection)
+    tags_caption = style_cage(cage, scene.collection)
     apply_loop(loop, levels, rules, boundary)
     add_subsurf(blender, levels, boundary)
     # After apply, which rebuilds the mesh.
@@ -413,7 +416,7 @@ def build_scene(scene, mesh, matrix, levels, rules, boundary):
     stand_on_floor(blender)
 
     rules_name = "Hoppe 94 rules" if rules == 'HOPPE94' else "OpenSubdiv rules"
-    frame(scene, objects, (("Control cage", "creases and corners in red"),
+    frame(scene, objects, (("Control cage", tags_caption),
                            ("Loop subdivision", f"this add-on, {rules_name}, level {levels}"),
                            ("Subdivision Surface", f"Blender's modifier, level {levels}")))
     light(scene)
@@ -467,7 +470,7 @@ def main():
     if os.path.exists(png_path):
         os.remove(png_path)  # so that a render that writes nothing cannot pass for one that did
     print(f"demo: rendering {RESOLUTION[0]}x{RESOLUTION[1]} at {SAMPLES} samples with Cycles on the CPU "
-          "(20 s on two idle cores, up to a minute on busy ones)", flush=True)
+          "(10 s on two idle cores, up to a minute on busy ones)", flush=True)
     render_started = time.perf_counter()
     bpy.ops.render.render(write_still=True)
     if not os.path.isfile(png_path):
