@@ -443,6 +443,21 @@ def configure_render(scene, path):
     links.new(backdrop.outputs["Image"], nodes["Composite"].inputs["Image"])
 
 
+def strip_png_text(path):
+    """Drops the PNG's text chunks, where Blender writes the .blend's path, the date and Cycles' render times: the
+    picture is committed, and without them a rerun writes the very same file (Cycles' pixels are deterministic)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    kept, pos = [data[:8]], 8  # the signature, then chunks: length, type, data, CRC
+    while pos < len(data):
+        end = pos + 12 + int.from_bytes(data[pos:pos + 4], "big")
+        if data[pos + 4:pos + 8] not in (b"tEXt", b"zTXt", b"iTXt"):
+            kept.append(data[pos:end])
+        pos = end
+    with open(path, "wb") as f:
+        f.write(b"".join(kept))
+
+
 def main():
     args = parse_args()
     started = time.perf_counter()
@@ -475,6 +490,7 @@ def main():
     bpy.ops.render.render(write_still=True)
     if not os.path.isfile(png_path):
         raise RuntimeError(f"rendering wrote no picture at {png_path}")
+    strip_png_text(png_path)
     print(f"demo: rendered in {time.perf_counter() - render_started:.1f} s; "
           f"total {time.perf_counter() - started:.1f} s")
     print(f"demo: scene   {blend_path}")
