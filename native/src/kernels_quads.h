@@ -1,8 +1,8 @@
 // The "quads" layout shared by the SIMD kernels: each element's channels contiguous and padded to a multiple of
 // four floats (channel_stride 1, element_stride a multiple of 4), so that one 16-byte load fetches four channels of
 // a neighbour. This is the seed's advice (slides 36-45: keep a vertex's x, y, z in one load) and the layout the
-// plan's scratch levels should use: there a smooth edge point costs four loads, against twelve (one per channel
-// and neighbour) for planar data, and the loads are what bounds these kernels (docs/benchmark.md).
+// plan's scratch levels use: there a smooth edge point costs four loads, against twelve (one per channel and
+// neighbour) for planar data, and the loads are what bounds these kernels (docs/benchmark.md).
 //
 // Everything here has internal linkage: the header is compiled into translation units built for different
 // instruction sets, and one shared inline copy (the linker keeps any one) could carry AVX2 code into the SSE4.1 path.
@@ -90,6 +90,23 @@ struct Tables {
           edge_c(s.edge_c.data()), edge_d(s.edge_d.data()), smooth_self(s.smooth_self.data()),
           smooth_ring(s.smooth_ring.data()), first_edge_point(std::size_t(s.num_vertices)) {}
 };
+
+// Runs an instruction set's smooth pass, smooth(tables, source, target), over every quad of channels, with the
+// source and target types that let it compile the common layouts to plain strided loads and stores.
+template <typename SmoothPass>
+void for_each_quad(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, const SmoothPass& smooth) {
+    const Tables tables(s);
+    for (int quad = 0; quad * kQuad < in.num_channels; ++quad) {
+        const float* first_channel = in.data + quad * kQuad;
+        const QuadTarget target = quad_target(out, quad);
+        if (in.element_stride == kQuad && target.packed())
+            smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, PackedQuads{target.data});
+        else if (in.element_stride == kQuad)
+            smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, target);
+        else
+            smooth(tables, QuadSource<0>{first_channel, in.element_stride}, target);
+    }
+}
 
 }  // namespace
 }  // namespace loopsub::detail

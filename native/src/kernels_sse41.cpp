@@ -38,19 +38,11 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
 }  // namespace
 
 void refine_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range vertices,
-                  Range edges) {
+                 Range edges) {
     if (!reads_as_quads(in)) return refine_scalar(s, in, out, vertices, edges);
-    const Tables tables(s);
-    for (int quad = 0; quad * kQuad < in.num_channels; ++quad) {
-        const float* first_channel = in.data + quad * kQuad;
-        const QuadTarget target = quad_target(out, quad);
-        if (in.element_stride == kQuad && target.packed())
-            smooth_quad(tables, QuadSource<kQuad>{first_channel, kQuad}, PackedQuads{target.data}, vertices, edges);
-        else if (in.element_stride == kQuad)
-            smooth_quad(tables, QuadSource<kQuad>{first_channel, kQuad}, target, vertices, edges);
-        else
-            smooth_quad(tables, QuadSource<0>{first_channel, in.element_stride}, target, vertices, edges);
-    }
+    for_each_quad(s, in, out, [&](const Tables& tables, auto source, auto target) {
+        smooth_quad(tables, source, target, vertices, edges);
+    });
     apply_specials(s, in, out, vertices, edges);
 }
 

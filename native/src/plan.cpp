@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cmath>
 #include <limits>
+#include <condition_variable>
+#include <mutex>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -52,8 +54,11 @@ std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channel
         previous = level;
         level = level.child();
     }
-    // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation.
-    kept = add(kept, add(mul(16, level.faces), mul(mul(4, std::uint64_t(num_channels)), add(level.vertices, mul(2, previous.vertices)))));
+    // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation (their
+    // channels padded to a multiple of four).
+    const std::uint64_t padded = (std::uint64_t(num_channels) + 3) / 4 * 4;
+    kept = add(kept, add(mul(16, level.faces),
+                         add(mul(mul(4, std::uint64_t(num_channels)), level.vertices), mul(mul(4, padded), mul(2, previous.vertices)))));
     return add(kept, mul(2, largest_transient));  // a child level is built while its parent still lives
 }
 
@@ -71,20 +76,50 @@ Index find_edge(const Topology& t, Index a, Index b) {
     return -1;
 }
 
-// Runs work(0) .. work(parts - 1), each on its own thread but work(0) on the caller's. A thread the system
-// refuses to start costs parallelism, never the process: its part runs on the caller.
+// Runs work(level, part, parts) for every level in order and every part of a level at once: one thread per part
+// for the whole run (the caller being part 0), meeting at a barrier between levels. A thread the system refuses
+// to start costs parallelism, never the process: the parts are then shared among the threads that run.
 template <typename Work>
-void run_in_parts(int parts, const Work& work) {
+void run_levels(int threads, int levels, const Work& work) {
+    if (threads == 1) {
+        for (int l = 0; l < levels; ++l) work(l, 0, 1);
+        return;
+    }
+    std::mutex mutex;
+    std::condition_variable changed;
+    int running = threads, arrived = 0, generation = 0;
+    auto wait_for_others = [&] {
+        std::unique_lock<std::mutex> lock(mutex);
+        const int mine = generation;
+        if (++arrived == running) {
+            arrived = 0;
+            ++generation;
+            changed.notify_all();
+        } else {
+            changed.wait(lock, [&] { return generation != mine; });
+        }
+    };
+    auto run = [&](std::vector<int> parts) {
+        for (int l = 0; l < levels; ++l) {
+            for (int part : parts) work(l, part, threads);
+            wait_for_others();
+        }
+    };
     std::vector<std::thread> workers;
-    workers.reserve(parts);
-    for (int i = 1; i < parts; ++i) {
+    workers.reserve(threads - 1);
+    std::vector<int> callers_parts = {0};
+    for (int part = 1; part < threads; ++part) {
         try {
-            workers.emplace_back(work, i);
+            workers.emplace_back(run, std::vector<int>{part});
         } catch (const std::system_error&) {
-            work(i);
+            // The caller has not reached the first barrier yet, so the threads already waiting there cannot be
+            // released early: it is safe to lower the count here and hand the remaining parts to the caller.
+            std::lock_guard<std::mutex> lock(mutex);
+            running -= threads - part;
+            for (; part < threads; ++part) callers_parts.push_back(part);
         }
     }
-    work(0);
+    run(callers_parts);
     for (std::thread& worker : workers) worker.join();
 }
 
@@ -528,45 +563,62 @@ std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int leve
 void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
     PlanImpl& p = *impl_;
     const auto start = Clock::now();
-    if (in.num_channels != out.num_channels)
-        fail("evaluate: input has " + std::to_string(in.num_channels) + " channels but output has " + std::to_string(out.num_channels));
-    if (in.num_channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(in.num_channels));
+    const int channels = in.num_channels;
+    if (channels != out.num_channels)
+        fail("evaluate: input has " + std::to_string(channels) + " channels but output has " + std::to_string(out.num_channels));
+    if (channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(channels));
     if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
         fail("evaluate: missing (null) data");
-    for (int c = 0; c < in.num_channels; ++c)
-        for (int v = 0; v < p.num_input_vertices; ++v)
-            if (!std::isfinite(in.data[c * in.channel_stride + v * in.element_stride]))
-                fail("vertex " + std::to_string(v) + " has a non-finite value (" +
-                     std::to_string(in.data[c * in.channel_stride + v * in.element_stride]) + ") in channel " + std::to_string(c));
+    auto input = [&](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; };
+    for (int v = 0; v < p.num_input_vertices; ++v)
+        for (int c = 0; c < channels; ++c)
+            if (!std::isfinite(input(v, c)))
+                fail("vertex " + std::to_string(v) + " has a non-finite value (" + std::to_string(input(v, c)) + ") in channel " +
+                     std::to_string(c));
 
     const int levels = p.options.levels;
     if (levels == 0) {
-        for (int c = 0; c < in.num_channels; ++c)
-            for (int v = 0; v < p.num_input_vertices; ++v)
-                out.data[c * out.channel_stride + v * out.element_stride] = in.data[c * in.channel_stride + v * in.element_stride];
+        for (int v = 0; v < p.num_input_vertices; ++v)
+            for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = input(v, c);
+        p.evaluate_ms = ms_since(start);
+        return;
     }
-    const detail::RefineFn refine = detail::refine_function(p.kernel);
-    const int threads = std::max(1, p.options.threads);
-    ChannelsView<const float> source = in;
+
+    // Levels are refined in quads: a vertex's channels side by side, padded with zeros to a multiple of four, so
+    // that a kernel fetches every channel of a neighbour with one aligned 16-byte load (kernels_quads.h); with
+    // gathers from planar arrays each channel of each neighbour is a load of its own, measured 1.7x slower
+    // (docs/benchmark.md). The padding refines like a channel (zeros stay zeros); the last level is written
+    // straight into `out`. Level l reads scratch[(l + 1) % 2] and writes scratch[l % 2].
+    const std::size_t padded = (std::size_t(channels) + 3) / 4 * 4;
+    std::size_t needed[2] = {0, 0};
+    needed[1] = std::size_t(p.num_input_vertices);
+    for (int l = 0; l + 1 < levels; ++l) needed[l % 2] = std::max(needed[l % 2], std::size_t(p.level_num_vertices[l + 1]));
+    for (int b = 0; b < 2; ++b) p.scratch[b].resize(needed[b] * padded);
+    auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
+    const ChannelsView<float> first = quads(1);
+    for (int v = 0; v < p.num_input_vertices; ++v)
+        for (std::size_t c = 0; c < padded; ++c) first.data[v * padded + c] = c < std::size_t(channels) ? input(v, int(c)) : 0.0f;
+
+    std::vector<ChannelsView<const float>> sources(levels);
+    std::vector<ChannelsView<float>> targets(levels);
     for (int l = 0; l < levels; ++l) {
-        const detail::LevelStencils& s = p.stencils[l];
-        ChannelsView<float> target = out;
-        if (l + 1 < levels) {
-            // Intermediate levels are planar (structure of arrays), alternating between two scratch buffers.
-            detail::LargeVector<float>& buffer = p.scratch[l % 2];
-            const std::size_t n = std::size_t(p.level_num_vertices[l + 1]);
-            buffer.resize(n * in.num_channels);
-            target = {buffer.data(), in.num_channels, n, 1};
-        }
-        // Small levels are not worth a thread's start-up.
-        const int parts = s.num_vertices + s.num_edges < 4096 ? 1 : threads;
-        auto split = [parts](int n, int i) { return int(std::int64_t(n) * i / parts); };
-        run_in_parts(parts, [&](int i) {
-            refine(s, source, target, {split(s.num_vertices, i), split(s.num_vertices, i + 1)},
-                   {split(s.num_edges, i), split(s.num_edges, i + 1)});
-        });
-        source = {target.data, target.num_channels, target.channel_stride, target.element_stride};
+        sources[l] = quads((l + 1) % 2);
+        targets[l] = l + 1 < levels ? quads(l % 2) : out;
     }
+    sources[levels - 1].num_channels = channels;  // the padding stays behind
+
+    const detail::RefineFn refine = detail::refine_function(p.kernel);
+    run_levels(std::max(1, p.options.threads), levels, [&](int level, int part, int parts) {
+        const detail::LevelStencils& s = p.stencils[level];
+        // Small levels are not worth splitting.
+        if (s.num_vertices + s.num_edges < 4096) {
+            if (part == 0) refine(s, sources[level], targets[level], {0, s.num_vertices}, {0, s.num_edges});
+            return;
+        }
+        auto split = [parts](int n, int i) { return int(std::int64_t(n) * i / parts); };
+        refine(s, sources[level], targets[level], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
+               {split(s.num_edges, part), split(s.num_edges, part + 1)});
+    });
     p.evaluate_ms = ms_since(start);
 }
 
