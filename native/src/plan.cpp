@@ -291,7 +291,7 @@ bool is_smooth_edge_mask(const detail::EdgeMask& m) { return m.a == 0.375 && m.b
 
 void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_last) {
     Topology& t = level.topology;
-    const int nv = t.num_vertices, ne = t.num_edges(), nf = t.num_faces();
+    const int nv = t.num_vertices, ne = t.num_edges();
     const bool hoppe = options.rules == Rules::Hoppe94;
     const bool chaikin = options.crease_method == CreaseMethod::Chaikin;
     child.topology = detail::refine_topology(t, child_is_last);
@@ -300,12 +300,8 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
     detail::LevelStencils& s = stencils.emplace_back();
     s.num_vertices = nv;
     s.num_edges = ne;
-    s.ring.resize(t.vertex_edges.size());
     int max_valence = 0;
-    for (int v = 0; v < nv; ++v) {
-        max_valence = std::max(max_valence, t.valence(v));
-        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) s.ring[k] = t.other_end(t.vertex_edges[k], v);
-    }
+    for (int v = 0; v < nv; ++v) max_valence = std::max(max_valence, t.valence(v));
     s.smooth_self.resize(max_valence + 1);
     s.smooth_ring.resize(max_valence + 1);
     for (int n = 0; n <= max_valence; ++n) {
@@ -406,20 +402,8 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
 
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
     // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
-    s.edge_a.resize(ne), s.edge_b.resize(ne), s.edge_c.resize(ne), s.edge_d.resize(ne);
-    for (int e = 0; e < ne; ++e) {
-        s.edge_a[e] = s.edge_c[e] = t.edge_vertices[2 * e];
-        s.edge_b[e] = s.edge_d[e] = t.edge_vertices[2 * e + 1];
-    }
-    for (int f = 0; f < nf; ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const Index e = t.face_edges[3 * f + k];
-            const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
-            const Index opposite = t.face_vertices[3 * f + (k == 0 ? 2 : k - 1)];
-            if (faces[0] == f) s.edge_c[e] = opposite;
-            else if (t.edge_face_count(e) > 1 && faces[1] == f) s.edge_d[e] = opposite;
-        }
-    }
+    s.edge_a.resize(ne), s.edge_b.resize(ne);
+    for (int e = 0; e < ne; ++e) s.edge_a[e] = t.edge_vertices[2 * e], s.edge_b[e] = t.edge_vertices[2 * e + 1];
     for (int e = 0; e < ne; ++e) {
         const float sharpness = level.edge_sharpness_at(e);
         if (!detail::is_sharp(sharpness)) continue;
@@ -447,6 +431,9 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
 
     // The level's connectivity is not needed any more: hand its arrays over rather than copy them.
     s.ring_offsets = std::move(t.vertex_edge_offsets);
+    s.ring = std::move(t.vertex_vertices);
+    s.edge_c = std::move(t.edge_opposite_c);
+    s.edge_d = std::move(t.edge_opposite_d);
     level_edges.emplace_back(t.edge_vertices.begin(), t.edge_vertices.end());
 }
 

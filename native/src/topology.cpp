@@ -41,6 +41,22 @@ void fill_vertex_edges(Topology& t) {
     }
 }
 
+// The winged-edge neighbourhood by lookup, for the base level (refined levels derive it).
+void fill_neighbourhood(Topology& t) {
+    t.vertex_vertices.resize(t.vertex_edges.size());
+    for (int v = 0; v < t.num_vertices; ++v)
+        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) t.vertex_vertices[k] = t.other_end(t.vertex_edges[k], v);
+    const int ne = t.num_edges();
+    t.edge_opposite_c.resize(ne);
+    t.edge_opposite_d.resize(ne);
+    for (int e = 0; e < ne; ++e) {
+        const int faces = t.edge_face_count(e);
+        const Index* f = &t.edge_faces[t.edge_face_offsets[e]];
+        t.edge_opposite_c[e] = faces > 0 ? t.opposite_vertex(f[0], e) : t.edge_vertices[2 * e];
+        t.edge_opposite_d[e] = faces > 1 ? t.opposite_vertex(f[1], e) : t.edge_vertices[2 * e + 1];
+    }
+}
+
 }  // namespace
 
 Index Topology::opposite_vertex(Index f, Index e) const {
@@ -104,6 +120,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     }
     fill_edge_faces(t);
     fill_vertex_edges(t);
+    fill_neighbourhood(t);
     return t;
 }
 
@@ -162,24 +179,41 @@ Topology refine_topology(const Topology& p, bool faces_only) {
     }
     for (int k = interior_base; k < c.num_edges(); ++k) c.edge_face_offsets[k + 1] = c.edge_face_offsets[k] + 2;
     c.edge_faces.resize(c.edge_face_offsets.back());
+    // Opposite vertices: a half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there;
+    // interior edge k lies opposite v_{k+1} in its corner child and opposite m_{k-1} in the middle child.
+    c.edge_opposite_c.resize(c.num_edges());
+    c.edge_opposite_d.resize(c.num_edges());
     for (int e = 0; e < ne; ++e) {
         Index* at_a = &c.edge_faces[c.edge_face_offsets[2 * e]];
         Index* at_b = &c.edge_faces[c.edge_face_offsets[2 * e + 1]];
-        const Index a = p.edge_vertices[2 * e];
-        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+        const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
+        Index opposite_at_a[2] = {a, m}, opposite_at_b[2] = {m, b};  // (c, d) when faces are missing
+        int face = 0;
+        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k, ++face) {
             const Index f = p.edge_faces[k];
             const Index* fe = &p.face_edges[3 * f];
             const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;  // edge `local` runs from corner local to local+1
             const bool a_first = p.face_vertices[3 * f + local] == a;
             *at_a++ = 4 * f + (a_first ? local : next_corner(local));
             *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
+            if (face < 2) {
+                const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
+                opposite_at_a[face] = a_first ? before : after;
+                opposite_at_b[face] = a_first ? after : before;
+            }
         }
+        c.edge_opposite_c[2 * e] = opposite_at_a[0], c.edge_opposite_d[2 * e] = opposite_at_a[1];
+        c.edge_opposite_c[2 * e + 1] = opposite_at_b[0], c.edge_opposite_d[2 * e + 1] = opposite_at_b[1];
     }
     for (int f = 0; f < nf; ++f) {
+        const Index* fe = &p.face_edges[3 * f];
         for (int k = 0; k < 3; ++k) {
-            Index* faces = &c.edge_faces[c.edge_face_offsets[interior_base + 3 * f + k]];
+            const Index edge = interior_base + 3 * f + k;
+            Index* faces = &c.edge_faces[c.edge_face_offsets[edge]];
             faces[0] = 4 * f + next_corner(k);
             faces[1] = 4 * f + 3;
+            c.edge_opposite_c[edge] = p.face_vertices[3 * f + next_corner(k)];
+            c.edge_opposite_d[edge] = nv + fe[prev_corner(k)];
         }
     }
 
@@ -190,20 +224,28 @@ Topology refine_topology(const Topology& p, bool faces_only) {
     for (int v = 0; v < nv; ++v) c.vertex_edge_offsets[v + 1] = c.vertex_edge_offsets[v] + p.valence(v);
     for (int e = 0; e < ne; ++e) c.vertex_edge_offsets[nv + e + 1] = c.vertex_edge_offsets[nv + e] + 2 + 2 * p.edge_face_count(e);
     c.vertex_edges.resize(c.vertex_edge_offsets.back());
+    c.vertex_vertices.resize(c.vertex_edges.size());
     for (int v = 0; v < nv; ++v) {
-        Index* out = &c.vertex_edges[c.vertex_edge_offsets[v]];
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *out++ = child_edge_at(p, p.vertex_edges[k], v);
+        Index* edges = &c.vertex_edges[c.vertex_edge_offsets[v]];
+        Index* neighbours = &c.vertex_vertices[c.vertex_edge_offsets[v]];
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) {
+            *edges++ = child_edge_at(p, p.vertex_edges[k], v);
+            *neighbours++ = nv + p.vertex_edges[k];
+        }
     }
     for (int e = 0; e < ne; ++e) {
-        Index* out = &c.vertex_edges[c.vertex_edge_offsets[nv + e]];
-        *out++ = 2 * e;
-        *out++ = 2 * e + 1;
+        Index* edges = &c.vertex_edges[c.vertex_edge_offsets[nv + e]];
+        Index* neighbours = &c.vertex_vertices[c.vertex_edge_offsets[nv + e]];
+        *edges++ = 2 * e, *neighbours++ = p.edge_vertices[2 * e];
+        *edges++ = 2 * e + 1, *neighbours++ = p.edge_vertices[2 * e + 1];
         for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
             const Index f = p.edge_faces[k];
             const Index* fe = &p.face_edges[3 * f];
             const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
-            *out++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
-            *out++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
+            *edges++ = interior_base + 3 * f + local;  // joins midpoints local and local + 1
+            *neighbours++ = nv + fe[next_corner(local)];
+            *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
+            *neighbours++ = nv + fe[prev_corner(local)];
         }
     }
     return c;

@@ -20,6 +20,10 @@ struct Topology {
     LargeVector<Index> edge_face_offsets, edge_faces;
     // Edges of vertex v: vertex_edges[vertex_edge_offsets[v] .. vertex_edge_offsets[v + 1]).
     LargeVector<Index> vertex_edge_offsets, vertex_edges;
+    // The winged-edge neighbourhood the masks read (seed slide 19): vertex_vertices[k] is the other end of
+    // vertex_edges[k]; edge_opposite_c / _d[e] are the vertices opposite edge e in its first and second face
+    // (its own first / second vertex where the face is missing).
+    LargeVector<Index> vertex_vertices, edge_opposite_c, edge_opposite_d;
 
     int num_faces() const { return int(face_vertices.size() / 3); }
     int num_edges() const { return int(edge_vertices.size() / 2); }
@@ -39,7 +43,8 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
 // Child connectivity of one Loop split, derived from the parent without any search: vertex v stays v, edge e
 // gives vertex (num_vertices + e) and child edges 2e (at its first vertex) and 2e + 1; face f gives child faces
 // 4f + k (corner k for k < 3, the middle one last) and interior edges 2 * num_edges + 3f + k joining the
-// midpoints of face edges k and k + 1. With faces_only, only face_vertices is filled (the last level).
+// midpoints of face edges k and k + 1. The winged-edge neighbourhood follows from the same numbering, without
+// lookups. With faces_only, only face_vertices is filled (the last level).
 Topology refine_topology(const Topology& parent, bool faces_only);
 
 // Child edge of parent edge e at its end vertex v.
