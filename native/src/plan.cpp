@@ -170,20 +170,29 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
     for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone " + std::to_string(k));
 }
 
+// A sharp or tagged edge or vertex. Most of a mesh is smooth and untagged, so a level keeps only these, sorted by
+// index: a creased model at level 4 has a few hundred of them among a million edges.
+struct Feature {
+    Index index;
+    float sharpness;  // OpenSubdiv: the current sharpness; Hoppe94: infinite on creases and corners, else 0
+    float tag;        // the crease or corner tag carried into the output (0: none)
+    bool operator<(const Feature& other) const { return index < other.index; }
+};
+
+const Feature* find_feature(const std::vector<Feature>& features, Index index) {
+    const auto found = std::lower_bound(features.begin(), features.end(), Feature{index, 0.0f, 0.0f});
+    return found != features.end() && found->index == index ? &*found : nullptr;
+}
+
 // What one level knows besides its connectivity.
 struct LevelState {
     Topology topology;
-    detail::LargeVector<float> edge_sharpness;    // OpenSubdiv: current sharpness; Hoppe94: infinite on creases, else 0
-    detail::LargeVector<float> vertex_sharpness;  // likewise (Hoppe94: infinite on corners)
-    detail::LargeVector<float> edge_tag;          // the crease tag each edge carries into the output (0: none)
-    detail::LargeVector<float> vertex_tag;        // the corner tag each vertex carries into the output (0: none)
-    // A refined level stores these only for the halves of the parent's edges and for the parent's vertices (the
-    // leading indices): the rest are smooth and untagged.
-    static float at(const detail::LargeVector<float>& values, Index i) { return std::size_t(i) < values.size() ? values[i] : 0.0f; }
-    float edge_sharpness_at(Index e) const { return at(edge_sharpness, e); }
-    float vertex_sharpness_at(Index v) const { return at(vertex_sharpness, v); }
-    float edge_tag_at(Index e) const { return at(edge_tag, e); }
-    float vertex_tag_at(Index v) const { return at(vertex_tag, v); }
+    std::vector<Feature> edges, vertices;
+
+    float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }
+    float edge_tag(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->tag : 0.0f; }
+    float vertex_sharpness(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->sharpness : 0.0f; }
+    float vertex_tag(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->tag : 0.0f; }
 };
 
 }  // namespace
@@ -200,7 +209,7 @@ struct PlanImpl {
     detail::LargeVector<Index> output_triangles, output_parents;
     std::vector<Index> output_crease_edges, output_corner_vertices;
     std::vector<float> output_crease_sharpness, output_corner_sharpness;
-    std::vector<std::uint8_t> cone;  // Hoppe94 cone tags of the input vertices
+    std::vector<Index> cones;  // Hoppe94: the vertices tagged as cones, sorted
     detail::LargeVector<float> scratch[2];
     double topology_ms = 0.0, evaluate_ms = 0.0;
 
@@ -217,19 +226,22 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     const Topology& t = level.topology;
     const bool hoppe = options.rules == Rules::Hoppe94;
 
-    level.edge_tag.assign(t.num_edges(), 0.0f);
+    std::vector<float> edge_tag(t.num_edges(), 0.0f);
     for (int k = 0; k < mesh.num_crease_edges; ++k) {
         const Index a = mesh.crease_edges[2 * k], b = mesh.crease_edges[2 * k + 1];
         const Index e = a == b ? -1 : find_edge(t, a, b);
         if (e < 0)
             fail("crease edge " + std::to_string(k) + " (" + std::to_string(a) + ", " + std::to_string(b) +
                  ") is not an edge of the mesh");
-        level.edge_tag[e] = mesh.crease_sharpness[k];  // a repeated tag overrides, as in OpenSubdiv
+        edge_tag[e] = mesh.crease_sharpness[k];  // a repeated tag overrides, as in OpenSubdiv
     }
-    level.vertex_tag.assign(t.num_vertices, 0.0f);
-    for (int k = 0; k < mesh.num_corners; ++k) level.vertex_tag[mesh.corner_vertices[k]] = mesh.corner_sharpness[k];
-    cone.assign(t.num_vertices, 0);
-    for (int k = 0; k < mesh.num_cones; ++k) cone[mesh.cone_vertices[k]] = 1;
+    std::vector<float> vertex_tag(t.num_vertices, 0.0f);
+    for (int k = 0; k < mesh.num_corners; ++k) vertex_tag[mesh.corner_vertices[k]] = mesh.corner_sharpness[k];
+    if (hoppe) {
+        cones.assign(mesh.cone_vertices, mesh.cone_vertices + mesh.num_cones);
+        std::sort(cones.begin(), cones.end());
+        cones.erase(std::unique(cones.begin(), cones.end()), cones.end());
+    }
 
     // Boundary and non-manifold edges are infinitely sharp; so are non-manifold vertices (unless they sit on
     // exactly two edges with more than two faces: a non-manifold crease; OpenSubdiv 3.5 does not count edges
@@ -237,16 +249,15 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     // face. Both rule sets share this (Far's prepareComponentTagsAndSharpness for OpenSubdiv).
     const std::vector<std::uint8_t> non_manifold_edge = detail::non_manifold_edges(t);
     const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge);
-    level.edge_sharpness.resize(t.num_edges());
     for (int e = 0; e < t.num_edges(); ++e) {
-        const float tag = level.edge_tag[e];
+        const float tag = edge_tag[e];
         const bool crease = hoppe ? tag > 0.0f && tag >= options.crease_threshold : tag > 0.0f;
-        const float sharpness = hoppe ? (crease ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
-        level.edge_sharpness[e] = t.edge_face_count(e) < 2 || non_manifold_edge[e] ? kInfiniteSharpness : sharpness;
+        float sharpness = hoppe ? (crease ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
+        if (t.edge_face_count(e) < 2 || non_manifold_edge[e]) sharpness = kInfiniteSharpness;
+        if (sharpness > 0.0f || tag != 0.0f) level.edges.push_back({Index(e), sharpness, tag});
     }
-    level.vertex_sharpness.resize(t.num_vertices);
     for (int v = 0; v < t.num_vertices; ++v) {
-        const float tag = level.vertex_tag[v];
+        const float tag = vertex_tag[v];
         float sharpness = hoppe ? (tag > 0.0f ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
         int faces = 0, fins = 0;
         for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
@@ -257,7 +268,7 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
         const bool single_face_corner = t.valence(v) == 2 && faces == 2;
         if (single_face_corner && options.boundary == Boundary::EdgesAndCorners) sharpness = kInfiniteSharpness;
         else if (non_manifold_vertex[v] && fins != 2) sharpness = kInfiniteSharpness;
-        level.vertex_sharpness[v] = sharpness;
+        if (sharpness > 0.0f || tag != 0.0f) level.vertices.push_back({Index(v), sharpness, tag});
     }
     return level;
 }
@@ -310,40 +321,29 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
         s.smooth_ring[n] = float(m.ring);
     }
 
-    // Child sharpness: the halves of each edge get theirs at their own end vertex (Chaikin looks at the other
-    // edges there) and old vertices decay. Edges inside faces and vertices on edges start smooth, so only the
-    // halves and the old vertices are stored.
-    child.edge_sharpness.assign(std::size_t(2) * ne, 0.0f);
-    child.edge_tag.assign(child.edge_sharpness.size(), 0.0f);
-    child.vertex_sharpness.assign(nv, 0.0f);
-    child.vertex_tag.assign(nv, 0.0f);
+    // Only vertices next to a feature (or cones) can differ from the smooth pass. Child features: the halves of
+    // each edge get their sharpness at their own end vertex (Chaikin looks at the other edges there), old vertices
+    // decay; edges inside faces and vertices on edges start smooth.
+    std::vector<Index> touched;
+    touched.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
+    for (const Feature& f : level.edges) touched.insert(touched.end(), {t.edge_vertices[2 * f.index], t.edge_vertices[2 * f.index + 1]});
+    for (const Feature& f : level.vertices) touched.push_back(f.index);
+    for (Index v : cones) if (v < nv) touched.push_back(v);
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
 
     std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     std::vector<float> parent_sharpness, child_sharpness;  // around one vertex
-    for (int v = 0; v < nv; ++v) {
+    for (Index v : touched) {
         const Index first = t.vertex_edge_offsets[v];
         const int valence = t.valence(v);
-        const float vertex_sharpness = level.vertex_sharpness_at(v);
-        bool sharp_around = detail::is_sharp(vertex_sharpness);
-        for (int k = 0; k < valence && !sharp_around; ++k) sharp_around = detail::is_sharp(level.edge_sharpness_at(t.vertex_edges[first + k]));
-        const bool tagged_cone = hoppe && v < num_input_vertices && cone[v];
-        if (!sharp_around) {
-            // Most vertices: smooth, nothing decays, the kernels' smooth pass is their mask.
-            if (tagged_cone) {
-                types[v] = VertexType::Cone;
-                const detail::VertexMask m = detail::cone_vertex_mask(valence);
-                s.special_vertices.push_back({Index(v), Index(v), Index(v), float(m.self), float(m.ring), 0.0f});
-            }
-            continue;
-        }
-
         parent_sharpness.resize(valence);
         child_sharpness.resize(valence);
         int sharp_edges = 0, child_sharp_edges = 0;
         Index crease[2] = {-1, -1}, child_crease[2] = {-1, -1};
         for (int k = 0; k < valence; ++k) {
             const Index e = t.vertex_edges[first + k];
-            parent_sharpness[k] = level.edge_sharpness_at(e);
+            parent_sharpness[k] = level.edge_sharpness(e);
             if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = e;
         }
         for (int k = 0; k < valence; ++k) {
@@ -353,16 +353,17 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
                                             : detail::decrement_sharpness(parent_sharpness[k]);
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
-            const Index half = detail::child_edge_at(t, e, v);
-            child.edge_sharpness[half] = decayed;
-            const float tag = level.edge_tag_at(e);
-            child.edge_tag[half] = hoppe || tag == 0.0f ? tag : decayed;
+            const float tag = level.edge_tag(e);
+            const float child_tag = hoppe || tag == 0.0f ? tag : decayed;
+            if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({detail::child_edge_at(t, e, v), decayed, child_tag});
         }
+        const float vertex_sharpness = level.vertex_sharpness(v);
         const float child_vertex_sharpness = hoppe ? vertex_sharpness : detail::decrement_sharpness(vertex_sharpness);
-        child.vertex_sharpness[v] = child_vertex_sharpness;
-        const float vertex_tag = level.vertex_tag_at(v);
-        child.vertex_tag[v] = hoppe || vertex_tag == 0.0f ? vertex_tag : child_vertex_sharpness;
+        const float vertex_tag = level.vertex_tag(v);
+        const float child_vertex_tag = hoppe || vertex_tag == 0.0f ? vertex_tag : child_vertex_sharpness;
+        if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) child.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
 
+        const bool tagged_cone = hoppe && std::binary_search(cones.begin(), cones.end(), v);
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, sharp_edges);
         switch (rule) {
             case detail::SdcRule::Smooth: types[v] = tagged_cone ? VertexType::Cone : VertexType::Smooth; break;
@@ -394,18 +395,19 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
         const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
             const bool has_ends = mask.crease != 0.0;
-            s.special_vertices.push_back({Index(v), has_ends ? t.other_end(ends[0], v) : Index(v),
-                                          has_ends ? t.other_end(ends[1], v) : Index(v), float(mask.self), float(mask.ring),
-                                          float(mask.crease)});
+            s.special_vertices.push_back({v, has_ends ? t.other_end(ends[0], v) : v, has_ends ? t.other_end(ends[1], v) : v,
+                                          float(mask.self), float(mask.ring), float(mask.crease)});
         }
     }
+    std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
 
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
     // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
     s.edge_a.resize(ne), s.edge_b.resize(ne);
     for (int e = 0; e < ne; ++e) s.edge_a[e] = t.edge_vertices[2 * e], s.edge_b[e] = t.edge_vertices[2 * e + 1];
-    for (int e = 0; e < ne; ++e) {
-        const float sharpness = level.edge_sharpness_at(e);
+    for (const Feature& feature : level.edges) {
+        const Index e = feature.index;
+        const float sharpness = feature.sharpness;
         if (!detail::is_sharp(sharpness)) continue;
         const Index a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
         detail::EdgeMask mask = detail::crease_edge_mask();
@@ -420,13 +422,13 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
         } else if (!detail::is_infinite(sharpness)) {
             // The new vertex's rule comes from its two halves; short of a crease, the smooth mask is blended
             // with the crease mask by the parent's sharpness (Sdc::Scheme::ComputeEdgeVertexMask).
-            const bool child_crease = detail::is_sharp(child.edge_sharpness[2 * e]) && detail::is_sharp(child.edge_sharpness[2 * e + 1]);
+            const bool child_crease = detail::is_sharp(child.edge_sharpness(2 * e)) && detail::is_sharp(child.edge_sharpness(2 * e + 1));
             if (!child_crease) {
                 const double w = sharpness;
                 mask = {w * 0.5 + (1.0 - w) * 0.375, w * 0.5 + (1.0 - w) * 0.375, (1.0 - w) * 0.125};
             }
         }
-        if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({Index(e), float(mask.a), float(mask.b), float(mask.wings)});
+        if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
 
     // The level's connectivity is not needed any more: hand its arrays over rather than copy them.
@@ -438,31 +440,26 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
 }
 
 void PlanImpl::collect_output_tags(const LevelState& last) {
-    // The last level's edges were not built; its tagged edges are the halves of the previous level's edges,
-    // whose endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b)).
-    if (!level_edges.empty()) {
-        const std::vector<Index>& parent_edges = level_edges.back();
-        const Index parent_vertices = level_num_vertices[level_num_vertices.size() - 2];
-        for (std::size_t half = 0; half < last.edge_tag.size() && half < parent_edges.size(); ++half) {
-            if (last.edge_tag[half] <= 0.0f) continue;
-            const Index e = Index(half / 2), m = parent_vertices + e;
-            output_crease_edges.push_back(half % 2 == 0 ? parent_edges[2 * e] : m);
-            output_crease_edges.push_back(half % 2 == 0 ? m : parent_edges[2 * e + 1]);
-            output_crease_sharpness.push_back(last.edge_tag[half]);
+    // The last level's edges were not built; its tagged edges are halves of the previous level's edges, whose
+    // endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b), m the midpoint of e).
+    const std::vector<Index>* parent_edges = level_edges.empty() ? nullptr : &level_edges.back();
+    const Index parent_vertices = parent_edges ? level_num_vertices[level_num_vertices.size() - 2] : 0;
+    for (const Feature& f : last.edges) {
+        if (f.tag <= 0.0f) continue;
+        if (parent_edges) {
+            const Index e = f.index / 2, m = parent_vertices + e;
+            output_crease_edges.push_back(f.index % 2 == 0 ? (*parent_edges)[2 * e] : m);
+            output_crease_edges.push_back(f.index % 2 == 0 ? m : (*parent_edges)[2 * e + 1]);
+        } else {
+            output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index]);
+            output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index + 1]);
         }
-    } else {
-        const detail::LargeVector<Index>& edges = last.topology.edge_vertices;
-        for (std::size_t e = 0; e < last.edge_tag.size(); ++e) {
-            if (last.edge_tag[e] <= 0.0f) continue;
-            output_crease_edges.push_back(edges[2 * e]);
-            output_crease_edges.push_back(edges[2 * e + 1]);
-            output_crease_sharpness.push_back(last.edge_tag[e]);
-        }
+        output_crease_sharpness.push_back(f.tag);
     }
-    for (std::size_t v = 0; v < last.vertex_tag.size(); ++v) {
-        if (last.vertex_tag[v] <= 0.0f) continue;
-        output_corner_vertices.push_back(Index(v));
-        output_corner_sharpness.push_back(last.vertex_tag[v]);
+    for (const Feature& f : last.vertices) {
+        if (f.tag <= 0.0f) continue;
+        output_corner_vertices.push_back(f.index);
+        output_corner_sharpness.push_back(f.tag);
     }
 }
 
