@@ -203,10 +203,14 @@ struct PlanImpl {
     int num_input_vertices = 0;
     int num_input_triangles = 0;
     std::vector<int> level_num_vertices;
-    std::vector<std::vector<Index>> level_edges;
+    // Computed on first request: only tests and tools that map vertices across levels ask for them.
+    mutable std::vector<std::vector<Index>> level_edges;
+    mutable std::vector<std::once_flag> level_edges_ready;
     std::vector<std::vector<VertexType>> level_vertex_types;
     std::vector<detail::LevelStencils> stencils;
-    detail::LargeVector<Index> output_triangles, output_parents;
+    detail::LargeVector<Index> output_triangles;
+    mutable detail::LargeVector<Index> output_parents;  // on first request
+    mutable std::once_flag output_parents_ready;
     std::vector<Index> output_crease_edges, output_corner_vertices;
     std::vector<float> output_crease_sharpness, output_corner_sharpness;
     std::vector<Index> cones;  // Hoppe94: the vertices tagged as cones, sorted
@@ -436,20 +440,18 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
     s.ring = std::move(t.vertex_vertices);
     s.edge_c = std::move(t.edge_opposite_c);
     s.edge_d = std::move(t.edge_opposite_d);
-    level_edges.emplace_back(t.edge_vertices.begin(), t.edge_vertices.end());
 }
 
 void PlanImpl::collect_output_tags(const LevelState& last) {
     // The last level's edges were not built; its tagged edges are halves of the previous level's edges, whose
     // endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b), m the midpoint of e).
-    const std::vector<Index>* parent_edges = level_edges.empty() ? nullptr : &level_edges.back();
-    const Index parent_vertices = parent_edges ? level_num_vertices[level_num_vertices.size() - 2] : 0;
+    const detail::LevelStencils* parent = stencils.empty() ? nullptr : &stencils.back();
     for (const Feature& f : last.edges) {
         if (f.tag <= 0.0f) continue;
-        if (parent_edges) {
-            const Index e = f.index / 2, m = parent_vertices + e;
-            output_crease_edges.push_back(f.index % 2 == 0 ? (*parent_edges)[2 * e] : m);
-            output_crease_edges.push_back(f.index % 2 == 0 ? m : (*parent_edges)[2 * e + 1]);
+        if (parent) {
+            const Index e = f.index / 2, m = parent->num_vertices + e;
+            output_crease_edges.push_back(f.index % 2 == 0 ? parent->edge_a[e] : m);
+            output_crease_edges.push_back(f.index % 2 == 0 ? m : parent->edge_b[e]);
         } else {
             output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index]);
             output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index + 1]);
@@ -495,8 +497,8 @@ void PlanImpl::build(const MeshView& mesh) {
         level = std::move(child);
     }
     output_triangles = std::move(level.topology.face_vertices);
-    output_parents.resize(output_triangles.size() / 3);
-    for (std::size_t f = 0; f < output_parents.size(); ++f) output_parents[f] = Index(f >> (2 * options.levels));
+    level_edges.resize(options.levels);
+    level_edges_ready = std::vector<std::once_flag>(options.levels);
     collect_output_tags(level);
     topology_ms = ms_since(start);
 }
@@ -515,7 +517,15 @@ int Plan::num_input_vertices() const { return impl_->num_input_vertices; }
 int Plan::num_output_vertices() const { return impl_->level_num_vertices.back(); }
 int Plan::num_output_triangles() const { return int(impl_->output_triangles.size() / 3); }
 const std::int32_t* Plan::output_triangles() const { return impl_->output_triangles.data(); }
-const std::int32_t* Plan::output_parent_triangles() const { return impl_->output_parents.data(); }
+const std::int32_t* Plan::output_parent_triangles() const {
+    const PlanImpl& p = *impl_;
+    std::call_once(p.output_parents_ready, [&p] {
+        // Child triangle 4f + k of a level has parent f, so a level-L triangle descends from input triangle t / 4^L.
+        p.output_parents.resize(p.output_triangles.size() / 3);
+        for (std::size_t t = 0; t < p.output_parents.size(); ++t) p.output_parents[t] = Index(t >> (2 * p.options.levels));
+    });
+    return p.output_parents.data();
+}
 const std::vector<std::int32_t>& Plan::output_crease_edges() const { return impl_->output_crease_edges; }
 const std::vector<float>& Plan::output_crease_sharpness() const { return impl_->output_crease_sharpness; }
 const std::vector<std::int32_t>& Plan::output_corner_vertices() const { return impl_->output_corner_vertices; }
@@ -526,7 +536,14 @@ double Plan::last_evaluate_ms() const { return impl_->evaluate_ms; }
 
 const std::vector<std::int32_t>& Plan::level_edges(int level) const {
     if (level < 0 || level >= levels()) throw std::out_of_range("level_edges: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels() - 1));
-    return impl_->level_edges[level];
+    const PlanImpl& p = *impl_;
+    std::call_once(p.level_edges_ready[level], [&p, level] {
+        const detail::LevelStencils& s = p.stencils[level];
+        std::vector<Index>& edges = p.level_edges[level];
+        edges.resize(2 * std::size_t(s.num_edges));
+        for (int e = 0; e < s.num_edges; ++e) edges[2 * e] = s.edge_a[e], edges[2 * e + 1] = s.edge_b[e];
+    });
+    return p.level_edges[level];
 }
 int Plan::level_num_vertices(int level) const {
     if (level < 0 || level > levels()) throw std::out_of_range("level_num_vertices: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels()));
