@@ -220,7 +220,7 @@ struct PlanImpl {
     void build(const MeshView& mesh);
     LevelState base_level(const MeshView& mesh);
     // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
-    void plan_level(LevelState& level, LevelState& child, bool child_is_last);
+    void plan_level(LevelState& level, LevelState& child, int child_level);
     void collect_output_tags(const LevelState& last);
 };
 
@@ -304,13 +304,12 @@ bool is_smooth_edge_mask(const detail::EdgeMask& m) { return m.a == 0.375 && m.b
 
 }  // namespace
 
-void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_last) {
+void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level) {
+    const bool last_child = child_level == options.levels, grandchild_last = child_level + 1 == options.levels;
     Topology& t = level.topology;
     const int nv = t.num_vertices, ne = t.num_edges();
     const bool hoppe = options.rules == Rules::Hoppe94;
     const bool chaikin = options.crease_method == CreaseMethod::Chaikin;
-    child.topology = detail::refine_topology(t, child_is_last);
-    level_num_vertices.push_back(child.topology.num_vertices);
 
     detail::LevelStencils& s = stencils.emplace_back();
     s.num_vertices = nv;
@@ -405,6 +404,15 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, bool child_is_la
     }
     std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
 
+    // The last level needs only its triangles. The one before it needs its stencils, and its edge faces and
+    // vertex edges only to classify vertices next to features: without features, writing them is a third of
+    // the level's memory traffic for nothing.
+    const bool child_has_features = !child.edges.empty() || !child.vertices.empty() || !cones.empty();
+    child.topology = detail::refine_topology(
+        t, last_child ? detail::Refined::FacesOnly
+           : child_has_features || !grandchild_last ? detail::Refined::Full : detail::Refined::ForStencils);
+    level_num_vertices.push_back(child.topology.num_vertices);
+
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
     // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
     s.edge_a.resize(ne), s.edge_b.resize(ne);
@@ -493,7 +501,7 @@ void PlanImpl::build(const MeshView& mesh) {
 
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
-        plan_level(level, child, l + 1 == options.levels);
+        plan_level(level, child, l + 1);
         level = std::move(child);
     }
     output_triangles = std::move(level.topology.face_vertices);

@@ -124,7 +124,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     return t;
 }
 
-Topology refine_topology(const Topology& p, bool faces_only) {
+Topology refine_topology(const Topology& p, Refined what) {
     const int nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
     Topology c;
     c.num_vertices = nv + ne;
@@ -139,7 +139,8 @@ Topology refine_topology(const Topology& p, bool faces_only) {
         out[6] = v[2], out[7] = m2, out[8] = m1;
         out[9] = m0, out[10] = m1, out[11] = m2;
     }
-    if (faces_only) return c;
+    if (what == Refined::FacesOnly) return c;
+    const bool full = what == Refined::Full;
 
     const Index interior_base = 2 * ne;
     c.edge_vertices.resize(2 * (std::size_t(2 * ne) + 3 * std::size_t(nf)));
@@ -170,22 +171,24 @@ Topology refine_topology(const Topology& p, bool faces_only) {
 
     // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
     // edge k of face f lies in the corner child k + 1 and the middle child.
-    c.edge_face_offsets.resize(c.num_edges() + 1);
-    c.edge_face_offsets[0] = 0;
-    for (int e = 0; e < ne; ++e) {
-        const Index count = p.edge_face_count(e);
-        c.edge_face_offsets[2 * e + 1] = c.edge_face_offsets[2 * e] + count;
-        c.edge_face_offsets[2 * e + 2] = c.edge_face_offsets[2 * e + 1] + count;
+    if (full) {
+        c.edge_face_offsets.resize(c.num_edges() + 1);
+        c.edge_face_offsets[0] = 0;
+        for (int e = 0; e < ne; ++e) {
+            const Index count = p.edge_face_count(e);
+            c.edge_face_offsets[2 * e + 1] = c.edge_face_offsets[2 * e] + count;
+            c.edge_face_offsets[2 * e + 2] = c.edge_face_offsets[2 * e + 1] + count;
+        }
+        for (int k = interior_base; k < c.num_edges(); ++k) c.edge_face_offsets[k + 1] = c.edge_face_offsets[k] + 2;
+        c.edge_faces.resize(c.edge_face_offsets.back());
     }
-    for (int k = interior_base; k < c.num_edges(); ++k) c.edge_face_offsets[k + 1] = c.edge_face_offsets[k] + 2;
-    c.edge_faces.resize(c.edge_face_offsets.back());
     // Opposite vertices: a half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there;
     // interior edge k lies opposite v_{k+1} in its corner child and opposite m_{k-1} in the middle child.
     c.edge_opposite_c.resize(c.num_edges());
     c.edge_opposite_d.resize(c.num_edges());
     for (int e = 0; e < ne; ++e) {
-        Index* at_a = &c.edge_faces[c.edge_face_offsets[2 * e]];
-        Index* at_b = &c.edge_faces[c.edge_face_offsets[2 * e + 1]];
+        Index* at_a = full ? &c.edge_faces[c.edge_face_offsets[2 * e]] : nullptr;
+        Index* at_b = full ? &c.edge_faces[c.edge_face_offsets[2 * e + 1]] : nullptr;
         const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
         Index opposite_at_a[2] = {a, m}, opposite_at_b[2] = {m, b};  // (c, d) when faces are missing
         int face = 0;
@@ -194,8 +197,10 @@ Topology refine_topology(const Topology& p, bool faces_only) {
             const Index* fe = &p.face_edges[3 * f];
             const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;  // edge `local` runs from corner local to local+1
             const bool a_first = p.face_vertices[3 * f + local] == a;
-            *at_a++ = 4 * f + (a_first ? local : next_corner(local));
-            *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
+            if (full) {
+                *at_a++ = 4 * f + (a_first ? local : next_corner(local));
+                *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
+            }
             if (face < 2) {
                 const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
                 opposite_at_a[face] = a_first ? before : after;
@@ -209,9 +214,11 @@ Topology refine_topology(const Topology& p, bool faces_only) {
         const Index* fe = &p.face_edges[3 * f];
         for (int k = 0; k < 3; ++k) {
             const Index edge = interior_base + 3 * f + k;
-            Index* faces = &c.edge_faces[c.edge_face_offsets[edge]];
-            faces[0] = 4 * f + next_corner(k);
-            faces[1] = 4 * f + 3;
+            if (full) {
+                Index* faces = &c.edge_faces[c.edge_face_offsets[edge]];
+                faces[0] = 4 * f + next_corner(k);
+                faces[1] = 4 * f + 3;
+            }
             c.edge_opposite_c[edge] = p.face_vertices[3 * f + next_corner(k)];
             c.edge_opposite_d[edge] = nv + fe[prev_corner(k)];
         }
@@ -223,29 +230,31 @@ Topology refine_topology(const Topology& p, bool faces_only) {
     c.vertex_edge_offsets[0] = 0;
     for (int v = 0; v < nv; ++v) c.vertex_edge_offsets[v + 1] = c.vertex_edge_offsets[v] + p.valence(v);
     for (int e = 0; e < ne; ++e) c.vertex_edge_offsets[nv + e + 1] = c.vertex_edge_offsets[nv + e] + 2 + 2 * p.edge_face_count(e);
-    c.vertex_edges.resize(c.vertex_edge_offsets.back());
-    c.vertex_vertices.resize(c.vertex_edges.size());
+    c.vertex_vertices.resize(c.vertex_edge_offsets.back());
+    if (full) c.vertex_edges.resize(c.vertex_edge_offsets.back());
     for (int v = 0; v < nv; ++v) {
-        Index* edges = &c.vertex_edges[c.vertex_edge_offsets[v]];
         Index* neighbours = &c.vertex_vertices[c.vertex_edge_offsets[v]];
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) {
-            *edges++ = child_edge_at(p, p.vertex_edges[k], v);
-            *neighbours++ = nv + p.vertex_edges[k];
-        }
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *neighbours++ = nv + p.vertex_edges[k];
+        if (!full) continue;
+        Index* edges = &c.vertex_edges[c.vertex_edge_offsets[v]];
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
     }
     for (int e = 0; e < ne; ++e) {
-        Index* edges = &c.vertex_edges[c.vertex_edge_offsets[nv + e]];
         Index* neighbours = &c.vertex_vertices[c.vertex_edge_offsets[nv + e]];
-        *edges++ = 2 * e, *neighbours++ = p.edge_vertices[2 * e];
-        *edges++ = 2 * e + 1, *neighbours++ = p.edge_vertices[2 * e + 1];
+        Index* edges = full ? &c.vertex_edges[c.vertex_edge_offsets[nv + e]] : nullptr;
+        *neighbours++ = p.edge_vertices[2 * e];
+        *neighbours++ = p.edge_vertices[2 * e + 1];
+        if (full) *edges++ = 2 * e, *edges++ = 2 * e + 1;
         for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
             const Index f = p.edge_faces[k];
             const Index* fe = &p.face_edges[3 * f];
             const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
-            *edges++ = interior_base + 3 * f + local;  // joins midpoints local and local + 1
             *neighbours++ = nv + fe[next_corner(local)];
-            *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
             *neighbours++ = nv + fe[prev_corner(local)];
+            if (full) {
+                *edges++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
+                *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
+            }
         }
     }
     return c;

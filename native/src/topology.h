@@ -44,8 +44,13 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
 // gives vertex (num_vertices + e) and child edges 2e (at its first vertex) and 2e + 1; face f gives child faces
 // 4f + k (corner k for k < 3, the middle one last) and interior edges 2 * num_edges + 3f + k joining the
 // midpoints of face edges k and k + 1. The winged-edge neighbourhood follows from the same numbering, without
-// lookups. With faces_only, only face_vertices is filled (the last level).
-Topology refine_topology(const Topology& parent, bool faces_only);
+// lookups.
+enum class Refined {
+    Full,         // everything
+    ForStencils,  // no edge faces or vertex edges: a level whose vertices need no classification or further split
+    FacesOnly     // face_vertices only: the last level
+};
+Topology refine_topology(const Topology& parent, Refined what);
 
 // Child edge of parent edge e at its end vertex v.
 inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }
