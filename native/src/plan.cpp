@@ -614,7 +614,11 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         sources[l] = quads((l + 1) % 2);
         targets[l] = l + 1 < levels ? quads(l % 2) : out;
     }
-    sources[levels - 1].num_channels = channels;  // the padding stays behind
+    // The padding only serves the SIMD loads: the scalar kernel leaves it alone, and the last level drops it.
+    for (int l = 0; l < levels; ++l) {
+        if (p.kernel == Kernel::Scalar) sources[l].num_channels = targets[l].num_channels = channels;
+    }
+    sources[levels - 1].num_channels = channels;
 
     const detail::RefineFn refine = detail::refine_function(p.kernel);
     run_levels(std::max(1, p.options.threads), levels, [&](int level, int part, int parts) {
