@@ -187,6 +187,7 @@ const Feature* find_feature(const std::vector<Feature>& features, Index index) {
 // What one level knows besides its connectivity.
 struct LevelState {
     Topology topology;
+    bool own_neighbourhood = true;  // false: refined ForStencils, its vertex neighbourhoods come from its parent
     std::vector<Feature> edges, vertices;
 
     float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }
@@ -220,7 +221,7 @@ struct PlanImpl {
     void build(const MeshView& mesh);
     LevelState base_level(const MeshView& mesh);
     // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
-    void plan_level(LevelState& level, LevelState& child, int child_level);
+    void plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level);
     void collect_output_tags(const LevelState& last);
 };
 
@@ -281,15 +282,17 @@ namespace {
 
 // Regular crease vertex (RULES.md section 1): interior with valence 6 and three faces on each side of its
 // crease, or on the boundary with valence 4 and its two crease edges the boundary edges.
-bool is_regular_crease(const Topology& t, Index v, Index crease_a, Index crease_b) {
+bool is_regular_crease(const detail::VertexNeighbourhood& around, const std::vector<Index>& edges, Index v,
+                       Index crease_a, Index crease_b) {
     bool boundary = false;
-    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
-        const int faces = t.edge_face_count(t.vertex_edges[k]);
+    for (Index e : edges) {
+        const int faces = around.edge_face_count(e);
         if (faces > 2) return false;
         boundary |= faces == 1;
     }
-    if (boundary) return t.valence(v) == 4 && t.edge_face_count(crease_a) == 1 && t.edge_face_count(crease_b) == 1;
-    return t.valence(v) == 6 && detail::faces_between(t, v, crease_a, crease_b) == 3;
+    const std::size_t valence = edges.size();
+    if (boundary) return valence == 4 && around.edge_face_count(crease_a) == 1 && around.edge_face_count(crease_b) == 1;
+    return valence == 6 && around.faces_between(v, crease_a, crease_b) == 3;
 }
 
 detail::VertexMask mask_for_rule(detail::SdcRule rule, int valence) {
@@ -304,7 +307,7 @@ bool is_smooth_edge_mask(const detail::EdgeMask& m) { return m.a == 0.375 && m.b
 
 }  // namespace
 
-void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level) {
+void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level) {
     const bool last_child = child_level == options.levels, grandchild_last = child_level + 1 == options.levels;
     Topology& t = level.topology;
     const int nv = t.num_vertices, ne = t.num_edges();
@@ -336,21 +339,23 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level)
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
 
     std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
-    std::vector<float> parent_sharpness, child_sharpness;  // around one vertex
+    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
+    std::vector<Index> edges;  // around one vertex
+    std::vector<float> parent_sharpness, child_sharpness;
     for (Index v : touched) {
-        const Index first = t.vertex_edge_offsets[v];
-        const int valence = t.valence(v);
+        around.edges(v, edges);
+        const int valence = int(edges.size());
         parent_sharpness.resize(valence);
         child_sharpness.resize(valence);
         int sharp_edges = 0, child_sharp_edges = 0;
         Index crease[2] = {-1, -1}, child_crease[2] = {-1, -1};
         for (int k = 0; k < valence; ++k) {
-            const Index e = t.vertex_edges[first + k];
+            const Index e = edges[k];
             parent_sharpness[k] = level.edge_sharpness(e);
             if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = e;
         }
         for (int k = 0; k < valence; ++k) {
-            const Index e = t.vertex_edges[first + k];
+            const Index e = edges[k];
             const float decayed = hoppe ? parent_sharpness[k]
                                   : chaikin ? detail::chaikin_sharpness_at_vertex(parent_sharpness[k], parent_sharpness.data(), valence)
                                             : detail::decrement_sharpness(parent_sharpness[k]);
@@ -373,7 +378,7 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level)
             case detail::SdcRule::Dart: types[v] = tagged_cone ? VertexType::Cone : VertexType::Dart; break;
             case detail::SdcRule::Crease:
                 types[v] = tagged_cone ? VertexType::Corner
-                           : is_regular_crease(t, v, crease[0], crease[1]) ? VertexType::RegularCrease
+                           : is_regular_crease(around, edges, v, crease[0], crease[1]) ? VertexType::RegularCrease
                                                                            : VertexType::IrregularCrease;
                 break;
             case detail::SdcRule::Corner: types[v] = VertexType::Corner; break;
@@ -404,13 +409,12 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level)
     }
     std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
 
-    // The last level needs only its triangles. The one before it needs its stencils, and its edge faces and
-    // vertex edges only to classify vertices next to features: without features, writing them is a third of
-    // the level's memory traffic for nothing.
-    const bool child_has_features = !child.edges.empty() || !child.vertices.empty() || !cones.empty();
-    child.topology = detail::refine_topology(
-        t, last_child ? detail::Refined::FacesOnly
-           : child_has_features || !grandchild_last ? detail::Refined::Full : detail::Refined::ForStencils);
+    // The last level needs only its triangles. The one before it needs its stencils, but not its edge faces and
+    // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level.
+    child.topology = detail::refine_topology(t, last_child        ? detail::Refined::FacesOnly
+                                                : grandchild_last ? detail::Refined::ForStencils
+                                                                  : detail::Refined::Full);
+    child.own_neighbourhood = !grandchild_last;
     level_num_vertices.push_back(child.topology.num_vertices);
 
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
@@ -428,7 +432,7 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level)
             const auto irregular_or_corner = [](VertexType type) {
                 return type == VertexType::IrregularCrease || type == VertexType::Corner;
             };
-            if ((ta == VertexType::Dart || tb == VertexType::Dart) && t.edge_face_count(e) == 2) mask = detail::smooth_edge_mask();
+            if ((ta == VertexType::Dart || tb == VertexType::Dart) && around.edge_face_count(e) == 2) mask = detail::smooth_edge_mask();
             else if (ta == VertexType::RegularCrease && irregular_or_corner(tb)) mask = detail::five_three_edge_mask(true);
             else if (tb == VertexType::RegularCrease && irregular_or_corner(ta)) mask = detail::five_three_edge_mask(false);
         } else if (!detail::is_infinite(sharpness)) {
@@ -443,8 +447,8 @@ void PlanImpl::plan_level(LevelState& level, LevelState& child, int child_level)
         if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
 
-    // The level's connectivity is not needed any more: hand its arrays over rather than copy them.
-    s.ring_offsets = std::move(t.vertex_edge_offsets);
+    // Hand over what the stencils keep rather than copy it; the offsets stay, the next level may derive from them.
+    s.ring_offsets = t.vertex_edge_offsets;
     s.ring = std::move(t.vertex_vertices);
     s.edge_c = std::move(t.edge_opposite_c);
     s.edge_d = std::move(t.edge_opposite_d);
@@ -499,9 +503,11 @@ void PlanImpl::build(const MeshView& mesh) {
         throw MemoryLimitError(request + ", more than 32-bit indices can address (about " + describe_bytes(needed) + " would be needed)",
                                needed);
 
+    Topology parent;  // the level before `level`: the next-to-last level derives its neighbourhoods from it
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
-        plan_level(level, child, l + 1);
+        plan_level(level, parent, child, l + 1);
+        parent = std::move(level.topology);
         level = std::move(child);
     }
     output_triangles = std::move(level.topology.face_vertices);

@@ -330,3 +330,48 @@ int faces_between(const Topology& t, Index v, Index from, Index to) {
 }
 
 }  // namespace loopsub::detail
+
+namespace loopsub::detail {
+
+VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived)
+    : level_(level), parent_(parent_if_derived) {}
+
+void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
+    out.clear();
+    if (!parent_) {
+        out.assign(level_.vertex_edges.begin() + level_.vertex_edge_offsets[v], level_.vertex_edges.begin() + level_.vertex_edge_offsets[v + 1]);
+        return;
+    }
+    const Topology& p = *parent_;
+    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
+    if (v < nv) {
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) out.push_back(child_edge_at(p, p.vertex_edges[k], v));
+        return;
+    }
+    const Index e = v - nv;
+    out.push_back(2 * e);
+    out.push_back(2 * e + 1);
+    for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+        const Index f = p.edge_faces[k];
+        const Index* fe = &p.face_edges[3 * f];
+        const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
+        out.push_back(interior_base + 3 * f + local);
+        out.push_back(interior_base + 3 * f + prev_corner(local));
+    }
+}
+
+int VertexNeighbourhood::edge_face_count(Index e) const {
+    if (!parent_) return level_.edge_face_count(e);
+    return e < 2 * parent_->num_edges() ? parent_->edge_face_count(e / 2) : 2;
+}
+
+int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
+    if (!parent_) return detail::faces_between(level_, v, from, to);
+    // An old vertex's fan is its parent's, a child face per parent face; a midpoint sees three child faces of
+    // each parent face between its two halves.
+    if (v < parent_->num_vertices) return detail::faces_between(*parent_, v, from / 2, to / 2);
+    const Index e = v - parent_->num_vertices;
+    return (from == 2 * e && to == 2 * e + 1) || (from == 2 * e + 1 && to == 2 * e) ? 3 : -1;
+}
+
+}  // namespace loopsub::detail

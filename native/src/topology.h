@@ -52,6 +52,24 @@ enum class Refined {
 };
 Topology refine_topology(const Topology& parent, Refined what);
 
+// The connectivity around single vertices of a level, whether the level holds it (Refined::Full and the base) or
+// was refined ForStencils: then it is derived from the parent level through the numbering, as refine_topology
+// would have written it. Classifying the few vertices next to a crease needs no more.
+class VertexNeighbourhood {
+public:
+    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived);
+    // The edges of v, in the order of its vertex_vertices.
+    void edges(Index v, std::vector<Index>& out) const;
+    int edge_face_count(Index e) const;
+    // faces_between (below) on this level. Derived: for a midpoint, only between its two halves (the only edges
+    // at a midpoint that can be sharp); -1 otherwise.
+    int faces_between(Index v, Index from, Index to) const;
+
+private:
+    const Topology& level_;
+    const Topology* parent_;
+};
+
 // Child edge of parent edge e at its end vertex v.
 inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }
 
