@@ -62,7 +62,7 @@ inline void vertex_pair(const Tables& t, const QuadSource<Step>& in, const Out& 
 // Smooth edge points e and f (f = e + 1, or f = e for an odd last edge).
 template <std::size_t Step, typename Out>
 inline void edge_pair(const Tables& t, const QuadSource<Step>& in, const Out& out, int e, int f) {
-    const __m256 ends = _mm256_add_ps(load_pair(in, t.edge_a[e], t.edge_a[f]), load_pair(in, t.edge_b[e], t.edge_b[f]));
+    const __m256 ends = _mm256_add_ps(load_pair(in, t.edge_ends[2 * e], t.edge_ends[2 * f]), load_pair(in, t.edge_ends[2 * e + 1], t.edge_ends[2 * f + 1]));
     const __m256 wings = _mm256_add_ps(load_pair(in, t.edge_c[e], t.edge_c[f]), load_pair(in, t.edge_d[e], t.edge_d[f]));
     const __m256 point = _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), ends,
                                          _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));

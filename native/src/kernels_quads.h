@@ -81,12 +81,12 @@ inline QuadTarget quad_target(const ChannelsView<float>& out, int quad) {
 // The tables a pass reads, as plain pointers: vector stores may alias anything, so the compiler would otherwise
 // reload the data pointers of LevelStencils' vectors after every output.
 struct Tables {
-    const std::int32_t *ring_offsets, *ring, *edge_a, *edge_b, *edge_c, *edge_d;
+    const std::int32_t *ring_offsets, *ring, *edge_ends, *edge_c, *edge_d;
     const float *smooth_self, *smooth_ring;
     std::size_t first_edge_point;  // output element of edge point 0
 
     explicit Tables(const LevelStencils& s)
-        : ring_offsets(s.ring_offsets.data()), ring(s.ring.data()), edge_a(s.edge_a.data()), edge_b(s.edge_b.data()),
+        : ring_offsets(s.ring_offsets.data()), ring(s.ring.data()), edge_ends(s.edge_ends.data()),
           edge_c(s.edge_c.data()), edge_d(s.edge_d.data()), smooth_self(s.smooth_self.data()),
           smooth_ring(s.smooth_ring.data()), first_edge_point(std::size_t(s.num_vertices)) {}
 };

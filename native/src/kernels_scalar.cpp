@@ -44,11 +44,11 @@ void refine_scalar(const LevelStencils& s, ChannelsView<const float> in, Channel
 
         float* edge_out = q + std::size_t(s.num_vertices) * oe;
         for (int e = edges.begin; e < edges.end; ++e) {
-            edge_out[e * oe] = kSmoothEdgeEndWeight * (p[s.edge_a[e] * ie] + p[s.edge_b[e] * ie]) +
+            edge_out[e * oe] = kSmoothEdgeEndWeight * (p[s.edge_ends[2 * e] * ie] + p[s.edge_ends[2 * e + 1] * ie]) +
                                kSmoothEdgeWingWeight * (p[s.edge_c[e] * ie] + p[s.edge_d[e] * ie]);
         }
         for (const SpecialEdge* e = se_begin; e != se_end; ++e) {
-            edge_out[e->edge * oe] = e->wa * p[s.edge_a[e->edge] * ie] + e->wb * p[s.edge_b[e->edge] * ie] +
+            edge_out[e->edge * oe] = e->wa * p[s.edge_ends[2 * e->edge] * ie] + e->wb * p[s.edge_ends[2 * e->edge + 1] * ie] +
                                      e->wcd * (p[s.edge_c[e->edge] * ie] + p[s.edge_d[e->edge] * ie]);
         }
     }

@@ -46,7 +46,7 @@ inline void apply_specials(const LevelStencils& s, ChannelsView<const float> in,
         }
     }
     for (const SpecialEdge* e = se_begin; e != se_end; ++e) {
-        const std::size_t a = s.edge_a[e->edge] * ie, b = s.edge_b[e->edge] * ie;
+        const std::size_t a = s.edge_ends[2 * e->edge] * ie, b = s.edge_ends[2 * e->edge + 1] * ie;
         const std::size_t c = s.edge_c[e->edge] * ie, d = s.edge_d[e->edge] * ie;
         const std::size_t target = (std::size_t(s.num_vertices) + e->edge) * oe;
         for (int ch = 0; ch < in.num_channels; ++ch) {

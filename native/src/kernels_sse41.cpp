@@ -29,7 +29,7 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
     const __m128 end_weight = _mm_set1_ps(kSmoothEdgeEndWeight);
     const __m128 wing_weight = _mm_set1_ps(kSmoothEdgeWingWeight);
     for (int e = edges.begin; e < edges.end; ++e) {
-        const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.edge_a[e])), _mm_loadu_ps(in.at(t.edge_b[e])));
+        const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.edge_ends[2 * e])), _mm_loadu_ps(in.at(t.edge_ends[2 * e + 1])));
         const __m128 wings = _mm_add_ps(_mm_loadu_ps(in.at(t.edge_c[e])), _mm_loadu_ps(in.at(t.edge_d[e])));
         out.store(t.first_edge_point + e, _mm_add_ps(_mm_mul_ps(end_weight, ends), _mm_mul_ps(wing_weight, wings)));
     }

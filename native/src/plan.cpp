@@ -419,8 +419,6 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
 
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
     // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
-    s.edge_a.resize(ne), s.edge_b.resize(ne);
-    for (int e = 0; e < ne; ++e) s.edge_a[e] = t.edge_vertices[2 * e], s.edge_b[e] = t.edge_vertices[2 * e + 1];
     for (const Feature& feature : level.edges) {
         const Index e = feature.index;
         const float sharpness = feature.sharpness;
@@ -462,8 +460,8 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
         if (f.tag <= 0.0f) continue;
         if (parent) {
             const Index e = f.index / 2, m = parent->num_vertices + e;
-            output_crease_edges.push_back(f.index % 2 == 0 ? parent->edge_a[e] : m);
-            output_crease_edges.push_back(f.index % 2 == 0 ? m : parent->edge_b[e]);
+            output_crease_edges.push_back(f.index % 2 == 0 ? parent->edge_ends[2 * e] : m);
+            output_crease_edges.push_back(f.index % 2 == 0 ? m : parent->edge_ends[2 * e + 1]);
         } else {
             output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index]);
             output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index + 1]);
@@ -507,9 +505,12 @@ void PlanImpl::build(const MeshView& mesh) {
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
         plan_level(level, parent, child, l + 1);
+        // A level's edge list serves its child's neighbourhoods, then the stencils as the edge points' ends.
+        if (l > 0) stencils[l - 1].edge_ends = std::move(parent.edge_vertices);
         parent = std::move(level.topology);
         level = std::move(child);
     }
+    if (options.levels > 0) stencils.back().edge_ends = std::move(parent.edge_vertices);
     output_triangles = std::move(level.topology.face_vertices);
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
@@ -554,8 +555,7 @@ const std::vector<std::int32_t>& Plan::level_edges(int level) const {
     std::call_once(p.level_edges_ready[level], [&p, level] {
         const detail::LevelStencils& s = p.stencils[level];
         std::vector<Index>& edges = p.level_edges[level];
-        edges.resize(2 * std::size_t(s.num_edges));
-        for (int e = 0; e < s.num_edges; ++e) edges[2 * e] = s.edge_a[e], edges[2 * e + 1] = s.edge_b[e];
+        edges.assign(s.edge_ends.begin(), s.edge_ends.end());
     });
     return p.level_edges[level];
 }

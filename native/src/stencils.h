@@ -39,10 +39,11 @@ struct LevelStencils {
     std::vector<float> smooth_ring;
     std::vector<SpecialVertex> special_vertices;  // sorted by vertex
 
-    // Edge points, one array per role (structure of arrays): the endpoints A, B and the opposite vertices C, D
-    // of the edge's first two faces. Where a face is missing, C / D repeat A / B (the edge is then special,
-    // with wcd == 0, so the smooth pass's value is overwritten).
-    LargeVector<std::int32_t> edge_a, edge_b, edge_c, edge_d;
+    // Edge points: the endpoints A, B (pairs: the level's own edge list, taken over rather than copied) and the
+    // opposite vertices C, D of the edge's first two faces (one array each). Where a face is missing, C / D
+    // repeat A / B (the edge is then special, with wcd == 0, so the smooth pass's value is overwritten).
+    LargeVector<std::int32_t> edge_ends;  // 2 per edge: A, B
+    LargeVector<std::int32_t> edge_c, edge_d;
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 };
 
