@@ -191,7 +191,6 @@ struct LevelState {
     std::vector<Feature> edges, vertices;
 
     float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }
-    float edge_tag(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->tag : 0.0f; }
     float vertex_sharpness(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->sharpness : 0.0f; }
     float vertex_tag(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->tag : 0.0f; }
 };
@@ -330,30 +329,47 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // Only vertices next to a feature (or cones) can differ from the smooth pass. Child features: the halves of
     // each edge get their sharpness at their own end vertex (Chaikin looks at the other edges there), old vertices
     // decay; edges inside faces and vertices on edges start smooth.
-    std::vector<Index> touched;
-    touched.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
-    for (const Feature& f : level.edges) touched.insert(touched.end(), {t.edge_vertices[2 * f.index], t.edge_vertices[2 * f.index + 1]});
-    for (const Feature& f : level.vertices) touched.push_back(f.index);
-    for (Index v : cones) if (v < nv) touched.push_back(v);
-    std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that classifying it needs
+    // no search per incident edge.
+    struct Touch {
+        Index vertex;
+        const Feature* edge;  // null: the vertex is a feature itself, or a cone
+        bool operator<(const Touch& other) const { return vertex < other.vertex; }
+    };
+    std::vector<Touch> touches;
+    touches.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
+    for (const Feature& f : level.edges) {
+        touches.push_back({t.edge_vertices[2 * f.index], &f});
+        touches.push_back({t.edge_vertices[2 * f.index + 1], &f});
+    }
+    for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr});
+    for (Index v : cones) if (v < nv) touches.push_back({v, nullptr});
+    std::sort(touches.begin(), touches.end());
 
     std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
     std::vector<Index> edges;  // around one vertex
-    std::vector<float> parent_sharpness, child_sharpness;
-    for (Index v : touched) {
+    std::vector<float> parent_sharpness, parent_tag, child_sharpness;
+    for (auto run = touches.begin(); run != touches.end();) {
+        const Index v = run->vertex;
+        const auto run_end = std::find_if(run, touches.end(), [v](const Touch& touch) { return touch.vertex != v; });
         around.edges(v, edges);
         const int valence = int(edges.size());
-        parent_sharpness.resize(valence);
+        parent_sharpness.assign(valence, 0.0f);
+        parent_tag.assign(valence, 0.0f);
         child_sharpness.resize(valence);
+        for (auto touch = run; touch != run_end; ++touch) {
+            if (!touch->edge) continue;
+            const int k = int(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
+            parent_sharpness[k] = touch->edge->sharpness;
+            parent_tag[k] = touch->edge->tag;
+        }
+        run = run_end;
+
         int sharp_edges = 0, child_sharp_edges = 0;
         Index crease[2] = {-1, -1}, child_crease[2] = {-1, -1};
-        for (int k = 0; k < valence; ++k) {
-            const Index e = edges[k];
-            parent_sharpness[k] = level.edge_sharpness(e);
-            if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = e;
-        }
+        for (int k = 0; k < valence; ++k)
+            if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
         for (int k = 0; k < valence; ++k) {
             const Index e = edges[k];
             const float decayed = hoppe ? parent_sharpness[k]
@@ -361,7 +377,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
                                             : detail::decrement_sharpness(parent_sharpness[k]);
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
-            const float tag = level.edge_tag(e);
+            const float tag = parent_tag[k];
             const float child_tag = hoppe || tag == 0.0f ? tag : decayed;
             if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({detail::child_edge_at(t, e, v), decayed, child_tag});
         }
