@@ -461,8 +461,10 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
 
-    // Hand over what the stencils keep rather than copy it; the offsets stay, the next level may derive from them.
-    s.ring_offsets = t.vertex_edge_offsets;
+    // Hand over what the stencils keep rather than copy it; the offsets stay where the next level may still derive
+    // its neighbourhoods from this one.
+    if (last_child) s.ring_offsets = std::move(t.vertex_edge_offsets);
+    else s.ring_offsets = t.vertex_edge_offsets;
     s.ring = std::move(t.vertex_vertices);
     s.edge_c = std::move(t.edge_opposite_c);
     s.edge_d = std::move(t.edge_opposite_d);
