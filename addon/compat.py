@@ -25,13 +25,18 @@ def _write_attribute(mesh, name, domain, values):
     attribute.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32))
 
 
+def _read_crease_layer(layers, count):
+    """Blender 3.x: the first crease layer's values, zeros when there is none."""
+    values = np.zeros(count, dtype=np.float32)
+    if len(layers):
+        layers[0].data.foreach_get("value", values)
+    return values
+
+
 def read_edge_creases(mesh):
     if USES_CREASE_ATTRIBUTES:
         return _read_attribute(mesh, EDGE_CREASE_ATTRIBUTE, len(mesh.edges))
-    values = np.zeros(len(mesh.edges), dtype=np.float32)
-    if len(mesh.edge_creases):
-        mesh.edge_creases[0].data.foreach_get("value", values)
-    return values
+    return _read_crease_layer(mesh.edge_creases, len(mesh.edges))
 
 
 def write_edge_creases(mesh, values):
@@ -51,10 +56,7 @@ def has_vertex_creases(mesh):
 def read_vertex_creases(mesh):
     if USES_CREASE_ATTRIBUTES:
         return _read_attribute(mesh, VERTEX_CREASE_ATTRIBUTE, len(mesh.vertices))
-    values = np.zeros(len(mesh.vertices), dtype=np.float32)
-    if len(mesh.vertex_creases):
-        mesh.vertex_creases[0].data.foreach_get("value", values)
-    return values
+    return _read_crease_layer(mesh.vertex_creases, len(mesh.vertices))
 
 
 def add_vertex_crease_layer(mesh):

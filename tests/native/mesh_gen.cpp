@@ -374,13 +374,7 @@ TestMesh peer_shape(const std::string& file_name, bool drop_degenerate_faces) {
     }
     TestMesh mesh;
     mesh.name = file_name.substr(0, file_name.rfind('.'));
-    mesh.positions = obj.positions;
-    mesh.triangles = obj.triangles;
-    mesh.crease_edges = obj.crease_edges;
-    mesh.crease_sharpness = obj.crease_sharpness;
-    mesh.corner_vertices = obj.corner_vertices;
-    mesh.corner_sharpness = obj.corner_sharpness;
-    mesh.cone_vertices = obj.cone_vertices;
+    static_cast<MeshData&>(mesh) = obj;
     if (!obj.triangle_uvs.empty()) {
         mesh.uvs = obj.uvs;
         mesh.triangle_uvs = obj.triangle_uvs;
