@@ -24,6 +24,7 @@ VertexMask crease_vertex_mask() { return {0.75, 0.0, 0.125}; }
 VertexMask corner_vertex_mask() { return {1.0, 0.0, 0.0}; }
 
 VertexMask cone_vertex_mask(int valence) {
+    if (valence == 0) return corner_vertex_mask();  // a loose vertex tagged as a cone has nothing to average
     // c0 = n / (5/8 - b(n)) - n with ci = 1: normalised, the centre keeps 3/8 + b(n).
     const double spread = 5.0 / 8.0 - loop_b(valence);
     return {1.0 - spread, spread / valence, 0.0};

@@ -1,0 +1,98 @@
+// Arbitrary triangle soups through both rule sets: a refinement either refuses its input with a clear error or
+// gives a well-formed result. Whatever an artist's mesh looks like (fins, bowties, flipped or doubled faces, loose
+// vertices, tags anywhere), the native module must not crash Blender; under the sanitizer build this test is the
+// one that would show an out-of-bounds access on such topology.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "loopsub/loopsub.h"
+
+namespace {
+
+using loopsub::MeshData;
+
+// Few vertices for many triangles, so that edges are shared by three or more faces, fans touch at single vertices,
+// faces repeat with either winding; some triangles are degenerate on purpose.
+MeshData random_soup(std::mt19937& rng) {
+    MeshData mesh;
+    const int vertices = std::uniform_int_distribution<int>(3, 14)(rng);
+    const int triangles = std::uniform_int_distribution<int>(1, 24)(rng);
+    std::uniform_real_distribution<float> coordinate(-1.0f, 1.0f);
+    for (int i = 0; i < 3 * vertices; ++i) mesh.positions.push_back(coordinate(rng));
+    std::uniform_int_distribution<int> vertex(0, vertices - 1);
+    std::bernoulli_distribution allow_degenerate(0.05);
+    for (int f = 0; f < triangles; ++f) {
+        int a = vertex(rng), b = vertex(rng), c = vertex(rng);
+        while (!allow_degenerate(rng) && (a == b || b == c || a == c)) a = vertex(rng), b = vertex(rng), c = vertex(rng);
+        mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
+    }
+    std::uniform_real_distribution<float> sharpness(0.0f, 12.0f);
+    const int creases = std::uniform_int_distribution<int>(0, triangles)(rng);
+    for (int k = 0; k < creases; ++k) {
+        // Mostly edges of the mesh, sometimes a pair that is not one (which must be refused, not ignored).
+        const int f = std::uniform_int_distribution<int>(0, triangles - 1)(rng), corner = f % 3;
+        const bool real_edge = std::bernoulli_distribution(0.9)(rng);
+        mesh.add_crease(mesh.triangles[3 * f + corner], real_edge ? mesh.triangles[3 * f + (corner + 1) % 3] : vertex(rng),
+                        sharpness(rng));
+    }
+    const int corners = std::uniform_int_distribution<int>(0, 3)(rng);
+    for (int k = 0; k < corners; ++k) mesh.add_corner(vertex(rng), sharpness(rng));
+    const int cones = std::uniform_int_distribution<int>(0, 2)(rng);
+    for (int k = 0; k < cones; ++k) mesh.cone_vertices.push_back(vertex(rng));
+    return mesh;
+}
+
+TEST(RandomTopology, RefinesOrRefusesCleanly) {
+    std::mt19937 rng(20261121);
+    int refined = 0, refused = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const MeshData mesh = random_soup(rng);
+        loopsub::Options options;
+        options.rules = trial % 2 ? loopsub::Rules::OpenSubdiv : loopsub::Rules::Hoppe94;
+        options.levels = trial % 4;
+        options.boundary = trial % 3 ? loopsub::Boundary::EdgesOnly : loopsub::Boundary::EdgesAndCorners;
+        options.crease_method = trial % 5 ? loopsub::CreaseMethod::Uniform : loopsub::CreaseMethod::Chaikin;
+        options.crease_threshold = trial % 7 ? 0.0f : 3.0f;
+        options.threads = 1 + trial % 2;
+        SCOPED_TRACE("trial " + std::to_string(trial));
+        try {
+            loopsub::Plan plan(mesh.view(), options);
+            std::vector<float> out(3 * std::size_t(plan.num_output_vertices()));
+            plan.evaluate(loopsub::interleaved(mesh.positions.data(), 3), loopsub::interleaved(out.data(), 3));
+            ++refined;
+
+            ASSERT_EQ(plan.num_output_triangles(), mesh.num_triangles() << (2 * options.levels));
+            for (int i = 0; i < 3 * plan.num_output_triangles(); ++i) {
+                ASSERT_GE(plan.output_triangles()[i], 0);
+                ASSERT_LT(plan.output_triangles()[i], plan.num_output_vertices());
+            }
+            // Every output point is an affine combination of input points: finite and inside their bounding box.
+            float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+            for (int v = 0; v < mesh.num_vertices(); ++v)
+                for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], mesh.positions[3 * v + c]), hi[c] = std::max(hi[c], mesh.positions[3 * v + c]);
+            for (std::size_t i = 0; i < out.size(); ++i) {
+                ASSERT_TRUE(std::isfinite(out[i]));
+                // Loop's masks have negative-free weights except OpenSubdiv's Chaikin blend (weights can exceed 1):
+                // allow a margin of the box size rather than none.
+                const int c = int(i % 3);
+                const float margin = 0.5f * (hi[c] - lo[c]) + 1e-5f;
+                ASSERT_GE(out[i], lo[c] - margin);
+                ASSERT_LE(out[i], hi[c] + margin);
+            }
+            // The output tags name edges and vertices of the output.
+            for (std::int32_t v : plan.output_crease_edges()) ASSERT_LT(v, plan.num_output_vertices());
+            for (std::int32_t v : plan.output_corner_vertices()) ASSERT_LT(v, plan.num_output_vertices());
+        } catch (const loopsub::InputError& error) {
+            ++refused;
+            EXPECT_GT(std::string(error.what()).size(), 10u);  // a message that says something
+        }
+    }
+    // Both outcomes occur, so both paths are exercised.
+    EXPECT_GT(refined, 100);
+    EXPECT_GT(refused, 20);
+}
+
+}  // namespace
