@@ -131,22 +131,23 @@ def grid(cuts=3, size=2.0):
     return bm
 
 
+def read_array(collection, name, width=1, dtype=np.float32):
+    """A property of every element of a Blender collection, through foreach_get: (N,) or (N, width)."""
+    values = np.empty(len(collection) * width, dtype=dtype)
+    collection.foreach_get(name, values)
+    return values if width == 1 else values.reshape(-1, width)
+
+
 def positions(mesh):
-    values = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", values)
-    return values.reshape(-1, 3)
+    return read_array(mesh.vertices, "co", 3)
 
 
 def edges(mesh):
-    values = np.empty(len(mesh.edges) * 2, dtype=np.int32)
-    mesh.edges.foreach_get("vertices", values)
-    return values.reshape(-1, 2)
+    return read_array(mesh.edges, "vertices", 2, np.int32)
 
 
 def edge_face_counts(mesh):
-    loop_edges = np.empty(len(mesh.loops), dtype=np.int32)
-    mesh.loops.foreach_get("edge_index", loop_edges)
-    return np.bincount(loop_edges, minlength=len(mesh.edges))
+    return np.bincount(read_array(mesh.loops, "edge_index", dtype=np.int32), minlength=len(mesh.edges))
 
 
 def set_edge_creases(mesh, edge_indices, weight, compat):

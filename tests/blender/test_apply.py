@@ -33,22 +33,16 @@ def uv_cube(name, triangulate=True):
 def parent_polygons(mesh):
     """Cage polygon of each cage triangle (Blender's tessellation, as the add-on uses it)."""
     mesh.calc_loop_triangles()
-    values = np.empty(len(mesh.loop_triangles), dtype=np.int32)
-    mesh.loop_triangles.foreach_get("polygon_index", values)
-    return values
+    return support.read_array(mesh.loop_triangles, "polygon_index", dtype=np.int32)
 
 
 def polygon_values(mesh, prop, dtype):
-    values = np.empty(len(mesh.polygons), dtype=dtype)
-    mesh.polygons.foreach_get(prop, values)
-    return values
+    return support.read_array(mesh.polygons, prop, dtype=dtype)
 
 
 def uv_discontinuities(mesh, uv_name):
     """Edges whose two faces give one of its vertices different UVs (UV seams), as a set of vertex pairs."""
-    uvs = np.empty(len(mesh.loops) * 2, dtype=np.float32)
-    mesh.uv_layers[uv_name].data.foreach_get("uv", uvs)
-    uvs = uvs.reshape(-1, 2)
+    uvs = support.read_array(mesh.uv_layers[uv_name].data, "uv", 2)
     seen = {}
     for polygon in mesh.polygons:
         loops = list(polygon.loop_indices)
@@ -63,9 +57,7 @@ def uv_discontinuities(mesh, uv_name):
 
 
 def edge_flags(mesh, prop):
-    values = np.empty(len(mesh.edges), dtype=bool)
-    mesh.edges.foreach_get(prop, values)
-    e = support.edges(mesh)[values]
+    e = support.edges(mesh)[support.read_array(mesh.edges, prop, dtype=bool)]
     return {(min(a, b), max(a, b)) for a, b in e.tolist()}
 
 
@@ -80,10 +72,7 @@ def group_weights(obj, name):
 
 
 def attribute_values(mesh, name, width):
-    attribute = mesh.attributes[name]
-    values = np.empty(len(attribute.data) * width, dtype=np.float32)
-    attribute.data.foreach_get("color", values)
-    return values.reshape(-1, width)
+    return support.read_array(mesh.attributes[name].data, "color", width)
 
 
 def remove(obj):

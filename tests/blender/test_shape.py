@@ -70,15 +70,11 @@ def bvh(mesh):
 
 
 def face_normals(mesh):
-    values = np.empty(len(mesh.polygons) * 3, dtype=np.float32)
-    mesh.polygons.foreach_get("normal", values)
-    return values.reshape(-1, 3)
+    return support.read_array(mesh.polygons, "normal", 3)
 
 
 def face_centers(mesh):
-    values = np.empty(len(mesh.polygons) * 3, dtype=np.float32)
-    mesh.polygons.foreach_get("center", values)
-    return values.reshape(-1, 3)
+    return support.read_array(mesh.polygons, "center", 3)
 
 
 def euler(mesh):

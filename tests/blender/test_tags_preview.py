@@ -29,11 +29,7 @@ def tags(obj):
     types = mesh.attributes["loop_vertex_type"]
     check((crease.domain, crease.data_type, types.domain, types.data_type) == ('EDGE', 'BOOLEAN', 'POINT', 'INT'),
           f"{obj.name}: loop_crease is a boolean edge attribute, loop_vertex_type an integer point attribute")
-    c = np.empty(len(mesh.edges), dtype=bool)
-    crease.data.foreach_get("value", c)
-    t = np.empty(len(mesh.vertices), dtype=np.int32)
-    types.data.foreach_get("value", t)
-    return c, t
+    return support.read_array(crease.data, "value", dtype=bool), support.read_array(types.data, "value", dtype=np.int32)
 
 
 def refresh(obj, **settings):
