@@ -399,7 +399,8 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
                 break;
             case detail::SdcRule::Corner: types[v] = VertexType::Corner; break;
         }
-        detail::VertexMask mask = detail::smooth_vertex_mask(valence);
+        const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
+        detail::VertexMask mask = smooth;
         Index ends[2] = {crease[0], crease[1]};
         if (hoppe) {
             if (types[v] == VertexType::Cone) mask = detail::cone_vertex_mask(valence);
@@ -416,7 +417,6 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
                 if (child_rule == detail::SdcRule::Crease) ends[0] = child_crease[0], ends[1] = child_crease[1];
             }
         }
-        const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
             const bool has_ends = mask.crease != 0.0;
             s.special_vertices.push_back({v, has_ends ? t.other_end(ends[0], v) : v, has_ends ? t.other_end(ends[1], v) : v,
