@@ -1,9 +1,9 @@
 """Loop Subdivision: Loop subdivision of triangle meshes with creases, through the loopsub native core.
 
-A "Loop Subdivision" entry in Properties ▸ Modifiers with a live viewport preview, an apply operator, and crease tags
-written as attributes. See docs/addon.md.
+A "Loop Subdivision" modifier in the modifier stack (a Geometry Nodes modifier whose result the add-on keeps
+current), an apply operator, and crease tags written as attributes. See docs/addon.md.
 """
-from . import operators, preview, properties, ui
+from . import live, operators, properties, ui
 
 bl_info = {
     "name": "Loop Subdivision",
@@ -15,7 +15,7 @@ bl_info = {
     "category": "Mesh",
 }
 
-_modules = (properties, operators, ui, preview)
+_modules = (properties, operators, ui, live)
 
 
 def register():

@@ -2,7 +2,8 @@
 
 Blender 4.0 moved edge and vertex creases from dedicated layers (MeshEdge.crease, Mesh.edge_creases,
 Mesh.vertex_creases, bmesh's crease layers) to the generic float attributes "crease_edge" and "crease_vert",
-made MeshPolygon.loop_total read-only (face sizes follow from loop_start) and renamed the built-in GPU shaders.
+made MeshPolygon.loop_total read-only (face sizes follow from loop_start) and moved node group sockets to
+NodeTree.interface; 4.1 dropped Auto Smooth.
 """
 import bpy
 import numpy as np
@@ -96,6 +97,43 @@ def set_polygon_loops(mesh, loop_start, loop_total):
         mesh.polygons.foreach_set("loop_total", np.ascontiguousarray(loop_total, dtype=np.int32))
 
 
-def builtin_shader_name(kind):
-    """kind 'UNIFORM_COLOR' or 'SMOOTH_COLOR': Blender 4.0 dropped the '3D_' prefix."""
-    return kind if bpy.app.version >= (4, 0, 0) else "3D_" + kind
+def copy_shading_settings(source, target):
+    """What a mesh says about its shading besides per-face flags: Auto Smooth up to 4.0 (4.1 dropped it for a
+    modifier), and its custom properties."""
+    if hasattr(source, "use_auto_smooth"):
+        target.use_auto_smooth = source.use_auto_smooth
+        target.auto_smooth_angle = source.auto_smooth_angle
+    for key in source.keys():
+        target[key] = source[key]
+
+
+def add_modifier_button(draw):
+    """Puts draw(self, context) under Properties ▸ Modifiers ▸ Add Modifier: 3.x draws that button in the panel
+    DATA_PT_modifiers, 4.0+ has a menu with a Generate section. Returns what remove_modifier_button needs."""
+    menu = getattr(bpy.types, "OBJECT_MT_modifier_add_generate", None)
+    target = menu if menu is not None else bpy.types.DATA_PT_modifiers
+    target.append(draw)
+    return target
+
+
+def remove_modifier_button(target, draw):
+    target.remove(draw)
+
+
+# Blender draws each modifier in an instanced panel of this type; a Python sub-panel of it is drawn inside every
+# Geometry Nodes modifier's panel, with that modifier as the panel's custom_data.
+NODES_MODIFIER_PANEL = "MOD_PT_GeometryNodes"
+
+
+def add_group_socket(group, in_out, socket_type, name):
+    """A node group input or output ('INPUT'/'OUTPUT'): NodeTree.interface from 4.0, inputs/outputs before."""
+    if hasattr(group, "interface"):
+        return group.interface.new_socket(name, in_out=in_out, socket_type=socket_type)
+    return (group.inputs if in_out == 'INPUT' else group.outputs).new(socket_type, name)
+
+
+def group_input_identifier(group, name):
+    """The key under which a Geometry Nodes modifier keeps the value of the group input called name."""
+    if hasattr(group, "interface"):
+        return group.interface.items_tree[name].identifier
+    return group.inputs[name].identifier

@@ -139,17 +139,6 @@ def edge_face_counts(loop_edges, num_edges):
     return np.bincount(loop_edges, minlength=num_edges)
 
 
-def vertex_normals(positions, triangles):
-    """Area-weighted vertex normals (for the preview's shading)."""
-    p = positions[triangles]
-    face = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    normals = np.zeros_like(positions)
-    for c in range(3):
-        normals[:, c] = np.bincount(triangles.ravel(), weights=np.repeat(face[:, c], 3), minlength=len(positions))
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    return normals / np.maximum(length, 1e-30)
-
-
 @dataclass(frozen=True)
 class Options:
     """Settings of one subdivision (the panel's, overridden by the operator's arguments)."""

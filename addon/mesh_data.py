@@ -167,93 +167,162 @@ class _Channels:
         return np.ascontiguousarray(np.concatenate(self.parts, axis=-1), dtype=np.float32)
 
 
+class Source:
+    """Everything a subdivision reads from one input mesh, gathered once: the cage and its tags, the vertex channels
+    (positions, point attributes, vertex-group weights) and face-varying channels (UVs, corner attributes) packed for
+    the core, and the per-face and per-edge data that the result inherits.
+
+    obj gives the vertex-group names and the cone group; mesh is its own data (apply) or its evaluated mesh up to the
+    Loop Subdivision entry (the live entry)."""
+
+    def __init__(self, obj, mesh, options):
+        self.mesh = mesh
+        self.options = options
+        self.cage = cage = Cage(mesh)
+        cage.validate(obj.name)
+        self.messages = messages = []
+        if cage.num_triangulated:
+            messages.append(('INFO', f"{obj.name}: triangulated {cage.num_triangulated} non-triangle faces "
+                                     "with Blender's tessellation first"))
+        loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
+        if loose_edges:
+            messages.append(('WARNING', f"{obj.name}: {loose_edges} loose edges (in no face) are not carried over"))
+        cracks = geometry.shared_positions(cage.positions)
+        if cracks:
+            messages.append(('WARNING', f"{obj.name}: {cracks} vertices share a position with another; the cracks "
+                                        "stay open (Merge by Distance welds them)"))
+
+        self.group_names = [group.name for group in obj.vertex_groups]
+        self.group_weights = read_vertex_groups(mesh, len(self.group_names))
+        self.cone_index = cone_group_index(obj, options)
+        self.cones = cone_vertices(self.group_weights, self.cone_index)
+
+        # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs.
+        skip = ({CREASE_TAG, VERTEX_TYPE_TAG, "position", "material_index", "sharp_face", "sharp_edge"}
+                | compat.crease_attribute_names() | {uv.name for uv in mesh.uv_layers})
+        self.point, self.corner, self.face, dropped = geometry.plan_attributes(
+            [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
+        if dropped:
+            messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
+                                        + ", ".join(f"{n} ({d.lower()} {t.lower()})" for n, d, t in dropped)))
+
+        # Vertex channels: positions, point attributes and vertex groups refine together with the same weights.
+        self.vertex = _Channels()
+        self.vertex.add("position", cage.positions)
+        for name, _, _ in self.point:
+            self.vertex.add(("attribute", name), _get_attribute(mesh.attributes[name], cage.num_vertices))
+        self.vertex.add("groups", self.group_weights)
+
+        # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
+        # Corner barycentrics come along when flagged edges (seams, sharp edges) must pass to their child edges.
+        self.edge_flags = {prop: _get(mesh.edges, prop, len(mesh.edges), 1, np.bool_)
+                           for prop in ("use_seam", "use_edge_sharp")}
+        self.corners = _Channels()
+        if any(flags.any() for flags in self.edge_flags.values()):
+            self.corners.add("barycentric", geometry.corner_barycentrics(len(cage.triangles)))
+        self.uv_names = [uv.name for uv in mesh.uv_layers]
+        for uv in mesh.uv_layers:
+            self.corners.add(("uv", uv.name),
+                             _get(uv.data, "uv", cage.num_loops, 2, np.float32)[cage.triangle_loops])
+        for name, _, _ in self.corner:
+            self.corners.add(("attribute", name),
+                             _get_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
+
+        self.materials = _get(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
+        self.smooth = _get(mesh.polygons, "use_smooth", cage.num_polygons, 1, np.bool_)
+        self.face_values = [_get_attribute(mesh.attributes[name], cage.num_polygons) for name, _, _ in self.face]
+
+    def plan_key(self):
+        """What the plan depends on: equal keys, equal plans."""
+        return (self.options, self.cage.triangles, *self.cage.tags(self.options).values(), self.cones)
+
+    def layout_key(self):
+        """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
+        stay the same, a result can be updated in place (update_mesh) instead of built anew."""
+        return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names),
+                tuple(self.group_names), self.group_weights, self.materials, self.smooth, *self.face_values,
+                *self.edge_flags.values(), self.cage.edge_weights, self.cage.vertex_weights)
+
+    def plan(self, levels=None):
+        return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones)
+
+    def refine(self, plan):
+        """The refined vertex channels and face-varying channels (None when there are none)."""
+        refined = native.run(plan.evaluate, self.vertex.packed())
+        corners = native.run(plan.evaluate_face_varying, self.corners.packed()) if self.corners.parts else None
+        return refined, corners
+
+
 def subdivide(obj, options, progress):
-    """Builds the subdivided copy of obj's mesh. progress() is called between the long stages."""
+    """Builds the subdivided copy of obj's own mesh (for Apply). progress() is called between the long stages."""
     check_object(obj)
-    mesh = obj.data
-    cage = Cage(mesh)
-    cage.validate(obj.name)
-    messages = []
-    if cage.num_triangulated:
-        messages.append(('INFO', f"{obj.name}: triangulated {cage.num_triangulated} non-triangle faces "
-                                 "with Blender's tessellation first"))
-    loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
-    if loose_edges:
-        messages.append(('WARNING', f"{obj.name}: {loose_edges} loose edges (in no face) are not carried over"))
-    cracks = geometry.shared_positions(cage.positions)
-    if cracks:
-        messages.append(('WARNING', f"{obj.name}: {cracks} vertices share a position with another; the cracks "
-                                    "stay open (Merge by Distance welds them)"))
-
-    group_names = [group.name for group in obj.vertex_groups]
-    group_weights = read_vertex_groups(mesh, len(group_names))
-    cone_index = cone_group_index(obj, options)
-    cones = cone_vertices(group_weights, cone_index)
-    plan = cage.plan(options, options.levels, cones)
+    source = Source(obj, obj.data, options)
+    plan = source.plan()
     progress()
-
-    # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs.
-    skip = ({CREASE_TAG, VERTEX_TYPE_TAG, "position", "material_index", "sharp_face", "sharp_edge"}
-            | compat.crease_attribute_names() | {uv.name for uv in mesh.uv_layers})
-    point, corner, face, dropped = geometry.plan_attributes(
-        [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
-    if dropped:
-        messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
-                                    + ", ".join(f"{n} ({d.lower()} {t.lower()})" for n, d, t in dropped)))
-
-    # Vertex channels: positions, point attributes and vertex groups refine together with the same weights.
-    vertex = _Channels()
-    vertex.add("position", cage.positions)
-    for name, _, _ in point:
-        vertex.add(("attribute", name), _get_attribute(mesh.attributes[name], cage.num_vertices))
-    vertex.add("groups", group_weights)
-    refined = native.run(plan.evaluate, vertex.packed())
+    refined, refined_corners = source.refine(plan)
     progress()
-
-    # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
-    # Corner barycentrics come along when flagged edges (seams, sharp edges) must pass to their child edges.
-    edge_flags = {prop: _get(mesh.edges, prop, len(mesh.edges), 1, np.bool_) for prop in ("use_seam", "use_edge_sharp")}
-    corners = _Channels()
-    if any(flags.any() for flags in edge_flags.values()):
-        corners.add("barycentric", geometry.corner_barycentrics(len(cage.triangles)))
-    for uv in mesh.uv_layers:
-        corners.add(("uv", uv.name), _get(uv.data, "uv", cage.num_loops, 2, np.float32)[cage.triangle_loops])
-    for name, _, _ in corner:
-        corners.add(("attribute", name), _get_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
-    refined_corners = native.run(plan.evaluate_face_varying, corners.packed()) if corners.parts else None
+    new = build_mesh(source, plan, refined, refined_corners, obj.data.name, None)
     progress()
+    locks = [group.lock_weight for group in obj.vertex_groups]
+    return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 
-    new = mesh.copy()
+
+def build_mesh(source, plan, refined, refined_corners, name, holder):
+    """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, vertex groups, tags.
+    holder: an object whose data the new mesh may become while vertex groups are written (None: a temporary one)."""
+    mesh, cage, options = source.mesh, source.cage, source.options
+    vertex, corners = source.vertex, source.corners
+    new = bpy.data.meshes.new(name)
     try:
-        new.clear_geometry()
+        for material in mesh.materials:
+            new.materials.append(material)
+        compat.copy_shading_settings(mesh, new)
         if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
         _write_geometry(new, refined[:, vertex.columns["position"]], plan.triangles)
-        _write_face_data(new, mesh, cage.triangle_polygons[plan.parent_triangles], face)
-        for name, domain, data_type in point:
+        parents = cage.triangle_polygons[plan.parent_triangles]
+        _write_face_data(new, source, parents)
+        for name, domain, data_type in source.point:
             _set_attribute(new, name, domain, data_type, refined[:, vertex.columns["attribute", name]])
         new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
         edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
         if "barycentric" in corners.columns:
-            _write_edge_flags(new, cage, plan, refined_corners[:, :, corners.columns["barycentric"]], edge_flags,
-                              new_edges)
-        _write_corner_data(new, mesh, corner, refined_corners, corners.columns)
+            _write_edge_flags(new, cage, plan, refined_corners[:, :, corners.columns["barycentric"]],
+                              source.edge_flags, new_edges)
+        _write_corner_data(new, source, refined_corners)
         new.update()
-        _write_vertex_groups(new, group_names, refined[:, vertex.columns["groups"]], cone_index, group_weights)
+        _write_vertex_groups(new, source, refined[:, vertex.columns["groups"]], holder)
         try:
             # Cone vertices keep their indices in the result, so its cones are the cage's.
             loop_edges = _get(new.loops, "edge_index", len(new.loops), 1, np.int32)
             result = Topology(len(new.vertices), plan.triangles, new_edges,
                               geometry.edge_face_counts(loop_edges, len(new_edges)), edge_weights, vertex_weights)
-            write_tags(new, result, options, cones)
+            write_tags(new, result, options, source.cones)
         except LoopSubError as error:
-            messages.append(('WARNING', f"{obj.name}: tags not refreshed on the result ({error})"))
+            source.messages.append(('WARNING', f"{name}: tags not refreshed on the result ({error})"))
     except Exception:
         bpy.data.meshes.remove(new)
         raise
-    progress()
-    locks = [group.lock_weight for group in obj.vertex_groups]
-    return Result(new, messages, group_names, locks, obj.vertex_groups.active_index)
+    return new
+
+
+def update_mesh(new, source, refined, refined_corners):
+    """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
+    positions, point attributes, UVs and corner attributes (what moving vertices in Edit Mode or animation changes)."""
+    vertex, corners = source.vertex, source.corners
+    new.vertices.foreach_set("co", np.ascontiguousarray(refined[:, vertex.columns["position"]]).ravel())
+    for name, _, data_type in source.point:
+        prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
+        new.attributes[name].data.foreach_set(
+            prop, np.ascontiguousarray(refined[:, vertex.columns["attribute", name]]).ravel())
+    for uv_name in source.uv_names:
+        new.uv_layers[uv_name].data.foreach_set(
+            "uv", np.ascontiguousarray(refined_corners[:, :, corners.columns["uv", uv_name]]).ravel())
+    for name, _, data_type in source.corner:
+        prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
+        new.attributes[name].data.foreach_set(
+            prop, np.ascontiguousarray(refined_corners[:, :, corners.columns["attribute", name]]).ravel())
+    new.update()
 
 
 def _write_geometry(new, positions, triangles):
@@ -268,15 +337,11 @@ def _write_geometry(new, positions, triangles):
     new.update(calc_edges=True)
 
 
-def _write_face_data(new, mesh, parent_polygons, face_attributes):
+def _write_face_data(new, source, parent_polygons):
     """Per-face data comes from the parent face of the cage (through its triangle)."""
-    num_polygons = len(mesh.polygons)
-    materials = _get(mesh.polygons, "material_index", num_polygons, 1, np.int32)
-    new.polygons.foreach_set("material_index", np.ascontiguousarray(materials[parent_polygons]))
-    smooth = _get(mesh.polygons, "use_smooth", num_polygons, 1, np.bool_)
-    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth[parent_polygons]))
-    for name, domain, data_type in face_attributes:
-        values = _get_attribute(mesh.attributes[name], num_polygons)
+    new.polygons.foreach_set("material_index", np.ascontiguousarray(source.materials[parent_polygons]))
+    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(source.smooth[parent_polygons]))
+    for (name, domain, data_type), values in zip(source.face, source.face_values):
         _set_attribute(new, name, domain, data_type, values[parent_polygons])
 
 
@@ -308,14 +373,15 @@ def _write_edge_flags(new, cage, plan, barycentrics, edge_flags, new_edges):
             new.edges.foreach_set(prop, child_flags)
 
 
-def _write_corner_data(new, mesh, corner_attributes, refined_corners, columns):
+def _write_corner_data(new, source, refined_corners):
     """UV maps (with the active and render choices) and corner attributes, one value per loop (3 per triangle)."""
+    mesh, columns = source.mesh, source.corners.columns
     for uv in mesh.uv_layers:
         layer = new.uv_layers.new(name=uv.name, do_init=False)
         layer.data.foreach_set("uv", np.ascontiguousarray(refined_corners[:, :, columns["uv", uv.name]]).ravel())
         layer.active_render = uv.active_render
     new.uv_layers.active_index = mesh.uv_layers.active_index
-    for name, domain, data_type in corner_attributes:
+    for name, domain, data_type in source.corner:
         values = refined_corners[:, :, columns["attribute", name]]
         _set_attribute(new, name, domain, data_type, values.reshape(-1, values.shape[-1]))
     _restore_color_choice(new, mesh)
@@ -330,18 +396,23 @@ def _restore_color_choice(new, mesh):
         colors.render_color_index = colors.find(mesh.color_attributes.default_color_name)
 
 
-def _write_vertex_groups(new, group_names, refined_groups, cone_index, cage_groups):
+def _write_vertex_groups(new, source, refined_groups, holder):
     """Vertex groups through Blender's Convert Attribute operator, which writes the weights in C (the API has no
-    bulk setter). The cone group holds tags, not weights: it stays on the cage's vertices, which keep their indices."""
-    if not group_names:
+    bulk setter); it works on an object, the holder (a temporary one when None). The cone group holds tags, not
+    weights: it stays on the cage's vertices, which keep their indices."""
+    if not source.group_names:
         return
-    holder = bpy.data.objects.new("Loop Subdivision (temporary)", new)
+    temporary = holder is None
+    if temporary:
+        holder = bpy.data.objects.new("Loop Subdivision (temporary)", new)
+    else:
+        holder.data = new
     try:
         holder.vertex_groups.clear()
-        for index, name in enumerate(group_names):
-            if index == cone_index:
+        for index, name in enumerate(source.group_names):
+            if index == source.cone_index:
                 weights = np.zeros(len(new.vertices), dtype=np.float32)
-                weights[:len(cage_groups)] = cage_groups[:, index]
+                weights[:len(source.group_weights)] = source.group_weights[:, index]
             else:
                 weights = np.clip(refined_groups[:, index], 0.0, 1.0)
             attribute = _set_attribute(new, _GROUP_TRANSFER, 'POINT', 'FLOAT', weights)
@@ -350,7 +421,8 @@ def _write_vertex_groups(new, group_names, refined_groups, cone_index, cage_grou
                 bpy.ops.geometry.attribute_convert(mode='VERTEX_GROUP')
             holder.vertex_groups[index].name = name
     finally:
-        bpy.data.objects.remove(holder)
+        if temporary:
+            bpy.data.objects.remove(holder)
 
 
 def replace_mesh(obj, result):

@@ -1,8 +1,8 @@
-"""Operators: add, remove and apply the Loop Subdivision entry, and refresh the crease tags."""
+"""Operators: add, remove and apply the Loop Subdivision modifier, and write the crease tags."""
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from . import mesh_data
+from . import live, mesh_data, stack
 from .native import LoopSubError
 from .properties import BOUNDARY_ITEMS, RULES_ITEMS
 
@@ -14,68 +14,111 @@ def _mesh_objects(context):
     return objects
 
 
+def _overrides(operator, names):
+    """The settings a caller gave (SKIP_SAVE keeps a value given once from sticking to later calls)."""
+    return {name: getattr(operator, name) for name in names if operator.properties.is_property_set(name)}
+
+
+_SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group")
+
+
 class OBJECT_OT_loop_subdivision_add(bpy.types.Operator):
-    """Add a Loop Subdivision entry to the active object's modifiers, with a live preview"""
+    """Add a Loop Subdivision modifier to the end of the active object's modifier stack"""
     bl_idname = "object.loop_subdivision_add"
     bl_label = "Add Loop Subdivision"
     bl_options = {'REGISTER', 'UNDO'}
 
+    levels: IntProperty(name="Levels Viewport", default=1, min=0, max=6, soft_max=3, options={'SKIP_SAVE'},
+                        description="Number of subdivisions to perform in the 3D viewport, and when applying")
+    render_levels: IntProperty(name="Render", default=2, min=0, max=8, soft_max=4, options={'SKIP_SAVE'},
+                               description="Number of subdivisions to perform when rendering")
+    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'},
+                        description="How crease weights shape the surface")
+    crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
+                                    options={'SKIP_SAVE'},
+                                    description="Crease weights at or above this value make creases and corners")
+    boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
+                           description="Controls how open boundaries are smoothed")
+    use_creases: BoolProperty(name="Use Creases", default=True, options={'SKIP_SAVE'},
+                              description="Use mesh crease information to sharpen edges or corners")
+    cone_group: StringProperty(name="Cone Group", default="", options={'SKIP_SAVE'},
+                               description="Vertex group whose vertices become cones")
+
     @classmethod
     def poll(cls, context):
         obj = context.object
-        return obj is not None and obj.type == 'MESH' and not obj.loop_subdivision.enabled
+        if obj is None or obj.type != 'MESH':
+            return False
+        if stack.entry(obj) is not None:
+            cls.poll_message_set("The object has a Loop Subdivision modifier already")
+            return False
+        return True
 
     def execute(self, context):
-        context.object.loop_subdivision.enabled = True
+        obj = context.object
+        settings = obj.loop_subdivision
+        for name, value in _overrides(self, _SETTINGS).items():
+            setattr(settings, name, value)
+        stack.add(obj)
+        live.refresh(obj, context.evaluated_depsgraph_get())
+        entry = live.cache(obj)
+        if entry is not None and entry.error:
+            self.report({'WARNING'}, entry.error)
         return {'FINISHED'}
 
 
 class OBJECT_OT_loop_subdivision_remove(bpy.types.Operator):
-    """Remove the Loop Subdivision entry from the active object"""
+    """Remove the Loop Subdivision modifier from the active object"""
     bl_idname = "object.loop_subdivision_remove"
     bl_label = "Remove Loop Subdivision"
     bl_options = {'REGISTER', 'UNDO'}
 
     @classmethod
     def poll(cls, context):
-        obj = context.object
-        return obj is not None and obj.type == 'MESH' and obj.loop_subdivision.enabled
+        return stack.entry(context.object) is not None
 
     def execute(self, context):
-        context.object.loop_subdivision.enabled = False
+        context.object.modifiers.remove(stack.entry(context.object))
         return {'FINISHED'}
 
 
 class OBJECT_OT_loop_subdivision_apply(bpy.types.Operator):
-    """Replace the geometry of the selected mesh objects with their Loop subdivision.
-Non-triangle faces are triangulated first. Arguments that are set override each object's panel settings"""
+    """Replace the active object's mesh with its Loop subdivision, and remove its Loop Subdivision modifier.
+Non-triangle faces are triangulated first. Arguments that are set override the modifier's settings"""
     bl_idname = "object.loop_subdivision_apply"
     bl_label = "Apply Loop Subdivision"
     bl_options = {'REGISTER', 'UNDO'}
 
-    # SKIP_SAVE: a value given once must not stick to later calls, which would then ignore the panel's settings.
-    levels: IntProperty(name="Levels", default=2, min=1, max=8, soft_max=5, options={'SKIP_SAVE'},
+    levels: IntProperty(name="Levels", default=1, min=1, max=8, soft_max=5, options={'SKIP_SAVE'},
                         description="Number of subdivisions to perform")
-    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'})
+    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'},
+                        description="How crease weights shape the surface")
     crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
                                     options={'SKIP_SAVE'},
-                                    description="Crease weights at or above this value are creases (Seed rules)")
-    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'})
+                                    description="Crease weights at or above this value make creases and corners")
+    boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
+                           description="Controls how open boundaries are smoothed")
 
     @classmethod
     def poll(cls, context):
         if context.mode != 'OBJECT':
             cls.poll_message_set("Switch to Object Mode to apply")
             return False
-        return bool(_mesh_objects(context))
+        return context.object is not None and context.object.type == 'MESH'
 
     def execute(self, context):
-        overrides = {name: getattr(self, name) for name in ("levels", "rules", "crease_threshold", "boundary")
-                     if self.properties.is_property_set(name)}
-        objects = _mesh_objects(context)
+        obj = context.object
+        options = obj.loop_subdivision.options(**_overrides(self, ("levels", "rules", "crease_threshold", "boundary")))
+        modifier = stack.entry(obj)
+        if modifier is not None and not stack.is_first(obj, modifier):
+            # Blender's own words when a modifier that is not first is applied: it acts on the object's mesh.
+            self.report({'INFO'}, "Applied modifier was not first, result may not be as expected")
+        if options.levels == 0:  # nothing to subdivide: as Blender applies Subdivision Surface at level 0
+            if modifier is not None:
+                obj.modifiers.remove(modifier)
+            return {'FINISHED'}
         window_manager = context.window_manager
-        stages = 4  # plan, vertex data, face data, mesh (see mesh_data.subdivide)
-        window_manager.progress_begin(0, stages * len(objects))
+        window_manager.progress_begin(0, 4)  # plan, vertex data, face data, mesh (see mesh_data.subdivide)
         step = 0
 
         def progress():
@@ -83,27 +126,19 @@ Non-triangle faces are triangulated first. Arguments that are set override each 
             step += 1
             window_manager.progress_update(step)
 
-        applied = 0
         try:
-            for number, obj in enumerate(objects):
-                step = number * stages
-                settings = obj.loop_subdivision
-                try:
-                    result = mesh_data.subdivide(obj, settings.options(**overrides), progress)
-                except LoopSubError as error:
-                    self.report({'ERROR'}, str(error))
-                    continue
-                mesh_data.replace_mesh(obj, result)
-                # As with Blender's modifiers, applying removes the entry.
-                settings.enabled = False
-                applied += 1
-                for level, text in result.messages:
-                    self.report({level}, text)
+            result = mesh_data.subdivide(obj, options, progress)
+        except LoopSubError as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
         finally:
             window_manager.progress_end()
-        if not applied:
-            return {'CANCELLED'}
-        self.report({'INFO'}, f"Applied Loop subdivision to {applied} object{'s' if applied > 1 else ''}")
+        mesh_data.replace_mesh(obj, result)
+        if modifier is not None:
+            obj.modifiers.remove(modifier)
+        for level, text in result.messages:
+            self.report({level}, text)
+        self.report({'INFO'}, f"Applied Loop subdivision to {obj.name}")
         return {'FINISHED'}
 
 

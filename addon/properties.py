@@ -1,58 +1,48 @@
-"""Per-object settings of the Loop Subdivision entry (Object.loop_subdivision)."""
+"""Settings of an object's Loop Subdivision entry (Object.loop_subdivision), drawn in the entry's panel."""
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from . import geometry, preview
+from . import geometry, live
 
 RULES_ITEMS = (
-    ('HOPPE94', "Seed (Hoppe 94)",
-     "Rules of Hoppe et al. 94 as in the seed: dart, regular and irregular crease, corner and cone vertices; "
-     "edges with a crease weight at or above the threshold are sharp"),
-    ('OPENSUBDIV', "OpenSubdiv Compatible",
-     "OpenSubdiv's Loop rules, as Blender's Subdivision Surface: crease weights are semi-sharp creases"),
+    ('HOPPE94', "Hoppe 94 (sharp creases, cones)",
+     "The rules of Hoppe et al. 94, as in the GDC'99 talk: creases stay sharp, with dart, crease, corner and cone "
+     "vertices. Edges whose crease weight reaches the threshold are creases"),
+    ('OPENSUBDIV', "OpenSubdiv (as Subdivision Surface)",
+     "OpenSubdiv's Loop rules, which Blender's Subdivision Surface uses: crease weights give semi-sharp creases"),
 )
 BOUNDARY_ITEMS = (
-    ('SMOOTH', "Smooth", "Smooth boundaries, like Boundary Smooth: All of the Subdivision Surface modifier"),
+    ('SMOOTH', "All", "Smooth boundaries, as Boundary Smooth: All of Subdivision Surface"),
     ('KEEP_CORNERS', "Keep Corners", "Boundary vertices with a single face stay sharp corners"),
 )
 
 
 def _changed(self, context):
-    preview.settings_changed(self.id_data)
+    live.settings_changed(self.id_data)
 
 
 class LoopSubdivisionSettings(bpy.types.PropertyGroup):
-    enabled: BoolProperty(
-        name="Loop Subdivision", default=False,
-        description="The object has a Loop Subdivision entry in its modifier stack", update=_changed)
-    show_viewport: BoolProperty(
-        name="Realtime", default=True, description="Display the Loop subdivision result in the viewport",
-        update=_changed)
     levels: IntProperty(
-        name="Levels", default=2, min=1, max=8, soft_max=5,
-        description="Number of subdivisions to perform when applying")
-    preview_levels: IntProperty(
-        name="Levels Viewport", default=1, min=1, max=6, soft_max=3,
-        description="Number of subdivisions to show in the viewport", update=_changed)
+        name="Levels Viewport", default=1, min=0, max=6, soft_max=3, update=_changed,
+        description="Number of subdivisions to perform in the 3D viewport, and when applying")
+    render_levels: IntProperty(
+        name="Render", default=2, min=0, max=8, soft_max=4,
+        description="Number of subdivisions to perform when rendering")
     rules: EnumProperty(
-        name="Rules", items=RULES_ITEMS, default='HOPPE94',
-        description="Which subdivision rules turn crease weights into creases", update=_changed)
+        name="Rules", items=RULES_ITEMS, default='HOPPE94', update=_changed,
+        description="How crease weights shape the surface")
     crease_threshold: FloatProperty(
-        name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
-        description="Edges and vertices with a crease weight at or above this value are creases and corners "
-                    "(Seed rules)", update=_changed)
+        name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR', update=_changed,
+        description="Edges and vertices with a crease weight at or above this value are creases and corners")
     boundary: EnumProperty(
-        name="Boundary", items=BOUNDARY_ITEMS, default='SMOOTH',
-        description="How boundary vertices with a single face are treated", update=_changed)
+        name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', update=_changed,
+        description="Controls how open boundaries are smoothed")
     use_creases: BoolProperty(
-        name="Use Creases", default=True, description="Use mesh crease information to sharpen edges or corners",
-        update=_changed)
+        name="Use Creases", default=True, update=_changed,
+        description="Use mesh crease information to sharpen edges or corners")
     cone_group: StringProperty(
-        name="Cone Group", default="",
-        description="Vertex group whose vertices are cones: their surface comes to a point (Seed rules)",
-        update=_changed)
-    # The cage is shown as a wireframe while the preview draws the result; this remembers how it was shown.
-    cage_display_type: StringProperty(default="")
+        name="Cone Group", default="", update=_changed,
+        description="Vertex group whose vertices become cones: the surface comes to a point there")
 
     def options(self, **overrides):
         values = {name: getattr(self, name)

@@ -1,63 +1,69 @@
-"""The Loop Subdivision panel in Properties ▸ Modifiers, laid out like Blender's Subdivision Surface modifier."""
+"""The Loop Subdivision modifier's settings, drawn inside its panel in Properties ▸ Modifiers, laid out like
+Blender's Subdivision Surface; and the Add Loop Subdivision button under Add Modifier."""
 import bpy
 
-from . import preview
+from . import compat, live, stack
 
 
 class DATA_PT_loop_subdivision(bpy.types.Panel):
+    """A header-less part of every Geometry Nodes modifier's panel that draws only in the Loop Subdivision ones."""
     bl_label = "Loop Subdivision"
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     bl_context = "modifier"
+    bl_parent_id = compat.NODES_MODIFIER_PANEL
     bl_options = {'HIDE_HEADER'}
 
-    @classmethod
-    def poll(cls, context):
-        return context.object is not None and context.object.type == 'MESH'
-
     def draw(self, context):
-        layout = self.layout
-        obj = context.object
-        settings = obj.loop_subdivision
-        if not settings.enabled:
-            layout.operator("object.loop_subdivision_add", icon='MOD_SUBSURF')
+        modifier = self.custom_data
+        if modifier is None or not stack.is_entry(modifier):
             return
+        obj = modifier.id_data
+        layout = self.layout
+        if stack.entry(obj) != modifier:
+            layout.label(text="Only the first Loop Subdivision modifier is used", icon='ERROR')
+            return
+        settings = obj.loop_subdivision
+        layout.use_property_split = True
+        layout.use_property_decorate = False
 
-        box = layout.box()
-        header = box.row(align=True)
-        header.label(text="Loop Subdivision", icon='MOD_SUBSURF')
-        header.prop(settings, "show_viewport", text="", icon='RESTRICT_VIEW_OFF' if settings.show_viewport
-                    else 'RESTRICT_VIEW_ON', emboss=False)
-        header.operator("object.loop_subdivision_remove", text="", icon='X', emboss=False)
-
-        column = box.column()
-        column.use_property_split = True
-        column.use_property_decorate = False
-        column.prop(settings, "preview_levels", text="Levels Viewport")
-        column.prop(settings, "levels", text="Apply")
-        column.separator()
-        column.prop(settings, "rules")
-        threshold = column.row()
+        column = layout.column(align=True)
+        column.prop(settings, "levels", text="Levels Viewport")
+        column.prop(settings, "render_levels", text="Render")
+        layout.prop(settings, "rules")
+        threshold = layout.row()
         threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
         threshold.prop(settings, "crease_threshold")
-        column.prop(settings, "boundary")
-        column.prop(settings, "use_creases")
-        cones = column.row()
+        layout.prop(settings, "boundary")
+        layout.prop(settings, "use_creases")
+        cones = layout.row()
         cones.active = settings.rules == 'HOPPE94'
         cones.prop_search(settings, "cone_group", obj, "vertex_groups", text="Cone Group")
 
-        item = preview.entry(obj)
-        if item is not None and item.error:
-            box.label(text=item.error, icon='ERROR')
-
-        row = box.row(align=True)
+        entry = live.cache(obj)
+        if entry is not None and entry.error:
+            layout.label(text=entry.error, icon='ERROR')
+        row = layout.row(align=True)
+        row.context_pointer_set("object", obj)
         row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')
-        row.operator("object.loop_subdivision_refresh_tags", text="Refresh Tags", icon='FILE_REFRESH')
+        row.operator("object.loop_subdivision_refresh_tags", text="Write Tags", icon='FILE_REFRESH')
+
+
+def _add_button(self, context):
+    obj = context.object
+    if obj is not None and obj.type == 'MESH' and stack.entry(obj) is None:
+        self.layout.operator("object.loop_subdivision_add", icon='MOD_SUBSURF')
+
+
+_button_target = None
 
 
 def register():
+    global _button_target
     bpy.utils.register_class(DATA_PT_loop_subdivision)
+    _button_target = compat.add_modifier_button(_add_button)
 
 
 def unregister():
+    compat.remove_modifier_button(_button_target, _add_button)
     bpy.utils.unregister_class(DATA_PT_loop_subdivision)

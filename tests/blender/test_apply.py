@@ -5,7 +5,7 @@ materials and flat/smooth shading per parent face, UV seams (UV discontinuities 
 and point colours interpolated as vertex channels (a quantity linear in the position stays that linear function of the
 new positions, since every rule's weights sum to one), corner colours per face, child crease weights (OpenSubdiv:
 decremented sharpness mapped back through 10·c²; seed rules: the weight kept), arguments overriding the panel,
-several selected objects, bad meshes left untouched with an error report, and undo.
+the active object only, bad meshes left untouched with an error report, and undo.
 """
 import math
 import os
@@ -100,8 +100,9 @@ def faces_and_shading():
     cage_materials = polygon_values(mesh, "material_index", np.int32)
     cage_smooth = polygon_values(mesh, "use_smooth", bool)
     name = mesh.name
-    obj.loop_subdivision.levels = 2  # no argument given: the panel's setting counts
-    result, output = run_apply(obj)
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(levels=2)
+    result, output = run_apply(obj)  # no argument given: the modifier's Levels Viewport counts
     check(result == {'FINISHED'}, "apply finishes on a quad cube")
     check("triangulated 6 non-triangle faces" in output, "apply reports that it triangulated the 6 quads first")
     mesh = obj.data
@@ -113,7 +114,7 @@ def faces_and_shading():
           "every face keeps its parent face's flat/smooth shading")
     check(len(mesh.materials) == 3, "the material slots are kept")
     check(mesh.name == name and bpy.data.meshes.get(name) == mesh, "the mesh keeps its name; the old data is gone")
-    check(not obj.loop_subdivision.enabled, "applying removes the Loop Subdivision entry")
+    check(not obj.modifiers, "applying removes the Loop Subdivision modifier")
     check({"loop_crease", "loop_vertex_type"} <= set(mesh.attributes.keys()), "apply refreshes the tags")
     check(not mesh.validate(verbose=True), "the result is a valid mesh")
     remove(obj)
@@ -245,14 +246,14 @@ def loose_geometry():
     remove(obj)
 
 
-# --- several objects, errors, undo --------------------------------------------------------------------------------
+# --- the active object, errors, undo --------------------------------------------------------------------------------
 
-def several_objects():
+def active_object_only():
     first, second = uv_cube("First"), uv_cube("Second")
     support.select_only(first, second)
     result = bpy.ops.object.loop_subdivision_apply(levels=1)
-    check(result == {'FINISHED'} and len(first.data.polygons) == 48 and len(second.data.polygons) == 48,
-          "every selected mesh object is applied")
+    check(result == {'FINISHED'} and len(first.data.polygons) == 48 and len(second.data.polygons) == 12,
+          "Apply acts on the active object only, as Blender's Apply does")
     remove(first)
     remove(second)
 
@@ -343,7 +344,7 @@ vertex_channels('OPENSUBDIV')
 vertex_channels('HOPPE94')
 creases_written()
 loose_geometry()
-several_objects()
+active_object_only()
 bad_meshes()
 undo_restores()
 addon.unregister()

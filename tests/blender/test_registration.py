@@ -15,6 +15,8 @@ addon = support.load_addon(register=False)
 check = support.Check("test_registration")
 
 OPERATORS = ("add", "remove", "apply", "refresh_tags")
+HANDLERS = ("depsgraph_update_post", "frame_change_post", "render_pre", "render_post", "render_cancel", "undo_post",
+            "redo_post", "load_post")
 CLASSES = tuple(f"OBJECT_OT_loop_subdivision_{name}" for name in OPERATORS) + (
     "LoopSubdivisionSettings", "DATA_PT_loop_subdivision", "VIEW3D_MT_object_loop_subdivision")
 
@@ -26,10 +28,9 @@ def footprint():
                     if hasattr(bpy.types, name) or bpy.types.PropertyGroup.bl_rna_get_subclass_py(name)},
         "object property": hasattr(bpy.types.Object, "loop_subdivision"),
         "operators": {name for name in OPERATORS if _operator_exists(name)},
-        "depsgraph handlers": len(bpy.app.handlers.depsgraph_update_post),
-        "load handlers": len(bpy.app.handlers.load_post),
+        "handlers": {name: len(getattr(bpy.app.handlers, name)) for name in HANDLERS},
         "object menu entries": len(bpy.types.VIEW3D_MT_object._dyn_ui_initialize()),
-        "timers": bpy.app.timers.is_registered(addon.preview._refresh_all),
+        "add modifier entries": len(bpy.types.DATA_PT_modifiers._dyn_ui_initialize()),
     }
 
 
@@ -50,21 +51,22 @@ def registration():
         full = footprint()
         check(full["classes"] == set(CLASSES) and full["object property"] and full["operators"] == set(OPERATORS),
               f"round {round_}: register adds the classes, Object.loop_subdivision and the operators {full}")
-        check(full["depsgraph handlers"] == empty["depsgraph handlers"] + 1
-              and full["load handlers"] == empty["load handlers"] + 1
-              and full["object menu entries"] == empty["object menu entries"] + 1,
-              f"round {round_}: one depsgraph handler, one load handler, one Object menu entry")
+        check(all(full["handlers"][name] == empty["handlers"][name] + 1 for name in HANDLERS)
+              and full["object menu entries"] == empty["object menu entries"] + 1
+              and full["add modifier entries"] == empty["add modifier entries"] + 1,
+              f"round {round_}: one handler of each kind, an Object menu entry and an Add Modifier button")
         for name in OPERATORS:
             rna = getattr(bpy.ops.object, f"loop_subdivision_{name}").get_rna_type()
             check({'REGISTER', 'UNDO'} <= set(bpy.types.Operator.bl_rna_get_subclass_py(
                 f"OBJECT_OT_loop_subdivision_{name}").bl_options) and rna.description,
                   f"round {round_}: object.loop_subdivision_{name} has REGISTER, UNDO and a description")
-        check(bpy.types.DATA_PT_loop_subdivision.bl_context == "modifier", "the panel is in Properties ▸ Modifiers")
-        check(f"{addon.__name__}.preview_draw" not in sys.modules and "gpu" not in sys.modules,
-              f"round {round_}: background mode imports neither the drawing code nor gpu")
+        panel = bpy.types.DATA_PT_loop_subdivision
+        check(panel.bl_context == "modifier" and panel.bl_parent_id == "MOD_PT_GeometryNodes",
+              "the settings are drawn inside the modifier's own panel in Properties ▸ Modifiers")
+        check("gpu" not in sys.modules, f"round {round_}: background mode does not import gpu")
         cube = support.object_from_bmesh("Cube", support.cube("Cube"))
         bpy.ops.object.loop_subdivision_add()
-        check(cube.loop_subdivision.enabled, f"round {round_}: the add operator works")
+        check(addon.stack.entry(cube) is not None, f"round {round_}: the add operator works")
         addon.unregister()
         bpy.data.objects.remove(cube)
         check(footprint() == empty, f"round {round_}: unregister leaves nothing behind {footprint()}")

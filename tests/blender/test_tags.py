@@ -1,14 +1,9 @@
-"""Crease tags written as attributes, and the live preview's plan re-use (the part of the preview that runs without a
-display: the gpu drawing itself cannot run in background mode).
-
-Tags: "loop_crease" (boolean, edges) and "loop_vertex_type" (integer, points: 0 smooth, 1 dart, 2 regular crease,
-3 irregular crease, 4 corner, 5 cone), checked against classifications derived here from the cage (RULES.md §1).
-Preview: the depsgraph handler keeps one plan while only positions change, builds a new one when the topology or the
-settings change, and shows the core's errors instead of drawing.
+"""Crease tags written as attributes: "loop_crease" (boolean, edges) and "loop_vertex_type" (integer, points:
+0 smooth, 1 dart, 2 regular crease, 3 irregular crease, 4 corner, 5 cone), checked against classifications derived
+here from the cage (RULES.md §1).
 """
 import os
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
@@ -19,7 +14,7 @@ import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
 compat = addon.compat
-check = support.Check("test_tags_preview")
+check = support.Check("test_tags")
 SMOOTH, DART, REGULAR, IRREGULAR, CORNER, CONE = range(6)
 
 
@@ -118,71 +113,6 @@ def tagging():
     remove(grid)
 
 
-def preview():
-    obj = support.object_from_bmesh("Preview", support.uv_sphere(8, 6))
-    obj.display_type = 'SOLID'
-    support.select_only(obj)
-    bpy.ops.object.loop_subdivision_add()
-    entry = addon.preview.entry(obj)
-    triangles = len(obj.data.polygons)
-    check(entry is not None and entry.plan_builds == 1 and len(entry.triangles) == 4 * triangles,
-          "adding the entry builds the preview at Levels Viewport (1)")
-    check(obj.display_type == 'WIRE', "the cage shows as a wireframe under the preview")
-
-    before = entry.positions.copy()
-    mesh = obj.data
-    mesh.vertices[0].co.z += 0.25
-    mesh.update()
-    bpy.context.view_layer.update()
-    check(entry.plan_builds == 1 and not np.array_equal(entry.positions, before),
-          "moving a vertex re-evaluates the same plan (depsgraph update)")
-
-    bpy.ops.object.mode_set(mode='EDIT')
-    edited = bmesh.from_edit_mesh(mesh)
-    edited.verts.ensure_lookup_table()
-    before = entry.positions.copy()
-    edited.verts[2].co.x += 0.25
-    bmesh.update_edit_mesh(mesh)
-    bpy.context.view_layer.update()
-    check(entry.plan_builds == 1 and not np.array_equal(entry.positions, before) and not entry.error,
-          "in Edit Mode, moving a vertex re-evaluates the same plan")
-    bpy.ops.object.mode_set(mode='OBJECT')
-
-    bm = bmesh.new()
-    bm.from_mesh(mesh)
-    bm.faces.ensure_lookup_table()
-    bmesh.ops.delete(bm, geom=[bm.faces[0]], context='FACES_ONLY')
-    bm.to_mesh(mesh)
-    bm.free()
-    mesh.update()
-    bpy.context.view_layer.update()
-    check(entry.plan_builds == 2 and len(entry.triangles) == 4 * (triangles - 1),
-          "changing the topology builds a new plan")
-
-    obj.loop_subdivision.preview_levels = 2
-    check(entry.plan_builds == 3 and len(entry.triangles) == 16 * (triangles - 1),
-          "changing Levels Viewport builds a new plan")
-
-    mesh.vertices[1].co.x = float("nan")
-    mesh.update()
-    bpy.context.view_layer.update()
-    check(entry.positions is None and "non-finite" in entry.error, f"a bad cage shows an error ({entry.error})")
-
-    bpy.ops.object.loop_subdivision_remove()
-    check(addon.preview.entry(obj) is None and obj.display_type == 'SOLID',
-          "removing the entry drops the preview and restores the cage's display")
-
-    bpy.ops.object.loop_subdivision_add()
-    mesh.vertices[1].co.x = 0.0
-    with tempfile.TemporaryDirectory() as folder:
-        path = os.path.join(folder, "preview.blend")
-        bpy.ops.wm.save_as_mainfile(filepath=path)
-        bpy.ops.wm.open_mainfile(filepath=path)
-    entry = addon.preview.entry(bpy.data.objects["Preview"])
-    check(entry is not None and entry.positions is not None, "opening a file shows the previews it holds")
-    remove(bpy.data.objects["Preview"])
-
-
 def remove(obj):
     mesh = obj.data
     bpy.data.objects.remove(obj)
@@ -191,6 +121,5 @@ def remove(obj):
 
 support.clear_scene()
 tagging()
-preview()
 addon.unregister()
 check.finish()

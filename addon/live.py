@@ -1,0 +1,244 @@
+"""Keeps each Loop Subdivision entry's result current: after edits (depsgraph updates), on frame changes (playback),
+before every frame a render evaluates (at Render levels), and when settings change.
+
+The input is the object evaluated up to the entry. Blender evaluates a stack as a whole and shows an add-on no
+intermediate mesh, so the entry and every active modifier below it are switched off for one evaluation of the view
+layer's depsgraph, whose result is the input, and switched on again once the helper holds the new subdivision. A guard
+keeps the handlers from reacting to the updates this makes.
+
+Renders read their input from the view layer's depsgraph too (so modifiers above the entry act with their viewport
+settings): Blender 3.4 does not re-evaluate a render depsgraph reliably when a modifier is switched off and on from
+Python. A render from the interface runs its handlers in the render thread, which must not evaluate the view layer:
+it asks the main thread to write the results and waits.
+
+The core's plan (all topology work) is kept per object while the input's triangles, tags and settings stay the same;
+then only the vertex and face-varying values are refined again and written into the result in place.
+"""
+import queue
+import threading
+
+import bpy
+import numpy as np
+from bpy.app.handlers import persistent
+
+from . import mesh_data, stack
+from .native import LoopSubError
+
+
+class Cache:
+    """What one object's entry keeps between updates."""
+
+    def __init__(self):
+        self.plan = None
+        self.plan_key = None
+        self.layout_key = None
+        self.result = None  # name of the helper mesh built for plan_key and layout_key
+        self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
+        self.plan_builds = 0  # plans built so far (tests check that position edits reuse the plan)
+        self.error = ""
+        self.messages = []
+
+
+_caches = {}
+_busy = False
+
+
+def cache(obj):
+    return _caches.get(obj.name)
+
+
+def _equal(a, b):
+    return a is not None and len(a) == len(b) and all(
+        np.array_equal(x, y) if isinstance(x, np.ndarray) or isinstance(y, np.ndarray) else x == y
+        for x, y in zip(a, b))
+
+
+def refresh(obj, depsgraph, render=False):
+    """Brings obj's entry up to date: its input read from depsgraph (the view layer's), subdivided at Levels Viewport,
+    or at Render levels for a render."""
+    global _busy
+    modifier = stack.entry(obj)
+    if modifier is None or _busy or not (modifier.show_render if render else modifier.show_viewport):
+        return
+    settings = obj.loop_subdivision
+    options = settings.options(levels=settings.render_levels if render else settings.levels)
+    carrier = stack.helper(obj, modifier)
+    index = list(obj.modifiers).index(modifier)
+    switched = [other for other in obj.modifiers[index:] if other.show_viewport]
+    _busy = True
+    try:
+        for other in switched:
+            other.show_viewport = False
+        depsgraph.update()
+        evaluated = obj.evaluated_get(depsgraph)
+        mesh = evaluated.to_mesh()
+        try:
+            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, carrier, options)
+        finally:
+            evaluated.to_mesh_clear()
+    finally:
+        for other in switched:
+            other.show_viewport = True
+        depsgraph.update()
+        _busy = False
+
+
+def _write(entry, obj, evaluated, mesh, carrier, options):
+    try:
+        if options.levels == 0:
+            raise _PassThrough
+        source = mesh_data.Source(obj, mesh, options)
+        plan_key = source.plan_key()
+        if not _equal(entry.plan_key, plan_key):
+            entry.plan, entry.plan_key, entry.inputs = source.plan(), plan_key, None
+            entry.plan_builds += 1
+        inputs = (source.vertex.packed(), source.corners.packed() if source.corners.parts else None)
+        layout_key = source.layout_key()
+        in_place = (entry.result == carrier.data.name and _equal(entry.layout_key, layout_key)
+                    and len(carrier.data.vertices) == entry.plan.num_output_vertices)
+        if in_place and _equal(entry.inputs, inputs):
+            return
+        refined, refined_corners = source.refine(entry.plan)
+        if in_place:
+            mesh_data.update_mesh(carrier.data, source, refined, refined_corners)
+        else:
+            old = carrier.data
+            _swap(carrier, old, mesh_data.build_mesh(source, entry.plan, refined, refined_corners, carrier.name,
+                                                     carrier))
+            entry.result, entry.layout_key = carrier.data.name, layout_key
+        entry.inputs = inputs
+        entry.error, entry.messages = "", source.messages
+    except (LoopSubError, _PassThrough) as problem:
+        # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
+        entry.error = str(problem)
+        entry.plan_key = entry.result = entry.inputs = None
+        _swap(carrier, carrier.data, bpy.data.meshes.new_from_object(evaluated))
+
+
+class _PassThrough(Exception):
+    """Levels 0: the entry shows its input."""
+
+
+def _swap(carrier, old, mesh):
+    carrier.data = mesh
+    if old is not None and old != mesh and old.users == 0:
+        bpy.data.meshes.remove(old)
+    mesh.name = carrier.name
+
+
+def refresh_all(depsgraph=None, render=False):
+    depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
+    for obj in [instance.original for instance in depsgraph.objects]:
+        refresh(obj, depsgraph, render)
+
+
+def settings_changed(obj):
+    """Property update callback of the entry's settings."""
+    if stack.entry(obj) is not None:
+        refresh(obj, bpy.context.evaluated_depsgraph_get())
+
+
+def _dropped():
+    for name in [name for name in _caches if stack.entry(bpy.data.objects.get(name)) is None]:
+        del _caches[name]  # deleted, renamed or without an entry
+
+
+@persistent
+def _on_depsgraph_update(scene, depsgraph):
+    if _busy:
+        return
+    _dropped()
+    updated = {update.id.original for update in depsgraph.updates
+               if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
+    for obj in updated:
+        refresh(obj, depsgraph)
+
+
+@persistent
+def _on_frame_change(scene, depsgraph):
+    if depsgraph.mode == 'VIEWPORT' and not _busy:
+        refresh_all(depsgraph)
+
+
+@persistent
+def _on_render_frame(*_):
+    """Before a render evaluates a frame: every entry's result at Render levels, for that frame."""
+    if threading.current_thread() is threading.main_thread():
+        refresh_all(render=True)
+        return
+    done = threading.Event()
+    _main_thread_work.put((_render_levels, done))
+    if not done.wait(_RENDER_WAIT_SECONDS):
+        print(f"Loop Subdivision: the interface did not answer within {_RENDER_WAIT_SECONDS} s; "
+              "this frame renders the viewport's result")
+
+
+def _render_levels():
+    refresh_all(render=True)
+
+
+def _viewport_levels():
+    refresh_all()
+
+
+@persistent
+def _on_render_end(*_):
+    # A render wrote its Render levels into the helpers: the viewport gets its levels back.
+    if not bpy.app.background:
+        _main_thread_work.put((_viewport_levels, None))
+
+
+# Work that render threads hand to the main thread, which a timer serves while the interface runs.
+_main_thread_work = queue.Queue()
+_RENDER_WAIT_SECONDS = 60.0
+_SERVE_INTERVAL = 0.05
+
+
+def _serve():
+    while not _main_thread_work.empty():
+        work, done = _main_thread_work.get()
+        try:
+            work()
+        finally:
+            if done is not None:
+                done.set()
+    return _SERVE_INTERVAL
+
+
+@persistent
+def _on_undo(*_):
+    # Undo restores the helpers' meshes as they were: build the next result anew rather than write into one.
+    for entry in _caches.values():
+        entry.result = entry.inputs = None
+
+
+@persistent
+def _on_load(*_):
+    _caches.clear()
+
+
+_handlers = (
+    ("depsgraph_update_post", _on_depsgraph_update),
+    ("frame_change_post", _on_frame_change),
+    ("render_pre", _on_render_frame),
+    ("render_post", _on_render_end),
+    ("render_cancel", _on_render_end),
+    ("undo_post", _on_undo),
+    ("redo_post", _on_undo),
+    ("load_post", _on_load),
+)
+
+
+def register():
+    for name, handler in _handlers:
+        getattr(bpy.app.handlers, name).append(handler)
+    if not bpy.app.background:
+        bpy.app.timers.register(_serve, persistent=True)
+
+
+def unregister():
+    for name, handler in _handlers:
+        getattr(bpy.app.handlers, name).remove(handler)
+    if bpy.app.timers.is_registered(_serve):
+        bpy.app.timers.unregister(_serve)
+    _caches.clear()

@@ -1,0 +1,315 @@
+"""The Loop Subdivision modifier as an artist and a pipeline meet it: an entry of the modifier stack that modifiers
+above feed and modifiers below act on, Levels Viewport and Render levels, edits in Object and Edit Mode re-using the
+plan, animation frame by frame, renders (`blender -b file -f N` in a second process), Blender's own Apply, files
+opened where the add-on is missing, copied objects, errors shown without losing the input, and no update loops.
+
+What the entry shows is checked against what the apply operator writes for the same input (apply is checked against
+Blender's Subdivision Surface and OpenSubdiv by the other tests), and against Blender's own modifiers' arithmetic.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bmesh  # noqa: E402
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+import blender_test_support as support  # noqa: E402
+
+addon = support.load_addon()
+check = support.Check("test_modifier")
+ADDON_DIR = os.path.dirname(addon.__file__)
+
+
+def evaluated(obj):
+    """The object's evaluated mesh as (positions, number of faces)."""
+    mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    return support.positions(mesh), len(mesh.polygons)
+
+
+def applied(obj, **arguments):
+    """What the apply operator writes for obj's own mesh, on a copy (positions, faces)."""
+    twin = support.copy_object(obj, obj.name + " twin")
+    twin.modifiers.clear()
+    support.apply_loop(twin, **arguments)
+    result = support.positions(twin.data), len(twin.data.polygons)
+    remove(twin)
+    support.select_only(obj)
+    return result
+
+
+def remove(obj):
+    mesh = obj.data
+    bpy.data.objects.remove(obj)
+    if mesh.users == 0:
+        bpy.data.meshes.remove(mesh)
+
+
+def add_entry(obj, **arguments):
+    support.select_only(obj)
+    result = bpy.ops.object.loop_subdivision_add(**arguments)
+    return result, obj.modifiers[-1]
+
+
+def plan_builds(obj):
+    return addon.live.cache(obj).plan_builds
+
+
+def run_blender(blend, script):
+    """Runs a script in a second Blender process on a saved file; returns its output."""
+    process = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", blend,
+                              "--python-exit-code", "1", "--python-expr", script],
+                             capture_output=True, text=True, timeout=300)
+    return process.returncode, process.stdout + process.stderr
+
+
+# --- in the stack ---------------------------------------------------------------------------------------------------
+
+def entry_in_stack():
+    obj = support.object_from_bmesh("Sphere", support.uv_sphere(8, 6))
+    cage_faces = len(obj.data.polygons)
+    result, modifier = add_entry(obj)
+    check(result == {'FINISHED'} and modifier.name.startswith("Loop Subdivision") and modifier.type == 'NODES',
+          "the add operator puts a modifier named Loop Subdivision at the end of the stack")
+    check(modifier.show_in_editmode and not modifier.show_on_cage, "it shows in Edit Mode, on the cage off")
+    positions, faces = evaluated(obj)
+    check(faces == 4 * cage_faces, f"the evaluated mesh has Levels Viewport (1): {faces} faces")
+    expected, _ = applied(obj, levels=1)
+    check(np.array_equal(positions, expected), "the entry shows exactly what Apply writes")
+    check(bpy.ops.object.loop_subdivision_add.poll() is False, "one entry per object: adding again is refused")
+
+    obj.loop_subdivision.levels = 2
+    positions, faces = evaluated(obj)
+    check(faces == 16 * cage_faces, "changing Levels Viewport changes the result")
+    obj.loop_subdivision.levels = 0
+    check(evaluated(obj)[1] == cage_faces, "Levels Viewport 0 shows the input")
+    obj.loop_subdivision.levels = 1
+    remove(obj)
+
+
+def stack_order():
+    grid = support.object_from_bmesh("Grid", support.grid(3))
+    triangles = len(grid.data.polygons)
+    boundary = int(np.count_nonzero(support.edge_face_counts(grid.data) == 1))
+    solidify = grid.modifiers.new("Solidify", 'SOLIDIFY')
+    solidify.thickness = 0.2
+    add_entry(grid, levels=1)
+    _, faces = evaluated(grid)
+    check(faces == 4 * (2 * triangles + 2 * boundary),
+          f"a Solidify above feeds the entry: the shell and its rim (triangulated) are subdivided ({faces} faces)")
+    bpy.ops.object.modifier_move_to_index(modifier=grid.modifiers[-1].name, index=0)
+    _, faces = evaluated(grid)
+    check(faces == 2 * 4 * triangles + 2 * boundary,
+          f"moved above it, the Solidify acts on the result: its rim has one quad per child edge ({faces} faces)")
+    remove(grid)
+
+    obj = support.object_from_bmesh("Mirrored", support.uv_sphere(8, 6))
+    for vertex in obj.data.vertices:
+        vertex.co.x += 2.0
+    mirror = obj.modifiers.new("Mirror", 'MIRROR')
+    mirror.use_mirror_merge = False
+    _, modifier = add_entry(obj)
+    positions, faces = evaluated(obj)
+    alone, alone_faces = applied(obj, levels=1)
+    check(faces == 2 * alone_faces, "a Mirror above doubles the faces the entry subdivides")
+    right = positions[positions[:, 0] > 0]
+    left = positions[positions[:, 0] < 0] * np.array([-1.0, 1.0, 1.0], dtype=np.float32)
+    check(len(right) == len(left) == len(alone)
+          and np.abs(np.sort(right, axis=0) - np.sort(alone, axis=0)).max() < 1e-6
+          and np.abs(np.sort(left, axis=0) - np.sort(alone, axis=0)).max() < 1e-6,
+          "each mirrored half is the subdivision of the cage (a Mirror commutes with Loop)")
+
+    displace = obj.modifiers.new("Displace", 'DISPLACE')
+    displace.direction = 'Z'
+    displace.strength = 0.5
+    moved, moved_faces = evaluated(obj)
+    check(moved_faces == faces and np.abs(moved - positions - [0, 0, 0.25]).max() < 1e-6,
+          "a Displace below moves the result by its strength x (1 - midlevel)")
+    displace.show_viewport = False
+    check(np.array_equal(evaluated(obj)[0], positions), "switching the Displace off gives the result back")
+    modifier.show_viewport = False
+    _, faces = evaluated(obj)
+    check(faces == 2 * len(obj.data.polygons), "switching the entry off in the viewport shows its input")
+    modifier.show_viewport = True
+    remove(obj)
+
+
+# --- edits, animation -----------------------------------------------------------------------------------------------
+
+def edits():
+    obj = support.object_from_bmesh("Edited", support.uv_sphere(8, 6))
+    add_entry(obj)
+    builds = plan_builds(obj)
+    before, _ = evaluated(obj)
+    obj.data.vertices[0].co.z += 0.25
+    obj.data.update()
+    after, _ = evaluated(obj)
+    check(plan_builds(obj) == builds and not np.array_equal(before, after)
+          and np.array_equal(after, applied(obj, levels=1)[0]),
+          "moving a vertex in Object Mode updates the result with the same plan")
+
+    helper = obj.modifiers[-1].get(addon.compat.group_input_identifier(obj.modifiers[-1].node_group, "Result"))
+    mesh_pointer = helper.data.as_pointer()
+    for _ in range(3):
+        bpy.context.view_layer.update()
+    check(helper.data.as_pointer() == mesh_pointer and np.array_equal(evaluated(obj)[0], after)
+          and plan_builds(obj) == builds, "updates that change nothing leave the result alone (no update loop)")
+
+    bpy.ops.object.mode_set(mode='EDIT')
+    edit = bmesh.from_edit_mesh(obj.data)
+    edit.verts.ensure_lookup_table()
+    edit.verts[3].co.x += 0.3
+    bmesh.update_edit_mesh(obj.data)
+    in_edit, _ = evaluated(obj)
+    check(plan_builds(obj) == builds and not np.array_equal(in_edit, after),
+          "in Edit Mode a vertex move shows in the result, with the same plan")
+    edit.faces.ensure_lookup_table()
+    bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
+    bmesh.update_edit_mesh(obj.data)
+    _, faces = evaluated(obj)
+    check(plan_builds(obj) == builds + 1 and faces == 4 * (len(obj.data.polygons) - 1),
+          "in Edit Mode deleting a face builds a new plan")
+    bpy.ops.object.mode_set(mode='OBJECT')
+    check(np.array_equal(evaluated(obj)[0], applied(obj, levels=1)[0]),
+          "back in Object Mode the result is the subdivision of the edited mesh")
+    remove(obj)
+
+
+def animation():
+    obj = support.object_from_bmesh("Waving", support.grid(6))
+    wave = obj.modifiers.new("Wave", 'WAVE')
+    wave.height = 0.3
+    add_entry(obj)
+    scene = bpy.context.scene
+    results = []
+    for frame in (1, 7):
+        scene.frame_set(frame)
+        results.append(evaluated(obj)[0])
+    check(not np.array_equal(results[0], results[1]), "a Wave above: the result follows the frame")
+    scene.frame_set(1)
+    check(np.array_equal(evaluated(obj)[0], results[0]), "back at frame 1, the frame-1 result again")
+    remove(obj)
+
+
+# --- errors ---------------------------------------------------------------------------------------------------------
+
+def errors():
+    obj = support.object_from_bmesh("Broken", support.uv_sphere(8, 6))
+    add_entry(obj)
+    good, _ = evaluated(obj)
+    obj.data.vertices[1].co.x = float("nan")
+    obj.data.update()
+    _, faces = evaluated(obj)
+    error = addon.live.cache(obj).error
+    check(faces == len(obj.data.polygons) and "non-finite" in error,
+          f"a bad input passes through unchanged and the panel says why ({error})")
+    obj.data.vertices[1].co.x = 0.0
+    obj.data.update()
+    _, faces = evaluated(obj)
+    check(faces == 4 * len(obj.data.polygons) and not addon.live.cache(obj).error, "fixed, it subdivides again")
+    remove(obj)
+
+
+# --- copies, Apply, files, renders ----------------------------------------------------------------------------------
+
+def copies():
+    obj = support.object_from_bmesh("Original", support.uv_sphere(8, 6))
+    add_entry(obj)
+    linked = obj.copy()  # what Alt D makes: the same mesh, a copy of the object and its modifiers
+    linked.name = "Linked"
+    bpy.context.scene.collection.objects.link(linked)
+    linked.loop_subdivision.levels = 2
+    key = addon.compat.group_input_identifier(obj.modifiers[-1].node_group, "Result")
+    check(linked.modifiers[-1][key] != obj.modifiers[-1][key], "a copied object gets a result of its own")
+    check(evaluated(linked)[1] == 16 * len(obj.data.polygons) and evaluated(obj)[1] == 4 * len(obj.data.polygons),
+          "the copy and the original each show their own levels")
+    remove(linked)
+    remove(obj)
+
+
+def blender_apply():
+    obj = support.object_from_bmesh("BlenderApply", support.uv_sphere(8, 6))
+    _, modifier = add_entry(obj, levels=2)
+    positions, faces = evaluated(obj)
+    with bpy.context.temp_override(object=obj, active_object=obj):
+        result = bpy.ops.object.modifier_apply(modifier=modifier.name)
+    check(result == {'FINISHED'} and not obj.modifiers and len(obj.data.polygons) == faces
+          and np.array_equal(support.positions(obj.data), positions),
+          "Blender's own Apply writes the result into the mesh and removes the entry")
+    remove(obj)
+
+    obj = support.object_from_bmesh("OperatorApply", support.uv_sphere(8, 6))
+    obj.modifiers.new("Displace", 'DISPLACE')
+    add_entry(obj, levels=1)
+    result, output = support.capture_output(lambda: bpy.ops.object.loop_subdivision_apply())
+    check(result == {'FINISHED'} and "was not first" in output and [m.type for m in obj.modifiers] == ['DISPLACE'],
+          "the add-on's Apply on an entry that is not first warns as Blender does, and removes the entry")
+    remove(obj)
+
+
+def saved_and_rendered():
+    obj = support.object_from_bmesh("Saved", support.uv_sphere(8, 6))
+    obj.data.materials.append(bpy.data.materials.new("Paint"))
+    add_entry(obj, levels=1, render_levels=2)
+    positions, faces = evaluated(obj)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    bpy.context.scene.collection.objects.link(camera)
+    camera.location = (0.0, -6.0, 0.0)
+    camera.rotation_euler = (np.pi / 2, 0.0, 0.0)
+    scene = bpy.context.scene
+    scene.camera = camera
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 1
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = 16
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "saved.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+        np.save(os.path.join(folder, "positions.npy"), positions)
+        code, output = run_blender(path, f"""
+import addon_utils, bpy, numpy as np
+assert not any(m.__name__.startswith("loop") or m.__name__ == "addon" for m in addon_utils.modules()
+               if addon_utils.check(m.__name__)[1])
+mesh = bpy.data.objects["Saved"].evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+co = np.empty(len(mesh.vertices) * 3, np.float32); mesh.vertices.foreach_get("co", co)
+same = np.array_equal(co.reshape(-1, 3), np.load({os.path.join(folder, "positions.npy")!r}))
+print("WITHOUT-ADDON", len(mesh.polygons), same, len(mesh.materials))
+""")
+        check(f"WITHOUT-ADDON {faces} True 1" in output,
+              "a Blender without the add-on opens the file and shows the saved result, materials included")
+
+        render_check = f"""
+import sys, bpy
+sys.path.insert(0, {os.path.dirname(ADDON_DIR)!r})
+import {os.path.basename(ADDON_DIR)} as addon
+addon.register()
+seen = []
+def frame(scene, depsgraph):
+    if depsgraph.mode == 'RENDER':
+        seen.append(len(bpy.data.objects["Saved"].evaluated_get(depsgraph).data.polygons))
+bpy.app.handlers.frame_change_post.append(frame)
+bpy.context.scene.render.filepath = {os.path.join(folder, "frame_")!r}
+bpy.ops.render.render(write_still=True)
+print("RENDERED", seen)
+"""
+        code, output = run_blender(path, render_check)
+        check(f"RENDERED [{4 * faces}]" in output,
+              f"a render evaluates the Render levels (2): {4 * faces} faces ({output.splitlines()[-3:]})")
+    check(evaluated(obj)[1] == faces, "the viewport keeps Levels Viewport")
+    remove(obj)
+    bpy.data.objects.remove(camera)
+
+
+support.clear_scene()
+entry_in_stack()
+stack_order()
+edits()
+animation()
+errors()
+copies()
+blender_apply()
+saved_and_rendered()
+addon.unregister()
+check.finish()
