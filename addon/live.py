@@ -36,7 +36,7 @@ class Cache:
         self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
         self.plan_builds = 0  # plans built so far (tests check that position edits reuse the plan)
         self.error = ""
-        self.messages = []
+        self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
 
 
 _caches = {}
@@ -87,11 +87,12 @@ def _write(entry, obj, evaluated, mesh, carrier, options):
     try:
         if options.levels == 0:
             raise _PassThrough
-        source = mesh_data.Source(obj, mesh, options)
+        source = mesh_data.Source(obj, mesh, options, entry.plan_key[1] if entry.plan_key else None)
         plan_key = source.plan_key()
         if not _equal(entry.plan_key, plan_key):
             entry.plan, entry.plan_key, entry.inputs = source.plan(), plan_key, None
             entry.plan_builds += 1
+            entry.messages = source.messages
         inputs = (source.vertex.packed(), source.corners.packed() if source.corners.parts else None)
         layout_key = source.layout_key()
         in_place = (entry.result == carrier.data.name and _equal(entry.layout_key, layout_key)
@@ -107,7 +108,7 @@ def _write(entry, obj, evaluated, mesh, carrier, options):
                                                      carrier))
             entry.result, entry.layout_key = carrier.data.name, layout_key
         entry.inputs = inputs
-        entry.error, entry.messages = "", source.messages
+        entry.error = ""
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
         entry.error = str(problem)

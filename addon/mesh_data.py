@@ -77,14 +77,17 @@ class Cage(Topology):
                          compat.read_edge_creases(mesh),
                          compat.read_vertex_creases(mesh))
 
-    def validate(self, name):
-        """The checks that give a clearer message here than the core's own."""
+    def validate(self, name, topology=True):
+        """The checks that give a clearer message here than the core's own; topology=False skips those that depend on
+        the triangles alone (for triangles already checked)."""
         if not len(self.triangles):
             raise LoopSubError(f"{name} has no faces to subdivide")
         bad = np.flatnonzero(~np.isfinite(self.positions).all(axis=1))
         if len(bad):
             raise LoopSubError(f"{name}: vertex {bad[0]} has a non-finite coordinate "
                                f"({len(bad)} such vertices)")
+        if not topology:
+            return
         degenerate = geometry.degenerate_triangles(self.triangles)
         if len(degenerate):
             face = self.triangle_polygons[degenerate[0]]
@@ -167,31 +170,39 @@ class _Channels:
         return np.ascontiguousarray(np.concatenate(self.parts, axis=-1), dtype=np.float32)
 
 
+def _notes(name, cage):
+    """What an artist should be told about a cage that subdivides."""
+    notes = []
+    if cage.num_triangulated:
+        notes.append(('INFO', f"{name}: triangulated {cage.num_triangulated} non-triangle faces "
+                              "with Blender's tessellation first"))
+    loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
+    if loose_edges:
+        notes.append(('WARNING', f"{name}: {loose_edges} loose edges (in no face) are not carried over"))
+    cracks = geometry.shared_positions(cage.positions)
+    if cracks:
+        notes.append(('WARNING', f"{name}: {cracks} vertices share a position with another; the cracks "
+                                 "stay open (Merge by Distance welds them)"))
+    return notes
+
+
 class Source:
     """Everything a subdivision reads from one input mesh, gathered once: the cage and its tags, the vertex channels
     (positions, point attributes, vertex-group weights) and face-varying channels (UVs, corner attributes) packed for
     the core, and the per-face and per-edge data that the result inherits.
 
     obj gives the vertex-group names and the cone group; mesh is its own data (apply) or its evaluated mesh up to the
-    Loop Subdivision entry (the live entry)."""
+    Loop Subdivision entry (the live entry). checked_triangles: triangles validated before (the live entry's last
+    ones): when the cage has the same, the checks and notes that depend on the topology alone are skipped, and so
+    are the notes (messages) altogether, since the result is then only updated."""
 
-    def __init__(self, obj, mesh, options):
+    def __init__(self, obj, mesh, options, checked_triangles=None):
         self.mesh = mesh
         self.options = options
         self.cage = cage = Cage(mesh)
-        cage.validate(obj.name)
-        self.messages = messages = []
-        if cage.num_triangulated:
-            messages.append(('INFO', f"{obj.name}: triangulated {cage.num_triangulated} non-triangle faces "
-                                     "with Blender's tessellation first"))
-        loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
-        if loose_edges:
-            messages.append(('WARNING', f"{obj.name}: {loose_edges} loose edges (in no face) are not carried over"))
-        cracks = geometry.shared_positions(cage.positions)
-        if cracks:
-            messages.append(('WARNING', f"{obj.name}: {cracks} vertices share a position with another; the cracks "
-                                        "stay open (Merge by Distance welds them)"))
-
+        known = checked_triangles is not None and np.array_equal(cage.triangles, checked_triangles)
+        cage.validate(obj.name, topology=not known)
+        self.messages = [] if known else _notes(obj.name, cage)
         self.group_names = [group.name for group in obj.vertex_groups]
         self.group_weights = read_vertex_groups(mesh, len(self.group_names))
         self.cone_index = cone_group_index(obj, options)
@@ -203,7 +214,7 @@ class Source:
         self.point, self.corner, self.face, dropped = geometry.plan_attributes(
             [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
         if dropped:
-            messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
+            self.messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
                                         + ", ".join(f"{n} ({d.lower()} {t.lower()})" for n, d, t in dropped)))
 
         # Vertex channels: positions, point attributes and vertex groups refine together with the same weights.

@@ -19,10 +19,21 @@ def _overrides(operator, names):
     return {name: getattr(operator, name) for name in names if operator.properties.is_property_set(name)}
 
 
+class _RuleArguments:
+    """Arguments both add and apply take, named as the settings (SKIP_SAVE: see _overrides)."""
+    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'},
+                        description="How crease weights shape the surface")
+    crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
+                                    options={'SKIP_SAVE'},
+                                    description="Crease weights at or above this value make creases and corners")
+    boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
+                           description="Controls how open boundaries are smoothed")
+
+
 _SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group")
 
 
-class OBJECT_OT_loop_subdivision_add(bpy.types.Operator):
+class OBJECT_OT_loop_subdivision_add(_RuleArguments, bpy.types.Operator):
     """Add a Loop Subdivision modifier to the end of the active object's modifier stack"""
     bl_idname = "object.loop_subdivision_add"
     bl_label = "Add Loop Subdivision"
@@ -32,13 +43,6 @@ class OBJECT_OT_loop_subdivision_add(bpy.types.Operator):
                         description="Number of subdivisions to perform in the 3D viewport, and when applying")
     render_levels: IntProperty(name="Render", default=2, min=0, max=8, soft_max=4, options={'SKIP_SAVE'},
                                description="Number of subdivisions to perform when rendering")
-    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'},
-                        description="How crease weights shape the surface")
-    crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
-                                    options={'SKIP_SAVE'},
-                                    description="Crease weights at or above this value make creases and corners")
-    boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
-                           description="Controls how open boundaries are smoothed")
     use_creases: BoolProperty(name="Use Creases", default=True, options={'SKIP_SAVE'},
                               description="Use mesh crease information to sharpen edges or corners")
     cone_group: StringProperty(name="Cone Group", default="", options={'SKIP_SAVE'},
@@ -82,7 +86,7 @@ class OBJECT_OT_loop_subdivision_remove(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class OBJECT_OT_loop_subdivision_apply(bpy.types.Operator):
+class OBJECT_OT_loop_subdivision_apply(_RuleArguments, bpy.types.Operator):
     """Replace the active object's mesh with its Loop subdivision, and remove its Loop Subdivision modifier.
 Non-triangle faces are triangulated first. Arguments that are set override the modifier's settings"""
     bl_idname = "object.loop_subdivision_apply"
@@ -91,13 +95,6 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
 
     levels: IntProperty(name="Levels", default=1, min=1, max=8, soft_max=5, options={'SKIP_SAVE'},
                         description="Number of subdivisions to perform")
-    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'},
-                        description="How crease weights shape the surface")
-    crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
-                                    options={'SKIP_SAVE'},
-                                    description="Crease weights at or above this value make creases and corners")
-    boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
-                           description="Controls how open boundaries are smoothed")
 
     @classmethod
     def poll(cls, context):

@@ -43,6 +43,9 @@ class DATA_PT_loop_subdivision(bpy.types.Panel):
         entry = live.cache(obj)
         if entry is not None and entry.error:
             layout.label(text=entry.error, icon='ERROR')
+        elif entry is not None:
+            for level, text in entry.messages:
+                layout.label(text=text.split(": ", 1)[-1], icon='ERROR' if level == 'WARNING' else 'INFO')
         row = layout.row(align=True)
         row.context_pointer_set("object", obj)
         row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')

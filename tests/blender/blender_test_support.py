@@ -78,6 +78,14 @@ def object_from_bmesh(name, bm, triangulate=True):
     return obj
 
 
+def remove(obj):
+    """Removes an object and its mesh when nothing else uses it."""
+    mesh = obj.data
+    bpy.data.objects.remove(obj)
+    if mesh.users == 0:
+        bpy.data.meshes.remove(mesh)
+
+
 def select_only(*objects):
     bpy.context.view_layer.update()  # objects removed since the last update linger as None otherwise
     for other in bpy.context.view_layer.objects:

@@ -75,13 +75,6 @@ def attribute_values(mesh, name, width):
     return support.read_array(mesh.attributes[name].data, "color", width)
 
 
-def remove(obj):
-    mesh = obj.data
-    bpy.data.objects.remove(obj)
-    if mesh.users == 0:
-        bpy.data.meshes.remove(mesh)
-
-
 def run_apply(obj, **arguments):
     support.select_only(obj)
     return support.capture_output(lambda: bpy.ops.object.loop_subdivision_apply(**arguments))
@@ -117,7 +110,7 @@ def faces_and_shading():
     check(not obj.modifiers, "applying removes the Loop Subdivision modifier")
     check({"loop_crease", "loop_vertex_type"} <= set(mesh.attributes.keys()), "apply refreshes the tags")
     check(not mesh.validate(verbose=True), "the result is a valid mesh")
-    remove(obj)
+    support.remove(obj)
 
 
 # --- UVs, seams ------------------------------------------------------------------------------------------------
@@ -144,7 +137,7 @@ def uv_seams():
     check(len(edge_flags(mesh, "use_edge_sharp")) == 2 ** level, "a sharp edge's child edges are sharp")
     check([uv.name for uv in mesh.uv_layers] == [uv_name, "Second"] and mesh.uv_layers.active.name == uv_name,
           "UV maps are kept, with the active one")
-    remove(obj)
+    support.remove(obj)
 
 
 # --- vertex channels: groups and colours ------------------------------------------------------------------------
@@ -191,7 +184,7 @@ def vertex_channels(rules):
     check(np.abs(result_corner - expected[:, None, :]).max() < 1e-2,
           f"{rules}: corner colours stay with their faces (byte colours)")
     check(mesh.color_attributes.active_color.name == "PointColor", f"{rules}: the active colour attribute is kept")
-    remove(obj)
+    support.remove(obj)
 
 
 # --- creases ----------------------------------------------------------------------------------------------------
@@ -223,7 +216,7 @@ def creases_written():
         vertex_creases = compat.read_vertex_creases(obj.data)
         check(vertex_creases[0] == 1.0 and np.count_nonzero(vertex_creases) == 1,
               f"{rules}, level {levels}: the corner keeps its vertex crease 1.0 (infinitely sharp)")
-        remove(obj)
+        support.remove(obj)
 
 
 def loose_geometry():
@@ -243,7 +236,7 @@ def loose_geometry():
           "a creased loose edge is left out with a warning")
     check(np.allclose(support.positions(mesh)[8:11], [[3, 0, 0], [4, 0, 0], [5, 0, 0]]),
           "loose vertices keep their places and indices")
-    remove(obj)
+    support.remove(obj)
 
 
 # --- the active object, errors, undo --------------------------------------------------------------------------------
@@ -254,8 +247,8 @@ def active_object_only():
     result = bpy.ops.object.loop_subdivision_apply(levels=1)
     check(result == {'FINISHED'} and len(first.data.polygons) == 48 and len(second.data.polygons) == 12,
           "Apply acts on the active object only, as Blender's Apply does")
-    remove(first)
-    remove(second)
+    support.remove(first)
+    support.remove(second)
 
 
 def snapshot(obj):
@@ -286,7 +279,7 @@ def bad_meshes():
     obj = uv_cube("NotANumber")
     obj.data.vertices[3].co.x = float("nan")
     expect_error(obj, "a non-finite coordinate", "non-finite", levels=1)
-    remove(obj)
+    support.remove(obj)
 
     mesh = bpy.data.meshes.new("Degenerate")
     mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)], [], [(0, 1, 2), (1, 3, 2)])
@@ -294,28 +287,28 @@ def bad_meshes():
     obj = bpy.data.objects.new("Degenerate", mesh)
     bpy.context.scene.collection.objects.link(obj)
     expect_error(obj, "a face repeating a vertex", "repeats a vertex", levels=1)
-    remove(obj)
+    support.remove(obj)
 
     obj = uv_cube("Shared")
     user = bpy.data.objects.new("OtherUser", obj.data)
     bpy.context.scene.collection.objects.link(user)
     expect_error(obj, "multi-user mesh data", "multi-user", levels=1)
     bpy.data.objects.remove(user)
-    remove(obj)
+    support.remove(obj)
 
     obj = uv_cube("Keyed")
     obj.shape_key_add(name="Basis")
     expect_error(obj, "a mesh with shape keys", "shape keys", levels=1)
-    remove(obj)
+    support.remove(obj)
 
     obj = support.object_from_bmesh("TooFine", support.uv_sphere(64, 32))  # 3,968 triangles: ~19 GiB at level 8
     expect_error(obj, "a level past the core's memory limit", "would need about", levels=8)
-    remove(obj)
+    support.remove(obj)
 
     obj = uv_cube("NoCone")
     obj.loop_subdivision.cone_group = "Missing"
     expect_error(obj, "a missing cone group", "does not exist", levels=1, rules='HOPPE94')
-    remove(obj)
+    support.remove(obj)
 
 
 def undo_restores():
@@ -334,7 +327,7 @@ def undo_restores():
     check(applied == faces * 16 and len(obj.data.polygons) == faces
           and np.array_equal(support.positions(obj.data), before),
           f"undo restores the original mesh ({applied} faces after apply, {len(obj.data.polygons)} after undo)")
-    remove(obj)
+    support.remove(obj)
 
 
 support.clear_scene()

@@ -35,16 +35,9 @@ def applied(obj, **arguments):
     twin.modifiers.clear()
     support.apply_loop(twin, **arguments)
     result = support.positions(twin.data), len(twin.data.polygons)
-    remove(twin)
+    support.remove(twin)
     support.select_only(obj)
     return result
-
-
-def remove(obj):
-    mesh = obj.data
-    bpy.data.objects.remove(obj)
-    if mesh.users == 0:
-        bpy.data.meshes.remove(mesh)
 
 
 def add_entry(obj, **arguments):
@@ -86,7 +79,7 @@ def entry_in_stack():
     obj.loop_subdivision.levels = 0
     check(evaluated(obj)[1] == cage_faces, "Levels Viewport 0 shows the input")
     obj.loop_subdivision.levels = 1
-    remove(obj)
+    support.remove(obj)
 
 
 def stack_order():
@@ -103,7 +96,7 @@ def stack_order():
     _, faces = evaluated(grid)
     check(faces == 2 * 4 * triangles + 2 * boundary,
           f"moved above it, the Solidify acts on the result: its rim has one quad per child edge ({faces} faces)")
-    remove(grid)
+    support.remove(grid)
 
     obj = support.object_from_bmesh("Mirrored", support.uv_sphere(8, 6))
     for vertex in obj.data.vertices:
@@ -133,7 +126,7 @@ def stack_order():
     _, faces = evaluated(obj)
     check(faces == 2 * len(obj.data.polygons), "switching the entry off in the viewport shows its input")
     modifier.show_viewport = True
-    remove(obj)
+    support.remove(obj)
 
 
 # --- edits, animation -----------------------------------------------------------------------------------------------
@@ -174,7 +167,7 @@ def edits():
     bpy.ops.object.mode_set(mode='OBJECT')
     check(np.array_equal(evaluated(obj)[0], applied(obj, levels=1)[0]),
           "back in Object Mode the result is the subdivision of the edited mesh")
-    remove(obj)
+    support.remove(obj)
 
 
 def animation():
@@ -190,7 +183,7 @@ def animation():
     check(not np.array_equal(results[0], results[1]), "a Wave above: the result follows the frame")
     scene.frame_set(1)
     check(np.array_equal(evaluated(obj)[0], results[0]), "back at frame 1, the frame-1 result again")
-    remove(obj)
+    support.remove(obj)
 
 
 # --- errors ---------------------------------------------------------------------------------------------------------
@@ -209,7 +202,7 @@ def errors():
     obj.data.update()
     _, faces = evaluated(obj)
     check(faces == 4 * len(obj.data.polygons) and not addon.live.cache(obj).error, "fixed, it subdivides again")
-    remove(obj)
+    support.remove(obj)
 
 
 # --- copies, Apply, files, renders ----------------------------------------------------------------------------------
@@ -225,8 +218,8 @@ def copies():
     check(linked.modifiers[-1][key] != obj.modifiers[-1][key], "a copied object gets a result of its own")
     check(evaluated(linked)[1] == 16 * len(obj.data.polygons) and evaluated(obj)[1] == 4 * len(obj.data.polygons),
           "the copy and the original each show their own levels")
-    remove(linked)
-    remove(obj)
+    support.remove(linked)
+    support.remove(obj)
 
 
 def blender_apply():
@@ -238,7 +231,7 @@ def blender_apply():
     check(result == {'FINISHED'} and not obj.modifiers and len(obj.data.polygons) == faces
           and np.array_equal(support.positions(obj.data), positions),
           "Blender's own Apply writes the result into the mesh and removes the entry")
-    remove(obj)
+    support.remove(obj)
 
     obj = support.object_from_bmesh("OperatorApply", support.uv_sphere(8, 6))
     obj.modifiers.new("Displace", 'DISPLACE')
@@ -246,7 +239,7 @@ def blender_apply():
     result, output = support.capture_output(lambda: bpy.ops.object.loop_subdivision_apply())
     check(result == {'FINISHED'} and "was not first" in output and [m.type for m in obj.modifiers] == ['DISPLACE'],
           "the add-on's Apply on an entry that is not first warns as Blender does, and removes the entry")
-    remove(obj)
+    support.remove(obj)
 
 
 def saved_and_rendered():
@@ -298,7 +291,7 @@ print("RENDERED", seen)
         check(f"RENDERED [{4 * faces}]" in output,
               f"a render evaluates the Render levels (2): {4 * faces} faces ({output.splitlines()[-3:]})")
     check(evaluated(obj)[1] == faces, "the viewport keeps Levels Viewport")
-    remove(obj)
+    support.remove(obj)
     bpy.data.objects.remove(camera)
 
 

@@ -1,0 +1,162 @@
+"""Loop Subdivision against Blender's Subdivision Surface in one Blender run: Apply, edits of every cage vertex, and
+animation playback. Prints medians; run with scripts/bench_blender.sh (or blender -b --factory-startup --python this
+-- --addon-dir addon [--repeat N]).
+
+- Apply: the add-on's operator vs Blender's modifier_apply of Subdivision Surface (Catmull-Clark of the same
+  triangles), on a 200x200 grid (80,000 triangles) at level 2 and a 20,480-triangle icosphere at level 3; times per
+  output vertex too, since Catmull-Clark of triangles makes more vertices than Loop.
+- Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
+  100,352-triangle grid at level 1.
+- Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2, stepping frames.
+"""
+import argparse
+import os
+import statistics
+import sys
+import time
+
+import bmesh
+import bpy
+import numpy as np
+
+argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+parser = argparse.ArgumentParser()
+parser.add_argument("--addon-dir", required=True)
+parser.add_argument("--repeat", type=int, default=5)
+args = parser.parse_args(argv)
+sys.path.insert(0, os.path.dirname(os.path.abspath(args.addon_dir)))
+addon = __import__(os.path.basename(os.path.abspath(args.addon_dir)))
+addon.register()
+
+
+def clear():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    for mesh in list(bpy.data.meshes):
+        bpy.data.meshes.remove(mesh)
+
+
+def mesh_object(name, build):
+    bm = bmesh.new()
+    build(bm)
+    bmesh.ops.triangulate(bm, faces=bm.faces[:])
+    mesh = bpy.data.meshes.new(name)
+    bm.to_mesh(mesh)
+    bm.free()
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    activate(obj)
+    return obj
+
+
+def activate(obj):
+    for other in bpy.context.view_layer.objects:
+        other.select_set(False)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+
+
+def grid(cuts):
+    return lambda bm: bmesh.ops.create_grid(bm, x_segments=cuts, y_segments=cuts, size=1.0)
+
+
+def icosphere(subdivisions):
+    return lambda bm: bmesh.ops.create_icosphere(bm, subdivisions=subdivisions, radius=1.0)
+
+
+def timed(function):
+    started = time.perf_counter()
+    function()
+    return time.perf_counter() - started
+
+
+def median(samples):
+    return statistics.median(samples)
+
+
+def subsurf(obj, levels):
+    modifier = obj.modifiers.new("Subdivision", 'SUBSURF')
+    modifier.levels = modifier.render_levels = levels
+    return modifier
+
+
+def apply_rows(name, build, levels):
+    loop, blender, loop_vertices, blender_vertices = [], [], 0, 0
+    for _ in range(args.repeat):
+        obj = mesh_object(name, build)
+        loop.append(timed(lambda: bpy.ops.object.loop_subdivision_apply(levels=levels, rules='OPENSUBDIV')))
+        loop_vertices = len(obj.data.vertices)
+        clear()
+        obj = mesh_object(name, build)
+        modifier = subsurf(obj, levels)
+        with bpy.context.temp_override(object=obj, active_object=obj):
+            blender.append(timed(lambda: bpy.ops.object.modifier_apply(modifier=modifier.name)))
+        blender_vertices = len(obj.data.vertices)
+        clear()
+    ours, theirs = median(loop), median(blender)
+    print(f"apply  {name:<28} level {levels}: Loop {ours * 1e3:8.1f} ms ({loop_vertices:,} vertices, "
+          f"{ours / loop_vertices * 1e9:6.0f} ns/vertex)   Subdivision Surface {theirs * 1e3:8.1f} ms "
+          f"({blender_vertices:,} vertices, {theirs / blender_vertices * 1e9:6.0f} ns/vertex)   "
+          f"time ratio {ours / theirs:4.2f}, per vertex {ours / loop_vertices / (theirs / blender_vertices):4.2f}")
+
+
+def edit_rows(name, build, levels):
+    results = {}
+    for kind in ("Loop", "Subdivision Surface"):
+        obj = mesh_object(name, build)
+        if kind == "Loop":
+            bpy.ops.object.loop_subdivision_add(levels=levels, rules='OPENSUBDIV')
+        else:
+            subsurf(obj, levels)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        co = np.empty(len(obj.data.vertices) * 3, np.float32)
+        obj.data.vertices.foreach_get("co", co)
+        samples = []
+        for step in range(args.repeat + 1):
+            co[2::3] += 0.001
+
+            def edit():
+                obj.data.vertices.foreach_set("co", co)
+                obj.data.update()
+                obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices[0].co  # noqa: B018
+
+            seconds = timed(edit)
+            if step:  # the first evaluation builds the plan / Blender's subdivision topology
+                samples.append(seconds)
+        results[kind] = median(samples), len(obj.evaluated_get(depsgraph).data.vertices)
+        clear()
+    (ours, n_ours), (theirs, n_theirs) = results["Loop"], results["Subdivision Surface"]
+    print(f"edit   {name:<28} level {levels}: Loop {ours * 1e3:8.1f} ms ({n_ours:,} vertices)   "
+          f"Subdivision Surface {theirs * 1e3:8.1f} ms ({n_theirs:,} vertices)   time ratio {ours / theirs:4.2f}")
+
+
+def playback_rows(name, build, levels, frames=24):
+    results = {}
+    scene = bpy.context.scene
+    for kind in ("Loop", "Subdivision Surface"):
+        obj = mesh_object(name, build)
+        wave = obj.modifiers.new("Wave", 'WAVE')
+        wave.height = 0.1
+        if kind == "Loop":
+            bpy.ops.object.loop_subdivision_add(levels=levels, rules='OPENSUBDIV')
+        else:
+            subsurf(obj, levels)
+        scene.frame_set(1)
+        samples = []
+        for _ in range(args.repeat):
+            started = time.perf_counter()
+            for frame in range(2, 2 + frames):
+                scene.frame_set(frame)
+            samples.append(frames / (time.perf_counter() - started))
+        results[kind] = median(samples)
+        clear()
+    print(f"play   {name:<28} level {levels}: Loop {results['Loop']:6.1f} fps   "
+          f"Subdivision Surface {results['Subdivision Surface']:6.1f} fps")
+
+
+clear()
+print(f"Blender {bpy.app.version_string}, medians of {args.repeat}")
+apply_rows("grid 200x200 (80,000 tris)", grid(200), 2)
+apply_rows("icosphere (20,480 tris)", icosphere(5), 3)
+edit_rows("grid 224x224 (100,352 tris)", grid(224), 1)
+playback_rows("icosphere (20,480 tris)", icosphere(5), 2)
