@@ -102,37 +102,26 @@ def duplicate_triangles(triangles):
     return np.stack([first[inverse.ravel()[later]], later], axis=1)
 
 
-def corner_barycentrics(num_triangles):
-    """Face-varying channels that put each parent corner at a unit barycentric coordinate. Refined linearly they say
-    where every child corner sits in its parent triangle: a zero coordinate means "on the opposite parent edge",
-    exactly, because the linear refinement of zeros is zero."""
-    return np.ascontiguousarray(np.broadcast_to(np.eye(3, dtype=np.float32), (num_triangles, 3, 3)))
+def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
+    """For each edge (a, b) of the last level, the cage edge it lies on (index into cage_edges), -1 for edges inside
+    a cage face.
 
-
-def inherited_edges(child_triangles, child_parents, child_barycentrics, parent_triangles, parent_edge_flags,
-                    parent_edge_vertices, num_parent_vertices):
-    """Child edges that lie on a flagged parent edge (seams, sharp edges), as vertex pairs.
-
-    child_barycentrics (M_out, 3, 3): each child corner's position in its parent triangle (see corner_barycentrics).
-    parent_edge_flags (E,): flags of the parent mesh's edges, parent_edge_vertices (E, 2) their vertices.
-    """
-    flagged_keys = np.unique(edge_keys(parent_edge_vertices[parent_edge_flags], num_parent_vertices))
-    if not len(flagged_keys):
-        return np.zeros((0, 2), dtype=np.int32)
-    on_zero = child_barycentrics == 0.0  # (M_out, corner, coordinate)
-    sides = []
-    for j in range(3):
-        k = (j + 1) % 3
-        shared = on_zero[:, j, :] & on_zero[:, k, :]  # both ends on the parent edge opposite that coordinate
-        child_tri, coordinate = np.nonzero(shared)
-        parent = parent_triangles[child_parents[child_tri]]
-        parent_pairs = np.stack([parent[np.arange(len(parent)), (coordinate + 1) % 3],
-                                 parent[np.arange(len(parent)), (coordinate + 2) % 3]], axis=1)
-        keys = edge_keys(parent_pairs, num_parent_vertices)
-        pos = np.minimum(np.searchsorted(flagged_keys, keys), len(flagged_keys) - 1)
-        hit = flagged_keys[pos] == keys
-        sides.append(child_triangles[child_tri[hit]][:, [j, k]])
-    return np.concatenate(sides).astype(np.int32)
+    Walks up the core's numbering (loopsub.h): a level-(l+1) edge touches the new vertex V_l + e of level-l edge e;
+    it is a half of e when its other end is an end of e, and an edge inside a face when both ends are new vertices.
+    level_edges[l] (E_l, 2) and level_num_vertices[l] are the plan's, for l = levels - 1 down to 0."""
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    a, b = pairs[:, 0], pairs[:, 1]
+    on_edge = np.ones(len(pairs), dtype=bool)
+    for edges, num_vertices in zip(reversed(level_edges), reversed(level_num_vertices)):
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        a_new, b_new = a >= num_vertices, b >= num_vertices
+        edge = np.clip(np.where(a_new, a, b) - num_vertices, 0, max(len(edges) - 1, 0))
+        other = np.where(a_new, b, a)
+        ends = edges[edge] if len(edges) else np.zeros((len(edge), 2), np.int64)
+        on_edge &= (a_new != b_new) & ((ends[:, 0] == other) | (ends[:, 1] == other))
+        a, b = ends[:, 0], ends[:, 1]
+    found = lookup_edges(cage_edges, np.stack([a, b], axis=1), num_cage_vertices)
+    return np.where(on_edge, found, -1)
 
 
 def edge_face_counts(loop_edges, num_edges):
@@ -170,26 +159,51 @@ ATTRIBUTE_LAYOUT = {
     'BOOLEAN': ("value", 1, np.bool_),
 }
 INTERPOLATED_TYPES = {'FLOAT', 'FLOAT2', 'FLOAT_VECTOR', 'FLOAT_COLOR', 'BYTE_COLOR'}
+# Refined as floats too, then brought back to their type (see from_refined), as Blender interpolates them.
+DISCRETE_TYPES = {'INT', 'INT8', 'BOOLEAN'}
 
 
 def plan_attributes(attributes, skip):
-    """Sorts (name, domain, data_type) triples into what apply does with each: point attributes of float types are
-    refined with the vertex rules, corner ones linearly per face (like UVs), face ones copied from the parent face.
-    Returns (point, corner, face, dropped) lists of triples; names in skip and Blender's internal ones ('.'-prefixed)
-    are left out (apply handles those itself)."""
-    point, corner, face, dropped = [], [], [], []
+    """Sorts (name, domain, data_type) triples into what apply does with each: point attributes are refined with
+    the vertex rules (integers rounded, booleans true where any contributing vertex is), corner ones of float types
+    linearly per face (like UVs), face ones copied from the parent face, edge ones from the cage edge a child edge
+    lies on (edges inside a cage face get zero / false, as in Subdivision Surface).
+    Returns (point, corner, face, edge, dropped) lists of triples; names in skip and Blender's internal ones
+    ('.'-prefixed) are left out (apply handles those itself)."""
+    point, corner, face, edge, dropped = [], [], [], [], []
     for name, domain, data_type in attributes:
         if name in skip or name.startswith("."):
             continue
-        if domain == 'POINT' and data_type in INTERPOLATED_TYPES:
+        if domain == 'POINT' and data_type in INTERPOLATED_TYPES | DISCRETE_TYPES:
             point.append((name, domain, data_type))
         elif domain == 'CORNER' and data_type in INTERPOLATED_TYPES:
             corner.append((name, domain, data_type))
         elif domain == 'FACE' and data_type in ATTRIBUTE_LAYOUT:
             face.append((name, domain, data_type))
+        elif domain == 'EDGE' and data_type in ATTRIBUTE_LAYOUT:
+            edge.append((name, domain, data_type))
         else:
             dropped.append((name, domain, data_type))
-    return point, corner, face, dropped
+    return point, corner, face, edge, dropped
+
+
+def from_refined(values, data_type):
+    """Refined float channels back to the attribute's type: integers rounded to the nearest, booleans true where
+    any vertex with a positive weight was (every Loop weight of a contributing vertex is positive)."""
+    if data_type == 'BOOLEAN':
+        return values > 0.0
+    if data_type in ('INT', 'INT8'):
+        return np.rint(values).astype(np.int32)
+    return values
+
+
+def inherit_edge_values(values, parents, default=0):
+    """Per child edge, the value of the cage edge it lies on (parents from parent_edges), default inside faces."""
+    values = np.asarray(values)
+    out = np.full((len(parents),) + values.shape[1:], default, dtype=values.dtype)
+    on_edge = parents >= 0
+    out[on_edge] = values[parents[on_edge]]
+    return out
 
 
 def shared_positions(positions):

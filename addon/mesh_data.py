@@ -211,7 +211,7 @@ class Source:
         # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs.
         skip = ({CREASE_TAG, VERTEX_TYPE_TAG, "position", "material_index", "sharp_face", "sharp_edge"}
                 | compat.crease_attribute_names() | {uv.name for uv in mesh.uv_layers})
-        self.point, self.corner, self.face, dropped = geometry.plan_attributes(
+        self.point, self.corner, self.face, self.edge, dropped = geometry.plan_attributes(
             [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
         if dropped:
             self.messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
@@ -224,13 +224,13 @@ class Source:
             self.vertex.add(("attribute", name), _get_attribute(mesh.attributes[name], cage.num_vertices))
         self.vertex.add("groups", self.group_weights)
 
-        # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
-        # Corner barycentrics come along when flagged edges (seams, sharp edges) must pass to their child edges.
+        # Edge data passes to the child edges on each cage edge: seam and sharp marks, edge attributes.
         self.edge_flags = {prop: _get(mesh.edges, prop, len(mesh.edges), 1, np.bool_)
                            for prop in ("use_seam", "use_edge_sharp")}
+        self.edge_values = [_get_attribute(mesh.attributes[name], len(mesh.edges)) for name, _, _ in self.edge]
+
+        # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
         self.corners = _Channels()
-        if any(flags.any() for flags in self.edge_flags.values()):
-            self.corners.add("barycentric", geometry.corner_barycentrics(len(cage.triangles)))
         self.uv_names = [uv.name for uv in mesh.uv_layers]
         for uv in mesh.uv_layers:
             self.corners.add(("uv", uv.name),
@@ -251,8 +251,9 @@ class Source:
         """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
         stay the same, a result can be updated in place (update_mesh) instead of built anew."""
         return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names),
-                tuple(self.group_names), self.group_weights, self.materials, self.smooth, *self.face_values,
-                *self.edge_flags.values(), self.cage.edge_weights, self.cage.vertex_weights)
+                tuple(self.edge), tuple(self.group_names), self.group_weights, self.materials, self.smooth,
+                *self.face_values, *self.edge_values, *self.edge_flags.values(), self.cage.edge_weights,
+                self.cage.vertex_weights)
 
     def plan(self, levels=None):
         return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones)
@@ -282,7 +283,7 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, vertex groups, tags.
     holder: an object whose data the new mesh may become while vertex groups are written (None: a temporary one)."""
     mesh, cage, options = source.mesh, source.cage, source.options
-    vertex, corners = source.vertex, source.corners
+    vertex = source.vertex
     new = bpy.data.meshes.new(name)
     try:
         for material in mesh.materials:
@@ -294,12 +295,11 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
         parents = cage.triangle_polygons[plan.parent_triangles]
         _write_face_data(new, source, parents)
         for name, domain, data_type in source.point:
-            _set_attribute(new, name, domain, data_type, refined[:, vertex.columns["attribute", name]])
+            _set_attribute(new, name, domain, data_type,
+                           geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type))
         new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
         edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
-        if "barycentric" in corners.columns:
-            _write_edge_flags(new, cage, plan, refined_corners[:, :, corners.columns["barycentric"]],
-                              source.edge_flags, new_edges)
+        _write_edge_data(new, source, plan, new_edges)
         _write_corner_data(new, source, refined_corners)
         new.update()
         _write_vertex_groups(new, source, refined[:, vertex.columns["groups"]], holder)
@@ -320,12 +320,12 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
 def update_mesh(new, source, refined, refined_corners):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
     positions, point attributes, UVs and corner attributes (what moving vertices in Edit Mode or animation changes)."""
-    vertex, corners = source.vertex, source.corners
+    vertex = source.vertex
     new.vertices.foreach_set("co", np.ascontiguousarray(refined[:, vertex.columns["position"]]).ravel())
     for name, _, data_type in source.point:
         prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
-        new.attributes[name].data.foreach_set(
-            prop, np.ascontiguousarray(refined[:, vertex.columns["attribute", name]]).ravel())
+        values = geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type)
+        new.attributes[name].data.foreach_set(prop, np.ascontiguousarray(values).ravel())
     for uv_name in source.uv_names:
         new.uv_layers[uv_name].data.foreach_set(
             "uv", np.ascontiguousarray(refined_corners[:, :, corners.columns["uv", uv_name]]).ravel())
@@ -372,16 +372,20 @@ def _write_creases(new, cage, plan, options, new_edges):
     return edge_weights, vertex_weights
 
 
-def _write_edge_flags(new, cage, plan, barycentrics, edge_flags, new_edges):
-    """Seam and sharp marks pass to the child edges that lie on a marked cage edge."""
-    for prop, flags in edge_flags.items():
-        if flags.any():
-            pairs = geometry.inherited_edges(plan.triangles, plan.parent_triangles, barycentrics, cage.triangles,
-                                             flags, cage.edge_vertices, cage.num_vertices)
-            found = geometry.lookup_edges(new_edges, pairs, len(new.vertices))
-            child_flags = np.zeros(len(new_edges), dtype=np.bool_)
-            child_flags[found[found >= 0]] = True
-            new.edges.foreach_set(prop, child_flags)
+def _write_edge_data(new, source, plan, new_edges):
+    """Seam and sharp marks and edge attributes pass to the child edges that lie on a cage edge; edges inside a cage
+    face get none (zero, false)."""
+    flags = {prop: values for prop, values in source.edge_flags.items() if values.any()}
+    if not flags and not source.edge:
+        return
+    cage = source.cage
+    parents = geometry.parent_edges(new_edges, [plan.level_edges(level) for level in range(plan.levels)],
+                                    [plan.level_num_vertices(level) for level in range(plan.levels)],
+                                    cage.edge_vertices, cage.num_vertices)
+    for prop, values in flags.items():
+        new.edges.foreach_set(prop, geometry.inherit_edge_values(values, parents))
+    for (name, domain, data_type), values in zip(source.edge, source.edge_values):
+        _set_attribute(new, name, domain, data_type, geometry.inherit_edge_values(values, parents))
 
 
 def _write_corner_data(new, source, refined_corners):

@@ -239,6 +239,41 @@ def loose_geometry():
     support.remove(obj)
 
 
+# --- attributes of other types ------------------------------------------------------------------------------------
+
+def other_attributes():
+    """Integer and boolean point attributes and edge attributes, kept as Subdivision Surface keeps them."""
+    obj = uv_cube("Attributes")
+    mesh = obj.data
+    num_vertices, cage_edges = len(mesh.vertices), support.edges(mesh)
+    constant = mesh.attributes.new("Constant", 'INT', 'POINT')
+    constant.data.foreach_set("value", np.full(num_vertices, 7, np.int32))
+    marked = mesh.attributes.new("Marked", 'BOOLEAN', 'POINT')
+    flags = np.zeros(num_vertices, bool)
+    flags[0] = True
+    marked.data.foreach_set("value", flags)
+    far = int(np.argmax(np.linalg.norm(support.positions(mesh) - support.positions(mesh)[0], axis=1)))
+    edge_ids = mesh.attributes.new("EdgeId", 'FLOAT', 'EDGE')
+    edge_ids.data.foreach_set("value", np.arange(1, len(cage_edges) + 1, dtype=np.float32))
+    run_apply(obj, levels=1, rules='OPENSUBDIV')
+    mesh = obj.data
+    ints = support.read_array(mesh.attributes["Constant"].data, "value", dtype=np.int32)
+    check(mesh.attributes["Constant"].data_type == 'INT' and np.all(ints == 7),
+          "an integer point attribute stays an integer (a constant stays that constant)")
+    bools = support.read_array(mesh.attributes["Marked"].data, "value", dtype=bool)
+    check(bools[0] and not bools[far], "a boolean point attribute stays true where it was and false far from it")
+    ids = support.read_array(mesh.attributes["EdgeId"].data, "value").astype(np.int64)
+    result_edges = support.edges(mesh)
+    on_cage = ids > 0
+    ends_ok = all(set(cage_edges[i - 1]) & set(result_edges[k])
+                  for k, i in zip(np.flatnonzero(on_cage), ids[on_cage]))
+    check(np.array_equal(np.bincount(ids[on_cage], minlength=len(cage_edges) + 1)[1:], np.full(len(cage_edges), 2))
+          and ends_ok and np.count_nonzero(~on_cage) == 3 * 12,
+          "an edge attribute passes to the two halves of each cage edge (which keep an end of it); edges inside "
+          "faces get zero")
+    support.remove(obj)
+
+
 # --- the active object, errors, undo --------------------------------------------------------------------------------
 
 def active_object_only():
@@ -337,6 +372,7 @@ vertex_channels('OPENSUBDIV')
 vertex_channels('HOPPE94')
 creases_written()
 loose_geometry()
+other_attributes()
 active_object_only()
 bad_meshes()
 undo_restores()

@@ -92,36 +92,55 @@ def test_degenerate_and_duplicate_triangles():
     assert geometry.duplicate_triangles(triangles).tolist() == [[0, 1], [3, 4]]
 
 
-def test_inherited_edges_follow_flagged_parent_edges():
+def test_parent_edges_follow_the_cage_edges():
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
-    parent_edges = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32)
-    flags = np.array([True, True, False, False, False])  # a border edge and the shared inner edge
+    cage_edges = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32)
     levels = 2
     plan = _loopsub.Plan(triangles, 4, levels, rules="opensubdiv")
-    barycentrics = plan.evaluate_face_varying(geometry.corner_barycentrics(len(triangles)))
-    pairs = geometry.inherited_edges(plan.triangles, plan.parent_triangles, barycentrics, triangles, flags,
-                                     parent_edges, 4)
-    unique = np.unique(np.sort(pairs, axis=1), axis=0)
-    assert len(unique) == 2 * 2 ** levels
-    # Placed linearly (positions as face-varying data), every inherited edge lies on the flagged parent edges: the
-    # bottom 0-1 or the diagonal 1-2 of the unit square.
-    square = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float32)
-    linear = plan.evaluate_face_varying(np.ascontiguousarray(square[triangles]))
-    positions = np.zeros((plan.num_output_vertices, 2), np.float32)
-    positions[plan.triangles.ravel()] = linear.reshape(-1, 2)
-    p = positions[unique]
-    on_bottom = np.all(np.abs(p[:, :, 1]) < 1e-6, axis=1)
-    on_diagonal = np.all(np.abs(p[:, :, 0] + p[:, :, 1] - 1) < 1e-6, axis=1)
-    assert np.all(on_bottom | on_diagonal) and on_bottom.sum() == on_diagonal.sum() == 2 ** levels
+    t = plan.triangles
+    pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
+    parents = geometry.parent_edges(pairs, [plan.level_edges(l) for l in range(levels)],
+                                    [plan.level_num_vertices(l) for l in range(levels)], cage_edges, 4)
+    # Placed linearly (positions as face-varying data), a child edge lies on the cage edge it names, and on none
+    # when it names none: checked against the unit square's geometry, not the numbering.
+    square = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float64)
+    linear = plan.evaluate_face_varying(np.ascontiguousarray(square[triangles], dtype=np.float32))
+    positions = np.zeros((plan.num_output_vertices, 2))
+    positions[t.ravel()] = linear.reshape(-1, 2)
+    ends = square[cage_edges]  # (E, 2, 2)
+
+    def on_segment(points, segment):
+        p0, p1 = segment
+        cross = (p1 - p0)[0] * (points[:, 1] - p0[1]) - (p1 - p0)[1] * (points[:, 0] - p0[0])
+        return np.all(np.abs(cross) < 1e-6)
+
+    lying = [[e for e in range(len(cage_edges)) if on_segment(positions[pair], ends[e])] for pair in pairs]
+    assert [parent for parent in parents] == [found[0] if found else -1 for found in lying]
+    assert np.bincount(parents[parents >= 0], minlength=5).tolist() == [2 ** levels] * 5
 
 
 def test_plan_attributes():
-    point, corner, face, dropped = geometry.plan_attributes(
+    point, corner, face, edge, dropped = geometry.plan_attributes(
         [("Col", 'POINT', 'FLOAT_COLOR'), ("uv", 'CORNER', 'FLOAT2'), ("id", 'FACE', 'INT'),
          ("flag", 'EDGE', 'BOOLEAN'), ("count", 'POINT', 'INT'), (".select_vert", 'POINT', 'BOOLEAN'),
-         ("position", 'POINT', 'FLOAT_VECTOR')], skip={"position"})
-    assert [n for n, _, _ in point] == ["Col"] and [n for n, _, _ in corner] == ["uv"]
-    assert [n for n, _, _ in face] == ["id"] and [n for n, _, _ in dropped] == ["flag", "count"]
+         ("position", 'POINT', 'FLOAT_VECTOR'), ("corner_id", 'CORNER', 'INT')], skip={"position"})
+    assert [n for n, _, _ in point] == ["Col", "count"] and [n for n, _, _ in corner] == ["uv"]
+    assert [n for n, _, _ in face] == ["id"] and [n for n, _, _ in edge] == ["flag"]
+    assert [n for n, _, _ in dropped] == ["corner_id"]
+
+
+def test_refined_values_back_to_their_type():
+    refined = np.array([0.0, 0.25, 0.5001, 2.6, -1.4], np.float32)
+    assert geometry.from_refined(refined, 'INT').tolist() == [0, 0, 1, 3, -1]
+    assert geometry.from_refined(refined, 'BOOLEAN').tolist() == [False, True, True, True, False]
+    assert geometry.from_refined(refined, 'FLOAT') is refined
+
+
+def test_inherit_edge_values():
+    parents = np.array([2, -1, 0, 2])
+    assert geometry.inherit_edge_values(np.array([5, 6, 7]), parents).tolist() == [7, 0, 5, 7]
+    assert geometry.inherit_edge_values(np.array([[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]]), parents).tolist() == [
+        [5.0, 6.0], [0.0, 0.0], [1.0, 2.0], [5.0, 6.0]]
 
 
 def test_options_keywords():
