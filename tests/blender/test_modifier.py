@@ -205,6 +205,34 @@ def errors():
     support.remove(obj)
 
 
+def undo():
+    """Undo in background mode needs a first step and operators called with the positional undo flag, as a click
+    would push them (see test_apply.undo_restores)."""
+    obj = support.object_from_bmesh("Undone", support.uv_sphere(8, 6))
+    cage_faces = len(obj.data.polygons)
+    bpy.ops.ed.undo_push(message="before adding")
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add('EXEC_DEFAULT', True, levels=1)
+    obj.loop_subdivision.levels = 2
+    bpy.ops.ed.undo_push(message="levels 2")
+    check(evaluated(obj)[1] == 16 * cage_faces, "levels 2 shows")
+    bpy.ops.ed.undo()
+    obj = bpy.data.objects["Undone"]
+    check(obj.loop_subdivision.levels == 1 and evaluated(obj)[1] == 4 * cage_faces,
+          "undo brings back level 1 and its result")
+    bpy.ops.ed.undo()
+    obj = bpy.data.objects["Undone"]
+    check(addon.stack.entry(obj) is None and evaluated(obj)[1] == cage_faces, "undo again removes the entry")
+    bpy.ops.ed.redo()
+    obj = bpy.data.objects["Undone"]
+    check(addon.stack.entry(obj) is not None and evaluated(obj)[1] == 4 * cage_faces,
+          "redo brings the entry back with its result")
+    obj.data.vertices[0].co.z += 0.2
+    obj.data.update()
+    check(np.array_equal(evaluated(obj)[0], applied(obj, levels=1)[0]), "and it is live again after undo and redo")
+    support.remove(obj)
+
+
 # --- copies, Apply, files, renders ----------------------------------------------------------------------------------
 
 def copies():
@@ -301,6 +329,7 @@ stack_order()
 edits()
 animation()
 errors()
+undo()
 copies()
 blender_apply()
 saved_and_rendered()
