@@ -78,11 +78,19 @@ def edge_keys(pairs, num_vertices):
 
 
 def lookup_edges(table_pairs, query_pairs, num_vertices):
-    """Index into table_pairs of each query edge (either direction), -1 where the table lacks it."""
+    """Index into table_pairs of each query edge (either direction), -1 where the table lacks it. The smaller side
+    is sorted: a few crease edges are found among a million edges without sorting the million."""
     table = edge_keys(table_pairs, num_vertices)
     query = edge_keys(query_pairs, num_vertices)
-    if not len(table):
+    if not len(table) or not len(query):
         return np.full(len(query), -1, dtype=np.int64)
+    if len(query) < len(table):
+        unique, inverse = np.unique(query, return_inverse=True)
+        pos = np.minimum(np.searchsorted(unique, table), len(unique) - 1)
+        hit = unique[pos] == table
+        found = np.full(len(unique), -1, dtype=np.int64)
+        found[pos[hit]] = np.flatnonzero(hit)
+        return found[inverse.ravel()]
     order = np.argsort(table, kind="stable")
     sorted_keys = table[order]
     pos = np.minimum(np.searchsorted(sorted_keys, query), len(table) - 1)
@@ -100,6 +108,38 @@ def duplicate_triangles(triangles):
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     later = np.flatnonzero(first[inverse.ravel()] != np.arange(len(triangles)))
     return np.stack([first[inverse.ravel()[later]], later], axis=1)
+
+
+def output_edges(triangles, last_edges, last_num_vertices):
+    """The edges of a plan's output in the core's own numbering (loopsub.h, topology.h), so that a mesh needs no edge
+    search: (edge_vertices (E_out, 2), triangle_edges (T_out, 3)), where triangle edge i joins corners i and i + 1.
+
+    last_edges (E, 2) and last_num_vertices V: the plan's level_edges and level_num_vertices of the level before the
+    output. Edge e of that level gives output edges 2e = (a, V + e) and 2e + 1 = (V + e, b); its face f gives the
+    interior edges 2E + 3f + k joining the midpoints of its edges k and k + 1, and the output triangles 4f + k =
+    (v_k, m_k, m_{k-1}) for k < 3 and 4f + 3 = (m_0, m_1, m_2), with m_k = V + (edge k of f)."""
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 4, 3)
+    ends = np.asarray(last_edges, dtype=np.int64).reshape(-1, 2)
+    num_edges, num_faces = len(ends), len(triangles)
+    face_edges = triangles[:, 3, :] - last_num_vertices  # (F, 3): edge k of face f, from its middle child
+    midpoints = last_num_vertices + np.arange(num_edges)
+    halves = np.stack([ends[:, 0], midpoints, midpoints, ends[:, 1]], axis=1).reshape(-1, 2)
+    interior_base = 2 * num_edges + 3 * np.arange(num_faces)[:, None]  # (F, 1)
+    interior = np.stack([triangles[:, 3, :], np.roll(triangles[:, 3, :], -1, axis=1)], axis=2).reshape(-1, 2)
+    edge_vertices = np.concatenate([halves, interior]).astype(np.int32)
+
+    corners = triangles[:, :3, 0]  # v_k of each corner child
+    previous = np.roll(face_edges, 1, axis=1)  # edge k - 1
+
+    def half_at(edge, vertex):  # the half of a parent edge at one of its ends
+        return 2 * edge + (ends[edge, 0] != vertex)
+
+    triangle_edges = np.empty((num_faces, 4, 3), dtype=np.int64)
+    triangle_edges[:, :3, 0] = half_at(face_edges, corners)
+    triangle_edges[:, :3, 1] = interior_base + np.roll(np.arange(3), 1)  # interior edge k - 1
+    triangle_edges[:, :3, 2] = half_at(previous, corners)
+    triangle_edges[:, 3, :] = interior_base + np.arange(3)
+    return edge_vertices, triangle_edges.reshape(-1, 3).astype(np.int32)
 
 
 def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
@@ -122,6 +162,50 @@ def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_ve
         a, b = ends[:, 0], ends[:, 1]
     found = lookup_edges(cage_edges, np.stack([a, b], axis=1), num_cage_vertices)
     return np.where(on_edge, found, -1)
+
+
+def has_same_way_edges(triangles, num_vertices):
+    """Whether two triangles run along an edge the same way (inconsistent winding): such an edge is non-manifold to
+    the core although it has two faces."""
+    t = np.asarray(triangles, dtype=np.int64)
+    directed = np.concatenate([t[:, 0] * num_vertices + t[:, 1], t[:, 1] * num_vertices + t[:, 2],
+                               t[:, 2] * num_vertices + t[:, 0]])
+    return len(np.unique(directed)) < len(directed)
+
+
+class TagSubmesh:
+    """The part of a mesh whose vertices the core must classify for the tags: the whole fans of the vertices that
+    can be other than smooth (ends of tagged, boundary and non-manifold edges, corners, cones, and the given
+    candidates), renumbered compactly. A vertex's class depends on its fan alone, so the core's classes of these
+    vertices on the part are their classes on the whole mesh; every other vertex is smooth. On a subdivided mesh the
+    part is a thin band along the creases, and classifying it costs a fraction of classifying the whole.
+
+    triangles (M, 3); tags: the core's tag arrays (crease_tags); edge_vertices (E, 2) with edge_face_counts (E,);
+    cones and candidates: vertex indices."""
+
+    def __init__(self, triangles, num_vertices, tags, edge_vertices, edge_face_counts, cones, candidates):
+        features = np.zeros(num_vertices, dtype=bool)
+        for vertices in (tags["crease_edges"], edge_vertices[edge_face_counts != 2], tags["corner_vertices"], cones,
+                         candidates):
+            features[np.asarray(vertices, dtype=np.int64).ravel()] = True
+        part = triangles[features[triangles].any(axis=1)]
+        self.kept, compact = np.unique(part, return_inverse=True)  # kept[i]: the whole mesh's index of vertex i
+        self.triangles = compact.reshape(-1, 3).astype(np.int32)
+        self.features = features[self.kept]
+        index = np.full(num_vertices, -1, dtype=np.int64)
+        index[self.kept] = np.arange(len(self.kept))
+        # Tagged edges and corners are features, so both their ends are kept; cones outside faces are not.
+        self.tags = dict(tags, crease_edges=index[tags["crease_edges"]].astype(np.int32).reshape(-1, 2),
+                         corner_vertices=index[tags["corner_vertices"]].astype(np.int32))
+        cone_index = index[np.asarray(cones, dtype=np.int64)]
+        self.cones = cone_index[cone_index >= 0].astype(np.int32)
+        self.num_vertices = num_vertices
+
+    def whole(self, part_types):
+        """The classes on the whole mesh, from the core's classes on the part."""
+        types = np.zeros(self.num_vertices, dtype=np.int32)
+        types[self.kept[self.features]] = np.asarray(part_types, dtype=np.int32)[self.features]
+        return types
 
 
 def edge_face_counts(loop_edges, num_edges):

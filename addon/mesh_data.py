@@ -54,6 +54,17 @@ class Topology:
     def plan(self, options, levels, cones):
         return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones)
 
+    def vertex_types(self, options, cones, candidates):
+        """The core's class of every vertex. candidates: vertices that may be other than smooth although no tag,
+        boundary or non-manifold edge touches them (a subdivided mesh: the cage's non-smooth vertices, which keep
+        their indices, such as non-manifold ones); only the fans of those and of the tagged vertices are classified."""
+        part = geometry.TagSubmesh(self.triangles, self.num_vertices, self.tags(options), self.edge_vertices,
+                                   self.edge_face_counts, cones, candidates)
+        if not len(part.triangles):
+            return np.zeros(self.num_vertices, dtype=np.int32)
+        plan = native.build_plan(part.triangles, len(part.kept), 1, options, part.tags, part.cones)
+        return part.whole(plan.level_vertex_types(0))
+
 
 class Cage(Topology):
     """The control mesh as the core sees it: Blender's triangulation of its faces, and its crease weights."""
@@ -291,13 +302,12 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
         compat.copy_shading_settings(mesh, new)
         if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
-        _write_geometry(new, refined[:, vertex.columns["position"]], plan.triangles)
+        new_edges, triangle_edges = _write_geometry(new, refined[:, vertex.columns["position"]], plan)
         parents = cage.triangle_polygons[plan.parent_triangles]
         _write_face_data(new, source, parents)
         for name, domain, data_type in source.point:
             _set_attribute(new, name, domain, data_type,
                            geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type))
-        new_edges = _get(new.edges, "vertices", len(new.edges), 2, np.int32)
         edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
         _write_edge_data(new, source, plan, new_edges)
         _write_corner_data(new, source, refined_corners)
@@ -305,10 +315,14 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
         _write_vertex_groups(new, source, refined[:, vertex.columns["groups"]], holder)
         try:
             # Cone vertices keep their indices in the result, so its cones are the cage's.
-            loop_edges = _get(new.loops, "edge_index", len(new.loops), 1, np.int32)
             result = Topology(len(new.vertices), plan.triangles, new_edges,
-                              geometry.edge_face_counts(loop_edges, len(new_edges)), edge_weights, vertex_weights)
-            write_tags(new, result, options, source.cones)
+                              geometry.edge_face_counts(triangle_edges.ravel(), len(new_edges)), edge_weights,
+                              vertex_weights)
+            # The cage's non-smooth vertices keep their indices and may stay so with no feature edge (non-manifold
+            # vertices); edges wound the same way on the cage leave such edges on the result: classify everything.
+            candidates = (None if geometry.has_same_way_edges(cage.triangles, cage.num_vertices)
+                          else np.flatnonzero(np.asarray(plan.level_vertex_types(0)) != 0))
+            write_tags(new, result, options, source.cones, candidates)
         except LoopSubError as error:
             source.messages.append(('WARNING', f"{name}: tags not refreshed on the result ({error})"))
     except Exception:
@@ -336,21 +350,33 @@ def update_mesh(new, source, refined, refined_corners):
     new.update()
 
 
-def _write_geometry(new, positions, triangles):
-    """Vertices and triangles; Blender derives the edges (in C)."""
+def _write_geometry(new, positions, plan):
+    """Vertices, edges and triangles. The edges come numbered from the core's refinement (geometry.output_edges), so
+    Blender need not find them, nor the add-on read them back. Returns (edge_vertices, triangle_edges)."""
+    triangles = plan.triangles
     num_triangles = len(triangles)
+    edges, triangle_edges = geometry.output_edges(triangles, plan.level_edges(plan.levels - 1),
+                                                  plan.level_num_vertices(plan.levels - 1))
     new.vertices.add(len(positions))
     new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
+    new.edges.add(len(edges))
+    new.edges.foreach_set("vertices", edges.ravel())
     new.loops.add(3 * num_triangles)
     new.loops.foreach_set("vertex_index", np.ascontiguousarray(triangles, dtype=np.int32).ravel())
+    new.loops.foreach_set("edge_index", triangle_edges.ravel())
     new.polygons.add(num_triangles)
     compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
-    new.update(calc_edges=True)
+    new.update()
+    return edges, triangle_edges
 
 
 def _write_face_data(new, source, parent_polygons):
-    """Per-face data comes from the parent face of the cage (through its triangle)."""
-    new.polygons.foreach_set("material_index", np.ascontiguousarray(source.materials[parent_polygons]))
+    """Per-face data comes from the parent face of the cage (through its triangle). Material indices go through
+    their attribute (Blender 3.4+), many times faster than MeshPolygon.material_index; like Blender, none is
+    written when every face uses the first slot."""
+    materials = source.materials[parent_polygons]
+    if materials.any():
+        _set_attribute(new, "material_index", 'FACE', 'INT', materials)
     new.polygons.foreach_set("use_smooth", np.ascontiguousarray(source.smooth[parent_polygons]))
     for (name, domain, data_type), values in zip(source.face, source.face_values):
         _set_attribute(new, name, domain, data_type, values[parent_polygons])
@@ -453,12 +479,15 @@ def replace_mesh(obj, result):
     result.mesh.name = name
 
 
-def write_tags(mesh, topology, options, cones):
-    """Writes what the rules derive from the crease weights: "loop_crease" (edges) and "loop_vertex_type" (points)."""
+def write_tags(mesh, topology, options, cones, candidates=None):
+    """Writes what the rules derive from the crease weights: "loop_crease" (edges) and "loop_vertex_type" (points).
+    candidates: see Topology.vertex_types; None classifies every vertex."""
     if not len(topology.triangles):
         raise LoopSubError(f"\"{mesh.name}\" has no faces to tag")
-    plan = topology.plan(options, 1, cones)
-    types = np.asarray(plan.level_vertex_types(0), dtype=np.int32)
+    if candidates is None:
+        types = np.asarray(topology.plan(options, 1, cones).level_vertex_types(0), dtype=np.int32)
+    else:
+        types = topology.vertex_types(options, cones, candidates)
     creases = geometry.crease_edge_mask(topology.edge_weights, topology.edge_face_counts, options.rules,
                                         options.crease_threshold, options.use_creases)
     for name, domain, data_type, values in ((CREASE_TAG, 'EDGE', 'BOOLEAN', creases),

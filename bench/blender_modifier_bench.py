@@ -3,8 +3,9 @@ animation playback. Prints medians; run with scripts/bench_blender.sh (or blende
 -- --addon-dir addon [--repeat N]).
 
 - Apply: the add-on's operator vs Blender's modifier_apply of Subdivision Surface (Catmull-Clark of the same
-  triangles), on a 200x200 grid (80,000 triangles) at level 2 and a 20,480-triangle icosphere at level 3; times per
-  output vertex too, since Catmull-Clark of triangles makes more vertices than Loop.
+  triangles) with its defaults (limit surface on) and with the limit surface off (refinement only, as Loop here), on
+  a 200x200 grid (80,000 triangles) at level 2 and a 20,480-triangle icosphere at level 3; times per output vertex
+  too, since Catmull-Clark of triangles makes more vertices than Loop.
 - Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
   100,352-triangle grid at level 1.
 - Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2, stepping frames.
@@ -74,30 +75,40 @@ def median(samples):
     return statistics.median(samples)
 
 
-def subsurf(obj, levels):
+def subsurf(obj, levels, use_limit_surface=True):
     modifier = obj.modifiers.new("Subdivision", 'SUBSURF')
     modifier.levels = modifier.render_levels = levels
+    modifier.use_limit_surface = use_limit_surface
     return modifier
 
 
 def apply_rows(name, build, levels):
-    loop, blender, loop_vertices, blender_vertices = [], [], 0, 0
-    for _ in range(args.repeat):
-        obj = mesh_object(name, build)
-        loop.append(timed(lambda: bpy.ops.object.loop_subdivision_apply(levels=levels, rules='OPENSUBDIV')))
-        loop_vertices = len(obj.data.vertices)
-        clear()
-        obj = mesh_object(name, build)
-        modifier = subsurf(obj, levels)
-        with bpy.context.temp_override(object=obj, active_object=obj):
-            blender.append(timed(lambda: bpy.ops.object.modifier_apply(modifier=modifier.name)))
-        blender_vertices = len(obj.data.vertices)
-        clear()
-    ours, theirs = median(loop), median(blender)
-    print(f"apply  {name:<28} level {levels}: Loop {ours * 1e3:8.1f} ms ({loop_vertices:,} vertices, "
-          f"{ours / loop_vertices * 1e9:6.0f} ns/vertex)   Subdivision Surface {theirs * 1e3:8.1f} ms "
-          f"({blender_vertices:,} vertices, {theirs / blender_vertices * 1e9:6.0f} ns/vertex)   "
-          f"time ratio {ours / theirs:4.2f}, per vertex {ours / loop_vertices / (theirs / blender_vertices):4.2f}")
+    def loop(obj):
+        return bpy.ops.object.loop_subdivision_apply(levels=levels, rules='OPENSUBDIV')
+
+    def blender(use_limit_surface):
+        def run(obj):
+            modifier = subsurf(obj, levels, use_limit_surface)
+            with bpy.context.temp_override(object=obj, active_object=obj):
+                bpy.ops.object.modifier_apply(modifier=modifier.name)
+        return run
+
+    rows = {}
+    for kind, apply in (("Loop", loop), ("Subdivision Surface", blender(True)),
+                        ("Subdivision Surface, limit off", blender(False))):
+        samples = []
+        for _ in range(args.repeat):
+            obj = mesh_object(name, build)
+            samples.append(timed(lambda: apply(obj)))
+            vertices = len(obj.data.vertices)
+            clear()
+        rows[kind] = median(samples), vertices
+    ours, ours_vertices = rows["Loop"]
+    for kind, (seconds, vertices) in rows.items():
+        ratio = "" if kind == "Loop" else (f"   Loop/this: time {ours / seconds:4.2f}, "
+                                           f"per vertex {ours / ours_vertices / (seconds / vertices):4.2f}")
+        print(f"apply  {name:<28} level {levels}  {kind:<31} {seconds * 1e3:8.1f} ms {vertices:>9,} vertices "
+              f"{seconds / vertices * 1e9:6.0f} ns/vertex{ratio}")
 
 
 def edit_rows(name, build, levels):
