@@ -276,16 +276,21 @@ class Source:
         return refined, corners
 
 
+# The long stages of subdivide, in order, as the status bar names them.
+STAGES = ("Reading the mesh", "Building the plan", "Refining", "Writing the new mesh")
+
+
 def subdivide(obj, options, progress):
-    """Builds the subdivided copy of obj's own mesh (for Apply). progress() is called between the long stages."""
+    """Builds the subdivided copy of obj's own mesh (for Apply). progress(k) is called as stage STAGES[k] begins."""
     check_object(obj)
+    progress(0)
     source = Source(obj, obj.data, options)
+    progress(1)
     plan = source.plan()
-    progress()
+    progress(2)
     refined, refined_corners = source.refine(plan)
-    progress()
+    progress(3)
     new = build_mesh(source, plan, refined, refined_corners, obj.data.name, None)
-    progress()
     locks = [group.lock_weight for group in obj.vertex_groups]
     return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 

@@ -30,6 +30,8 @@ class _RuleArguments:
                            description="Controls how open boundaries are smoothed")
 
 
+_LONG_APPLY_FACES = 500_000  # about half a second of applying
+
 _SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group")
 
 
@@ -115,13 +117,16 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
                 obj.modifiers.remove(modifier)
             return {'FINISHED'}
         window_manager = context.window_manager
-        window_manager.progress_begin(0, 4)  # plan, vertex data, face data, mesh (see mesh_data.subdivide)
-        step = 0
+        window_manager.progress_begin(0, len(mesh_data.STAGES))
+        # Worth a redraw per stage (the interface does not redraw while an operator runs) only when it is long.
+        long_apply = len(obj.data.polygons) * 4 ** options.levels > _LONG_APPLY_FACES
+        status = context.workspace if long_apply and not bpy.app.background else None
 
-        def progress():
-            nonlocal step
-            step += 1
-            window_manager.progress_update(step)
+        def progress(stage):
+            window_manager.progress_update(stage)
+            if status is not None:
+                status.status_text_set(f"Loop Subdivision of {obj.name}: {mesh_data.STAGES[stage]}…")
+                bpy.ops.wm.redraw_timer(type='DRAW_WIN_SWAP', iterations=1)
 
         try:
             result = mesh_data.subdivide(obj, options, progress)
@@ -130,6 +135,8 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
             return {'CANCELLED'}
         finally:
             window_manager.progress_end()
+            if status is not None:
+                status.status_text_set(None)
         mesh_data.replace_mesh(obj, result)
         if modifier is not None:
             obj.modifiers.remove(modifier)
