@@ -104,7 +104,8 @@ def copy_shading_settings(source, target):
         target.use_auto_smooth = source.use_auto_smooth
         target.auto_smooth_angle = source.auto_smooth_angle
     for key in source.keys():
-        target[key] = source[key]
+        value = source[key]
+        target[key] = value.original if isinstance(value, bpy.types.ID) else value
 
 
 def add_modifier_button(draw):

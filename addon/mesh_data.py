@@ -303,7 +303,8 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
     new = bpy.data.meshes.new(name)
     try:
         for material in mesh.materials:
-            new.materials.append(material)
+            # An evaluated input lists evaluated copies of its materials, which a saved file cannot keep.
+            new.materials.append(material.original if material is not None else None)
         compat.copy_shading_settings(mesh, new)
         if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
