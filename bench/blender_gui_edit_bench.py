@@ -11,24 +11,17 @@ import time
 import bmesh
 import bpy
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[sys.argv.index("--addon-dir") + 1])))
-addon = __import__(os.path.basename(os.path.abspath(sys.argv[sys.argv.index("--addon-dir") + 1])))
-addon.register()
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "blender"))
+import blender_test_support as support  # noqa: E402  (mesh and add-on helpers shared with the tests)
+
+support.load_addon()
 REPEAT = 7
 
 
 def grid_object(name):
     bm = bmesh.new()
     bmesh.ops.create_grid(bm, x_segments=224, y_segments=224, size=1.0)
-    bmesh.ops.triangulate(bm, faces=bm.faces[:])
-    mesh = bpy.data.meshes.new(name)
-    bm.to_mesh(mesh)
-    bm.free()
-    obj = bpy.data.objects.new(name, mesh)
-    bpy.context.scene.collection.objects.link(obj)
-    obj.select_set(True)
-    bpy.context.view_layer.objects.active = obj
-    return obj
+    return support.object_from_bmesh(name, bm)
 
 
 def measure(kind):

@@ -20,14 +20,14 @@ import bmesh
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "blender"))
+import blender_test_support as support  # noqa: E402  (mesh and add-on helpers shared with the tests)
+
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()
-parser.add_argument("--addon-dir", required=True)
 parser.add_argument("--repeat", type=int, default=5)
-args = parser.parse_args(argv)
-sys.path.insert(0, os.path.dirname(os.path.abspath(args.addon_dir)))
-addon = __import__(os.path.basename(os.path.abspath(args.addon_dir)))
-addon.register()
+args, _ = parser.parse_known_args(argv)
+support.load_addon()
 
 
 def clear():
@@ -40,21 +40,7 @@ def clear():
 def mesh_object(name, build):
     bm = bmesh.new()
     build(bm)
-    bmesh.ops.triangulate(bm, faces=bm.faces[:])
-    mesh = bpy.data.meshes.new(name)
-    bm.to_mesh(mesh)
-    bm.free()
-    obj = bpy.data.objects.new(name, mesh)
-    bpy.context.scene.collection.objects.link(obj)
-    activate(obj)
-    return obj
-
-
-def activate(obj):
-    for other in bpy.context.view_layer.objects:
-        other.select_set(False)
-    obj.select_set(True)
-    bpy.context.view_layer.objects.active = obj
+    return support.object_from_bmesh(name, bm)
 
 
 def grid(cuts):

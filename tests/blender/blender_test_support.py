@@ -19,11 +19,12 @@ _started = time.time()
 
 
 def load_addon(register=True):
-    """Imports the add-on package from --addon-dir (its folder name is the package name) and registers it."""
+    """Imports the add-on package from --addon-dir (its folder name is the package name) and registers it. Other
+    arguments after "--" are the caller's (the benchmarks take some)."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser()
     parser.add_argument("--addon-dir", required=True)
-    args = parser.parse_args(argv)
+    args, _ = parser.parse_known_args(argv)
     addon_dir = os.path.abspath(args.addon_dir)
     sys.path.insert(0, os.path.dirname(addon_dir))
     package = importlib.import_module(os.path.basename(addon_dir))
