@@ -144,8 +144,8 @@ def _dropped():
         del _caches[name]  # deleted, renamed or without an entry
 
 
-@persistent
-def _on_depsgraph_update(scene, depsgraph):
+def _refresh_updated(depsgraph):
+    """Refreshes the entries of the objects whose geometry this evaluation changed (edits, settings, animation)."""
     if _busy:
         return
     _dropped()
@@ -156,9 +156,15 @@ def _on_depsgraph_update(scene, depsgraph):
 
 
 @persistent
+def _on_depsgraph_update(scene, depsgraph):
+    _refresh_updated(depsgraph)
+
+
+@persistent
 def _on_frame_change(scene, depsgraph):
-    if depsgraph.mode == 'VIEWPORT' and not _busy:
-        refresh_all(depsgraph)
+    # Playback: the objects whose geometry depends on time are those the new frame updated.
+    if depsgraph.mode == 'VIEWPORT':
+        _refresh_updated(depsgraph)
 
 
 @persistent

@@ -171,11 +171,11 @@ def edits():
 
 
 def animation():
+    scene = bpy.context.scene
     obj = support.object_from_bmesh("Waving", support.grid(6))
     wave = obj.modifiers.new("Wave", 'WAVE')
     wave.height = 0.3
     add_entry(obj)
-    scene = bpy.context.scene
     results = []
     for frame in (1, 7):
         scene.frame_set(frame)
@@ -183,6 +183,25 @@ def animation():
     check(not np.array_equal(results[0], results[1]), "a Wave above: the result follows the frame")
     scene.frame_set(1)
     check(np.array_equal(evaluated(obj)[0], results[0]), "back at frame 1, the frame-1 result again")
+    support.remove(obj)
+
+    obj = support.object_from_bmesh("Keyed", support.uv_sphere(8, 6))
+    obj.shape_key_add(name="Basis")
+    raised = obj.shape_key_add(name="Raised")
+    for point in raised.data:
+        point.co.z += 0.5
+    raised.value = 0.0
+    raised.keyframe_insert("value", frame=1)
+    raised.value = 1.0
+    raised.keyframe_insert("value", frame=11)
+    add_entry(obj)
+    scene.frame_set(1)
+    low, _ = evaluated(obj)
+    scene.frame_set(11)
+    high, _ = evaluated(obj)
+    check(np.abs(high - low - [0.0, 0.0, 0.5]).max() < 1e-5,
+          "an animated shape key moves the result with it (a uniform lift stays a uniform lift)")
+    scene.frame_set(1)
     support.remove(obj)
 
 
