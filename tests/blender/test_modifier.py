@@ -292,6 +292,7 @@ def blender_apply():
 def saved_and_rendered():
     obj = support.object_from_bmesh("Saved", support.uv_sphere(8, 6))
     obj.data.materials.append(bpy.data.materials.new("Paint"))
+    obj.modifiers.new("Wave", 'WAVE').height = 0.3
     add_entry(obj, levels=1, render_levels=2)
     positions, faces = evaluated(obj)
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
@@ -320,23 +321,27 @@ print("WITHOUT-ADDON", len(mesh.polygons), same, [m.name for m in mesh.materials
         check(f"WITHOUT-ADDON {faces} True ['Paint']" in output,
               "a Blender without the add-on opens the file and shows the saved result, materials included")
 
-        render_check = f"""
+        # What a render farm runs: blender -b file.blend -a (frames 1 and 2), with the add-on enabled.
+        record = f"""
 import sys, bpy
 sys.path.insert(0, {os.path.dirname(ADDON_DIR)!r})
 import {os.path.basename(ADDON_DIR)} as addon
 addon.register()
-seen = []
 def frame(scene, depsgraph):
     if depsgraph.mode == 'RENDER':
-        seen.append(len(bpy.data.objects["Saved"].evaluated_get(depsgraph).data.polygons))
+        mesh = bpy.data.objects["Saved"].evaluated_get(depsgraph).data
+        print("RENDERED", scene.frame_current, len(mesh.polygons), round(mesh.vertices[0].co.z, 5), flush=True)
 bpy.app.handlers.frame_change_post.append(frame)
-bpy.context.scene.render.filepath = {os.path.join(folder, "frame_")!r}
-bpy.ops.render.render(write_still=True)
-print("RENDERED", seen)
 """
-        code, output = run_blender(path, render_check)
-        check(f"RENDERED [{4 * faces}]" in output,
-              f"a render evaluates the Render levels (2): {4 * faces} faces ({output.splitlines()[-3:]})")
+        process = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path, "--python-expr",
+                                  record, "-o", os.path.join(folder, "frame_####"), "-s", "1", "-e", "2", "-a"],
+                                 capture_output=True, text=True, timeout=300)
+        frames = [line.split()[1:] for line in process.stdout.splitlines() if line.startswith("RENDERED")]
+        check(len(frames) == 2 and all(int(faces_seen) == 4 * faces for _, faces_seen, _ in frames)
+              and frames[0][2] != frames[1][2]
+              and os.path.exists(os.path.join(folder, "frame_0002.png")),
+              f"blender -b file -a renders the Render levels (2: {4 * faces} faces) frame by frame, following a "
+              f"Wave above the entry ({frames})")
     check(evaluated(obj)[1] == faces, "the viewport keeps Levels Viewport")
     support.remove(obj)
     bpy.data.objects.remove(camera)
