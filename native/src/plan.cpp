@@ -123,6 +123,13 @@ void run_levels(int threads, int levels, const Work& work) {
     for (std::thread& worker : workers) worker.join();
 }
 
+// A float as printf's %g writes it with float precision: 3.402823e+38, not 39 digits.
+std::string shortest(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.7g", double(value));
+    return text;
+}
+
 bool finite_non_negative(float value) { return std::isfinite(value) && value >= 0.0f; }
 
 void validate_mesh(const MeshView& mesh, const Options& options) {
@@ -215,6 +222,9 @@ struct PlanImpl {
     std::vector<float> output_crease_sharpness, output_corner_sharpness;
     std::vector<Index> cones;  // Hoppe94: the vertices tagged as cones, sorted
     detail::LargeVector<float> scratch[2];
+    // A kernel sums up to this many input values before it weights them (a vertex's ring): inputs must stay below
+    // the float maximum divided by it, or the sums overflow to infinity and give NaN (checked by evaluate).
+    int max_summed_terms = 1;
     double topology_ms = 0.0, evaluate_ms = 0.0;
 
     void build(const MeshView& mesh);
@@ -318,6 +328,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     s.num_edges = ne;
     int max_valence = 0;
     for (int v = 0; v < nv; ++v) max_valence = std::max(max_valence, t.valence(v));
+    max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));  // a ring, or an edge's two ends
     s.smooth_self.resize(max_valence + 1);
     s.smooth_ring.resize(max_valence + 1);
     for (int n = 0; n <= max_valence; ++n) {
@@ -603,11 +614,21 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
     if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
         fail("evaluate: missing (null) data");
     auto input = [&](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; };
+    // Every mask's weights are non-negative and sum to one, so a refined value never exceeds the largest input; only
+    // the sums inside a kernel can overflow, and the bound keeps them finite.
+    const float largest = p.options.levels > 0 ? std::numeric_limits<float>::max() / float(p.max_summed_terms + 1)
+                                               : std::numeric_limits<float>::max();
     for (int v = 0; v < p.num_input_vertices; ++v)
-        for (int c = 0; c < channels; ++c)
-            if (!std::isfinite(input(v, c)))
-                fail("vertex " + std::to_string(v) + " has a non-finite value (" + std::to_string(input(v, c)) + ") in channel " +
+        for (int c = 0; c < channels; ++c) {
+            const float value = input(v, c);
+            if (!std::isfinite(value))
+                fail("vertex " + std::to_string(v) + " has a non-finite value (" + std::to_string(value) + ") in channel " +
                      std::to_string(c));
+            if (std::fabs(value) > largest)
+                fail("vertex " + std::to_string(v) + " has a value too large to refine (" + shortest(value) +
+                     ") in channel " + std::to_string(c) + ": sums of up to " + std::to_string(p.max_summed_terms) +
+                     " values must stay finite, so values are limited to +-" + shortest(largest));
+        }
 
     const int levels = p.options.levels;
     if (levels == 0) {

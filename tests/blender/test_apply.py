@@ -316,6 +316,11 @@ def bad_meshes():
     expect_error(obj, "a non-finite coordinate", "non-finite", levels=1)
     support.remove(obj)
 
+    obj = uv_cube("Infinite")
+    obj.data.vertices[3].co.x = 3.4028235e38  # what Blender stores for an infinite coordinate typed in
+    expect_error(obj, "a coordinate whose refinement would overflow", "too large to refine", levels=1)
+    support.remove(obj)
+
     mesh = bpy.data.meshes.new("Degenerate")
     mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)], [], [(0, 1, 2), (1, 3, 2)])
     mesh.loops[5].vertex_index = 1  # face 1 becomes (1, 3, 1), as a broken import can leave it

@@ -59,6 +59,12 @@ printf 'v 0 0 0\nv 1 nan 0\n' >"$WORK/nan.obj"
 run_cli 1 "$WORK/nan.obj" "$out" --levels 1
 expect_stderr "nan.obj:2: coordinate is not finite"
 
+# What Blender stores for an infinite coordinate: finite, but its refinement would overflow to NaN.
+sed 's/^v  1  1  1$/v 1 1 3.4028235e38/' "$good" >"$WORK/huge.obj"
+grep -q "3.4028235e38" "$WORK/huge.obj" || fail "the tetrahedron has no vertex '1 1 1' to make huge"
+run_cli 1 "$WORK/huge.obj" "$out" --levels 2 --rules hoppe94
+expect_stderr "has a value too large to refine"
+
 run_cli 1 "$SHAPES/loop_nonman_edges.obj" "$out" --levels 1
 expect_stderr "loop_nonman_edges.obj:193: the face repeats vertex 46"
 

@@ -94,6 +94,32 @@ TEST(BadInput, NonFiniteCoordinatesAreCaughtByEvaluate) {
     }
 }
 
+// Blender stores an infinite coordinate as the float maximum; 1e38 passes isfinite too. Summing a vertex's ring of
+// such values overflows, so evaluate refuses them by name; values up to its bound refine to finite values.
+TEST(BadInput, ValuesTooLargeToRefineAreRefused) {
+    for (Rules rules : kBothRules) {
+        SCOPED_TRACE(rules_name(rules));
+        Tetrahedron mesh;
+        loopsub::Plan plan(mesh.view(), options_for(rules, 2));
+        for (float huge : {1e38f, std::numeric_limits<float>::max(), -3e38f}) {
+            std::vector<float> positions = mesh.positions;
+            positions[3 * 1 + 2] = huge;  // vertex 1, z
+            try {
+                evaluate(plan, positions);
+                ADD_FAILURE() << "no InputError for " << huge;
+            } catch (const loopsub::InputError& e) {
+                EXPECT_NE(std::string(e.what()).find("vertex 1 has a value too large"), std::string::npos) << e.what();
+            }
+        }
+        // The new vertices of level 1 have valence 6, so the kernels sum at most 6 values: an eighth of the float
+        // maximum is accepted, in every coordinate at once, and refines to finite values.
+        std::vector<float> positions(mesh.positions.size());
+        for (std::size_t i = 0; i < positions.size(); ++i)
+            positions[i] = (i % 2 ? 1.0f : -1.0f) * std::numeric_limits<float>::max() / 8.0f;
+        for (float value : evaluate(plan, positions)) EXPECT_TRUE(std::isfinite(value)) << value;
+    }
+}
+
 TEST(BadInput, CreaseEdgeThatIsNotAnEdge) {
     for (Rules rules : kBothRules) {
         // A quad of two triangles: 0-2 is its diagonal, 1-3 is not an edge.
