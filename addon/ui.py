@@ -49,7 +49,7 @@ class DATA_PT_loop_subdivision(bpy.types.Panel):
         row = layout.row(align=True)
         row.context_pointer_set("object", obj)
         row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')
-        row.operator("object.loop_subdivision_refresh_tags", text="Write Tags", icon='FILE_REFRESH')
+        row.operator("object.loop_subdivision_refresh_tags", text="Refresh Tags", icon='FILE_REFRESH')
 
 
 def _add_button(self, context):
