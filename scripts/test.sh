@@ -1,10 +1,33 @@
 #!/usr/bin/env bash
-# Sets up (installs and builds) if needed, then runs every test: native (GoogleTest), Python (pytest) and the
-# Blender add-on in background mode, all through ctest. Ends with ctest's summary.
-# Usage: scripts/test.sh [--sanitize]   (--sanitize: native tests and CLI under ASan + UBSan, in build-asan/)
+# Sets up (installs and builds) if needed, then runs every test through one ctest run, which ends with ctest's summary:
+# native (GoogleTest, against OpenSubdiv), CLI, Python (pytest), the Blender add-on in background mode, and the deep
+# checks: the native and CLI tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and 45 s
+# of each libFuzzer target (build-fuzz/). About 10 minutes from a fresh clone on two cores.
+# Usage: scripts/test.sh [--quick | --sanitize]
+#   --quick     without the deep checks
+#   --sanitize  only the sanitizer run (native tests and CLI, in build-asan/)
+# Longer fuzzing: scripts/fuzz.sh --seconds 3600.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh "$@"
-build=build; [ "${1:-}" = "--sanitize" ] && build=build-asan
-cd "$build"
-ctest --output-on-failure -j2 --timeout 600
+mode="${1:-}"
+case "$mode" in
+  ""|--quick|--sanitize) ;;
+  *) echo "test: unknown argument '$mode' (usage: scripts/test.sh [--quick | --sanitize])" >&2; exit 2 ;;
+esac
+
+if [ "$mode" = --sanitize ]; then
+  scripts/setup.sh --sanitize
+  cd build-asan
+  exec ctest --output-on-failure -j2 --timeout 600
+fi
+
+scripts/setup.sh
+deep=OFF
+if [ "$mode" != --quick ]; then
+  scripts/setup.sh --sanitize
+  scripts/fuzz.sh --build-only
+  deep=ON
+fi
+cmake -S . -B build -DLOOPSUB_DEEP_CHECKS=$deep >/dev/null
+cd build
+ctest --output-on-failure -j2 --timeout 900

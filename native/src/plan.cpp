@@ -631,6 +631,10 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         }
 
     const int levels = p.options.levels;
+    if (p.num_input_vertices == 0) {  // nothing to refine (and the output may be a null pointer)
+        p.evaluate_ms = ms_since(start);
+        return;
+    }
     if (levels == 0) {
         for (int v = 0; v < p.num_input_vertices; ++v)
             for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = input(v, c);
@@ -684,6 +688,12 @@ void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) 
     const PlanImpl& p = *impl_;
     if (num_channels < 1) fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(num_channels));
     const std::size_t corner = std::size_t(num_channels), face = 3 * corner;
+    if ((in == nullptr && p.num_input_triangles > 0) || (out == nullptr && num_output_triangles() > 0))
+        fail("evaluate_face_varying: missing (null) data");
+    for (std::size_t i = 0; i < face * p.num_input_triangles; ++i)
+        if (!std::isfinite(in[i]))
+            fail("evaluate_face_varying: triangle " + std::to_string(i / face) + ", corner " + std::to_string(i % face / corner) +
+                 " has a non-finite value (" + shortest(in[i]) + ") in channel " + std::to_string(i % corner));
     std::vector<float> current(in, in + face * p.num_input_triangles), next;
     for (int l = 0; l < p.options.levels; ++l) {
         const std::size_t faces = current.size() / face;
@@ -693,7 +703,8 @@ void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) 
             float* child = &next[4 * f * face];
             for (std::size_t c = 0; c < corner; ++c) {
                 const float u0 = u[c], u1 = u[corner + c], u2 = u[2 * corner + c];
-                const float m0 = 0.5f * (u0 + u1), m1 = 0.5f * (u1 + u2), m2 = 0.5f * (u2 + u0);
+                // Halves first: the same value as (a + b) / 2 without its overflow for values past half the float range.
+                const float m0 = 0.5f * u0 + 0.5f * u1, m1 = 0.5f * u1 + 0.5f * u2, m2 = 0.5f * u2 + 0.5f * u0;
                 // Children (v0, m0, m2), (v1, m1, m0), (v2, m2, m1), (m0, m1, m2), as in refine_topology.
                 const float values[12] = {u0, m0, m2, u1, m1, m0, u2, m2, m1, m0, m1, m2};
                 for (int k = 0; k < 12; ++k) child[k * corner + c] = values[k];

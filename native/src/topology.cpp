@@ -233,10 +233,12 @@ Topology refine_topology(const Topology& p, Refined what) {
     c.vertex_vertices.resize(c.vertex_edge_offsets.back());
     if (full) c.vertex_edges.resize(c.vertex_edge_offsets.back());
     for (int v = 0; v < nv; ++v) {
-        Index* neighbours = &c.vertex_vertices[c.vertex_edge_offsets[v]];
+        // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end (or
+        // the arrays empty, when no vertex has an edge).
+        Index* neighbours = c.vertex_vertices.data() + c.vertex_edge_offsets[v];
         for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *neighbours++ = nv + p.vertex_edges[k];
         if (!full) continue;
-        Index* edges = &c.vertex_edges[c.vertex_edge_offsets[v]];
+        Index* edges = c.vertex_edges.data() + c.vertex_edge_offsets[v];
         for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
     }
     for (int e = 0; e < ne; ++e) {

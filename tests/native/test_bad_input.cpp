@@ -120,6 +120,27 @@ TEST(BadInput, ValuesTooLargeToRefineAreRefused) {
     }
 }
 
+// Face-varying values: non-finite ones are refused by triangle and corner; the largest finite ones interpolate to
+// finite values (midpoints once overflowed: found by fuzz_plan).
+TEST(BadInput, FaceVaryingValuesNonFiniteOrHuge) {
+    for (Rules rules : kBothRules) {
+        SCOPED_TRACE(rules_name(rules));
+        Tetrahedron mesh;
+        loopsub::Plan plan(mesh.view(), options_for(rules, 2));
+        std::vector<float> corners(4 * 3 * 2, std::numeric_limits<float>::max());
+        std::vector<float> out(std::size_t(plan.num_output_triangles()) * 3 * 2);
+        plan.evaluate_face_varying(corners.data(), out.data(), 2);
+        for (float value : out) EXPECT_EQ(value, std::numeric_limits<float>::max());
+        corners[2 * 3 * 2 + 1 * 2 + 1] = std::numeric_limits<float>::quiet_NaN();  // triangle 2, corner 1, channel 1
+        try {
+            plan.evaluate_face_varying(corners.data(), out.data(), 2);
+            ADD_FAILURE() << "no InputError";
+        } catch (const loopsub::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("triangle 2, corner 1 has a non-finite value"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(BadInput, CreaseEdgeThatIsNotAnEdge) {
     for (Rules rules : kBothRules) {
         // A quad of two triangles: 0-2 is its diagonal, 1-3 is not an edge.
@@ -257,17 +278,42 @@ TEST(BadInput, WrongChannelCount) {
     }
 }
 
+// Every kernel, since each walks its channels with its own pointer arithmetic (the scalar one once stepped off a
+// null output pointer here: found by fuzz_plan).
+const loopsub::Kernel kAllKernels[] = {loopsub::Kernel::Scalar, loopsub::Kernel::SSE41, loopsub::Kernel::AVX2};
+
 TEST(EdgeCases, EmptyMeshGivesAnEmptyResult) {
     for (Rules rules : kBothRules) {
-        SCOPED_TRACE(rules_name(rules));
-        loopsub::MeshView empty;
-        loopsub::Plan plan(empty, options_for(rules, 2));
-        EXPECT_EQ(plan.num_output_vertices(), 0);
-        EXPECT_EQ(plan.num_output_triangles(), 0);
-        EXPECT_TRUE(plan.output_crease_edges().empty());
-        std::vector<float> none;
-        EXPECT_TRUE(evaluate(plan, none).empty());
-        plan.evaluate_face_varying(nullptr, nullptr, 2);
+        for (loopsub::Kernel kernel : kAllKernels) {
+            SCOPED_TRACE(std::string(rules_name(rules)) + " " + loopsub::kernel_name(kernel));
+            loopsub::MeshView empty;
+            loopsub::Options options = options_for(rules, 3);
+            options.kernel = kernel;
+            loopsub::Plan plan(empty, options);
+            EXPECT_EQ(plan.num_output_vertices(), 0);
+            EXPECT_EQ(plan.num_output_triangles(), 0);
+            EXPECT_TRUE(plan.output_crease_edges().empty());
+            std::vector<float> none;
+            EXPECT_TRUE(evaluate(plan, none).empty());
+            plan.evaluate_face_varying(nullptr, nullptr, 2);
+        }
+    }
+}
+
+// Vertices but no triangles (an OBJ whose faces were lost): nothing to refine, every vertex stays, at every level
+// (refining a level whose vertices have no edges once bound a reference to a null pointer: found by fuzz_obj).
+TEST(EdgeCases, VerticesWithoutTrianglesStayWhereTheyAre) {
+    for (Rules rules : kBothRules) {
+        for (loopsub::Kernel kernel : kAllKernels) {
+            SCOPED_TRACE(std::string(rules_name(rules)) + " " + loopsub::kernel_name(kernel));
+            loopsub::MeshData mesh;
+            mesh.positions = {1, 2, 3, 4, 5, 6};
+            loopsub::Options options = options_for(rules, 2);
+            options.kernel = kernel;
+            loopsub::Plan plan(mesh.view(), options);
+            EXPECT_EQ(plan.num_output_triangles(), 0);
+            EXPECT_EQ(evaluate(plan, mesh.positions), mesh.positions);
+        }
     }
 }
 

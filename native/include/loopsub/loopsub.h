@@ -175,7 +175,8 @@ public:
     void evaluate(ChannelsView<const float> in, ChannelsView<float> out);
 
     // Refines face-varying data (UVs): in holds num_channels floats per corner of each input triangle
-    // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face.
+    // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face. Throws
+    // InputError on a non-finite input value.
     void evaluate_face_varying(const float* in, float* out, int num_channels) const;
 
     // The kernel the plan actually uses (Auto resolved against the CPU).

@@ -1,0 +1,75 @@
+// libFuzzer target: raw bytes as a mesh with tags and options, straight into Plan, evaluate and
+// evaluate_face_varying, with no reader in between: indices out of range, NaN and huge values, negative counts
+// of nothing, every option. Layout (each field taken from the bytes in turn, zero when they run out):
+//   options byte (rules, boundary, crease method, kernel, 2 threads), levels 0-3, crease threshold (float),
+//   vertex count 0-63, triangle count 0-63, crease count 0-15, corner count 0-7, cone count 0-7,
+//   then the triangles' indices, crease edges and sharpness, corners and sharpness, cones (indices are bytes, so
+//   some fall outside the mesh), then the positions and two face-varying channels (raw float bits).
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "fuzz_common.h"
+
+namespace {
+
+class Bytes {
+public:
+    Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+    std::uint8_t byte() { return at_ < size_ ? data_[at_++] : 0; }
+    float number() {
+        std::uint32_t bits = 0;
+        for (int i = 0; i < 4; ++i) bits |= std::uint32_t(byte()) << (8 * i);
+        float value;
+        std::memcpy(&value, &bits, sizeof value);
+        return value;
+    }
+    std::int32_t index(int count) { return std::int32_t(byte()) % (count + 2) - 1; }  // -1 .. count: some invalid
+
+private:
+    const std::uint8_t* data_;
+    std::size_t size_, at_ = 0;
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    using namespace loopsub;
+    Bytes in(data, size);
+    const std::uint8_t flags = in.byte();
+    Options options;
+    options.rules = flags & 1 ? Rules::OpenSubdiv : Rules::Hoppe94;
+    options.boundary = flags & 2 ? Boundary::EdgesAndCorners : Boundary::EdgesOnly;
+    options.crease_method = flags & 4 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
+    options.kernel = Kernel((flags >> 3) % 4);
+    options.threads = flags & 32 ? 2 : 1;
+    options.levels = in.byte() % 4;
+    options.crease_threshold = in.number();
+    options.memory_limit_bytes = fuzz::kMemoryLimit;
+    const int vertices = in.byte() % 64, triangles = in.byte() % 64, creases = in.byte() % 16, corners = in.byte() % 8,
+              cones = in.byte() % 8;
+
+    MeshData mesh;
+    mesh.positions.resize(3 * std::size_t(vertices));
+    for (int i = 0; i < 3 * triangles; ++i) mesh.triangles.push_back(in.index(vertices));
+    for (int i = 0; i < creases; ++i) {
+        mesh.crease_edges.insert(mesh.crease_edges.end(), {in.index(vertices), in.index(vertices)});
+        mesh.crease_sharpness.push_back(in.number());
+    }
+    for (int i = 0; i < corners; ++i) {
+        mesh.corner_vertices.push_back(in.index(vertices));
+        mesh.corner_sharpness.push_back(in.number());
+    }
+    for (int i = 0; i < cones; ++i) mesh.cone_vertices.push_back(in.index(vertices));
+    for (float& value : mesh.positions) value = in.number();
+    std::vector<float> face_varying(6 * std::size_t(triangles));
+    for (float& value : face_varying) value = in.number();
+
+    try {
+        Plan plan(mesh.view(), options);
+        fuzz::exercise(plan, mesh.positions, face_varying, 2);
+    } catch (const InputError&) {
+    } catch (const MemoryLimitError&) {
+    }
+    return 0;
+}
