@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest blender)
+          pybind11-dev python3-dev python3-numpy python3-pytest blender assimp-testmodels)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -21,7 +21,7 @@ constexpr const char* kUsage =
     "usage: loopsub IN.obj OUT.obj --levels N [options]\n"
     "\n"
     "Subdivides the triangle mesh IN.obj N times by Loop's scheme and writes OUT.obj with the child crease,\n"
-    "corner and cone tags. Polygons with more than 3 corners are triangulated as fans (with a notice).\n"
+    "corner and cone tags. Polygons with more than 3 corners are triangulated by ear clipping (with a notice).\n"
     "\n"
     "options:\n"
     "  --levels N                    subdivision levels, N >= 0 (required)\n"
@@ -183,9 +183,10 @@ void set_output_uvs(const std::vector<float>& corner_uvs, loopsub::obj::ObjMesh&
 int run(const Command& command) {
     const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
     if (in.polygons_triangulated > 0) {
-        std::fprintf(stderr, "loopsub: note: %s: triangulated %d polygon(s) with more than 3 corners as fans\n",
+        std::fprintf(stderr, "loopsub: note: %s: triangulated %d polygon(s) with more than 3 corners\n",
                      command.input.c_str(), in.polygons_triangulated);
     }
+    for (const std::string& note : in.notes) std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
 
     loopsub::Options options = command.options;
     options.boundary = command.boundary.value_or(in.boundary.value_or(loopsub::Boundary::EdgesOnly));

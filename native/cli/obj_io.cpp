@@ -3,6 +3,11 @@
 // whose shortest round-trip form makes write -> read exact.
 #include "obj_io.h"
 
+#include <map>
+
+#include "triangulate.h"
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -31,6 +36,10 @@ public:
     Reader(std::string_view text, const std::string& name) : text_(text), name_(name) {}
 
     ObjMesh read() {
+        if (const std::size_t nul = text_.find('\0'); nul != std::string_view::npos) {
+            line_ = 1 + int(std::count(text_.begin(), text_.begin() + std::ptrdiff_t(nul), '\n'));
+            fail("the file is not plain text (it holds a NUL byte; save UTF-16 files as UTF-8)");
+        }
         std::size_t pos = 0;
         while (pos < text_.size()) {
             std::size_t end = text_.find('\n', pos);
@@ -42,6 +51,8 @@ public:
             pos = end + 1;
         }
         check_tag_indices();
+        fill_missing_uvs();
+        note_skipped();
         return std::move(mesh_);
     }
 
@@ -105,13 +116,44 @@ private:
         if (keyword == "vt") return read_uv();
         if (keyword == "f") return read_face();
         if (keyword == "t") return read_tag();
-        // Normals are recomputed downstream from the refined surface; grouping, smoothing groups and materials do
-        // not change the subdivision.
-        if (keyword == "vn" || keyword == "o" || keyword == "g" || keyword == "s" || keyword == "usemtl" ||
-            keyword == "mtllib") {
+        // Everything else describes no part of the surface (normals are recomputed from the refined surface; lines,
+        // points, curves, groups, smoothing groups and materials do not change it): skipped, and said once per kind.
+        ++skipped_[std::string(keyword)];
+    }
+
+    void note_skipped() {
+        static const std::map<std::string, const char*> what = {
+            {"vn", "normals, recomputed from the subdivided surface"},
+            {"l", "polylines, not surfaces"},
+            {"p", "points, not surfaces"},
+            {"o", "object names"},
+            {"g", "group names"},
+            {"s", "smoothing groups"},
+            {"usemtl", "materials"},
+            {"mtllib", "material libraries"},
+        };
+        for (const auto& [keyword, count] : skipped_) {
+            const auto known = what.find(keyword);
+            mesh_.notes.push_back("skipped " + std::to_string(count) + " '" + keyword + "' statement" +
+                                  (count == 1 ? "" : "s") + " (" +
+                                  (known != what.end() ? known->second : "not part of the surface loopsub reads") + ")");
+        }
+    }
+
+    // Faces without texture indices in a file where other faces have them get one texture coordinate (0, 0).
+    void fill_missing_uvs() {
+        const bool any_uv = std::any_of(mesh_.triangle_uvs.begin(), mesh_.triangle_uvs.end(), [](std::int32_t uv) { return uv >= 0; });
+        if (!any_uv) {
+            mesh_.triangle_uvs.clear();
             return;
         }
-        fail("unsupported OBJ statement '" + std::string(keyword) + "' (loopsub reads v, vt, f and t lines)");
+        if (faces_without_uvs_ == 0) return;
+        const std::int32_t filler = std::int32_t(mesh_.uvs.size() / 2);
+        mesh_.uvs.insert(mesh_.uvs.end(), {0.0f, 0.0f});
+        for (std::int32_t& uv : mesh_.triangle_uvs)
+            if (uv < 0) uv = filler;
+        mesh_.notes.push_back(std::to_string(faces_without_uvs_) + " face" + (faces_without_uvs_ == 1 ? "" : "s") +
+                              " without texture coordinates got (0, 0), as other faces have them");
     }
 
     void read_vertex() {
@@ -167,29 +209,31 @@ private:
             }
         }
         if (corner_vertices_.size() < 3) fail("a face needs at least 3 corners, this one has " + std::to_string(corner_vertices_.size()));
-        // The core refuses degenerate triangles too, but only the reader can say on which line the face is.
-        for (std::size_t i = 0; i < corner_vertices_.size(); ++i) {
-            for (std::size_t j = i + 1; j < corner_vertices_.size(); ++j) {
-                if (corner_vertices_[i] == corner_vertices_[j]) {
-                    fail("the face repeats vertex " + std::to_string(corner_vertices_[i] + 1) +
-                         " (a degenerate face; every corner must be a different vertex)");
-                }
+
+        if (!face_has_uvs) ++faces_without_uvs_;
+
+        // Loop subdivision is defined on triangles: a polygon is split by ear clipping, as Blender does.
+        face_triangles_.clear();
+        if (corner_vertices_.size() > 3) {
+            ++mesh_.polygons_triangulated;
+            triangulate_polygon(mesh_.positions, corner_vertices_, face_triangles_);
+        } else {
+            face_triangles_ = {0, 1, 2};
+        }
+        // A polygon may visit a vertex twice (around a hole, along the bridge to it) as long as no triangle does. The
+        // core refuses degenerate triangles too, but only the reader can say on which line the face is.
+        for (std::size_t t = 0; t < face_triangles_.size(); t += 3) {
+            const std::int32_t a = corner_vertices_[face_triangles_[t]], b = corner_vertices_[face_triangles_[t + 1]],
+                               c = corner_vertices_[face_triangles_[t + 2]];
+            if (a == b || b == c || c == a) {
+                fail("the face repeats vertex " + std::to_string((a == b || a == c ? a : b) + 1) +
+                     (corner_vertices_.size() == 3 ? std::string(" (a degenerate face; every corner must be a different vertex)")
+                                                   : std::string(" and cannot be split into triangles that do not")));
             }
         }
-
-        bool mesh_has_uvs = !mesh_.triangle_uvs.empty();
-        if (!mesh_.triangles.empty() && face_has_uvs != mesh_has_uvs) {
-            fail(face_has_uvs ? "this face has texture indices but earlier faces have none"
-                              : "this face has no texture indices but earlier faces have them");
-        }
-
-        // Loop subdivision is defined on triangles: a polygon becomes a fan around its first corner.
-        if (corner_vertices_.size() > 3) ++mesh_.polygons_triangulated;
-        for (std::size_t k = 1; k + 1 < corner_vertices_.size(); ++k) {
-            for (std::size_t corner : {std::size_t(0), k, k + 1}) {
-                mesh_.triangles.push_back(corner_vertices_[corner]);
-                if (face_has_uvs) mesh_.triangle_uvs.push_back(corner_uvs_[corner]);
-            }
+        for (std::size_t corner : face_triangles_) {
+            mesh_.triangles.push_back(corner_vertices_[corner]);
+            mesh_.triangle_uvs.push_back(face_has_uvs ? corner_uvs_[corner] : -1);  // -1: filled or dropped at the end
         }
     }
 
@@ -315,6 +359,9 @@ private:
     const char* line_end_ = nullptr;
     ObjMesh mesh_;
     std::vector<std::int32_t> corner_vertices_, corner_uvs_;  // of the face being read; reused across faces
+    std::vector<std::size_t> face_triangles_;
+    int faces_without_uvs_ = 0;
+    std::map<std::string, int> skipped_;  // statements read past, by keyword
     std::vector<TaggedIndex> crease_indices_, corner_indices_, cone_indices_;
 };
 

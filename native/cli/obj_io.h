@@ -20,7 +20,8 @@ struct ObjMesh : MeshData {
     std::vector<std::int32_t> triangle_uvs;  // 3 per triangle, 0-based `vt` indices; empty when the faces have none
     std::optional<Boundary> boundary;           // from `t interpolateboundary`
     std::optional<CreaseMethod> crease_method;  // from `t creasemethod`
-    int polygons_triangulated = 0;  // faces with more than three corners, split as fans
+    int polygons_triangulated = 0;  // faces with more than three corners, split by ear clipping
+    std::vector<std::string> notes;  // what the reader skipped or filled in, one line per kind
 };
 
 // Throws InputError naming the file and line for anything it cannot read.

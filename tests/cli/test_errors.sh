@@ -96,7 +96,7 @@ expect_stderr "cannot open for writing"
 run_cli 0 "$WORK/empty.obj" "$out" --levels 2
 [ -s "$out" ] && fail "the output of an empty mesh is not empty: $(head -3 "$out")"
 
-# A cube of six quads: triangulated as fans (two triangles each), with a notice, then subdivided.
+# A cube of six quads: triangulated (two triangles each), with a notice, then subdivided.
 cat >"$WORK/quads.obj" <<'OBJ'
 v -1 -1 -1
 v 1 -1 -1
@@ -114,7 +114,7 @@ f 3 4 8 7
 f 4 1 5 8
 OBJ
 run_cli 0 "$WORK/quads.obj" "$out" --levels 1
-expect_stderr "loopsub: note: $WORK/quads.obj: triangulated 6 polygon(s) with more than 3 corners as fans"
+expect_stderr "loopsub: note: $WORK/quads.obj: triangulated 6 polygon(s) with more than 3 corners"
 check_valid_obj "$out" 26 48  # 8 vertices + 18 edges (12 sides, 6 diagonals); 12 triangles x 4
 
 finish

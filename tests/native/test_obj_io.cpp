@@ -91,7 +91,7 @@ TEST(ObjRead, NumberForms) {
     EXPECT_EQ(mesh.uvs, (Floats{0.25f, 0.0f, 0.5f, 0.75f}));
 }
 
-TEST(ObjRead, PolygonsAreTriangulatedAsFansAndCounted) {
+TEST(ObjRead, ConvexPolygonsAreTriangulatedAsFansAndCounted) {
     ObjMesh mesh = parse_obj(std::string(kFourVertices) +
                              "v 0.5 2 0\n"
                              "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 1\n"
@@ -103,6 +103,54 @@ TEST(ObjRead, PolygonsAreTriangulatedAsFansAndCounted) {
                                        0, 1, 2,           //
                                        0, 1, 2, 0, 2, 4, 0, 4, 3}));
     EXPECT_EQ(mesh.triangle_uvs, mesh.triangles) << "each fan corner keeps its own texture index";
+}
+
+// Signed area of triangle (a, b, c) of the xy plane.
+double area(const Floats& p, std::int32_t a, std::int32_t b, std::int32_t c) {
+    return 0.5 * ((p[3 * b] - p[3 * a]) * (p[3 * c + 1] - p[3 * a + 1]) - (p[3 * b + 1] - p[3 * a + 1]) * (p[3 * c] - p[3 * a]));
+}
+
+TEST(ObjRead, ConcavePolygonsAreTriangulatedInside) {
+    // An arrow whose corner 4 points inwards, and a comb of five teeth: the fan from the first corner would fold
+    // over itself. Every triangle must turn the polygon's way and together they must cover its area exactly.
+    const std::string arrow = "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 0.5 0\nv 0 2 0\nf 1 2 3 4 5\n";
+    // The comb: a 10 x 3 rectangle whose top edge runs down to y = 1 between peaks at x = 10, 8, ..., 0.
+    std::string comb = "v 0 0 0\nv 10 0 0\n";
+    for (int x = 10; x >= 0; --x) comb += "v " + std::to_string(x) + (x % 2 ? " 1 0\n" : " 3 0\n");
+    comb += "f";
+    for (int k = 1; k <= 13; ++k) comb += " " + std::to_string(k);
+    comb += "\n";
+    for (const auto& [text, polygon_area] : {std::pair<std::string, double>{arrow, 2.5}, {comb, 30.0 - 5 * 2.0}}) {
+        ObjMesh mesh = parse_obj(text);
+        const std::size_t corners = mesh.positions.size() / 3;
+        ASSERT_EQ(mesh.triangles.size(), 3 * (corners - 2));
+        double total = 0.0;
+        for (std::size_t t = 0; t < mesh.triangles.size(); t += 3) {
+            const double a = area(mesh.positions, mesh.triangles[t], mesh.triangles[t + 1], mesh.triangles[t + 2]);
+            EXPECT_GT(a, 0.0) << "triangle " << t / 3 << " folds over";
+            total += a;
+        }
+        EXPECT_NEAR(total, polygon_area, 1e-9);
+    }
+}
+
+TEST(ObjRead, FacesWithAndWithoutUvsMix) {
+    ObjMesh mesh = parse_obj("vt 0.5 0.25\n" + std::string(kFourVertices) + "f 1 2 3\nf 1/1 3/1 4/1\n");
+    EXPECT_EQ(mesh.triangle_uvs, (Indices{1, 1, 1, 0, 0, 0})) << "the face without gets an added (0, 0)";
+    EXPECT_EQ(mesh.uvs, (Floats{0.5f, 0.25f, 0.0f, 0.0f}));
+    ASSERT_EQ(mesh.notes.size(), 1u);
+    EXPECT_NE(mesh.notes[0].find("1 face without texture coordinates got (0, 0)"), std::string::npos) << mesh.notes[0];
+    EXPECT_TRUE(parse_obj("vt 0 0\n" + std::string(kFourVertices) + "f 1 2 3\n").triangle_uvs.empty());
+}
+
+TEST(ObjRead, StatementsThatDescribeNoSurfaceAreSkippedWithOneNoteEach) {
+    ObjMesh mesh = parse_obj(std::string(kFourVertices) + "l 1 2 3\nl 3 4\np 1\nvp 0.5\nf 1 2 3\ncstype bezier\n");
+    EXPECT_EQ(mesh.triangles, (Indices{0, 1, 2}));
+    EXPECT_EQ(mesh.notes, (std::vector<std::string>{
+                              "skipped 1 'cstype' statement (not part of the surface loopsub reads)",
+                              "skipped 2 'l' statements (polylines, not surfaces)",
+                              "skipped 1 'p' statement (points, not surfaces)",
+                              "skipped 1 'vp' statement (not part of the surface loopsub reads)"}));
 }
 
 TEST(ObjRead, CreaseTags) {
@@ -188,10 +236,8 @@ TEST(ObjReadErrors, MalformedStatements) {
     expect_error(mesh + "f 1 2 3a\n", 5, "3a");
     expect_error(mesh + "f 1 2 /3\n", 5, "vertex index");
     expect_error("vt 0 0\n" + mesh + "f 1/1 2 3/1\n", 6, "some corners");
-    expect_error("vt 0 0\n" + mesh + "f 1/1 2/1 3/1\nf 1 3 4\n", 7, "earlier faces have them");
-    expect_error("vt 0 0\n" + mesh + "f 1 2 3\nf 1/1 3/1 4/1\n", 7, "earlier faces have none");
-    expect_error(mesh + "l 1 2\n", 5, "unsupported OBJ statement 'l'");
     expect_error(mesh + "f 1 2 3\nf 2 2 3\n", 6, "repeats vertex 2");
+    expect_error(std::string("v 0 0 0\n\0v", 10), 2, "not plain text");
     expect_error(mesh + "f 1 2 3 -4\n", 5, "repeats vertex 1");
 }
 
