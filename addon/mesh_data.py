@@ -104,11 +104,6 @@ class Cage(Topology):
             face = self.triangle_polygons[degenerate[0]]
             raise LoopSubError(f"{name}: face {face} repeats a vertex ({len(degenerate)} degenerate triangles); "
                                "Mesh ▸ Clean Up ▸ Degenerate Dissolve can fix it")
-        duplicates = geometry.duplicate_triangles(self.triangles)
-        if len(duplicates):
-            first, second = self.triangle_polygons[duplicates[0]]
-            raise LoopSubError(f"{name}: faces {first} and {second} share a triangle of the same three vertices "
-                               f"({len(duplicates)} such pairs); their subdivision would overlap")
 
 
 def read_vertex_groups(mesh, num_groups):
@@ -190,6 +185,12 @@ def _notes(name, cage):
     loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
     if loose_edges:
         notes.append(('WARNING', f"{name}: {loose_edges} loose edges (in no face) are not carried over"))
+    duplicates = geometry.duplicate_triangles(cage.triangles)
+    if len(duplicates):
+        first, second = cage.triangle_polygons[duplicates[0]]
+        notes.append(('WARNING', f"{name}: faces {first} and {second} lie on the same three vertices "
+                                 f"({len(duplicates)} such pairs); their edges are non-manifold and stay sharp, as "
+                                 "in Subdivision Surface"))
     cracks = geometry.shared_positions(cage.positions)
     if cracks:
         notes.append(('WARNING', f"{name}: {cracks} vertices share a position with another; the cracks "

@@ -274,6 +274,22 @@ def other_attributes():
     support.remove(obj)
 
 
+def triangulated_suzanne():
+    """Ctrl T (Beauty) gives Suzanne two faces on the same three vertices: OpenSubdiv and Subdivision Surface
+    subdivide it, their edges non-manifold and sharp; so does the add-on, with a warning."""
+    for rules in ('OPENSUBDIV', 'HOPPE94'):
+        bm = bmesh.new()
+        bmesh.ops.create_monkey(bm)
+        bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method='BEAUTY', ngon_method='BEAUTY')
+        obj = support.object_from_bmesh(f"Suzanne{rules}", bm, triangulate=False)
+        faces = len(obj.data.polygons)
+        result, output = run_apply(obj, levels=2, rules=rules)
+        check(result == {'FINISHED'} and len(obj.data.polygons) == 16 * faces
+              and np.isfinite(support.positions(obj.data)).all() and "lie on the same three vertices" in output,
+              f"{rules}: a Beauty-triangulated Suzanne applies, with a warning about its doubled faces")
+        support.remove(obj)
+
+
 # --- the active object, errors, undo --------------------------------------------------------------------------------
 
 def active_object_only():
@@ -378,6 +394,7 @@ vertex_channels('HOPPE94')
 creases_written()
 loose_geometry()
 other_attributes()
+triangulated_suzanne()
 active_object_only()
 bad_meshes()
 undo_restores()

@@ -48,7 +48,8 @@ def icosphere():
 def suzanne():
     bm = bmesh.new()
     bmesh.ops.create_monkey(bm)
-    # Beauty triangulation gives Suzanne two triangles on the same three vertices (the add-on refuses such a cage).
+    # Fixed, not Beauty: Beauty gives Suzanne two triangles on the same three vertices, whose non-manifold edges stay
+    # sharp (test_apply checks that it applies) and would show in this distance as a fold.
     bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method='FIXED')
     return support.object_from_bmesh("Suzanne", bm, triangulate=False)
 

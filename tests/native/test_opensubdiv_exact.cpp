@@ -290,6 +290,19 @@ std::vector<ExactCase> generated_cases() {
                 });
         }
     }
+    // Two faces on the same three vertices (a triangulated Suzanne has a pair): non-manifold, so their edges are
+    // sharp, as OpenSubdiv makes them. The copy runs the same way round or the other way. Level 1 only: from level 2
+    // on the two faces' children share pairs of midpoints by two edges each, which the vertex mapping of this
+    // harness (edges named by their ends) cannot tell apart.
+    for (bool reversed : {false, true}) {
+        add(cases, std::string("icosphere80_duplicate_triangle") + (reversed ? "_reversed" : "_same_way"), [reversed] {
+            TestMesh m = icosphere(1);
+            jitter(m, 78, 0.01f);
+            const std::int32_t a = m.triangles[0], b = m.triangles[1], c = m.triangles[2];
+            m.triangles.insert(m.triangles.end(), {a, reversed ? c : b, reversed ? b : c});
+            return m;
+        }, 1);
+    }
     // Crease pairs given end-first (b, a): the tags name an edge, not a direction.
     add(cases, "icosphere320_reversed_crease_pairs", [] {
         TestMesh m = icosphere(2);
