@@ -1,151 +1,22 @@
 // loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
 // Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
-#include <charconv>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <new>
-#include <optional>
-#include <stdexcept>
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "command_line.h"
 #include "loopsub/loopsub.h"
 #include "obj_io.h"
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: loopsub IN.obj OUT.obj --levels N [options]\n"
-    "\n"
-    "Subdivides the triangle mesh IN.obj N times by Loop's scheme and writes OUT.obj with the child crease,\n"
-    "corner and cone tags. Polygons with more than 3 corners are triangulated by ear clipping (with a notice).\n"
-    "\n"
-    "options:\n"
-    "  --levels N                    subdivision levels, N >= 0 (required)\n"
-    "  --rules hoppe94|opensubdiv    rule set (default hoppe94)\n"
-    "  --crease-threshold S          hoppe94: an edge is a crease when its sharpness is >= S (default 0: any\n"
-    "                                positive sharpness)\n"
-    "  --boundary edges|edges-and-corners\n"
-    "                                boundary rule (default: the file's interpolateboundary tag, else edges)\n"
-    "  --crease-method uniform|chaikin\n"
-    "                                opensubdiv: semi-sharp decay (default: the file's creasemethod tag, else\n"
-    "                                uniform)\n"
-    "  --threads N                   worker threads, N >= 1 (default 1)\n"
-    "  --scalar                      force the scalar reference kernel instead of SIMD\n"
-    "  --memory-limit-mb N           refuse a refinement that would need more than N MiB (default 4096)\n"
-    "  --stats                       print one line of timings and counts on stdout\n"
-    "  --help                        print this help\n";
-
-class UsageError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
-struct Command {
-    std::string input, output;
-    loopsub::Options options;
-    std::optional<loopsub::Boundary> boundary;  // from the flag; else the file's tag decides
-    std::optional<loopsub::CreaseMethod> crease_method;
-    bool stats = false;
-    bool help = false;
-};
-
-std::int64_t parse_integer(std::string_view flag, std::string_view text, std::int64_t min, std::int64_t max) {
-    std::int64_t value = 0;
-    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error == std::errc::result_out_of_range) throw UsageError(std::string(flag) + " is out of range: " + std::string(text));
-    if (error != std::errc() || end != text.data() + text.size() || text.empty()) {
-        throw UsageError(std::string(flag) + " expects an integer, got '" + std::string(text) + "'");
-    }
-    if (value < min) throw UsageError(std::string(flag) + " must be >= " + std::to_string(min) + ", got " + std::string(text));
-    if (value > max) throw UsageError(std::string(flag) + " must be <= " + std::to_string(max) + ", got " + std::string(text));
-    return value;
-}
-
-float parse_nonnegative_float(std::string_view flag, std::string_view text) {
-    float value = 0.0f;
-    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
-        throw UsageError(std::string(flag) + " expects a number, got '" + std::string(text) + "'");
-    }
-    if (value < 0.0f) throw UsageError(std::string(flag) + " must be >= 0, got " + std::string(text));
-    return value;
-}
-
-Command parse_command_line(int argc, char** argv) {
-    Command command;
-    std::vector<std::string> positional;
-    bool levels_given = false;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
-            positional.push_back(arg);
-            continue;
-        }
-        // Both "--flag value" and "--flag=value".
-        std::optional<std::string> inline_value;
-        if (std::size_t eq = arg.find('='); eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        auto value = [&]() -> std::string {
-            if (inline_value) return *inline_value;
-            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-            return argv[++i];
-        };
-        auto no_value = [&] {
-            if (inline_value) throw UsageError(arg + " takes no value");
-        };
-
-        if (arg == "--help") {
-            no_value();
-            command.help = true;
-        } else if (arg == "--levels") {
-            command.options.levels = int(parse_integer(arg, value(), 0, INT32_MAX));
-            levels_given = true;
-        } else if (arg == "--rules") {
-            std::string rules = value();
-            if (rules == "hoppe94") command.options.rules = loopsub::Rules::Hoppe94;
-            else if (rules == "opensubdiv") command.options.rules = loopsub::Rules::OpenSubdiv;
-            else throw UsageError("--rules expects hoppe94 or opensubdiv, got '" + rules + "'");
-        } else if (arg == "--crease-threshold") {
-            command.options.crease_threshold = parse_nonnegative_float(arg, value());
-        } else if (arg == "--boundary") {
-            std::string boundary = value();
-            if (boundary == "edges") command.boundary = loopsub::Boundary::EdgesOnly;
-            else if (boundary == "edges-and-corners") command.boundary = loopsub::Boundary::EdgesAndCorners;
-            else throw UsageError("--boundary expects edges or edges-and-corners, got '" + boundary + "'");
-        } else if (arg == "--crease-method") {
-            std::string method = value();
-            if (method == "uniform") command.crease_method = loopsub::CreaseMethod::Uniform;
-            else if (method == "chaikin") command.crease_method = loopsub::CreaseMethod::Chaikin;
-            else throw UsageError("--crease-method expects uniform or chaikin, got '" + method + "'");
-        } else if (arg == "--threads") {
-            command.options.threads = int(parse_integer(arg, value(), 1, 256));
-        } else if (arg == "--scalar") {
-            no_value();
-            command.options.kernel = loopsub::Kernel::Scalar;
-        } else if (arg == "--memory-limit-mb") {
-            command.options.memory_limit_bytes = std::uint64_t(parse_integer(arg, value(), 1, std::int64_t(1) << 40)) << 20;
-        } else if (arg == "--stats") {
-            no_value();
-            command.stats = true;
-        } else {
-            throw UsageError("unknown option '" + arg + "'");
-        }
-    }
-    if (command.help) return command;
-    if (positional.size() != 2) {
-        throw UsageError("expected IN.obj and OUT.obj, got " + std::to_string(positional.size()) + " file argument(s)");
-    }
-    if (!levels_given) throw UsageError("--levels N is required");
-    command.input = positional[0];
-    command.output = positional[1];
-    return command;
-}
+using loopsub::cli::Command;
+using loopsub::cli::kUsage;
+using loopsub::cli::UsageError;
+using loopsub::cli::parse_command_line;
 
 // Face-varying UVs come out of the plan as one value per output corner. In the file, corners of the same vertex
 // with the same value share one vt, and differing values keep their own: seams stay seams without writing three
