@@ -1,74 +1,30 @@
-// The Plan: all topology work for N levels, done once (validation, connectivity, classification, sharpness
-// decay, stencil weights), and the per-frame evaluation that only runs the kernels over the stencils.
+// Building a Plan: all topology work for N levels, done once: the base level's sharpness from the tags, then per
+// level the classification of the vertices next to a feature, their masks, the sharpness decay into the child level,
+// the child's connectivity and the stencil tables. (Checks of the input: validation.cpp; the per-frame work:
+// evaluate.cpp.)
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
-#include <cmath>
 #include <limits>
-#include <condition_variable>
-#include <mutex>
 #include <string>
-#include <system_error>
-#include <thread>
 
+#include "budget.h"
+#include "common.h"
 #include "kernels.h"
-#include "loopsub/loopsub.h"
+#include "plan_data.h"
 #include "rules.h"
-#include "stencils.h"
-#include "topology.h"
+#include "validation.h"
 
 namespace loopsub {
 
+using detail::fail;
 using detail::Index;
+using detail::LevelCounts;
 using detail::Topology;
+using detail::describe_bytes;
+using detail::estimate_for_counts;
+using detail::kSaturated;
+using detail::mul;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
-
-[[noreturn]] void fail(const std::string& message) { throw InputError(message); }
-
-// Saturating arithmetic: a request for 40 levels must say "too much", not wrap around to a small number.
-constexpr std::uint64_t kSaturated = std::numeric_limits<std::uint64_t>::max();
-std::uint64_t add(std::uint64_t a, std::uint64_t b) { return a > kSaturated - b ? kSaturated : a + b; }
-std::uint64_t mul(std::uint64_t a, std::uint64_t b) { return b != 0 && a > kSaturated / b ? kSaturated : a * b; }
-
-// Counts of one level.
-struct LevelCounts {
-    std::uint64_t vertices, edges, faces;
-    LevelCounts child() const { return {add(vertices, edges), add(mul(2, edges), mul(3, faces)), mul(4, faces)}; }
-};
-
-std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channels) {
-    // Bytes per element, summed over the arrays that hold them.
-    std::uint64_t kept = 0, largest_transient = 0;
-    LevelCounts previous = level;
-    for (int l = 0; l < levels; ++l) {
-        // Kept per level: stencils (rings 8, edge points 16, offsets 4), the level's edges (8), vertex types (1).
-        kept = add(kept, add(mul(32, level.edges), mul(5, level.vertices)));
-        // Held while refining it: connectivity (faces and face edges 24 + edge faces 12 per face-edge pair,
-        // vertex edges 12) and sharpness (8 per edge and vertex).
-        const std::uint64_t transient = add(mul(36, level.faces), add(mul(20, level.edges), mul(12, level.vertices)));
-        largest_transient = std::max(largest_transient, transient);
-        previous = level;
-        level = level.child();
-    }
-    // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation (their
-    // channels padded to a multiple of four).
-    const std::uint64_t padded = (std::uint64_t(num_channels) + 3) / 4 * 4;
-    kept = add(kept, add(mul(16, level.faces),
-                         add(mul(mul(4, std::uint64_t(num_channels)), level.vertices), mul(mul(4, padded), mul(2, previous.vertices)))));
-    return add(kept, mul(2, largest_transient));  // a child level is built while its parent still lives
-}
-
-std::string describe_bytes(std::uint64_t bytes) {
-    char text[64];
-    const bool gib = bytes >= (std::uint64_t(1) << 30);
-    std::snprintf(text, sizeof text, "%.2f %s (%llu bytes)", double(bytes) / double(std::uint64_t(1) << (gib ? 30 : 20)),
-                  gib ? "GiB" : "MiB", (unsigned long long)bytes);
-    return text;
-}
 
 Index find_edge(const Topology& t, Index a, Index b) {
     for (Index k = t.vertex_edge_offsets[a]; k < t.vertex_edge_offsets[a + 1]; ++k)
@@ -76,106 +32,9 @@ Index find_edge(const Topology& t, Index a, Index b) {
     return -1;
 }
 
-// Runs work(level, part, parts) for every level in order and every part of a level at once: one thread per part
-// for the whole run (the caller being part 0), meeting at a barrier between levels. A thread the system refuses
-// to start costs parallelism, never the process: the parts are then shared among the threads that run.
-template <typename Work>
-void run_levels(int threads, int levels, const Work& work) {
-    if (threads == 1) {
-        for (int l = 0; l < levels; ++l) work(l, 0, 1);
-        return;
-    }
-    std::mutex mutex;
-    std::condition_variable changed;
-    int running = threads, arrived = 0, generation = 0;
-    auto wait_for_others = [&] {
-        std::unique_lock<std::mutex> lock(mutex);
-        const int mine = generation;
-        if (++arrived == running) {
-            arrived = 0;
-            ++generation;
-            changed.notify_all();
-        } else {
-            changed.wait(lock, [&] { return generation != mine; });
-        }
-    };
-    auto run = [&](std::vector<int> parts) {
-        for (int l = 0; l < levels; ++l) {
-            for (int part : parts) work(l, part, threads);
-            wait_for_others();
-        }
-    };
-    std::vector<std::thread> workers;
-    workers.reserve(threads - 1);
-    std::vector<int> callers_parts = {0};
-    for (int part = 1; part < threads; ++part) {
-        try {
-            workers.emplace_back(run, std::vector<int>{part});
-        } catch (const std::system_error&) {
-            // The caller has not reached the first barrier yet, so the threads already waiting there cannot be
-            // released early: it is safe to lower the count here and hand the remaining parts to the caller.
-            std::lock_guard<std::mutex> lock(mutex);
-            running -= threads - part;
-            for (; part < threads; ++part) callers_parts.push_back(part);
-        }
-    }
-    run(callers_parts);
-    for (std::thread& worker : workers) worker.join();
-}
+}  // namespace
 
-// A float as printf's %g writes it with float precision: 3.402823e+38, not 39 digits.
-std::string shortest(float value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.7g", double(value));
-    return text;
-}
-
-bool finite_non_negative(float value) { return std::isfinite(value) && value >= 0.0f; }
-
-void validate_mesh(const MeshView& mesh, const Options& options) {
-    if (options.levels < 0) fail("levels must be >= 0, got " + std::to_string(options.levels));
-    if (options.threads < 1) fail("threads must be >= 1, got " + std::to_string(options.threads));
-    if (!finite_non_negative(options.crease_threshold))
-        fail("crease threshold must be a finite number >= 0, got " + std::to_string(options.crease_threshold));
-    if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0)
-        fail("negative element count");
-    auto require = [](const void* pointer, int count, const char* what) {
-        if (count > 0 && pointer == nullptr) fail(std::string(what) + " is missing (null) but its count is " + std::to_string(count));
-    };
-    require(mesh.triangles, mesh.num_triangles, "triangles");
-    require(mesh.crease_edges, mesh.num_crease_edges, "crease edges");
-    require(mesh.crease_sharpness, mesh.num_crease_edges, "crease sharpness");
-    require(mesh.corner_vertices, mesh.num_corners, "corner vertices");
-    require(mesh.corner_sharpness, mesh.num_corners, "corner sharpness");
-    require(mesh.cone_vertices, mesh.num_cones, "cone vertices");
-
-    auto check_index = [&](Index v, const std::string& where) {
-        if (v < 0 || v >= mesh.num_vertices)
-            fail(where + " refers to vertex " + std::to_string(v) + ", outside 0.." + std::to_string(mesh.num_vertices - 1) +
-                 " (the mesh has " + std::to_string(mesh.num_vertices) + " vertices)");
-    };
-    for (int f = 0; f < mesh.num_triangles; ++f) {
-        const Index* v = mesh.triangles + 3 * std::size_t(f);
-        for (int k = 0; k < 3; ++k) check_index(v[k], "triangle " + std::to_string(f));
-        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
-            fail("triangle " + std::to_string(f) + " is degenerate: it repeats a vertex (" + std::to_string(v[0]) + ", " +
-                 std::to_string(v[1]) + ", " + std::to_string(v[2]) + ")");
-    }
-    for (int k = 0; k < mesh.num_crease_edges; ++k) {
-        const std::string where = "crease edge " + std::to_string(k);
-        check_index(mesh.crease_edges[2 * k], where);
-        check_index(mesh.crease_edges[2 * k + 1], where);
-        if (!finite_non_negative(mesh.crease_sharpness[k]))
-            fail(where + " has sharpness " + std::to_string(mesh.crease_sharpness[k]) + "; it must be a finite number >= 0");
-    }
-    for (int k = 0; k < mesh.num_corners; ++k) {
-        check_index(mesh.corner_vertices[k], "corner " + std::to_string(k));
-        if (!finite_non_negative(mesh.corner_sharpness[k]))
-            fail("corner " + std::to_string(k) + " has sharpness " + std::to_string(mesh.corner_sharpness[k]) +
-                 "; it must be a finite number >= 0");
-    }
-    for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone " + std::to_string(k));
-}
+namespace detail {
 
 // A sharp or tagged edge or vertex. Most of a mesh is smooth and untagged, so a level keeps only these, sorted by
 // index: a creased model at level 4 has a few hundred of them among a million edges.
@@ -202,37 +61,10 @@ struct LevelState {
     float vertex_tag(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->tag : 0.0f; }
 };
 
-}  // namespace
+}  // namespace detail
 
-struct PlanImpl {
-    Options options;
-    Kernel kernel = Kernel::Scalar;
-    int num_input_vertices = 0;
-    int num_input_triangles = 0;
-    std::vector<int> level_num_vertices;
-    // Computed on first request: only tests and tools that map vertices across levels ask for them.
-    mutable std::vector<std::vector<Index>> level_edges;
-    mutable std::vector<std::once_flag> level_edges_ready;
-    std::vector<std::vector<VertexType>> level_vertex_types;
-    std::vector<detail::LevelStencils> stencils;
-    detail::LargeVector<Index> output_triangles;
-    mutable detail::LargeVector<Index> output_parents;  // on first request
-    mutable std::once_flag output_parents_ready;
-    std::vector<Index> output_crease_edges, output_corner_vertices;
-    std::vector<float> output_crease_sharpness, output_corner_sharpness;
-    std::vector<Index> cones;  // Hoppe94: the vertices tagged as cones, sorted
-    detail::LargeVector<float> scratch[2];
-    // A kernel sums up to this many input values before it weights them (a vertex's ring): inputs must stay below
-    // the float maximum divided by it, or the sums overflow to infinity and give NaN (checked by evaluate).
-    int max_summed_terms = 1;
-    double topology_ms = 0.0, evaluate_ms = 0.0;
-
-    void build(const MeshView& mesh);
-    LevelState base_level(const MeshView& mesh);
-    // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
-    void plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level);
-    void collect_output_tags(const LevelState& last);
-};
+using detail::Feature;
+using detail::LevelState;
 
 LevelState PlanImpl::base_level(const MeshView& mesh) {
     LevelState level;
@@ -505,8 +337,8 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
 }
 
 void PlanImpl::build(const MeshView& mesh) {
-    const auto start = Clock::now();
-    validate_mesh(mesh, options);
+    const auto start = detail::Clock::now();
+    detail::validate_mesh(mesh, options);
     kernel = detail::resolve_kernel(options.kernel);
     num_input_vertices = mesh.num_vertices;
     num_input_triangles = mesh.num_triangles;
@@ -544,7 +376,7 @@ void PlanImpl::build(const MeshView& mesh) {
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
     collect_output_tags(level);
-    topology_ms = ms_since(start);
+    topology_ms = detail::ms_since(start);
 }
 
 Plan::Plan(const MeshView& mesh, const Options& options) : impl_(std::make_unique<PlanImpl>()) {
@@ -604,115 +436,5 @@ std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int leve
     return estimate_for_counts(counts, levels, num_channels);
 }
 
-void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
-    PlanImpl& p = *impl_;
-    const auto start = Clock::now();
-    const int channels = in.num_channels;
-    if (channels != out.num_channels)
-        fail("evaluate: input has " + std::to_string(channels) + " channels but output has " + std::to_string(out.num_channels));
-    if (channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(channels));
-    if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
-        fail("evaluate: missing (null) data");
-    auto input = [&](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; };
-    // Every mask's weights are non-negative and sum to one, so a refined value never exceeds the largest input; only
-    // the sums inside a kernel can overflow, and the bound keeps them finite.
-    const float largest = p.options.levels > 0 ? std::numeric_limits<float>::max() / float(p.max_summed_terms + 1)
-                                               : std::numeric_limits<float>::max();
-    for (int v = 0; v < p.num_input_vertices; ++v)
-        for (int c = 0; c < channels; ++c) {
-            const float value = input(v, c);
-            if (!std::isfinite(value))
-                fail("vertex " + std::to_string(v) + " has a non-finite value (" + std::to_string(value) + ") in channel " +
-                     std::to_string(c));
-            if (std::fabs(value) > largest)
-                fail("vertex " + std::to_string(v) + " has a value too large to refine (" + shortest(value) +
-                     ") in channel " + std::to_string(c) + ": sums of up to " + std::to_string(p.max_summed_terms) +
-                     " values must stay finite, so values are limited to +-" + shortest(largest));
-        }
-
-    const int levels = p.options.levels;
-    if (p.num_input_vertices == 0) {  // nothing to refine (and the output may be a null pointer)
-        p.evaluate_ms = ms_since(start);
-        return;
-    }
-    if (levels == 0) {
-        for (int v = 0; v < p.num_input_vertices; ++v)
-            for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = input(v, c);
-        p.evaluate_ms = ms_since(start);
-        return;
-    }
-
-    // Levels are refined in quads: a vertex's channels side by side, padded with zeros to a multiple of four, so
-    // that a kernel fetches every channel of a neighbour with one aligned 16-byte load (kernels_quads.h); with
-    // gathers from planar arrays each channel of each neighbour is a load of its own, measured 1.7x slower
-    // (docs/benchmark.md). The padding refines like a channel (zeros stay zeros); the last level is written
-    // straight into `out`. Level l reads scratch[(l + 1) % 2] and writes scratch[l % 2].
-    const std::size_t padded = (std::size_t(channels) + 3) / 4 * 4;
-    std::size_t needed[2] = {0, 0};
-    needed[1] = std::size_t(p.num_input_vertices);
-    for (int l = 0; l + 1 < levels; ++l) needed[l % 2] = std::max(needed[l % 2], std::size_t(p.level_num_vertices[l + 1]));
-    for (int b = 0; b < 2; ++b) p.scratch[b].resize(needed[b] * padded);
-    auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
-    const ChannelsView<float> first = quads(1);
-    for (int v = 0; v < p.num_input_vertices; ++v)
-        for (std::size_t c = 0; c < padded; ++c) first.data[v * padded + c] = c < std::size_t(channels) ? input(v, int(c)) : 0.0f;
-
-    std::vector<ChannelsView<const float>> sources(levels);
-    std::vector<ChannelsView<float>> targets(levels);
-    for (int l = 0; l < levels; ++l) {
-        sources[l] = quads((l + 1) % 2);
-        targets[l] = l + 1 < levels ? quads(l % 2) : out;
-    }
-    // The padding only serves the SIMD loads: the scalar kernel leaves it alone, and the last level drops it.
-    for (int l = 0; l < levels; ++l) {
-        if (p.kernel == Kernel::Scalar) sources[l].num_channels = targets[l].num_channels = channels;
-    }
-    sources[levels - 1].num_channels = channels;
-
-    const detail::RefineFn refine = detail::refine_function(p.kernel);
-    run_levels(std::max(1, p.options.threads), levels, [&](int level, int part, int parts) {
-        const detail::LevelStencils& s = p.stencils[level];
-        // Small levels are not worth splitting.
-        if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) refine(s, sources[level], targets[level], {0, s.num_vertices}, {0, s.num_edges});
-            return;
-        }
-        auto split = [parts](int n, int i) { return int(std::int64_t(n) * i / parts); };
-        refine(s, sources[level], targets[level], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
-               {split(s.num_edges, part), split(s.num_edges, part + 1)});
-    });
-    p.evaluate_ms = ms_since(start);
-}
-
-void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) const {
-    const PlanImpl& p = *impl_;
-    if (num_channels < 1) fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(num_channels));
-    const std::size_t corner = std::size_t(num_channels), face = 3 * corner;
-    if ((in == nullptr && p.num_input_triangles > 0) || (out == nullptr && num_output_triangles() > 0))
-        fail("evaluate_face_varying: missing (null) data");
-    for (std::size_t i = 0; i < face * p.num_input_triangles; ++i)
-        if (!std::isfinite(in[i]))
-            fail("evaluate_face_varying: triangle " + std::to_string(i / face) + ", corner " + std::to_string(i % face / corner) +
-                 " has a non-finite value (" + shortest(in[i]) + ") in channel " + std::to_string(i % corner));
-    std::vector<float> current(in, in + face * p.num_input_triangles), next;
-    for (int l = 0; l < p.options.levels; ++l) {
-        const std::size_t faces = current.size() / face;
-        next.resize(4 * current.size());
-        for (std::size_t f = 0; f < faces; ++f) {
-            const float* u = &current[f * face];
-            float* child = &next[4 * f * face];
-            for (std::size_t c = 0; c < corner; ++c) {
-                const float u0 = u[c], u1 = u[corner + c], u2 = u[2 * corner + c];
-                // Halves first: the same value as (a + b) / 2 without its overflow for values past half the float range.
-                const float m0 = 0.5f * u0 + 0.5f * u1, m1 = 0.5f * u1 + 0.5f * u2, m2 = 0.5f * u2 + 0.5f * u0;
-                // Children (v0, m0, m2), (v1, m1, m0), (v2, m2, m1), (m0, m1, m2), as in refine_topology.
-                const float values[12] = {u0, m0, m2, u1, m1, m0, u2, m2, m1, m0, m1, m2};
-                for (int k = 0; k < 12; ++k) child[k * corner + c] = values[k];
-            }
-        }
-        current.swap(next);
-    }
-    std::copy(current.begin(), current.end(), out);
-}
 
 }  // namespace loopsub

@@ -1,0 +1,59 @@
+// The one place threads are made: a run over the levels of a plan, each level split into parts.
+#pragma once
+
+#include <condition_variable>
+#include <mutex>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+namespace loopsub::detail {
+
+// Runs work(level, part, parts) for every level in order and every part of a level at once: one thread per part
+// for the whole run (the caller being part 0), meeting at a barrier between levels. A thread the system refuses
+// to start costs parallelism, never the process: the parts are then shared among the threads that run.
+template <typename Work>
+void run_levels(int threads, int levels, const Work& work) {
+    if (threads == 1) {
+        for (int l = 0; l < levels; ++l) work(l, 0, 1);
+        return;
+    }
+    std::mutex mutex;
+    std::condition_variable changed;
+    int running = threads, arrived = 0, generation = 0;
+    auto wait_for_others = [&] {
+        std::unique_lock<std::mutex> lock(mutex);
+        const int mine = generation;
+        if (++arrived == running) {
+            arrived = 0;
+            ++generation;
+            changed.notify_all();
+        } else {
+            changed.wait(lock, [&] { return generation != mine; });
+        }
+    };
+    auto run = [&](std::vector<int> parts) {
+        for (int l = 0; l < levels; ++l) {
+            for (int part : parts) work(l, part, threads);
+            wait_for_others();
+        }
+    };
+    std::vector<std::thread> workers;
+    workers.reserve(threads - 1);
+    std::vector<int> callers_parts = {0};
+    for (int part = 1; part < threads; ++part) {
+        try {
+            workers.emplace_back(run, std::vector<int>{part});
+        } catch (const std::system_error&) {
+            // The caller has not reached the first barrier yet, so the threads already waiting there cannot be
+            // released early: it is safe to lower the count here and hand the remaining parts to the caller.
+            std::lock_guard<std::mutex> lock(mutex);
+            running -= threads - part;
+            for (; part < threads; ++part) callers_parts.push_back(part);
+        }
+    }
+    run(callers_parts);
+    for (std::thread& worker : workers) worker.join();
+}
+
+}  // namespace loopsub::detail

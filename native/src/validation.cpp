@@ -1,0 +1,91 @@
+#include "validation.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "common.h"
+#include "topology.h"
+
+namespace loopsub::detail {
+
+std::string shortest(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.7g", double(value));
+    return text;
+}
+
+namespace {
+
+bool finite_non_negative(float value) { return std::isfinite(value) && value >= 0.0f; }
+
+}  // namespace
+
+void validate_mesh(const MeshView& mesh, const Options& options) {
+    if (options.levels < 0) fail("levels must be >= 0, got " + std::to_string(options.levels));
+    if (options.threads < 1) fail("threads must be >= 1, got " + std::to_string(options.threads));
+    if (!finite_non_negative(options.crease_threshold))
+        fail("crease threshold must be a finite number >= 0, got " + std::to_string(options.crease_threshold));
+    if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0)
+        fail("negative element count");
+    auto require = [](const void* pointer, int count, const char* what) {
+        if (count > 0 && pointer == nullptr) fail(std::string(what) + " is missing (null) but its count is " + std::to_string(count));
+    };
+    require(mesh.triangles, mesh.num_triangles, "triangles");
+    require(mesh.crease_edges, mesh.num_crease_edges, "crease edges");
+    require(mesh.crease_sharpness, mesh.num_crease_edges, "crease sharpness");
+    require(mesh.corner_vertices, mesh.num_corners, "corner vertices");
+    require(mesh.corner_sharpness, mesh.num_corners, "corner sharpness");
+    require(mesh.cone_vertices, mesh.num_cones, "cone vertices");
+
+    auto check_index = [&](Index v, const std::string& where) {
+        if (v < 0 || v >= mesh.num_vertices)
+            fail(where + " refers to vertex " + std::to_string(v) + ", outside 0.." + std::to_string(mesh.num_vertices - 1) +
+                 " (the mesh has " + std::to_string(mesh.num_vertices) + " vertices)");
+    };
+    for (int f = 0; f < mesh.num_triangles; ++f) {
+        const Index* v = mesh.triangles + 3 * std::size_t(f);
+        for (int k = 0; k < 3; ++k) check_index(v[k], "triangle " + std::to_string(f));
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
+            fail("triangle " + std::to_string(f) + " is degenerate: it repeats a vertex (" + std::to_string(v[0]) + ", " +
+                 std::to_string(v[1]) + ", " + std::to_string(v[2]) + ")");
+    }
+    for (int k = 0; k < mesh.num_crease_edges; ++k) {
+        const std::string where = "crease edge " + std::to_string(k);
+        check_index(mesh.crease_edges[2 * k], where);
+        check_index(mesh.crease_edges[2 * k + 1], where);
+        if (!finite_non_negative(mesh.crease_sharpness[k]))
+            fail(where + " has sharpness " + std::to_string(mesh.crease_sharpness[k]) + "; it must be a finite number >= 0");
+    }
+    for (int k = 0; k < mesh.num_corners; ++k) {
+        check_index(mesh.corner_vertices[k], "corner " + std::to_string(k));
+        if (!finite_non_negative(mesh.corner_sharpness[k]))
+            fail("corner " + std::to_string(k) + " has sharpness " + std::to_string(mesh.corner_sharpness[k]) +
+                 "; it must be a finite number >= 0");
+    }
+    for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone " + std::to_string(k));
+}
+
+void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms) {
+    for (int v = 0; v < num_vertices; ++v)
+        for (int c = 0; c < in.num_channels; ++c) {
+            const float value = in.data[c * in.channel_stride + std::size_t(v) * in.element_stride];
+            if (!std::isfinite(value))
+                fail("vertex " + std::to_string(v) + " has a non-finite value (" + std::to_string(value) + ") in channel " +
+                     std::to_string(c));
+            if (std::fabs(value) > largest)
+                fail("vertex " + std::to_string(v) + " has a value too large to refine (" + shortest(value) +
+                     ") in channel " + std::to_string(c) + ": sums of up to " + std::to_string(summed_terms) +
+                     " values must stay finite, so values are limited to +-" + shortest(largest));
+        }
+}
+
+void validate_face_varying_values(const float* in, std::size_t num_triangles, int num_channels) {
+    const std::size_t corner = std::size_t(num_channels), face = 3 * corner;
+    for (std::size_t i = 0; i < face * num_triangles; ++i)
+        if (!std::isfinite(in[i]))
+            fail("evaluate_face_varying: triangle " + std::to_string(i / face) + ", corner " + std::to_string(i % face / corner) +
+                 " has a non-finite value (" + shortest(in[i]) + ") in channel " + std::to_string(i % corner));
+}
+
+}  // namespace loopsub::detail

@@ -1,0 +1,19 @@
+// Checks of what a caller hands the core: the mesh and tags (once, when a plan is built) and the values evaluated
+// every frame. Each failure is an InputError that says what and where.
+#pragma once
+
+#include <cstddef>
+
+#include "loopsub/loopsub.h"
+
+namespace loopsub::detail {
+
+void validate_mesh(const MeshView& mesh, const Options& options);
+
+// Per-vertex values: finite, and within +-largest (the bound that keeps a kernel's sums finite).
+void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms);
+
+// Face-varying values: finite.
+void validate_face_varying_values(const float* in, std::size_t num_triangles, int num_channels);
+
+}  // namespace loopsub::detail
