@@ -10,6 +10,7 @@
 #include "common.h"
 #include "kernels.h"
 #include "plan_data.h"
+#include "rule_set.h"
 #include "rules.h"
 #include "validation.h"
 
@@ -70,7 +71,6 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     LevelState level;
     level.topology = detail::build_base_topology(mesh.triangles, mesh.num_triangles, mesh.num_vertices);
     const Topology& t = level.topology;
-    const bool hoppe = options.rules == Rules::Hoppe94;
 
     std::vector<float> edge_tag(t.num_edges(), 0.0f);
     for (int k = 0; k < mesh.num_crease_edges; ++k) {
@@ -83,7 +83,7 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     }
     std::vector<float> vertex_tag(t.num_vertices, 0.0f);
     for (int k = 0; k < mesh.num_corners; ++k) vertex_tag[mesh.corner_vertices[k]] = mesh.corner_sharpness[k];
-    if (hoppe) {
+    if (rules->has_cones()) {
         cones.assign(mesh.cone_vertices, mesh.cone_vertices + mesh.num_cones);
         std::sort(cones.begin(), cones.end());
         cones.erase(std::unique(cones.begin(), cones.end()), cones.end());
@@ -97,14 +97,13 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge);
     for (int e = 0; e < t.num_edges(); ++e) {
         const float tag = edge_tag[e];
-        const bool crease = hoppe ? tag > 0.0f && tag >= options.crease_threshold : tag > 0.0f;
-        float sharpness = hoppe ? (crease ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
+        float sharpness = rules->edge_sharpness_from_tag(tag);
         if (t.edge_face_count(e) < 2 || non_manifold_edge[e]) sharpness = kInfiniteSharpness;
         if (sharpness > 0.0f || tag != 0.0f) level.edges.push_back({Index(e), sharpness, tag});
     }
     for (int v = 0; v < t.num_vertices; ++v) {
         const float tag = vertex_tag[v];
-        float sharpness = hoppe ? (tag > 0.0f ? kInfiniteSharpness : 0.0f) : std::min(tag, kInfiniteSharpness);
+        float sharpness = rules->vertex_sharpness_from_tag(tag);
         int faces = 0, fins = 0;
         for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
             const int edge_faces = t.edge_face_count(t.vertex_edges[k]);
@@ -136,15 +135,6 @@ bool is_regular_crease(const detail::VertexNeighbourhood& around, const std::vec
     return valence == 6 && around.faces_between(v, crease_a, crease_b) == 3;
 }
 
-detail::VertexMask mask_for_rule(detail::SdcRule rule, int valence) {
-    switch (rule) {
-        case detail::SdcRule::Crease: return detail::crease_vertex_mask();
-        case detail::SdcRule::Corner: return detail::corner_vertex_mask();
-        default: return detail::smooth_vertex_mask(valence);
-    }
-}
-
-bool is_smooth_edge_mask(const detail::EdgeMask& m) { return m.a == 0.375 && m.b == 0.375 && m.wings == 0.125; }
 
 }  // namespace
 
@@ -152,8 +142,6 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     const bool last_child = child_level == options.levels, grandchild_last = child_level + 1 == options.levels;
     Topology& t = level.topology;
     const int nv = t.num_vertices, ne = t.num_edges();
-    const bool hoppe = options.rules == Rules::Hoppe94;
-    const bool chaikin = options.crease_method == CreaseMethod::Chaikin;
 
     detail::LevelStencils& s = stencils.emplace_back();
     s.num_vertices = nv;
@@ -215,22 +203,20 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
         for (int k = 0; k < valence; ++k) {
             const Index e = edges[k];
-            const float decayed = hoppe ? parent_sharpness[k]
-                                  : chaikin ? detail::chaikin_sharpness_at_vertex(parent_sharpness[k], parent_sharpness.data(), valence)
-                                            : detail::decrement_sharpness(parent_sharpness[k]);
+            const float decayed = rules->child_edge_sharpness(parent_sharpness[k], parent_sharpness.data(), valence);
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
             const float tag = parent_tag[k];
-            const float child_tag = hoppe || tag == 0.0f ? tag : decayed;
+            const float child_tag = rules->child_tag(tag, decayed);
             if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({detail::child_edge_at(t, e, v), decayed, child_tag});
         }
         const float vertex_sharpness = level.vertex_sharpness(v);
-        const float child_vertex_sharpness = hoppe ? vertex_sharpness : detail::decrement_sharpness(vertex_sharpness);
+        const float child_vertex_sharpness = rules->child_vertex_sharpness(vertex_sharpness);
         const float vertex_tag = level.vertex_tag(v);
-        const float child_vertex_tag = hoppe || vertex_tag == 0.0f ? vertex_tag : child_vertex_sharpness;
+        const float child_vertex_tag = rules->child_tag(vertex_tag, child_vertex_sharpness);
         if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) child.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
 
-        const bool tagged_cone = hoppe && std::binary_search(cones.begin(), cones.end(), v);
+        const bool tagged_cone = std::binary_search(cones.begin(), cones.end(), v);  // empty without cones
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, sharp_edges);
         switch (rule) {
             case detail::SdcRule::Smooth: types[v] = tagged_cone ? VertexType::Cone : VertexType::Smooth; break;
@@ -243,23 +229,11 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             case detail::SdcRule::Corner: types[v] = VertexType::Corner; break;
         }
         const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
-        detail::VertexMask mask = smooth;
-        Index ends[2] = {crease[0], crease[1]};
-        if (hoppe) {
-            if (types[v] == VertexType::Cone) mask = detail::cone_vertex_mask(valence);
-            else if (types[v] == VertexType::Corner) mask = detail::corner_vertex_mask();
-            else if (rule == detail::SdcRule::Crease) mask = detail::crease_vertex_mask();
-        } else if (rule == detail::SdcRule::Crease || rule == detail::SdcRule::Corner) {
-            // OpenSubdiv blends the parent's mask with the child's where the rule changes between the levels.
-            mask = mask_for_rule(rule, valence);
-            const detail::SdcRule child_rule = detail::sdc_vertex_rule(child_vertex_sharpness, child_sharp_edges);
-            if (child_rule != rule) {
-                const float weight = detail::transition_weight(options.crease_method, vertex_sharpness, child_vertex_sharpness,
-                                                               parent_sharpness.data(), child_sharpness.data(), valence);
-                mask = detail::blend(mask, weight, mask_for_rule(child_rule, valence));
-                if (child_rule == detail::SdcRule::Crease) ends[0] = child_crease[0], ends[1] = child_crease[1];
-            }
-        }
+        Index ends[2];
+        const detail::VertexMask mask = rules->vertex_mask(
+            {types[v], rule, valence, vertex_sharpness, child_vertex_sharpness, parent_sharpness.data(),
+             child_sharpness.data(), child_sharp_edges, {crease[0], crease[1]}, {child_crease[0], child_crease[1]}},
+            ends);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
             const bool has_ends = mask.crease != 0.0;
             s.special_vertices.push_back({v, has_ends ? t.other_end(ends[0], v) : v, has_ends ? t.other_end(ends[1], v) : v,
@@ -283,25 +257,9 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         const float sharpness = feature.sharpness;
         if (!detail::is_sharp(sharpness)) continue;
         const Index a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
-        detail::EdgeMask mask = detail::crease_edge_mask();
-        if (hoppe) {
-            const VertexType ta = types[a], tb = types[b];
-            const auto irregular_or_corner = [](VertexType type) {
-                return type == VertexType::IrregularCrease || type == VertexType::Corner;
-            };
-            if ((ta == VertexType::Dart || tb == VertexType::Dart) && around.edge_face_count(e) == 2) mask = detail::smooth_edge_mask();
-            else if (ta == VertexType::RegularCrease && irregular_or_corner(tb)) mask = detail::five_three_edge_mask(true);
-            else if (tb == VertexType::RegularCrease && irregular_or_corner(ta)) mask = detail::five_three_edge_mask(false);
-        } else if (!detail::is_infinite(sharpness)) {
-            // The new vertex's rule comes from its two halves; short of a crease, the smooth mask is blended
-            // with the crease mask by the parent's sharpness (Sdc::Scheme::ComputeEdgeVertexMask).
-            const bool child_crease = detail::is_sharp(child.edge_sharpness(2 * e)) && detail::is_sharp(child.edge_sharpness(2 * e + 1));
-            if (!child_crease) {
-                const double w = sharpness;
-                mask = {w * 0.5 + (1.0 - w) * 0.375, w * 0.5 + (1.0 - w) * 0.375, (1.0 - w) * 0.125};
-            }
-        }
-        if (!is_smooth_edge_mask(mask)) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
+        const bool halves_sharp = detail::is_sharp(child.edge_sharpness(2 * e)) && detail::is_sharp(child.edge_sharpness(2 * e + 1));
+        const detail::EdgeMask mask = rules->edge_mask({sharpness, types[a], types[b], around.edge_face_count(e), halves_sharp});
+        if (!(mask == detail::smooth_edge_mask())) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
 
     // Hand over what the stencils keep rather than copy it; the offsets stay where the next level may still derive
@@ -339,6 +297,7 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
 void PlanImpl::build(const MeshView& mesh) {
     const auto start = detail::Clock::now();
     detail::validate_mesh(mesh, options);
+    rules = detail::make_rule_set(options);
     kernel = detail::resolve_kernel(options.kernel);
     num_input_vertices = mesh.num_vertices;
     num_input_triangles = mesh.num_triangles;
@@ -376,6 +335,7 @@ void PlanImpl::build(const MeshView& mesh) {
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
     collect_output_tags(level);
+    rules.reset();
     topology_ms = detail::ms_since(start);
 }
 

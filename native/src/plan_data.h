@@ -2,11 +2,13 @@
 // and the per-level facts the API reports. plan.cpp builds it, evaluate.cpp runs it.
 #pragma once
 
+#include <memory>
 #include <mutex>
 #include <vector>
 
 #include "large_allocator.h"
 #include "loopsub/loopsub.h"
+#include "rule_set.h"
 #include "stencils.h"
 #include "topology.h"
 
@@ -20,6 +22,7 @@ using detail::Index;
 
 struct PlanImpl {
     Options options;
+    std::unique_ptr<detail::RuleSet> rules;  // while building
     Kernel kernel = Kernel::Scalar;
     int num_input_vertices = 0;
     int num_input_triangles = 0;

@@ -36,9 +36,12 @@ VertexMask blend(const VertexMask& a, double weight_a, const VertexMask& b) {
             weight_a * a.crease + weight_b * b.crease};
 }
 
-EdgeMask smooth_edge_mask() { return {0.375, 0.375, 0.125}; }
-
 EdgeMask crease_edge_mask() { return {0.5, 0.5, 0.0}; }
+
+EdgeMask blend(const EdgeMask& a, double weight_a, const EdgeMask& b) {
+    const double weight_b = 1.0 - weight_a;
+    return {weight_a * a.a + weight_b * b.a, weight_a * a.b + weight_b * b.b, weight_a * a.wings + weight_b * b.wings};
+}
 
 EdgeMask five_three_edge_mask(bool five_on_a) {
     return five_on_a ? EdgeMask{0.625, 0.375, 0.0} : EdgeMask{0.375, 0.625, 0.0};

@@ -15,6 +15,7 @@ struct VertexMask {
 
 struct EdgeMask {
     double a = 0.375, b = 0.375, wings = 0.125;
+    bool operator==(const EdgeMask& other) const { return a == other.a && b == other.b && wings == other.wings; }
 };
 
 // Loop's smooth vertex mask for valence n: self 1 - a(n), each neighbour a(n) / n (seed: c0 = n / a(n) - n, ci = 1).
@@ -25,9 +26,11 @@ VertexMask corner_vertex_mask();  // the vertex stays
 VertexMask cone_vertex_mask(int valence);  // seed / Hoppe: c0 = n / (5/8 - b(n)) - n, ci = 1
 VertexMask blend(const VertexMask& a, double weight_a, const VertexMask& b);  // weight_a * a + (1 - weight_a) * b
 
-EdgeMask smooth_edge_mask();                  // {3, 3, 1, 1} / 8
+// {3, 3, 1, 1} / 8: the one place it is written (the kernels' smooth pass reads it through stencils.h).
+constexpr EdgeMask smooth_edge_mask() { return {0.375, 0.375, 0.125}; }
 EdgeMask crease_edge_mask();                  // {1, 1, 0, 0} / 2
 EdgeMask five_three_edge_mask(bool five_on_a);  // {5, 3, 0, 0} / 8 with the 5 on the regular crease vertex
+EdgeMask blend(const EdgeMask& a, double weight_a, const EdgeMask& b);  // weight_a * a + (1 - weight_a) * b
 
 // OpenSubdiv's creasing (Sdc::Crease), single precision as OpenSubdiv computes it.
 enum class SdcRule { Smooth, Dart, Crease, Corner };

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "large_allocator.h"
+#include "rules.h"
 
 namespace loopsub::detail {
 
@@ -47,8 +48,8 @@ struct LevelStencils {
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 };
 
-// Smooth edge mask {3, 3, 1, 1} / 8.
-inline constexpr float kSmoothEdgeEndWeight = 0.375f;
-inline constexpr float kSmoothEdgeWingWeight = 0.125f;
+// The smooth edge mask, as the kernels' smooth pass applies it to every edge.
+inline constexpr float kSmoothEdgeEndWeight = float(smooth_edge_mask().a);
+inline constexpr float kSmoothEdgeWingWeight = float(smooth_edge_mask().wings);
 
 }  // namespace loopsub::detail

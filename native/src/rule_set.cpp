@@ -1,0 +1,110 @@
+#include "rule_set.h"
+
+#include <algorithm>
+
+namespace loopsub::detail {
+
+namespace {
+
+// The seed's rules (after Hoppe et al. 94): sharpness is all or nothing, tags are carried unchanged, and the masks
+// follow the vertex classes, cones and the {5,3} edge rule included.
+class Hoppe94Rules final : public RuleSet {
+public:
+    explicit Hoppe94Rules(float crease_threshold) : threshold_(crease_threshold) {}
+
+    bool has_cones() const override { return true; }
+    float edge_sharpness_from_tag(float tag) const override {
+        return tag > 0.0f && tag >= threshold_ ? kInfiniteSharpness : 0.0f;
+    }
+    float vertex_sharpness_from_tag(float tag) const override { return tag > 0.0f ? kInfiniteSharpness : 0.0f; }
+    float child_edge_sharpness(float sharpness, const float*, int) const override { return sharpness; }
+    float child_vertex_sharpness(float sharpness) const override { return sharpness; }
+    float child_tag(float tag, float) const override { return tag; }
+
+    VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const override {
+        ends[0] = vertex.crease[0], ends[1] = vertex.crease[1];
+        switch (vertex.type) {
+            case VertexType::Cone: return cone_vertex_mask(vertex.valence);
+            case VertexType::Corner: return corner_vertex_mask();
+            case VertexType::RegularCrease:
+            case VertexType::IrregularCrease: return crease_vertex_mask();
+            default: return smooth_vertex_mask(vertex.valence);  // smooth and dart
+        }
+    }
+
+    EdgeMask edge_mask(const EdgeSituation& edge) const override {
+        const auto irregular_or_corner = [](VertexType type) {
+            return type == VertexType::IrregularCrease || type == VertexType::Corner;
+        };
+        // A dart's crease edge is smooth where it has two faces; next to an irregular crease or corner, a regular
+        // crease vertex takes the {5,3} rule.
+        if ((edge.type_a == VertexType::Dart || edge.type_b == VertexType::Dart) && edge.face_count == 2)
+            return smooth_edge_mask();
+        if (edge.type_a == VertexType::RegularCrease && irregular_or_corner(edge.type_b)) return five_three_edge_mask(true);
+        if (edge.type_b == VertexType::RegularCrease && irregular_or_corner(edge.type_a)) return five_three_edge_mask(false);
+        return crease_edge_mask();
+    }
+
+private:
+    float threshold_;
+};
+
+// OpenSubdiv's Loop (Sdc::SCHEME_LOOP with Sdc::Crease): semi-sharp creases decaying by one per level (uniformly or
+// by Chaikin), tags following the sharpness, and masks blended where a vertex's or an edge's rule changes between
+// levels.
+class OpenSubdivRules final : public RuleSet {
+public:
+    explicit OpenSubdivRules(CreaseMethod method) : method_(method) {}
+
+    bool has_cones() const override { return false; }
+    float edge_sharpness_from_tag(float tag) const override { return std::min(tag, kInfiniteSharpness); }
+    float vertex_sharpness_from_tag(float tag) const override { return std::min(tag, kInfiniteSharpness); }
+    float child_edge_sharpness(float sharpness, const float* at_vertex, int count) const override {
+        return method_ == CreaseMethod::Chaikin ? chaikin_sharpness_at_vertex(sharpness, at_vertex, count)
+                                                : decrement_sharpness(sharpness);
+    }
+    float child_vertex_sharpness(float sharpness) const override { return decrement_sharpness(sharpness); }
+    float child_tag(float tag, float child_sharpness) const override { return tag == 0.0f ? tag : child_sharpness; }
+
+    VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const override {
+        ends[0] = vertex.crease[0], ends[1] = vertex.crease[1];
+        if (vertex.rule != SdcRule::Crease && vertex.rule != SdcRule::Corner) return smooth_vertex_mask(vertex.valence);
+        // The parent's mask, blended with the child's where the rule changes between the levels.
+        VertexMask mask = mask_for(vertex.rule, vertex.valence);
+        const SdcRule child_rule = sdc_vertex_rule(vertex.child_sharpness, vertex.child_sharp_edges);
+        if (child_rule != vertex.rule) {
+            const float weight = transition_weight(method_, vertex.sharpness, vertex.child_sharpness, vertex.edge_sharpness,
+                                                   vertex.child_edge_sharpness, vertex.valence);
+            mask = blend(mask, weight, mask_for(child_rule, vertex.valence));
+            if (child_rule == SdcRule::Crease) ends[0] = vertex.child_crease[0], ends[1] = vertex.child_crease[1];
+        }
+        return mask;
+    }
+
+    EdgeMask edge_mask(const EdgeSituation& edge) const override {
+        // The new vertex's rule comes from its two halves; short of a crease, the smooth mask is blended with the
+        // crease mask by the parent's sharpness (Sdc::Scheme::ComputeEdgeVertexMask).
+        if (is_infinite(edge.sharpness) || edge.halves_sharp) return crease_edge_mask();
+        return blend(crease_edge_mask(), edge.sharpness, smooth_edge_mask());
+    }
+
+private:
+    static VertexMask mask_for(SdcRule rule, int valence) {
+        switch (rule) {
+            case SdcRule::Crease: return crease_vertex_mask();
+            case SdcRule::Corner: return corner_vertex_mask();
+            default: return smooth_vertex_mask(valence);
+        }
+    }
+
+    CreaseMethod method_;
+};
+
+}  // namespace
+
+std::unique_ptr<RuleSet> make_rule_set(const Options& options) {
+    if (options.rules == Rules::Hoppe94) return std::make_unique<Hoppe94Rules>(options.crease_threshold);
+    return std::make_unique<OpenSubdivRules>(options.crease_method);
+}
+
+}  // namespace loopsub::detail
