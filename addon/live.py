@@ -60,6 +60,8 @@ def refresh(obj, depsgraph, render=False):
     modifier = stack.entry(obj)
     if modifier is None or _busy or not (modifier.show_render if render else modifier.show_viewport):
         return
+    if obj.library is not None:
+        return  # linked from another file: read-only here, it shows the result that file saved
     settings = obj.loop_subdivision
     options = settings.options(levels=settings.render_levels if render else settings.levels)
     carrier = stack.helper(obj, modifier)
