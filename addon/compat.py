@@ -138,3 +138,23 @@ def group_input_identifier(group, name):
     if hasattr(group, "interface"):
         return group.interface.items_tree[name].identifier
     return group.inputs[name].identifier
+
+
+def bmesh_crease_layers(bm):
+    """The bmesh layers of edge and vertex creases, made when missing: (edge layer, vertex layer)."""
+    if USES_CREASE_ATTRIBUTES:
+        edges = bm.edges.layers.float.get(EDGE_CREASE_ATTRIBUTE)
+        verts = bm.verts.layers.float.get(VERTEX_CREASE_ATTRIBUTE)
+        return (edges if edges is not None else bm.edges.layers.float.new(EDGE_CREASE_ATTRIBUTE),
+                verts if verts is not None else bm.verts.layers.float.new(VERTEX_CREASE_ATTRIBUTE))
+    return bm.edges.layers.crease.verify(), bm.verts.layers.crease.verify()
+
+
+def smooth_by_angle(mesh, angle):
+    """Smooth shading, split where faces meet at more than angle (radians): Auto Smooth up to 4.0, sharp edges set
+    from the angle from 4.1 on."""
+    if hasattr(mesh, "use_auto_smooth"):
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = angle
+    else:
+        mesh.set_sharp_from_angle(angle=angle)

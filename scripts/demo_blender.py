@@ -20,6 +20,9 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+if REPO not in sys.path:
+    sys.path.insert(0, REPO)
+from addon import compat  # noqa: E402  (the working tree's add-on: its Blender-version differences)
 
 # Layout: every model is scaled so that its largest dimension is MODEL_SIZE, and the three stand SPACING apart on X.
 MODEL_SIZE = 2.0
@@ -57,8 +60,6 @@ def parse_args():
 def register_addon():
     """The add-on is the package addon/ of this repository, registered directly rather than installed, so the demo
     always runs the working tree's code."""
-    if REPO not in sys.path:
-        sys.path.insert(0, REPO)
     import addon
     addon.register()
 
@@ -75,8 +76,7 @@ def default_cage():
     bmesh.ops.create_cube(bm, size=2.0)
     bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=1, use_grid_fill=True)
     bmesh.ops.poke(bm, faces=bm.faces[:])
-    edge_crease = bm.edges.layers.crease.verify()
-    vertex_crease = bm.verts.layers.crease.verify()
+    edge_crease, vertex_crease = compat.bmesh_crease_layers(bm)
     seam = {v for v in bm.verts if abs(v.co.z) < 1e-4}
     tuft = next(v for v in bm.verts if v.co.z > 0.999 and v.co.xy.length < 1e-4)
     for e in bm.edges:
@@ -137,8 +137,7 @@ def obj_cage(path):
         bm = bmesh.new()
         bm.from_mesh(mesh)
         bm.verts.ensure_lookup_table()
-        edge_crease = bm.edges.layers.crease.verify()
-        vertex_crease = bm.verts.layers.crease.verify()
+        edge_crease, vertex_crease = compat.bmesh_crease_layers(bm)
         for a, b, w in edges:
             e = bm.edges.get((bm.verts[a], bm.verts[b])) if max(a, b) < len(bm.verts) and min(a, b) >= 0 else None
             if e is None:
@@ -231,7 +230,6 @@ def stand_on_floor(obj):
 def tag_markers(cage, collection, mat):
     """The cage's crease edges as tubes and its tagged corners as beads, in the cage's object space. Returns the
     caption that says what is shown."""
-    from addon import compat
     mesh = cage.data
     radius = 0.018 * MODEL_SIZE / cage.matrix_world.to_scale().x
     edge_weights = compat.read_edge_creases(mesh)
@@ -333,8 +331,7 @@ def shade_result(obj, mat):
     """Smooth, and sharp across creases: auto smooth splits the normals where the surface folds by more than 30
     degrees, which at these levels happens on creases only."""
     obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
-    obj.data.use_auto_smooth = True
-    obj.data.auto_smooth_angle = math.radians(30)
+    compat.smooth_by_angle(obj.data, math.radians(30))
     set_materials(obj, mat)
 
 
