@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Sets up (installs and builds) if needed, then runs every test through one ctest run, which ends with ctest's summary:
 # native (GoogleTest, against OpenSubdiv), CLI, Python (pytest), the Blender add-on in background mode, and the deep
-# checks: the native and CLI tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and 45 s
-# of each libFuzzer target (build-fuzz/). About 10 minutes from a fresh clone on two cores.
+# checks: the native and CLI tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), 45 s
+# of each libFuzzer target (build-fuzz/), and the Windows and ARM64 cross builds checked under wine64 and qemu-user
+# where their toolchains are installed (skipped with a notice otherwise; scripts/cross.sh installs them). A few
+# minutes from a fresh clone on two cores.
 # Usage: scripts/test.sh [--quick | --sanitize]
 #   --quick     without the deep checks
 #   --sanitize  only the sanitizer run (native tests and CLI, in build-asan/)

@@ -4,7 +4,11 @@
 
 namespace loopsub {
 
-double loop_b(int valence) { return (3.0 + 2.0 * std::cos(2.0 * M_PI / valence)) / 8.0; }
+namespace {
+constexpr double kPi = 3.14159265358979323846;  // M_PI is POSIX, not standard C++
+}  // namespace
+
+double loop_b(int valence) { return (3.0 + 2.0 * std::cos(2.0 * kPi / valence)) / 8.0; }
 double loop_a(int valence) { return 5.0 / 8.0 - loop_b(valence) * loop_b(valence); }
 
 }  // namespace loopsub

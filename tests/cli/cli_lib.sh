@@ -31,6 +31,8 @@ run_cli() {
   shift
   "$LOOPSUB" "$@" >"$WORK/stdout" 2>"$WORK/stderr"
   local code=$?
+  # A Windows build writes its console lines with CR LF (scripts/cross.sh windows runs these tests under wine).
+  sed -i 's/\r$//' "$WORK/stdout" "$WORK/stderr"
   if ((code >= 128)); then
     fail "loopsub $* crashed (exit code $code): $(cat "$WORK/stderr")"
   elif ((code != expected)); then
