@@ -11,6 +11,12 @@
 #  - Blender 4.2+ (Get Extensions ▸ Install from Disk) read blender_manifest.toml either at the root of the zip or
 #    inside a single top-level folder (both are documented); it installs the package under the manifest's id.
 #    The folder is named after that id, so both versions install the same package name.
+#
+# Native modules: one per CPython ABI that Blender releases bundle (3.10: official 3.4-4.1; 3.11: Debian's 3.4 and
+# official 4.2+; 3.13 where a release bundles it), side by side, so that Python picks the matching one. Each is built
+# with the interpreter's own headers (Debian's /usr/bin/python3.X, or pyenv's), links the C++ runtime statically
+# (no GLIBCXX_ symbol: it loads next to any libstdc++), imports in its interpreter, and the newest GLIBC_ symbol it
+# needs is reported. An ABI with no interpreter here is skipped with a message, never silently.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,14 +28,48 @@ while (($#)); do
   esac
 done
 
-if ! compgen -G "addon/_loopsub*.so" >/dev/null; then
-  echo "package: the native module is not built into addon/: running scripts/setup.sh"
-  scripts/setup.sh
-fi
+[ -d build ] || scripts/setup.sh  # the compiler, CMake and pybind11
+
+interpreter() {  # a CPython $1 with its headers: Debian's, else pyenv's
+  local candidate
+  for candidate in "/usr/bin/python$1" "$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")"/versions/"$1".*/bin/python"$1"; do
+    [ -x "$candidate" ] || continue
+    "$candidate" -c 'import os, sysconfig, sys; sys.exit(not os.path.isfile(os.path.join(sysconfig.get_paths()["include"], "Python.h")))' \
+      2>/dev/null && { echo "$candidate"; return; }
+  done
+}
+
+# Staged beside the build trees, not in addon/: tests that run at the same time import addon/'s own module.
+stage=build-package
+rm -rf "$stage" && mkdir -p "$stage"
+built=0
+for version in 3.10 3.11 3.13; do
+  python=$(interpreter $version)
+  if [ -z "$python" ]; then
+    echo "package: skipped CPython $version: no interpreter with its headers here (install python$version-dev or pyenv's $version)"
+    continue
+  fi
+  dir=build-py${version/./}
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DLOOPSUB_TESTS=OFF -DLOOPSUB_BENCH=OFF -DLOOPSUB_BLENDER= \
+    -DPython_EXECUTABLE="$python" -DPYTHON_EXECUTABLE="$python" \
+    -DCMAKE_MODULE_LINKER_FLAGS="-static-libstdc++ -static-libgcc" -DLOOPSUB_COPY_TO_ADDON=OFF >/dev/null
+  cmake --build "$dir" -j"$(nproc)" --target _loopsub >/dev/null
+  cp "$dir"/native/_loopsub.cpython-"${version/./}"-*.so "$stage"/
+  module=$(ls "$stage"/_loopsub.cpython-"${version/./}"-*.so)
+  if objdump -T "$module" | grep -q GLIBCXX_; then
+    echo "package: $module needs the system's libstdc++ (GLIBCXX_ symbols)" >&2; exit 1
+  fi
+  (cd "$stage" && "$python" -c 'import _loopsub; _loopsub.best_kernel()') \
+    || { echo "package: $module does not import in $python" >&2; exit 1; }
+  glibc=$(objdump -T "$module" | grep -o 'GLIBC_[0-9.]*' | sort -uV | tail -1)
+  echo "package: $(basename "$module") for CPython $version: imports, no GLIBCXX_ symbol, needs $glibc"
+  built=$((built + 1))
+done
+((built)) || { echo "package: no native module could be built" >&2; exit 1; }
 
 # Python's zipfile (Debian's interpreter, the one the build targets, which has tomllib) rather than the zip tool,
 # which Debian does not install by default.
-/usr/bin/python3 - "$out" <<'EOF'
+/usr/bin/python3 - "$out" "$stage" <<'EOF'
 import os
 import platform
 import re
@@ -37,7 +77,7 @@ import sys
 import tomllib
 import zipfile
 
-out = sys.argv[1]
+out, stage = sys.argv[1], sys.argv[2]
 
 
 def fail(message):
@@ -67,16 +107,20 @@ files = []
 for root, dirs, names in os.walk("addon"):
     # Caches and tests stay out of the product; so do hidden files (editor and tool state).
     dirs[:] = sorted(d for d in dirs if d not in ("__pycache__", "tests") and not d.startswith("."))
+    # The development build's module stays out: the staged ones, built for each ABI, go in instead.
     files += [os.path.join(root, n) for n in sorted(names)
-              if not n.startswith(".") and not n.endswith((".pyc", ".pyo")) and not n.startswith("test_")]
-if not any(os.path.basename(f).startswith("_loopsub") and f.endswith(".so") for f in files):
-    fail("no native module (_loopsub*.so) in addon/")
+              if not n.startswith((".", "test_", "_loopsub")) and not n.endswith((".pyc", ".pyo"))]
+modules = sorted(os.path.join(stage, n) for n in os.listdir(stage) if n.startswith("_loopsub") and n.endswith(".so"))
+if not modules:
+    fail(f"no native module (_loopsub*.so) in {stage}/")
 
 os.makedirs(out, exist_ok=True)
 path = os.path.join(out, f"{package}-{version}.zip")
 with zipfile.ZipFile(path + ".part", "w", zipfile.ZIP_DEFLATED) as archive:
     for file in files:
         archive.write(file, os.path.join(package, os.path.relpath(file, "addon")))
+    for module in modules:
+        archive.write(module, os.path.join(package, os.path.basename(module)))
 os.replace(path + ".part", path)
-print(f"package: {len(files)} files in {path}")
+print(f"package: {len(files) + len(modules)} files in {path}")
 EOF
