@@ -5,6 +5,40 @@ import bpy
 from . import compat, live, stack
 
 
+def _draw_settings(layout, obj, modifier):
+    """The entry's settings, laid out like Subdivision Surface's panel."""
+    if stack.entry(obj) != modifier:
+        layout.label(text="Only the first Loop Subdivision modifier is used", icon='ERROR')
+        return
+    settings = obj.loop_subdivision
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+
+    column = layout.column(align=True)
+    column.prop(settings, "levels", text="Levels Viewport")
+    column.prop(settings, "render_levels", text="Render")
+    layout.prop(settings, "rules")
+    threshold = layout.row()
+    threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
+    threshold.prop(settings, "crease_threshold")
+    layout.prop(settings, "boundary")
+    layout.prop(settings, "use_creases")
+    cones = layout.row()
+    cones.active = settings.rules == 'HOPPE94'
+    cones.prop_search(settings, "cone_group", obj, "vertex_groups", text="Cone Group")
+
+    entry = live.cache(obj)
+    if entry is not None and entry.error:
+        layout.label(text=entry.error, icon='ERROR')
+    elif entry is not None:
+        for level, text in entry.messages:
+            layout.label(text=text.split(": ", 1)[-1], icon='ERROR' if level == 'WARNING' else 'INFO')
+    row = layout.row(align=True)
+    row.context_pointer_set("object", obj)
+    row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')
+    row.operator("object.loop_subdivision_refresh_tags", text="Refresh Tags", icon='FILE_REFRESH')
+
+
 class DATA_PT_loop_subdivision(bpy.types.Panel):
     """A header-less part of every Geometry Nodes modifier's panel that draws only in the Loop Subdivision ones."""
     bl_label = "Loop Subdivision"
@@ -16,40 +50,23 @@ class DATA_PT_loop_subdivision(bpy.types.Panel):
 
     def draw(self, context):
         modifier = self.custom_data
-        if modifier is None or not stack.is_entry(modifier):
-            return
-        obj = modifier.id_data
-        layout = self.layout
-        if stack.entry(obj) != modifier:
-            layout.label(text="Only the first Loop Subdivision modifier is used", icon='ERROR')
-            return
-        settings = obj.loop_subdivision
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        if modifier is not None and stack.is_entry(modifier):
+            _draw_settings(self.layout, modifier.id_data, modifier)
 
-        column = layout.column(align=True)
-        column.prop(settings, "levels", text="Levels Viewport")
-        column.prop(settings, "render_levels", text="Render")
-        layout.prop(settings, "rules")
-        threshold = layout.row()
-        threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
-        threshold.prop(settings, "crease_threshold")
-        layout.prop(settings, "boundary")
-        layout.prop(settings, "use_creases")
-        cones = layout.row()
-        cones.active = settings.rules == 'HOPPE94'
-        cones.prop_search(settings, "cone_group", obj, "vertex_groups", text="Cone Group")
 
-        entry = live.cache(obj)
-        if entry is not None and entry.error:
-            layout.label(text=entry.error, icon='ERROR')
-        elif entry is not None:
-            for level, text in entry.messages:
-                layout.label(text=text.split(": ", 1)[-1], icon='ERROR' if level == 'WARNING' else 'INFO')
-        row = layout.row(align=True)
-        row.context_pointer_set("object", obj)
-        row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')
-        row.operator("object.loop_subdivision_refresh_tags", text="Refresh Tags", icon='FILE_REFRESH')
+class DATA_PT_loop_subdivision_settings(bpy.types.Panel):
+    """Where a Blender version has no modifier panel to draw inside: the active object's entry, below the stack."""
+    bl_label = "Loop Subdivision"
+    bl_space_type = 'PROPERTIES'
+    bl_region_type = 'WINDOW'
+    bl_context = "modifier"
+
+    @classmethod
+    def poll(cls, context):
+        return stack.entry(context.object) is not None
+
+    def draw(self, context):
+        _draw_settings(self.layout, context.object, stack.entry(context.object))
 
 
 def _add_button(self, context):
@@ -59,14 +76,20 @@ def _add_button(self, context):
 
 
 _button_target = None
+_panel = None
 
 
 def register():
-    global _button_target
-    bpy.utils.register_class(DATA_PT_loop_subdivision)
+    global _button_target, _panel
+    try:
+        bpy.utils.register_class(DATA_PT_loop_subdivision)
+        _panel = DATA_PT_loop_subdivision
+    except RuntimeError:  # no Geometry Nodes modifier panel by that name in this Blender
+        bpy.utils.register_class(DATA_PT_loop_subdivision_settings)
+        _panel = DATA_PT_loop_subdivision_settings
     _button_target = compat.add_modifier_button(_add_button)
 
 
 def unregister():
     compat.remove_modifier_button(_button_target, _add_button)
-    bpy.utils.unregister_class(DATA_PT_loop_subdivision)
+    bpy.utils.unregister_class(_panel)

@@ -72,6 +72,23 @@ def registration():
         check(footprint() == empty, f"round {round_}: unregister leaves nothing behind {footprint()}")
 
 
+def fallback_panel():
+    """A Blender whose Geometry Nodes modifier panel goes by another name still registers the add-on, with the
+    settings in a panel of their own below the stack."""
+    panel = addon.ui.DATA_PT_loop_subdivision
+    saved = panel.bl_parent_id
+    panel.bl_parent_id = "MOD_PT_NoSuchPanel"
+    try:
+        addon.register()
+        check(hasattr(bpy.types, "DATA_PT_loop_subdivision_settings")
+              and not hasattr(bpy.types, "DATA_PT_loop_subdivision"),
+              "without the modifier panel, the settings get a panel of their own")
+        addon.unregister()
+        check(not hasattr(bpy.types, "DATA_PT_loop_subdivision_settings"), "and unregistering removes it")
+    finally:
+        panel.bl_parent_id = saved
+
+
 def manifest():
     path = os.path.join(os.path.dirname(addon.__file__), "blender_manifest.toml")
     with open(path, "rb") as file:
@@ -97,5 +114,6 @@ def manifest():
 
 support.clear_scene()
 registration()
+fallback_panel()
 manifest()
 check.finish()
