@@ -41,6 +41,9 @@ class Cache:
 
 _caches = {}
 _busy = False
+# From the start of a render job to its end: edits and frame changes of the interface then leave the helpers alone
+# (the render job holds the scene; the work a render asks for is served on its request only).
+_rendering = False
 
 
 def cache(obj):
@@ -125,8 +128,22 @@ class _PassThrough(Exception):
 def _swap(carrier, old, mesh):
     carrier.data = mesh
     if old is not None and old != mesh and old.users == 0:
-        bpy.data.meshes.remove(old)
+        if _rendering:
+            _retired.append(old.name)  # a render job may still read it: removed when the render is over
+        else:
+            bpy.data.meshes.remove(old)
     mesh.name = carrier.name
+
+
+_retired = []  # names of helper meshes replaced during a render
+
+
+def _remove_retired():
+    for name in _retired:
+        mesh = bpy.data.meshes.get(name)
+        if mesh is not None and mesh.users == 0:
+            bpy.data.meshes.remove(mesh)
+    _retired.clear()
 
 
 def refresh_all(depsgraph=None, render=False):
@@ -137,7 +154,7 @@ def refresh_all(depsgraph=None, render=False):
 
 def settings_changed(obj):
     """Property update callback of the entry's settings."""
-    if stack.entry(obj) is not None:
+    if stack.entry(obj) is not None and not _rendering:
         refresh(obj, bpy.context.evaluated_depsgraph_get())
 
 
@@ -148,7 +165,7 @@ def _dropped():
 
 def _refresh_updated(depsgraph):
     """Refreshes the entries of the objects whose geometry this evaluation changed (edits, settings, animation)."""
-    if _busy:
+    if _busy or _rendering:
         return
     _dropped()
     updated = {update.id.original for update in depsgraph.updates
@@ -171,7 +188,9 @@ def _on_frame_change(scene, depsgraph):
 
 @persistent
 def _on_render_frame(*_):
-    """Before a render evaluates a frame: every entry's result at Render levels, for that frame."""
+    """Before a render evaluates a frame: every entry's result at Render levels, for that frame. Command-line renders
+    run this on the main thread. A render from the interface runs it in the render thread, which must not evaluate
+    the scene: it asks the main thread and waits."""
     if threading.current_thread() is threading.main_thread():
         refresh_all(render=True)
         return
@@ -187,12 +206,21 @@ def _render_levels():
 
 
 def _viewport_levels():
+    _remove_retired()
     refresh_all()
 
 
 @persistent
+def _on_render_start(*_):
+    global _rendering
+    _rendering = True
+
+
+@persistent
 def _on_render_end(*_):
-    # A render wrote its Render levels into the helpers: the viewport gets its levels back.
+    # A render wrote its Render levels into the helpers: the viewport gets its levels back once it is over.
+    global _rendering
+    _rendering = False
     if not bpy.app.background:
         _main_thread_work.put((_viewport_levels, None))
 
@@ -230,7 +258,10 @@ _handlers = (
     ("depsgraph_update_post", _on_depsgraph_update),
     ("frame_change_post", _on_frame_change),
     ("render_pre", _on_render_frame),
-    ("render_post", _on_render_end),
+    # The end of the whole render (an animation renders many frames): refreshing the viewport between frames, while
+    # the render job holds the scene, deadlocks the interface against it.
+    ("render_init", _on_render_start),
+    ("render_complete", _on_render_end),
     ("render_cancel", _on_render_end),
     ("undo_post", _on_undo),
     ("redo_post", _on_undo),

@@ -15,7 +15,8 @@ addon = support.load_addon(register=False)
 check = support.Check("test_registration")
 
 OPERATORS = ("add", "remove", "apply", "refresh_tags")
-HANDLERS = ("depsgraph_update_post", "frame_change_post", "render_pre", "render_post", "render_cancel", "undo_post",
+HANDLERS = ("depsgraph_update_post", "frame_change_post", "render_init", "render_pre", "render_complete",
+            "render_cancel", "undo_post",
             "redo_post", "load_post")
 CLASSES = tuple(f"OBJECT_OT_loop_subdivision_{name}" for name in OPERATORS) + (
     "LoopSubdivisionSettings", "DATA_PT_loop_subdivision", "VIEW3D_MT_object_loop_subdivision")
