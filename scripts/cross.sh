@@ -43,14 +43,20 @@ cmake --build "$build" -j"$(nproc)" --target loopsub >/dev/null
 # A command that runs the cross-built CLI here, for the comparison and for the CLI tests.
 runner="$PWD/$build/run-loopsub"
 case "$target" in
-  windows) printf '#!/bin/sh\nWINEDEBUG=-all exec /usr/lib/wine/wine64 %s "$@"\n' "$PWD/$build/$exe" >"$runner" ;;
+  windows)
+    # A Wine prefix of its own, and one wineserver kept up for the whole run: a server that quits between two of the
+    # hundreds of short runs here resets the next client's connection ("wine client error ... recvmsg").
+    export WINEPREFIX="$PWD/$build/wineprefix" WINEDEBUG=-all
+    mkdir -p "$WINEPREFIX"
+    /usr/lib/wine/wineserver -p
+    printf '#!/bin/sh\nexec /usr/lib/wine/wine64 %s "$@"\n' "$PWD/$build/$exe" >"$runner" ;;
   arm64)   printf '#!/bin/sh\nexec qemu-aarch64 %s "$@"\n' "$PWD/$build/$exe" >"$runner" ;;
 esac
 chmod +x "$runner"
 
 shapes=../shared/peer/opensubdiv-loop-shapes
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+trap 'rm -rf "$work"; [ "$target" != windows ] || /usr/lib/wine/wineserver -k 2>/dev/null || true' EXIT
 compared=0
 for shape in "$shapes"/*.obj; do
   for rules in hoppe94 opensubdiv; do
