@@ -19,19 +19,13 @@ case "$target" in
            compiler=aarch64-linux-gnu-g++ system=Linux processor=aarch64 exe=loopsub ;;
   *) echo "cross: unknown target '$target' (windows or arm64)" >&2; exit 2 ;;
 esac
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  if ((if_installed)); then
-    echo "cross: $target skipped: ${missing[*]} not installed (scripts/cross.sh $target installs them)"
-    exit 77
-  fi
-  sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-  "${sudo_cmd[@]}" apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+source scripts/packages.sh
+mapfile -t missing < <(missing_packages "${packages[@]}")
+if ((${#missing[@]} && if_installed)); then
+  echo "cross: $target skipped: ${missing[*]} not installed (scripts/cross.sh $target installs them)"
+  exit 77
 fi
+install_packages "${packages[@]}"
 
 build=build-$target
 cmake -S . -B "$build" -DCMAKE_SYSTEM_NAME=$system -DCMAKE_SYSTEM_PROCESSOR=$processor \

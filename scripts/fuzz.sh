@@ -20,16 +20,8 @@ while (($#)); do
 done
 
 if ((build)); then
-  missing=()
-  for p in clang libfuzzer-14-dev; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-  done
-  if ((${#missing[@]})); then
-    echo "fuzz: installing ${missing[*]}"
-    sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-    "${sudo_cmd[@]}" apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
-  fi
+  source scripts/packages.sh
+  install_packages clang libfuzzer-14-dev
   cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOOPSUB_FUZZ=ON \
     -DLOOPSUB_TESTS=OFF -DLOOPSUB_BENCH=OFF -DLOOPSUB_PYTHON=OFF -DLOOPSUB_BLENDER= >/dev/null
   cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]}"
