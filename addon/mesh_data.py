@@ -26,10 +26,13 @@ def _get_attribute(attribute, count):
     return _get(attribute.data, prop, count, width, dtype).reshape(count, width)
 
 
+def _fill(attribute, data_type, values):
+    attribute.data.foreach_set(geometry.ATTRIBUTE_LAYOUT[data_type][0], np.ascontiguousarray(values).ravel())
+
+
 def _set_attribute(mesh, name, domain, data_type, values):
-    prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
     attribute = mesh.attributes.new(name, data_type, domain)
-    attribute.data.foreach_set(prop, np.ascontiguousarray(values).ravel())
+    _fill(attribute, data_type, values)
     return attribute
 
 
@@ -312,12 +315,10 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
         new_edges, triangle_edges = _write_geometry(new, refined[:, vertex.columns["position"]], plan)
         parents = cage.triangle_polygons[plan.parent_triangles]
         _write_face_data(new, source, parents)
-        for name, domain, data_type in source.point:
-            _set_attribute(new, name, domain, data_type,
-                           geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type))
         edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
         _write_edge_data(new, source, plan, new_edges)
-        _write_corner_data(new, source, refined_corners)
+        _add_value_layers(new, source)
+        _write_values(new, source, refined, refined_corners)
         new.update()
         _write_vertex_groups(new, source, refined[:, vertex.columns["groups"]], holder)
         try:
@@ -341,20 +342,35 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
 def update_mesh(new, source, refined, refined_corners):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
     positions, point attributes, UVs and corner attributes (what moving vertices in Edit Mode or animation changes)."""
-    vertex = source.vertex
-    new.vertices.foreach_set("co", np.ascontiguousarray(refined[:, vertex.columns["position"]]).ravel())
+    new.vertices.foreach_set("co", np.ascontiguousarray(refined[:, source.vertex.columns["position"]]).ravel())
+    _write_values(new, source, refined, refined_corners)
+    new.update()
+
+
+def _add_value_layers(new, source):
+    """The layers that _write_values fills, empty: point and corner attributes, and the UV maps with the cage's
+    active and render choices."""
+    for name, domain, data_type in (*source.point, *source.corner):
+        new.attributes.new(name, data_type, domain)
+    mesh = source.mesh
+    for uv in mesh.uv_layers:
+        new.uv_layers.new(name=uv.name, do_init=False).active_render = uv.active_render
+    new.uv_layers.active_index = mesh.uv_layers.active_index
+    _restore_color_choice(new, mesh)
+
+
+def _write_values(new, source, refined, refined_corners):
+    """The refined values besides positions, into their layers: point attributes (back to their types), UV maps and
+    corner attributes (one value per loop, 3 per triangle)."""
+    vertex, corners = source.vertex, source.corners
     for name, _, data_type in source.point:
-        prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
-        values = geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type)
-        new.attributes[name].data.foreach_set(prop, np.ascontiguousarray(values).ravel())
+        _fill(new.attributes[name], data_type,
+              geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type))
     for uv_name in source.uv_names:
         new.uv_layers[uv_name].data.foreach_set(
             "uv", np.ascontiguousarray(refined_corners[:, :, corners.columns["uv", uv_name]]).ravel())
     for name, _, data_type in source.corner:
-        prop = geometry.ATTRIBUTE_LAYOUT[data_type][0]
-        new.attributes[name].data.foreach_set(
-            prop, np.ascontiguousarray(refined_corners[:, :, corners.columns["attribute", name]]).ravel())
-    new.update()
+        _fill(new.attributes[name], data_type, refined_corners[:, :, corners.columns["attribute", name]])
 
 
 def _write_geometry(new, positions, plan):
@@ -419,20 +435,6 @@ def _write_edge_data(new, source, plan, new_edges):
         new.edges.foreach_set(prop, geometry.inherit_edge_values(values, parents))
     for (name, domain, data_type), values in zip(source.edge, source.edge_values):
         _set_attribute(new, name, domain, data_type, geometry.inherit_edge_values(values, parents))
-
-
-def _write_corner_data(new, source, refined_corners):
-    """UV maps (with the active and render choices) and corner attributes, one value per loop (3 per triangle)."""
-    mesh, columns = source.mesh, source.corners.columns
-    for uv in mesh.uv_layers:
-        layer = new.uv_layers.new(name=uv.name, do_init=False)
-        layer.data.foreach_set("uv", np.ascontiguousarray(refined_corners[:, :, columns["uv", uv.name]]).ravel())
-        layer.active_render = uv.active_render
-    new.uv_layers.active_index = mesh.uv_layers.active_index
-    for name, domain, data_type in source.corner:
-        values = refined_corners[:, :, columns["attribute", name]]
-        _set_attribute(new, name, domain, data_type, values.reshape(-1, values.shape[-1]))
-    _restore_color_choice(new, mesh)
 
 
 def _restore_color_choice(new, mesh):

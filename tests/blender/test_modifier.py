@@ -170,6 +170,34 @@ def edits():
     support.remove(obj)
 
 
+def uv_edits():
+    """A moved vertex of a cage with a UV map and a corner colour is written into the result in place, UVs and
+    colours included, as Apply would write them."""
+    bm = bmesh.new()
+    bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
+    obj = support.object_from_bmesh("UVEdited", bm)
+    colors = obj.data.color_attributes.new("Paint", 'FLOAT_COLOR', 'CORNER')
+    colors.data.foreach_set("color", np.tile([0.2, 0.4, 0.6, 1.0], len(obj.data.loops)).astype(np.float32))
+    add_entry(obj)
+    builds = plan_builds(obj)
+    obj.data.vertices[0].co.z += 0.25
+    obj.data.uv_layers["UVMap"].data[0].uv = (0.9, 0.1)
+    obj.data.update()
+    mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
+             support.read_array(mesh.attributes["Paint"].data, "color", 4))
+    twin = support.copy_object(obj, "UVEdited twin")
+    twin.modifiers.clear()
+    support.apply_loop(twin, levels=1)
+    expected = (support.positions(twin.data), support.read_array(twin.data.uv_layers["UVMap"].data, "uv", 2),
+                support.read_array(twin.data.attributes["Paint"].data, "color", 4))
+    check(plan_builds(obj) == builds and all(np.array_equal(a, b) for a, b in zip(shown, expected)),
+          "with a UV map and corner colours, an edit is written in place: positions, UVs and colours as Apply's")
+    support.remove(twin)
+    support.remove(obj)
+
+
 def animation():
     scene = bpy.context.scene
     obj = support.object_from_bmesh("Waving", support.grid(6))
@@ -351,6 +379,7 @@ support.clear_scene()
 entry_in_stack()
 stack_order()
 edits()
+uv_edits()
 animation()
 errors()
 undo()
