@@ -192,7 +192,7 @@ def _on_render_frame(*_):
     run this on the main thread. A render from the interface runs it in the render thread, which must not evaluate
     the scene: it asks the main thread and waits."""
     if threading.current_thread() is threading.main_thread():
-        refresh_all(render=True)
+        _render_levels()
         return
     done = threading.Event()
     _main_thread_work.put((_render_levels, done))
@@ -258,9 +258,9 @@ _handlers = (
     ("depsgraph_update_post", _on_depsgraph_update),
     ("frame_change_post", _on_frame_change),
     ("render_pre", _on_render_frame),
-    # The end of the whole render (an animation renders many frames): refreshing the viewport between frames, while
-    # the render job holds the scene, deadlocks the interface against it.
     ("render_init", _on_render_start),
+    # The end of the whole render (an animation renders many frames), not render_post after each frame: the
+    # viewport gets its levels back once the render job no longer holds the scene.
     ("render_complete", _on_render_end),
     ("render_cancel", _on_render_end),
     ("undo_post", _on_undo),
