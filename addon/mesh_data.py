@@ -280,7 +280,7 @@ class Source:
         return refined, corners
 
 
-# The long stages of subdivide, in order, as the status bar names them.
+# The long stages of subdivide, in order (the progress counter at the cursor counts them).
 STAGES = ("Reading the mesh", "Building the plan", "Refining", "Writing the new mesh")
 
 
