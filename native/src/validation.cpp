@@ -1,19 +1,12 @@
 #include "validation.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "common.h"
 #include "topology.h"
 
 namespace loopsub::detail {
-
-std::string shortest(float value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.7g", double(value));
-    return text;
-}
 
 namespace {
 
