@@ -40,7 +40,12 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         p.evaluate_ms = ms_since(start);
         return;
     }
-    if (levels == 0) {
+    // The limit is one more pass, over the last level's vertices only.
+    const int passes = levels + (p.limit ? 1 : 0);
+    auto pass_stencils = [&p, levels](int pass) -> const detail::LevelStencils& {
+        return pass < levels ? p.stencils[pass] : p.limit->positions;
+    };
+    if (passes == 0) {
         for (int v = 0; v < p.num_input_vertices; ++v)
             for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = input(v, c);
         p.evaluate_ms = ms_since(start);
@@ -50,43 +55,60 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
     // Levels are refined in quads: a vertex's channels side by side, padded with zeros to a multiple of four, so
     // that a kernel fetches every channel of a neighbour with one aligned 16-byte load (kernels_quads.h); with
     // gathers from planar arrays each channel of each neighbour is a load of its own, measured 1.7x slower
-    // (docs/benchmark.md). The padding refines like a channel (zeros stay zeros); the last level is written
-    // straight into `out`. Level l reads scratch[(l + 1) % 2] and writes scratch[l % 2].
+    // (docs/benchmark.md). The padding refines like a channel (zeros stay zeros); the last pass is written
+    // straight into `out`. Pass l reads scratch[(l + 1) % 2] and writes scratch[l % 2].
     const std::size_t padded = (std::size_t(channels) + 3) / 4 * 4;
     std::size_t needed[2] = {0, 0};
     needed[1] = std::size_t(p.num_input_vertices);
-    for (int l = 0; l + 1 < levels; ++l) needed[l % 2] = std::max(needed[l % 2], std::size_t(p.level_num_vertices[l + 1]));
+    for (int l = 0; l + 1 < passes; ++l) needed[l % 2] = std::max(needed[l % 2], std::size_t(p.level_num_vertices[l + 1]));
     for (int b = 0; b < 2; ++b) p.scratch[b].resize(needed[b] * padded);
     auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
     const ChannelsView<float> first = quads(1);
     for (int v = 0; v < p.num_input_vertices; ++v)
         for (std::size_t c = 0; c < padded; ++c) first.data[v * padded + c] = c < std::size_t(channels) ? input(v, int(c)) : 0.0f;
 
-    std::vector<ChannelsView<const float>> sources(levels);
-    std::vector<ChannelsView<float>> targets(levels);
-    for (int l = 0; l < levels; ++l) {
+    std::vector<ChannelsView<const float>> sources(passes);
+    std::vector<ChannelsView<float>> targets(passes);
+    for (int l = 0; l < passes; ++l) {
         sources[l] = quads((l + 1) % 2);
-        targets[l] = l + 1 < levels ? quads(l % 2) : out;
+        targets[l] = l + 1 < passes ? quads(l % 2) : out;
     }
-    // The padding only serves the SIMD loads: the scalar kernel leaves it alone, and the last level drops it.
-    for (int l = 0; l < levels; ++l) {
+    // The padding only serves the SIMD loads: the scalar kernel leaves it alone, and the last pass drops it.
+    for (int l = 0; l < passes; ++l) {
         if (p.kernel == Kernel::Scalar) sources[l].num_channels = targets[l].num_channels = channels;
     }
-    sources[levels - 1].num_channels = channels;
+    sources[passes - 1].num_channels = channels;
 
     const detail::RefineFn refine = detail::refine_function(p.kernel);
-    run_levels(std::max(1, p.options.threads), levels, [&](int level, int part, int parts) {
-        const detail::LevelStencils& s = p.stencils[level];
+    run_levels(std::max(1, p.options.threads), passes, [&](int pass, int part, int parts) {
+        const detail::LevelStencils& s = pass_stencils(pass);
         // Small levels are not worth splitting.
         if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) refine(s, sources[level], targets[level], {0, s.num_vertices}, {0, s.num_edges});
+            if (part == 0) refine(s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
             return;
         }
         auto split = [parts](int n, int i) { return int(std::int64_t(n) * i / parts); };
-        refine(s, sources[level], targets[level], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
+        refine(s, sources[pass], targets[pass], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
                {split(s.num_edges, part), split(s.num_edges, part + 1)});
     });
     p.evaluate_ms = ms_since(start);
+}
+
+void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals) {
+    PlanImpl& p = *impl_;
+    if (!p.limit) fail("evaluate: normals are the limit surface's; build the plan with Options::limit_surface");
+    if (in.num_channels < 3) fail("evaluate: normals need positions in the first three channels, got " + std::to_string(in.num_channels) + " channels");
+    if (corner_normals == nullptr && num_output_triangles() > 0) fail("evaluate: missing (null) normals");
+    evaluate(in, out);
+    const auto start = Clock::now();
+    if (p.num_input_vertices == 0) return;
+    // The last level's refined points: the limit pass's source, still in scratch (or the input, with no levels).
+    const int levels = p.options.levels;
+    const std::size_t padded = (std::size_t(in.num_channels) + 3) / 4 * 4;
+    const ChannelsView<const float> last =
+        levels == 0 ? in : ChannelsView<const float>{p.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
+    p.limit_normals(last, corner_normals);
+    p.evaluate_ms += ms_since(start);
 }
 
 void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) const {

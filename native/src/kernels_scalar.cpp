@@ -39,7 +39,7 @@ void refine_scalar(const LevelStencils& s, ChannelsView<const float> in, Channel
             float ring_sum = 0.0f;
             for (int k = s.ring_offsets[v->vertex]; k < s.ring_offsets[v->vertex + 1]; ++k) ring_sum += p[s.ring[k] * ie];
             q[v->vertex * oe] = v->w_self * p[v->vertex * ie] + v->w_ring * ring_sum +
-                                v->w_crease * (p[v->crease_a * ie] + p[v->crease_b * ie]);
+                                v->w_crease_a * p[v->crease_a * ie] + v->w_crease_b * p[v->crease_b * ie];
         }
 
         float* edge_out = q + std::size_t(s.num_vertices) * oe;

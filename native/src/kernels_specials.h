@@ -42,7 +42,7 @@ inline void apply_specials(const LevelStencils& s, ChannelsView<const float> in,
             for (int k = first; k < last; ++k) ring_sum += p[s.ring[k] * ie];
             out.data[c * out.channel_stride + v->vertex * oe] =
                 v->w_self * p[v->vertex * ie] + v->w_ring * ring_sum +
-                v->w_crease * (p[v->crease_a * ie] + p[v->crease_b * ie]);
+                v->w_crease_a * p[v->crease_a * ie] + v->w_crease_b * p[v->crease_b * ie];
         }
     }
     for (const SpecialEdge* e = se_begin; e != se_end; ++e) {

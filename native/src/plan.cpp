@@ -9,6 +9,7 @@
 #include "budget.h"
 #include "common.h"
 #include "kernels.h"
+#include "level_state.h"
 #include "plan_data.h"
 #include "rule_set.h"
 #include "rules.h"
@@ -34,35 +35,6 @@ Index find_edge(const Topology& t, Index a, Index b) {
 }
 
 }  // namespace
-
-namespace detail {
-
-// A sharp or tagged edge or vertex. Most of a mesh is smooth and untagged, so a level keeps only these, sorted by
-// index: a creased model at level 4 has a few hundred of them among a million edges.
-struct Feature {
-    Index index;
-    float sharpness;  // OpenSubdiv: the current sharpness; Hoppe94: infinite on creases and corners, else 0
-    float tag;        // the crease or corner tag carried into the output (0: none)
-    bool operator<(const Feature& other) const { return index < other.index; }
-};
-
-const Feature* find_feature(const std::vector<Feature>& features, Index index) {
-    const auto found = std::lower_bound(features.begin(), features.end(), Feature{index, 0.0f, 0.0f});
-    return found != features.end() && found->index == index ? &*found : nullptr;
-}
-
-// What one level knows besides its connectivity.
-struct LevelState {
-    Topology topology;
-    bool own_neighbourhood = true;  // false: refined ForStencils, its vertex neighbourhoods come from its parent
-    std::vector<Feature> edges, vertices;
-
-    float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }
-    float vertex_sharpness(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->sharpness : 0.0f; }
-    float vertex_tag(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->tag : 0.0f; }
-};
-
-}  // namespace detail
 
 using detail::Feature;
 using detail::LevelState;
@@ -135,11 +107,30 @@ bool is_regular_crease(const detail::VertexNeighbourhood& around, const std::vec
     return valence == 6 && around.faces_between(v, crease_a, crease_b) == 3;
 }
 
-
 }  // namespace
 
+namespace detail {
+
+VertexType classify_vertex(SdcRule rule, const FeatureVertex& vertex, const VertexNeighbourhood& around) {
+    switch (rule) {
+        case SdcRule::Smooth: return vertex.tagged_cone ? VertexType::Cone : VertexType::Smooth;
+        case SdcRule::Dart: return vertex.tagged_cone ? VertexType::Cone : VertexType::Dart;
+        case SdcRule::Crease:
+            if (vertex.tagged_cone) return VertexType::Corner;
+            return is_regular_crease(around, vertex.edges, vertex.vertex, vertex.crease[0], vertex.crease[1])
+                       ? VertexType::RegularCrease
+                       : VertexType::IrregularCrease;
+        case SdcRule::Corner: break;
+    }
+    return VertexType::Corner;
+}
+
+}  // namespace detail
+
 void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level) {
-    const bool last_child = child_level == options.levels, grandchild_last = child_level + 1 == options.levels;
+    // With the limit surface, the last level is planned like the others, its limit pass standing in for a child.
+    const int final_level = options.levels + (options.limit_surface ? 1 : 0);
+    const bool last_child = child_level == final_level, grandchild_last = child_level + 1 == final_level;
     Topology& t = level.topology;
     const int nv = t.num_vertices, ne = t.num_edges();
 
@@ -160,86 +151,42 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // Only vertices next to a feature (or cones) can differ from the smooth pass. Child features: the halves of
     // each edge get their sharpness at their own end vertex (Chaikin looks at the other edges there), old vertices
     // decay; edges inside faces and vertices on edges start smooth.
-    // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that classifying it needs
-    // no search per incident edge.
-    struct Touch {
-        Index vertex;
-        const Feature* edge;  // null: the vertex is a feature itself, or a cone
-        bool operator<(const Touch& other) const { return vertex < other.vertex; }
-    };
-    std::vector<Touch> touches;
-    touches.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
-    for (const Feature& f : level.edges) {
-        touches.push_back({t.edge_vertices[2 * f.index], &f});
-        touches.push_back({t.edge_vertices[2 * f.index + 1], &f});
-    }
-    for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr});
-    for (Index v : cones) if (v < nv) touches.push_back({v, nullptr});
-    std::sort(touches.begin(), touches.end());
-
     std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
-    std::vector<Index> edges;  // around one vertex
-    std::vector<float> parent_sharpness, parent_tag, child_sharpness;
-    for (auto run = touches.begin(); run != touches.end();) {
-        const Index v = run->vertex;
-        const auto run_end = std::find_if(run, touches.end(), [v](const Touch& touch) { return touch.vertex != v; });
-        around.edges(v, edges);
-        const int valence = int(edges.size());
-        parent_sharpness.assign(valence, 0.0f);
-        parent_tag.assign(valence, 0.0f);
+    std::vector<float> child_sharpness;
+    detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {
+        const Index v = vertex.vertex;
+        const int valence = int(vertex.edges.size());
         child_sharpness.resize(valence);
-        for (auto touch = run; touch != run_end; ++touch) {
-            if (!touch->edge) continue;
-            const int k = int(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
-            parent_sharpness[k] = touch->edge->sharpness;
-            parent_tag[k] = touch->edge->tag;
-        }
-        run = run_end;
-
-        int sharp_edges = 0, child_sharp_edges = 0;
-        Index crease[2] = {-1, -1}, child_crease[2] = {-1, -1};
-        for (int k = 0; k < valence; ++k)
-            if (detail::is_sharp(parent_sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
+        int child_sharp_edges = 0;
+        Index child_crease[2] = {-1, -1};
         for (int k = 0; k < valence; ++k) {
-            const Index e = edges[k];
-            const float decayed = rules->child_edge_sharpness(parent_sharpness[k], parent_sharpness.data(), valence);
+            const Index e = vertex.edges[k];
+            const float decayed = rules->child_edge_sharpness(vertex.sharpness[k], vertex.sharpness.data(), valence);
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
-            const float tag = parent_tag[k];
-            const float child_tag = rules->child_tag(tag, decayed);
+            const float child_tag = rules->child_tag(vertex.tags[k], decayed);
             if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({detail::child_edge_at(t, e, v), decayed, child_tag});
         }
         const float vertex_sharpness = level.vertex_sharpness(v);
         const float child_vertex_sharpness = rules->child_vertex_sharpness(vertex_sharpness);
-        const float vertex_tag = level.vertex_tag(v);
-        const float child_vertex_tag = rules->child_tag(vertex_tag, child_vertex_sharpness);
+        const float child_vertex_tag = rules->child_tag(level.vertex_tag(v), child_vertex_sharpness);
         if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) child.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
 
-        const bool tagged_cone = std::binary_search(cones.begin(), cones.end(), v);  // empty without cones
-        const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, sharp_edges);
-        switch (rule) {
-            case detail::SdcRule::Smooth: types[v] = tagged_cone ? VertexType::Cone : VertexType::Smooth; break;
-            case detail::SdcRule::Dart: types[v] = tagged_cone ? VertexType::Cone : VertexType::Dart; break;
-            case detail::SdcRule::Crease:
-                types[v] = tagged_cone ? VertexType::Corner
-                           : is_regular_crease(around, edges, v, crease[0], crease[1]) ? VertexType::RegularCrease
-                                                                           : VertexType::IrregularCrease;
-                break;
-            case detail::SdcRule::Corner: types[v] = VertexType::Corner; break;
-        }
+        const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, vertex.sharp_edges);
+        types[v] = detail::classify_vertex(rule, vertex, around);
         const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
         Index ends[2];
         const detail::VertexMask mask = rules->vertex_mask(
-            {types[v], rule, valence, vertex_sharpness, child_vertex_sharpness, parent_sharpness.data(),
-             child_sharpness.data(), child_sharp_edges, {crease[0], crease[1]}, {child_crease[0], child_crease[1]}},
+            {types[v], rule, valence, vertex_sharpness, child_vertex_sharpness, vertex.sharpness.data(),
+             child_sharpness.data(), child_sharp_edges, {vertex.crease[0], vertex.crease[1]}, {child_crease[0], child_crease[1]}},
             ends);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
             const bool has_ends = mask.crease != 0.0;
             s.special_vertices.push_back({v, has_ends ? t.other_end(ends[0], v) : v, has_ends ? t.other_end(ends[1], v) : v,
-                                          float(mask.self), float(mask.ring), float(mask.crease)});
+                                          float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
         }
-    }
+    });
     std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
 
     // The last level needs only its triangles. The one before it needs its stencils, but not its edge faces and
@@ -330,6 +277,7 @@ void PlanImpl::build(const MeshView& mesh) {
         parent = std::move(level.topology);
         level = std::move(child);
     }
+    if (options.limit_surface) plan_limit(level, parent);
     if (options.levels > 0) stencils.back().edge_ends = std::move(parent.edge_vertices);
     output_triangles = std::move(level.topology.face_vertices);
     level_edges.resize(options.levels);
@@ -385,7 +333,8 @@ int Plan::level_num_vertices(int level) const {
     return impl_->level_num_vertices[level];
 }
 const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
-    if (level < 0 || level >= levels()) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels() - 1));
+    const int last = int(impl_->level_vertex_types.size()) - 1;  // levels() - 1, or levels() with the limit
+    if (level < 0 || level > last) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(last));
     return impl_->level_vertex_types[level];
 }
 

@@ -15,7 +15,31 @@
 namespace loopsub {
 
 namespace detail {
-struct LevelState;  // one level while the plan is built (plan.cpp)
+struct LevelState;  // one level while the plan is built (level_state.h)
+
+// The limit surface (Options::limit_surface, limit.cpp): one more vertex-only pass over the last level, and the
+// tables of the limit normals.
+struct LimitTables {
+    // Limit positions: the kernels' vertex masks (num_edges == 0). Where a vertex's fan is a disk of smooth edges
+    // its ring is in counter-clockwise order, as the smooth tangent masks read it.
+    LevelStencils positions;
+    // Vertices whose corners take the normal of their side of a crease (crease and corner rules, or a fan that is
+    // not a disk): 1 per such vertex.
+    std::vector<std::uint8_t> by_side;
+    // A side: `faces` faces counter-clockwise around `vertex`, through points side_points[first ..]: faces + 1 of
+    // them from the leading to the trailing sharp edge, or `faces` of them for a closed fan.
+    struct Side {
+        Index vertex, first;
+        int faces;
+        bool closed;
+    };
+    std::vector<Side> sides;
+    std::vector<Index> side_points;
+    std::vector<std::pair<Index, Index>> corner_sides;  // (output corner 3 t + k, side), sorted by corner
+    // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
+    std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
+    std::vector<float> vertex_normals, side_normals;  // scratch of the normals pass
+};
 }  // namespace detail
 
 using detail::Index;
@@ -32,6 +56,7 @@ struct PlanImpl {
     mutable std::vector<std::once_flag> level_edges_ready;
     std::vector<std::vector<VertexType>> level_vertex_types;
     std::vector<detail::LevelStencils> stencils;
+    std::unique_ptr<detail::LimitTables> limit;  // with Options::limit_surface
     detail::LargeVector<Index> output_triangles;
     mutable detail::LargeVector<Index> output_parents;  // on first request
     mutable std::once_flag output_parents_ready;
@@ -50,6 +75,10 @@ struct PlanImpl {
     // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
     void plan_level(detail::LevelState& level, const detail::Topology& parent, detail::LevelState& child, int child_level);
     void collect_output_tags(const detail::LevelState& last);
+    // The limit's stencils and normal tables for the last level (limit.cpp).
+    void plan_limit(detail::LevelState& last, const detail::Topology& parent);
+    // Per output corner, the limit normal of the last level's points `last_level` (its first three channels).
+    void limit_normals(ChannelsView<const float> last_level, float* corner_normals);
 };
 
 }  // namespace loopsub

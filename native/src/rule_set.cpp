@@ -45,6 +45,18 @@ public:
         return crease_edge_mask();
     }
 
+    LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a, double vertex_weight_b) const override {
+        switch (vertex.type) {
+            // A cone's ring refines with the cone's weight; its limit follows from that weight as a smooth vertex's does.
+            case VertexType::Cone: return ring_limit_mask(cone_vertex_mask(vertex.valence), vertex.valence);
+            case VertexType::Corner: return corner_limit_mask();
+            case VertexType::RegularCrease:
+            case VertexType::IrregularCrease:
+                return hoppe94_crease_limit_mask(vertex.type == VertexType::RegularCrease, vertex_weight_a, vertex_weight_b);
+            default: return smooth_limit_mask(vertex.valence);
+        }
+    }
+
 private:
     float threshold_;
 };
@@ -86,6 +98,15 @@ public:
         // crease mask by the parent's sharpness (Sdc::Scheme::ComputeEdgeVertexMask).
         if (is_infinite(edge.sharpness) || edge.halves_sharp) return crease_edge_mask();
         return blend(crease_edge_mask(), edge.sharpness, smooth_edge_mask());
+    }
+
+    // Sdc::Scheme::ComputeVertexLimitMask: by the vertex's rule on the last level, semi-sharp features as sharp ones.
+    LimitMask limit_mask(const VertexSituation& vertex, double, double) const override {
+        switch (vertex.rule) {
+            case SdcRule::Crease: return crease_limit_mask();
+            case SdcRule::Corner: return corner_limit_mask();
+            default: return smooth_limit_mask(vertex.valence);
+        }
     }
 
 private:

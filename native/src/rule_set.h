@@ -50,6 +50,9 @@ public:
     virtual VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const = 0;
     // The edge point's mask, for a sharp edge (smooth edges take smooth_edge_mask()).
     virtual EdgeMask edge_mask(const EdgeSituation& edge) const = 0;
+    // Where a vertex of the last level lies on the limit surface; end_a / end_b weight the other ends of
+    // vertex.crease[0] / [1]. `vertex_weight_a` / `_b`: the vertex's weight in the edge points of those two edges.
+    virtual LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a, double vertex_weight_b) const = 0;
 };
 
 std::unique_ptr<RuleSet> make_rule_set(const Options& options);

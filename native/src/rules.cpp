@@ -51,6 +51,74 @@ EdgeMask five_three_edge_mask(bool five_on_a) {
     return five_on_a ? EdgeMask{0.625, 0.375, 0.0} : EdgeMask{0.375, 0.625, 0.0};
 }
 
+LimitMask ring_limit_mask(const VertexMask& refinement, int valence) {
+    if (valence == 0) return corner_limit_mask();
+    // The vertex row of the ring's subdivision matrix fixes the eigenvector: l_ring = 8 beta / 3 * l_self.
+    const double scaled = 8.0 * refinement.ring / 3.0;
+    const double each = scaled / (1.0 + valence * scaled);
+    return {1.0 - valence * each, each, 0.0, 0.0};
+}
+
+LimitMask smooth_limit_mask(int valence) {
+    if (valence == 6) return {0.5, 1.0 / 12.0, 0.0, 0.0};
+    return ring_limit_mask(smooth_vertex_mask(valence), valence);
+}
+
+LimitMask crease_limit_mask() { return {4.0 / 6.0, 0.0, 1.0 / 6.0, 1.0 / 6.0}; }
+
+LimitMask corner_limit_mask() { return {1.0, 0.0, 0.0, 0.0}; }
+
+LimitMask hoppe94_crease_limit_mask(bool regular, double vertex_weight_a, double vertex_weight_b) {
+    // Child v' = 3/4 v + 1/8 (a + b); edge points e_a = w_a v + (1 - w_a) a, e_b likewise; then the child's
+    // stationary mask s_self v' + s_end (e_a + e_b).
+    const double s_self = regular ? 4.0 / 6.0 : 3.0 / 5.0, s_end = regular ? 1.0 / 6.0 : 1.0 / 5.0;
+    const VertexMask step = crease_vertex_mask();
+    return {s_self * step.self + s_end * (vertex_weight_a + vertex_weight_b), 0.0,
+            s_self * step.crease + s_end * (1.0 - vertex_weight_a), s_self * step.crease + s_end * (1.0 - vertex_weight_b)};
+}
+
+void smooth_tangent_weights(int valence, std::vector<float>& t1, std::vector<float>& t2) {
+    t1.assign(valence, 0.0f);
+    t2.assign(valence, 0.0f);
+    for (int i = 0; i < valence; ++i) {
+        // Valence 6 exactly as OpenSubdiv writes it (1, 1/2, sqrt(3)/2): cos(pi / 3) is not 1/2 in floating point.
+        if (valence == 6) {
+            static constexpr float kCos[6] = {1.0f, 0.5f, -0.5f, -1.0f, -0.5f, 0.5f};
+            static constexpr float kHalfRoot3 = float(0.5 * 1.73205080756887729352);
+            static constexpr float kSin[6] = {0.0f, kHalfRoot3, kHalfRoot3, 0.0f, -kHalfRoot3, -kHalfRoot3};
+            t1[i] = kCos[i], t2[i] = kSin[i];
+        } else {
+            const double angle = 2.0 * kPi * i / valence;
+            t1[i] = float(std::cos(angle)), t2[i] = float(std::sin(angle));
+        }
+    }
+}
+
+void side_tangent_weights(int faces, std::vector<float>& t1, std::vector<float>& t2) {
+    const int points = faces + 1;  // p_0 .. p_faces, after the vertex at index 0
+    t1.assign(points + 1, 0.0f);
+    t2.assign(points + 1, 0.0f);
+    auto p = [](int i) { return i + 1; };
+    // Along the crease, from the trailing towards the leading edge.
+    t1[p(0)] = 1.5f, t1[p(faces)] = -1.5f;
+    // Across, into the side: by the number of interior edges (OpenSubdiv's scale factors keep the magnitudes
+    // of regular and irregular cases alike; only the direction matters for a normal).
+    const int interior = faces - 1;
+    if (interior == 0) {
+        t2[0] = -6.0f, t2[p(0)] = 3.0f, t2[p(1)] = 3.0f;
+    } else if (interior == 1) {
+        t2[0] = -3.0f, t2[p(1)] = 3.0f;
+    } else if (interior == 2) {
+        const float root3 = 1.73205080756887729352f;
+        t2[0] = -root3, t2[p(0)] = t2[p(3)] = -0.5f * root3, t2[p(1)] = t2[p(2)] = root3;
+    } else {
+        const double theta = kPi / (interior + 1);
+        t2[p(0)] = t2[p(faces)] = float(-3.0 * std::sin(theta));
+        const double scale = -6.0 * (std::cos(theta) - 1.0);
+        for (int i = 1; i <= interior; ++i) t2[p(i)] = float(scale * std::sin(i * theta));
+    }
+}
+
 SdcRule sdc_vertex_rule(float vertex_sharpness, int sharp_edge_count) {
     if (is_sharp(vertex_sharpness) || sharp_edge_count > 2) return SdcRule::Corner;
     if (sharp_edge_count == 2) return SdcRule::Crease;

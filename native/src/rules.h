@@ -5,6 +5,8 @@
 //   edge    e' = a * A + b * B + wings * (C + D)
 #pragma once
 
+#include <vector>
+
 #include "loopsub/loopsub.h"
 
 namespace loopsub::detail {
@@ -31,6 +33,36 @@ constexpr EdgeMask smooth_edge_mask() { return {0.375, 0.375, 0.125}; }
 EdgeMask crease_edge_mask();                  // {1, 1, 0, 0} / 2
 EdgeMask five_three_edge_mask(bool five_on_a);  // {5, 3, 0, 0} / 8 with the 5 on the regular crease vertex
 EdgeMask blend(const EdgeMask& a, double weight_a, const EdgeMask& b);  // weight_a * a + (1 - weight_a) * b
+
+// ---- The limit surface --------------------------------------------------------------------------------------
+// Where a vertex of the last level lands on the limit surface: the left eigenvector (eigenvalue 1) of the
+// refinement around it, in the kernels' vertex shape with the two crease neighbours weighted apart (Hoppe94's
+// {5,3} edges make them differ).
+struct LimitMask {
+    double self = 1.0, ring = 0.0, end_a = 0.0, end_b = 0.0;
+};
+
+// A vertex refined by `refinement` (self, ring weight beta each) over smooth edges: each neighbour gets
+// beta' / (1 + n beta') with beta' = 8 beta / 3, the vertex the rest. Loop's smooth vertices (OpenSubdiv's
+// smooth limit mask; valence 6: 1/12 and 1/2) and the seed's cones.
+LimitMask ring_limit_mask(const VertexMask& refinement, int valence);
+LimitMask smooth_limit_mask(int valence);
+// OpenSubdiv's crease limit (1, 4, 1) / 6 (the uniform cubic B-spline), and its corner: the vertex stays.
+LimitMask crease_limit_mask();
+LimitMask corner_limit_mask();
+// Hoppe94's crease vertex: its crease is a B-spline only away from irregular vertices, so the limit is one step of
+// the crease masks (the vertex keeps `vertex_weight_a` / `_b` of the edge points towards its crease neighbours:
+// 1/2, or 3/8 and 5/8 under the {5,3} rule) followed by the stationary mask of its child, whose crease neighbours
+// are regular: (1, 4, 1) / 6 at a regular crease vertex, (1, 3, 1) / 5 at an irregular one (Hoppe et al. 94).
+LimitMask hoppe94_crease_limit_mask(bool regular, double vertex_weight_a, double vertex_weight_b);
+
+// Limit tangents (OpenSubdiv's Sdc::Scheme<SCHEME_LOOP> masks; Hoppe et al. 94's). Around a smooth vertex with
+// its neighbours p_0 .. p_{n-1} counter-clockwise: t1 = sum cos(2 pi i / n) p_i, t2 = sum sin(2 pi i / n) p_i.
+void smooth_tangent_weights(int valence, std::vector<float>& t1, std::vector<float>& t2);
+// One side of a crease (or a boundary) spanning `faces` faces, neighbours p_0 .. p_faces counter-clockwise from
+// the leading crease edge: faces + 2 weights each, the vertex's first, then p_0 .. p_faces. t1 runs along the
+// crease, t2 into the side; t1 x t2 is the side's outward normal.
+void side_tangent_weights(int faces, std::vector<float>& t1, std::vector<float>& t2);
 
 // OpenSubdiv's creasing (Sdc::Crease), single precision as OpenSubdiv computes it.
 enum class SdcRule { Smooth, Dart, Crease, Corner };

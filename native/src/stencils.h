@@ -1,7 +1,7 @@
 // The per-level stencil tables: the only thing the per-frame kernels read besides the vertex data.
 //
 // Every Loop mask in both rule sets has the same shape, which keeps the kernels branch-free:
-//   vertex point  v' = w_self * v + w_ring * (sum of the one-ring) + w_crease * (p + q)
+//   vertex point  v' = w_self * v + w_ring * (sum of the one-ring) + w_crease_a * p + w_crease_b * q
 //   edge point    e' = wa * A + wb * B + wcd * (C + D)
 // (smooth, dart, crease, corner and cone masks, the {5,3} and {1,1} edge masks, and OpenSubdiv's blends of two
 // of them are all of this form). Most vertices and edges are smooth, so a kernel first applies the smooth mask
@@ -19,8 +19,9 @@ namespace loopsub::detail {
 
 struct SpecialVertex {
     std::int32_t vertex;
-    std::int32_t crease_a, crease_b;  // the two crease neighbours (any valid index when w_crease == 0)
-    float w_self, w_ring, w_crease;
+    std::int32_t crease_a, crease_b;  // the two crease neighbours (any valid index where their weight is 0)
+    // Refinement weights p and q alike; the limit of a Hoppe94 crease vertex next to an irregular one does not.
+    float w_self, w_ring, w_crease_a, w_crease_b;
 };
 
 struct SpecialEdge {

@@ -51,6 +51,7 @@ struct OsdReference::Impl {
     std::vector<std::vector<Point>> points;  // per level, OpenSubdiv's order
     std::vector<std::vector<double>> flat;   // the same, 3 doubles per vertex
     std::vector<UV> last_uvs;                // last level's face-varying values
+    std::vector<Point> limit, tangent1, tangent2;  // Limit() of the last level
     bool has_uvs = false;
 };
 
@@ -121,6 +122,11 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
         }
     }
     impl_->last_uvs = std::move(uv_src);
+    const int last_count = refiner.GetLevel(options.levels).GetNumVertices();
+    impl_->limit.assign(last_count, Point{});
+    impl_->tangent1.assign(last_count, Point{});
+    impl_->tangent2.assign(last_count, Point{});
+    primvar.Limit(impl_->points[options.levels], impl_->limit, impl_->tangent1, impl_->tangent2);
     impl_->flat.resize(options.levels + 1);
     for (int level = 0; level <= options.levels; ++level) {
         for (const Point& p : impl_->points[level]) impl_->flat[level].insert(impl_->flat[level].end(), p.x, p.x + 3);
@@ -215,6 +221,23 @@ MappedReference OsdReference::map(const Plan& plan) const {
     for (std::size_t v = 0; v < out.vertex_tags.size(); ++v) {
         const Far::Index ov = out.our_to_osd[levels][v];
         out.vertex_tags[v] = {last.GetVertexSharpness(ov), last.IsVertexBoundary(ov) || last.IsVertexNonManifold(ov)};
+    }
+    const std::size_t count = out.our_to_osd[levels].size();
+    out.limit_positions.resize(3 * count);
+    out.limit_normals.resize(3 * count);
+    out.limit_smooth.resize(count);
+    for (std::size_t v = 0; v < count; ++v) {
+        const Far::Index ov = out.our_to_osd[levels][v];
+        const double* a = impl_->tangent1[ov].x;
+        const double* b = impl_->tangent2[ov].x;
+        const double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; ++k) {
+            out.limit_positions[3 * v + k] = impl_->limit[ov].x[k];
+            out.limit_normals[3 * v + k] = length > 0.0 ? n[k] / length : 0.0;
+        }
+        const Sdc::Crease::Rule rule = last.GetVertexRule(ov);
+        out.limit_smooth[v] = rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART;
     }
     for (int f = 0; f < nf; ++f) {
         Far::ConstIndexArray fv = last.GetFaceVertices(f);

@@ -46,6 +46,10 @@ struct MappedReference {
     std::vector<std::int32_t> ancestors;
     // 2 floats per corner of each of `triangles` (empty without UVs).
     std::vector<double> face_uvs;
+    // Far::PrimvarRefiner::Limit on the last level, our order: positions (3 per vertex), the unit normal
+    // tan1 x tan2 (3 per vertex), and whether OpenSubdiv's rule there is smooth or dart (one normal per vertex).
+    std::vector<double> limit_positions, limit_normals;
+    std::vector<std::uint8_t> limit_smooth;
     // Sharpness of every last-level edge (ends in our numbering) and vertex (our order), as OpenSubdiv's refiner
     // carries them down (decremented per level, Chaikin-averaged, ...). OpenSubdiv makes boundary and
     // non-manifold edges infinitely sharp whatever their tags (and one-face boundary vertices too under

@@ -72,6 +72,38 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     const std::string tag_report = compare_crease_tags(plan, mapped);
     EXPECT_TRUE(tag_report.empty()) << tag_report;
 
+    // The limit surface: positions against Far::PrimvarRefiner::Limit, and at OpenSubdiv's smooth and dart vertices
+    // (one normal per vertex) every corner's normal against tan1 x tan2 of its limit tangents.
+    {
+        Options limit_options = options;
+        limit_options.limit_surface = true;
+        Plan limit_plan(mesh.view(), limit_options);
+        std::vector<float> limit(3 * std::size_t(limit_plan.num_output_vertices()));
+        std::vector<float> normals(9 * std::size_t(limit_plan.num_output_triangles()));
+        limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3), normals.data());
+        int bad_positions = 0, bad_normals = 0, smooth_corners = 0;
+        std::ostringstream limit_report;
+        for (int v = 0; v < limit_plan.num_output_vertices(); ++v) {
+            double distance = 0.0;
+            for (int k = 0; k < 3; ++k) distance = std::max(distance, std::abs(limit[3 * v + k] - mapped.limit_positions[3 * v + k]));
+            if (!(distance <= tolerance) && bad_positions++ < 5)
+                limit_report << "  limit position of vertex " << v << " off by " << distance << "\n";
+        }
+        const std::int32_t* tris = limit_plan.output_triangles();
+        for (int c = 0; c < 3 * limit_plan.num_output_triangles(); ++c) {
+            const int v = tris[c];
+            if (!mapped.limit_smooth[v]) continue;
+            ++smooth_corners;
+            double distance = 0.0;
+            for (int k = 0; k < 3; ++k) distance = std::max(distance, std::abs(normals[3 * c + k] - mapped.limit_normals[3 * v + k]));
+            if (!(distance <= 1e-5) && bad_normals++ < 5)
+                limit_report << "  normal at corner " << c << " (vertex " << v << ") off by " << distance << "\n";
+        }
+        EXPECT_EQ(bad_positions, 0) << "limit positions differ from OpenSubdiv's Limit:\n" << limit_report.str();
+        EXPECT_EQ(bad_normals, 0) << "limit normals differ from OpenSubdiv's tangents:\n" << limit_report.str();
+        EXPECT_GT(smooth_corners, 0);
+    }
+
     if (mesh.triangle_uvs.empty()) return;
     // Face-varying: our per-corner UVs against OpenSubdiv's for the same (oriented) face, corner by corner.
     std::vector<float> corner_uvs(6 * std::size_t(mesh.num_triangles()));

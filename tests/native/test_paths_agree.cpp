@@ -29,6 +29,7 @@ struct PathCase {
     std::function<TestMesh()> make;
     Rules rules;
     int levels;
+    bool limit_surface = false;
 };
 // gtest prints a parameter with this (instead of its bytes) when a case fails.
 void PrintTo(const PathCase& c, std::ostream* os) { *os << c.name; }
@@ -64,6 +65,23 @@ std::vector<PathCase> path_cases() {
          },
          Rules::Hoppe94, 3},
         {"opensubdiv_bipyramid64_L3", [] { return bipyramid(64); }, Rules::OpenSubdiv, 3},
+        // The limit is one more pass of the same kernels.
+        {"opensubdiv_semisharp_icosphere1280_L2_limit",
+         [] {
+             TestMesh m = icosphere(3);
+             jitter(m, 96, 0.01f);
+             add_random_creases(m, 96, 0.15, true);
+             return m;
+         },
+         Rules::OpenSubdiv, 2, true},
+        {"hoppe94_creases_cones_grid30_L2_limit",
+         [] {
+             TestMesh m = grid(30, 30);
+             add_random_creases(m, 97, 0.1, false);
+             for (int v : {40, 200, 500}) m.cone_vertices.push_back(v);
+             return m;
+         },
+         Rules::Hoppe94, 2, true},
     };
 }
 
@@ -75,6 +93,7 @@ Options options_for(const PathCase& c, const TestMesh& mesh, Kernel kernel, int 
     options.crease_method = mesh.crease_method;
     options.kernel = kernel;
     options.threads = threads;
+    options.limit_surface = c.limit_surface;
     return options;
 }
 

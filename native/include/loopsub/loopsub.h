@@ -64,6 +64,10 @@ struct Options {
     Boundary boundary = Boundary::EdgesOnly;
     CreaseMethod crease_method = CreaseMethod::Uniform;
     Kernel kernel = Kernel::Auto;
+    // Put the last level on the limit surface (Blender's "Use Limit Surface"): evaluate() then writes limit values,
+    // and can write the limit normals too. OpenSubdiv: Far::PrimvarRefiner::Limit. Hoppe94: the limits of its own
+    // masks (docs/python.md, "The limit surface").
+    bool limit_surface = false;
     int threads = 1;  // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores)
     // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
     std::uint64_t memory_limit_bytes = std::uint64_t(4) << 30;
@@ -167,12 +171,20 @@ public:
     // (number of level-L vertices + k) of level L+1.
     const std::vector<std::int32_t>& level_edges(int level) const;
     int level_num_vertices(int level) const;  // 0 <= level <= levels()
-    // Class of each vertex of level L under the chosen rules (what the repositioning at level L used).
+    // Class of each vertex of level L under the chosen rules (what the repositioning at level L used; with the limit
+    // surface, L = levels() too: what the limit used).
     const std::vector<VertexType>& level_vertex_types(int level) const;
 
     // Refines per-vertex data: in has num_input_vertices() elements, out num_output_vertices(), both with the same
     // channel count. Throws InputError on a non-finite input value. Not reentrant: the plan owns scratch buffers.
     void evaluate(ChannelsView<const float> in, ChannelsView<float> out);
+    // With Options::limit_surface: evaluate() and, from its first three channels (positions), the limit surface's
+    // unit normal at every corner of every output triangle (num_output_triangles() x 3 x 3 floats, row-major).
+    // Across a sharp edge (a crease, a boundary) each side has its own normal: the limit normal of the surface on
+    // that side alone; elsewhere the corners of a vertex share one. Where the surface has no tangent plane (a
+    // degenerate neighbourhood) the normal is the zero vector. InputError without the limit surface or with
+    // fewer than three channels.
+    void evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals);
 
     // Refines face-varying data (UVs): in holds num_channels floats per corner of each input triangle
     // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face. Throws

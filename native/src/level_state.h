@@ -1,0 +1,99 @@
+// What the plan builder knows about one level besides its connectivity: the few sharp or tagged edges and vertices
+// (features), and the walk over the vertices next to them, where the rules can differ from the smooth masks. Shared
+// by the refinement levels (plan.cpp) and the limit (limit.cpp).
+#pragma once
+
+#include <algorithm>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+#include "rules.h"
+#include "topology.h"
+
+namespace loopsub::detail {
+
+// A sharp or tagged edge or vertex. Most of a mesh is smooth and untagged, so a level keeps only these, sorted by
+// index: a creased model at level 4 has a few hundred of them among a million edges.
+struct Feature {
+    Index index;
+    float sharpness;  // OpenSubdiv: the current sharpness; Hoppe94: infinite on creases and corners, else 0
+    float tag;        // the crease or corner tag carried into the output (0: none)
+    bool operator<(const Feature& other) const { return index < other.index; }
+};
+
+inline const Feature* find_feature(const std::vector<Feature>& features, Index index) {
+    const auto found = std::lower_bound(features.begin(), features.end(), Feature{index, 0.0f, 0.0f});
+    return found != features.end() && found->index == index ? &*found : nullptr;
+}
+
+struct LevelState {
+    Topology topology;
+    bool own_neighbourhood = true;  // false: refined ForStencils, its vertex neighbourhoods come from its parent
+    std::vector<Feature> edges, vertices;
+
+    float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }
+    float vertex_sharpness(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->sharpness : 0.0f; }
+    float vertex_tag(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->tag : 0.0f; }
+};
+
+// A vertex next to a feature, with its edges (in VertexNeighbourhood order) and their sharpness and tags.
+struct FeatureVertex {
+    Index vertex;
+    const std::vector<Index>& edges;
+    const std::vector<float>& sharpness;
+    const std::vector<float>& tags;
+    int sharp_edges;   // how many of its edges are sharp
+    Index crease[2];   // the first two sharp edges (-1: none)
+    bool tagged_cone;  // Hoppe94
+};
+
+// Visits, in vertex order, every vertex that touches a sharp or tagged edge, is tagged itself, or is a cone.
+template <typename Visit>
+void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& cones, const VertexNeighbourhood& around,
+                             Visit visit) {
+    // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that gathering them needs
+    // no search per incident edge.
+    struct Touch {
+        Index vertex;
+        const Feature* edge;  // null: the vertex is a feature itself, or a cone
+        bool operator<(const Touch& other) const { return vertex < other.vertex; }
+    };
+    const Topology& t = level.topology;
+    std::vector<Touch> touches;
+    touches.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
+    for (const Feature& f : level.edges) {
+        touches.push_back({t.edge_vertices[2 * f.index], &f});
+        touches.push_back({t.edge_vertices[2 * f.index + 1], &f});
+    }
+    for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr});
+    for (Index v : cones) if (v < t.num_vertices) touches.push_back({v, nullptr});
+    std::sort(touches.begin(), touches.end());
+
+    std::vector<Index> edges;
+    std::vector<float> sharpness, tags;
+    for (auto run = touches.begin(); run != touches.end();) {
+        const Index v = run->vertex;
+        const auto run_end = std::find_if(run, touches.end(), [v](const Touch& touch) { return touch.vertex != v; });
+        around.edges(v, edges);
+        sharpness.assign(edges.size(), 0.0f);
+        tags.assign(edges.size(), 0.0f);
+        for (auto touch = run; touch != run_end; ++touch) {
+            if (!touch->edge) continue;
+            const std::size_t k = std::size_t(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
+            sharpness[k] = touch->edge->sharpness;
+            tags[k] = touch->edge->tag;
+        }
+        run = run_end;
+        int sharp_edges = 0;
+        Index crease[2] = {-1, -1};
+        for (std::size_t k = 0; k < edges.size(); ++k)
+            if (is_sharp(sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
+        visit(FeatureVertex{v, edges, sharpness, tags, sharp_edges, {crease[0], crease[1]},
+                            std::binary_search(cones.begin(), cones.end(), v)});
+    }
+}
+
+// Hoppe94's class of a vertex (RULES.md section 1) from OpenSubdiv's rule and the cone tag.
+VertexType classify_vertex(SdcRule rule, const FeatureVertex& vertex, const VertexNeighbourhood& around);
+
+}  // namespace loopsub::detail

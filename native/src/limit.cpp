@@ -1,0 +1,258 @@
+// The limit surface: where the last level's vertices land when subdivision goes on forever, and the surface's
+// normals there. Planned once (plan_limit: the limit masks as one more vertex-only pass for the kernels, the rings
+// put in counter-clockwise order, the sides of every crease), evaluated per frame (the pass runs with the
+// refinement in Plan::evaluate; limit_normals applies the tangent masks).
+//
+// Normals follow the seed's attribute table: smooth edges have continuous normals at the limit, crease edges
+// discontinuous ones. A vertex whose fan is a disk of smooth edges (smooth, dart and cone vertices) has one normal,
+// t1 x t2 of OpenSubdiv's smooth tangent masks. Elsewhere each corner takes the normal of its side: the faces
+// between two sharp edges, with the sharp edges as that side's boundary (OpenSubdiv's boundary tangent masks).
+#include <algorithm>
+#include <cmath>
+
+#include "level_state.h"
+#include "plan_data.h"
+
+namespace loopsub {
+
+using detail::Index;
+
+namespace {
+
+inline int next_corner(int corner) { return corner == 2 ? 0 : corner + 1; }
+inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
+
+Index slot_of(const detail::LargeVector<Index>& ring, Index first, Index last, Index vertex) {
+    for (Index k = first; k < last; ++k)
+        if (ring[k] == vertex) return k;
+    return -1;
+}
+
+}  // namespace
+
+void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& parent) {
+    detail::Topology& t = level.topology;
+    const int nv = t.num_vertices;
+    limit = std::make_unique<detail::LimitTables>();
+    detail::LimitTables& lt = *limit;
+    detail::LevelStencils& s = lt.positions;
+    s.num_vertices = nv;
+    s.num_edges = 0;
+    int max_valence = 0;
+    for (int v = 0; v < nv; ++v) max_valence = std::max(max_valence, t.valence(v));
+    max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));
+    s.smooth_self.resize(max_valence + 1);
+    s.smooth_ring.resize(max_valence + 1);
+    lt.smooth_t1.resize(max_valence + 1);
+    lt.smooth_t2.resize(max_valence + 1);
+    for (int n = 0; n <= max_valence; ++n) {
+        const detail::LimitMask m = detail::smooth_limit_mask(n);
+        s.smooth_self[n] = float(m.self);
+        s.smooth_ring[n] = float(m.ring);
+        detail::smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
+    }
+
+    // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
+    struct Classified {
+        Index vertex;
+        detail::SdcRule rule;
+        int valence;
+        Index crease[2];
+    };
+    std::vector<Classified> classified;
+    std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
+    lt.by_side.assign(nv, 0);
+    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
+    detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {
+        const detail::SdcRule rule = detail::sdc_vertex_rule(level.vertex_sharpness(vertex.vertex), vertex.sharp_edges);
+        types[vertex.vertex] = detail::classify_vertex(rule, vertex, around);
+        classified.push_back({vertex.vertex, rule, int(vertex.edges.size()), {vertex.crease[0], vertex.crease[1]}});
+        lt.by_side[vertex.vertex] = rule == detail::SdcRule::Crease || rule == detail::SdcRule::Corner;
+    });
+    for (const Classified& c : classified) {
+        const Index v = c.vertex;
+        double vertex_weight[2] = {0.5, 0.5};
+        Index ends[2] = {v, v};
+        for (int k = 0; k < 2 && c.crease[k] >= 0; ++k) {
+            const Index e = c.crease[k], other = t.other_end(e, v);
+            ends[k] = other;
+            const bool v_first = t.edge_vertices[2 * e] == v;
+            const detail::EdgeMask edge = rules->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
+                                                            v_first ? types[other] : types[v], around.edge_face_count(e), true});
+            // A crease edge ending at a Hoppe94 dart is refined as a smooth edge, and the limit there depends on the
+            // surface beyond: the crease's own B-spline weight stands in.
+            if (edge.wings == 0.0) vertex_weight[k] = v_first ? edge.a : edge.b;
+        }
+        const detail::VertexSituation situation{types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0,
+                                                {c.crease[0], c.crease[1]}, {-1, -1}};
+        const detail::LimitMask mask = rules->limit_mask(situation, vertex_weight[0], vertex_weight[1]);
+        const detail::LimitMask smooth = detail::smooth_limit_mask(c.valence);
+        if (mask.self != smooth.self || mask.ring != smooth.ring || mask.end_a != 0.0 || mask.end_b != 0.0)
+            s.special_vertices.push_back({v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
+    }
+
+    s.ring_offsets = std::move(t.vertex_edge_offsets);
+    s.ring = std::move(t.vertex_vertices);
+    const detail::LargeVector<Index>& tri = t.face_vertices;
+    const std::size_t corners = tri.size();
+
+    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v.
+    detail::LargeVector<Index> follower(s.ring.size(), -1);
+    for (std::size_t c = 0; c < corners; ++c) {
+        const Index v = tri[c];
+        if (lt.by_side[v]) continue;
+        const std::size_t face = c - c % 3;
+        const Index a = tri[face + next_corner(int(c % 3))], b = tri[face + prev_corner(int(c % 3))];
+        const Index k = slot_of(s.ring, s.ring_offsets[v], s.ring_offsets[v + 1], a);
+        if (k >= 0) follower[k] = b;
+    }
+    std::vector<Index> ordered;
+    for (int v = 0; v < nv; ++v) {
+        const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
+        if (lt.by_side[v] || first == last) continue;
+        ordered.assign(1, s.ring[first]);
+        for (Index k = first; ordered.size() < std::size_t(last - first);) {
+            const Index next = follower[k];
+            k = next < 0 ? -1 : slot_of(s.ring, first, last, next);
+            if (k < 0) break;
+            ordered.push_back(next);
+        }
+        // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled
+        // by sides like a crease's.
+        const bool disk = ordered.size() == std::size_t(last - first) && (follower[slot_of(s.ring, first, last, ordered.back())] == ordered.front());
+        if (disk) std::copy(ordered.begin(), ordered.end(), s.ring.begin() + first);
+        else lt.by_side[v] = 1;
+    }
+
+    // Sides: the corners at each such vertex, chained across the smooth edges they share.
+    struct Corner {
+        Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
+        bool operator<(const Corner& other) const { return vertex != other.vertex ? vertex < other.vertex : corner < other.corner; }
+    };
+    std::vector<Corner> at_sides;
+    for (std::size_t c = 0; c < corners; ++c) {
+        if (!lt.by_side[tri[c]]) continue;
+        const std::size_t face = c - c % 3;
+        const int k = int(c % 3);
+        at_sides.push_back({tri[c], Index(c), tri[face + next_corner(k)], tri[face + prev_corner(k)], t.face_edges[face + k],
+                            t.face_edges[face + prev_corner(k)]});
+    }
+    std::sort(at_sides.begin(), at_sides.end());
+    std::vector<int> next, previous;
+    std::vector<std::uint8_t> placed;
+    std::vector<int> side_faces_seen;
+    for (std::size_t begin = 0; begin < at_sides.size();) {
+        std::size_t end = begin;
+        while (end < at_sides.size() && at_sides[end].vertex == at_sides[begin].vertex) ++end;
+        const int n = int(end - begin);
+        const Corner* fan = &at_sides[begin];
+        next.assign(n, -1);
+        previous.assign(n, -1);
+        for (int i = 0; i < n; ++i) {
+            if (detail::is_sharp(level.edge_sharpness(fan[i].edge_b))) continue;
+            for (int j = 0; j < n; ++j) {
+                if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
+                    next[i] = j, previous[j] = i;
+                    break;
+                }
+            }
+        }
+        placed.assign(n, 0);
+        auto add_side = [&](int start, bool closed) {
+            const Index side = Index(lt.sides.size());
+            detail::LimitTables::Side& entry = lt.sides.emplace_back();
+            entry.vertex = fan[start].vertex;
+            entry.first = Index(lt.side_points.size());
+            entry.closed = closed;
+            int faces = 0, i = start, last = start;
+            do {
+                placed[i] = 1;
+                lt.side_points.push_back(fan[i].a);
+                lt.corner_sides.push_back({fan[i].corner, side});
+                ++faces;
+                last = i;
+                i = next[i];
+            } while (i >= 0 && i != start);
+            if (!closed) lt.side_points.push_back(fan[last].b);
+            entry.faces = faces;
+        };
+        for (int i = 0; i < n; ++i)
+            if (previous[i] < 0) add_side(i, false);
+        for (int i = 0; i < n; ++i)
+            if (!placed[i]) add_side(i, true);
+        begin = end;
+    }
+    std::sort(lt.corner_sides.begin(), lt.corner_sides.end());
+    int max_side_faces = 0;
+    for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
+    lt.side_t1.resize(max_side_faces + 1);
+    lt.side_t2.resize(max_side_faces + 1);
+    for (int faces = 1; faces <= max_side_faces; ++faces) detail::side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
+}
+
+namespace {
+
+struct Vec3 {
+    float x = 0.0f, y = 0.0f, z = 0.0f;
+};
+
+// The unit normal t1 x t2, or zero where the tangents do not span a plane.
+Vec3 unit_normal(const Vec3& t1, const Vec3& t2) {
+    const double x = double(t1.y) * t2.z - double(t1.z) * t2.y;
+    const double y = double(t1.z) * t2.x - double(t1.x) * t2.z;
+    const double z = double(t1.x) * t2.y - double(t1.y) * t2.x;
+    const double length = std::sqrt(x * x + y * y + z * z);
+    if (!(length > 0.0) || !std::isfinite(length)) return {};
+    return {float(x / length), float(y / length), float(z / length)};
+}
+
+}  // namespace
+
+void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals) {
+    detail::LimitTables& lt = *limit;
+    const detail::LevelStencils& s = lt.positions;
+    auto at = [&p](Index i, int c) { return p.data[c * p.channel_stride + std::size_t(i) * p.element_stride]; };
+    // Tangent masks sum to zero, so they apply to the neighbours' offsets from the vertex: small numbers, where the
+    // positions themselves would lose the tangents' low bits at deep levels.
+    auto tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
+        const float vx = at(v, 0), vy = at(v, 1), vz = at(v, 2);
+        for (int i = 0; i < count; ++i) {
+            const float dx = at(points[i], 0) - vx, dy = at(points[i], 1) - vy, dz = at(points[i], 2) - vz;
+            t1.x += w1[i] * dx, t1.y += w1[i] * dy, t1.z += w1[i] * dz;
+            t2.x += w2[i] * dx, t2.y += w2[i] * dy, t2.z += w2[i] * dz;
+        }
+    };
+
+    lt.vertex_normals.resize(3 * std::size_t(s.num_vertices));
+    for (int v = 0; v < s.num_vertices; ++v) {
+        if (lt.by_side[v]) continue;
+        const Index first = s.ring_offsets[v];
+        const int valence = s.ring_offsets[v + 1] - first;
+        Vec3 t1, t2;
+        tangents(v, s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
+        const Vec3 n = unit_normal(t1, t2);
+        lt.vertex_normals[3 * v] = n.x, lt.vertex_normals[3 * v + 1] = n.y, lt.vertex_normals[3 * v + 2] = n.z;
+    }
+    lt.side_normals.resize(3 * lt.sides.size());
+    for (std::size_t i = 0; i < lt.sides.size(); ++i) {
+        const detail::LimitTables::Side& side = lt.sides[i];
+        const Index* points = lt.side_points.data() + side.first;
+        Vec3 t1, t2;
+        if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
+        else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
+        const Vec3 n = unit_normal(t1, t2);
+        lt.side_normals[3 * i] = n.x, lt.side_normals[3 * i + 1] = n.y, lt.side_normals[3 * i + 2] = n.z;
+    }
+
+    const std::size_t corners = output_triangles.size();
+    for (std::size_t c = 0; c < corners; ++c) {
+        const float* n = &lt.vertex_normals[3 * std::size_t(output_triangles[c])];
+        corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
+    }
+    for (const auto& [corner, side] : lt.corner_sides) {
+        const float* n = &lt.side_normals[3 * std::size_t(side)];
+        corner_normals[3 * corner] = n[0], corner_normals[3 * corner + 1] = n[1], corner_normals[3 * corner + 2] = n[2];
+    }
+}
+
+}  // namespace loopsub

@@ -1,0 +1,171 @@
+// The limit surface by hand and by convergence (the comparison with OpenSubdiv's Limit is in
+// test_opensubdiv_exact.cpp): normals on a folded sheet are its planes' normals on either side of the fold, and
+// the Hoppe 94 limit is where its own refinement goes when it is carried on for many more levels.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+#include "mesh_gen.h"
+
+namespace loopsub::testing {
+namespace {
+
+constexpr double kFoldAngle = 1.0;  // radians
+
+// A flat sheet (z = 0) folded up along the column x = 0.5 by kFoldAngle, the fold tagged as a crease: every point
+// of the limit surface lies in one of the two planes.
+TestMesh folded_sheet() {
+    TestMesh mesh = grid(8, 6);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+        const double x = mesh.positions[3 * v] - 0.5;
+        mesh.positions[3 * v + 2] = 0.0f;
+        if (x > 0) {
+            mesh.positions[3 * v] = float(0.5 + x * std::cos(kFoldAngle));
+            mesh.positions[3 * v + 2] = float(x * std::sin(kFoldAngle));
+        }
+    }
+    for (int j = 0; j < 6; ++j) mesh.add_crease(grid_vertex(8, 4, j), grid_vertex(8, 4, j + 1));
+    return mesh;
+}
+
+class FoldedSheet : public ::testing::TestWithParam<Rules> {};
+
+TEST_P(FoldedSheet, EachSideOfTheFoldHasItsPlanesNormal) {
+    const TestMesh mesh = folded_sheet();
+    // The winding of the first input triangle says which way the flat half faces.
+    const float* p = mesh.positions.data();
+    const std::int32_t* t0 = mesh.triangles.data();
+    const double e1x = p[3 * t0[1]] - p[3 * t0[0]], e1y = p[3 * t0[1] + 1] - p[3 * t0[0] + 1];
+    const double e2x = p[3 * t0[2]] - p[3 * t0[0]], e2y = p[3 * t0[2] + 1] - p[3 * t0[0] + 1];
+    const double up = e1x * e2y - e1y * e2x > 0 ? 1.0 : -1.0;
+    const double flat_normal[3] = {0.0, 0.0, up};
+    const double folded_normal[3] = {-up * std::sin(kFoldAngle), 0.0, up * std::cos(kFoldAngle)};
+
+    for (int levels = 1; levels <= 3; ++levels) {
+        Options options;
+        options.rules = GetParam();
+        options.levels = levels;
+        options.limit_surface = true;
+        Plan plan(mesh.view(), options);
+        std::vector<float> limit(3 * std::size_t(plan.num_output_vertices()));
+        std::vector<float> normals(9 * std::size_t(plan.num_output_triangles()));
+        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3), normals.data());
+
+        // The folded half's input points are rounded to floats off its exact plane, which tilts normals computed
+        // from differences of nearby points by up to ~1e-6 at level 3.
+        constexpr double kNormalTolerance = 1e-5;
+        int bad = 0;
+        bool flat_on_fold = false, folded_on_fold = false;
+        const std::int32_t* tris = plan.output_triangles();
+        for (int f = 0; f < plan.num_output_triangles(); ++f) {
+            double centre_x = 0.0;
+            for (int k = 0; k < 3; ++k) centre_x += limit[3 * tris[3 * f + k]] / 3.0;
+            const double* expected = centre_x > 0.5 ? folded_normal : flat_normal;
+            for (int k = 0; k < 3; ++k) {
+                const float* n = &normals[9 * f + 3 * k];
+                double error = 0.0;
+                for (int c = 0; c < 3; ++c) error = std::max(error, std::abs(n[c] - expected[c]));
+                if (!(error <= kNormalTolerance) && bad++ < 5)
+                    ADD_FAILURE() << "level " << levels << " triangle " << f << " corner " << k << ": normal (" << n[0]
+                                  << ", " << n[1] << ", " << n[2] << ") is off its plane's by " << error;
+                const float x = limit[3 * tris[3 * f + k]];
+                if (std::abs(x - 0.5f) < 1e-6f) (expected == flat_normal ? flat_on_fold : folded_on_fold) = true;
+            }
+        }
+        EXPECT_EQ(bad, 0) << "level " << levels;
+        EXPECT_TRUE(flat_on_fold && folded_on_fold) << "level " << levels << ": the fold's corners should take both planes' normals";
+        // The limit stays in the planes too.
+        for (int v = 0; v < plan.num_output_vertices(); ++v) {
+            const double x = limit[3 * v] - 0.5, z = limit[3 * v + 2];
+            const double off_plane = x <= 0 ? std::abs(z) : std::abs(-x * std::sin(kFoldAngle) + z * std::cos(kFoldAngle));
+            ASSERT_LE(off_plane, 1e-6) << "level " << levels << " vertex " << v;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothRules, FoldedSheet, ::testing::Values(Rules::Hoppe94, Rules::OpenSubdiv),
+                         [](const auto& info) { return std::string(info.param == Rules::Hoppe94 ? "hoppe94" : "opensubdiv"); });
+
+// An octahedron with a creased equator (irregular crease vertices: two faces on each side), a corner on it, and a
+// cone at the bottom apex: under Hoppe 94 the crease next to the corner takes the {5,3} edges, so its limit is not
+// OpenSubdiv's B-spline one.
+TestMesh creased_octahedron() {
+    TestMesh mesh = bipyramid(4);
+    for (int k = 0; k < 4; ++k) mesh.add_crease(2 + k, 2 + (k + 1) % 4);
+    mesh.add_corner(2);
+    mesh.cone_vertices.push_back(1);
+    return mesh;
+}
+
+// Vertex v of level 1 keeps its index at every later level, and there converges to its limit at the rate of the
+// largest eigenvalue that moves the vertex itself: 1/4 per level at smooth and regular crease vertices, 3/8 at an
+// irregular crease vertex between {5,3} edges and at the valence-4 cone (b(4)). Eight more levels leave errors of
+// ~1e-5 and ~4e-5 where a wrong mask (OpenSubdiv's (1,4,1)/6 at an irregular crease vertex, the smooth mask at the
+// cone) would be off by 1e-2.
+TEST(HoppeLimit, IsWhereItsOwnRefinementConverges) {
+    const TestMesh mesh = creased_octahedron();
+    Options options;
+    options.rules = Rules::Hoppe94;
+    options.levels = 1;
+    options.limit_surface = true;
+    Plan limit_plan(mesh.view(), options);
+    std::vector<float> limit(3 * std::size_t(limit_plan.num_output_vertices()));
+    limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3));
+    const std::vector<VertexType>& types = limit_plan.level_vertex_types(1);
+
+    options.limit_surface = false;
+    options.levels = 9;
+    Plan deep_plan(mesh.view(), options);
+    const std::vector<float> deep = evaluate_positions(deep_plan, mesh);
+
+    std::set<VertexType> seen;
+    for (int v = 0; v < limit_plan.num_output_vertices(); ++v) {
+        seen.insert(types[v]);
+        double distance = 0.0;
+        for (int k = 0; k < 3; ++k) distance = std::max(distance, double(std::abs(limit[3 * v + k] - deep[3 * v + k])));
+        const double tolerance = types[v] == VertexType::Cone || types[v] == VertexType::IrregularCrease ? 1e-4 : 2e-5;
+        EXPECT_LE(distance, tolerance) << "vertex " << v << " of class " << int(types[v]);
+    }
+    for (VertexType type : {VertexType::Smooth, VertexType::RegularCrease, VertexType::IrregularCrease, VertexType::Corner, VertexType::Cone})
+        EXPECT_TRUE(seen.count(type)) << "the mesh should have a vertex of class " << int(type) << " at level 1";
+}
+
+TEST(LimitSurface, NormalsNeedTheLimitAndPositions) {
+    const TestMesh mesh = icosphere(1);
+    Options options;
+    options.levels = 1;
+    Plan plan(mesh.view(), options);
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(9 * std::size_t(plan.num_output_triangles()));
+    EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), normals.data()), InputError);
+    options.limit_surface = true;
+    Plan limit_plan(mesh.view(), options);
+    EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 2), interleaved(out.data(), 2), normals.data()), InputError);
+    EXPECT_EQ(limit_plan.level_vertex_types(1).size(), std::size_t(limit_plan.num_output_vertices()));
+    EXPECT_THROW(plan.level_vertex_types(1), std::out_of_range);
+}
+
+// Level 0 with the limit: the input's own vertices go to the limit, as OpenSubdiv's Limit of an unrefined mesh.
+TEST(LimitSurface, LevelZeroPutsTheInputOnTheLimit) {
+    TestMesh mesh = bipyramid(6);
+    Options options;
+    options.rules = Rules::OpenSubdiv;
+    options.levels = 0;
+    options.limit_surface = true;
+    Plan plan(mesh.view(), options);
+    std::vector<float> limit(3 * std::size_t(plan.num_output_vertices()));
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3));
+    // Apex 0 has the six ring vertices 2..7 around it, valence 6: 1/2 itself, 1/12 each neighbour.
+    for (int k = 0; k < 3; ++k) {
+        double expected = 0.5 * mesh.positions[k];
+        for (int r = 2; r < 8; ++r) expected += mesh.positions[3 * r + k] / 12.0;
+        EXPECT_NEAR(limit[k], expected, 1e-6);
+    }
+}
+
+}  // namespace
+}  // namespace loopsub::testing
