@@ -1,5 +1,6 @@
 // The per-frame work: checks of the values, then the kernels over the plan's stencil tables, level by level, in
-// parallel parts; and the linear refinement of face-varying values.
+// parallel parts, for vertex data and face-varying layers alike; the limit normals; and the linear refinement of
+// per-corner face-varying values.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,6 +20,66 @@ using detail::ms_since;
 using detail::run_levels;
 using Clock = detail::Clock;
 
+namespace {
+
+// Runs stencil passes (refinement levels, then the limit) over data of `channels` channels: pass i reads counts[i]
+// elements and writes counts[i + 1]; the first reads load(element, channel), the last writes `out`.
+//
+// Passes run on quads: an element's channels side by side, padded with zeros to a multiple of four, so that a kernel
+// fetches every channel of a neighbour with one aligned 16-byte load (kernels_quads.h); with gathers from planar
+// arrays each channel of each neighbour is a load of its own, measured 1.7x slower (docs/benchmark.md). The padding
+// refines like a channel (zeros stay zeros). Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the
+// last pass's source stays there for the limit normals.
+template <typename Load>
+void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
+                int channels, Load load, ChannelsView<float> out) {
+    const int n = int(passes.size());
+    if (n == 0) {
+        for (int v = 0; v < counts[0]; ++v)
+            for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = load(v, c);
+        return;
+    }
+    const std::size_t padded = (std::size_t(channels) + 3) / 4 * 4;
+    std::size_t needed[2] = {0, std::size_t(counts[0])};
+    for (int i = 0; i + 1 < n; ++i) needed[i % 2] = std::max(needed[i % 2], std::size_t(counts[i + 1]));
+    for (int b = 0; b < 2; ++b) p.scratch[b].resize(needed[b] * padded);
+    auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
+    float* first = p.scratch[1].data();
+    for (int v = 0; v < counts[0]; ++v)
+        for (std::size_t c = 0; c < padded; ++c) first[v * padded + c] = c < std::size_t(channels) ? load(v, int(c)) : 0.0f;
+
+    std::vector<ChannelsView<const float>> sources(n);
+    std::vector<ChannelsView<float>> targets(n);
+    for (int i = 0; i < n; ++i) {
+        sources[i] = quads((i + 1) % 2);
+        targets[i] = i + 1 < n ? quads(i % 2) : out;
+        // The padding only serves the SIMD loads: the scalar kernel leaves it alone, and the last pass drops it.
+        if (p.kernel == Kernel::Scalar || i + 1 == n) sources[i].num_channels = channels;
+        if (p.kernel == Kernel::Scalar) targets[i].num_channels = channels;
+    }
+    const detail::RefineFn refine = detail::refine_function(p.kernel);
+    run_levels(std::max(1, p.options.threads), n, [&](int pass, int part, int parts) {
+        const detail::LevelStencils& s = *passes[pass];
+        // Small levels are not worth splitting.
+        if (s.num_vertices + s.num_edges < 4096) {
+            if (part == 0) refine(s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
+            return;
+        }
+        auto split = [parts](int count, int i) { return int(std::int64_t(count) * i / parts); };
+        refine(s, sources[pass], targets[pass], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
+               {split(s.num_edges, part), split(s.num_edges, part + 1)});
+    });
+}
+
+// Every mask's weights are non-negative and sum to one, so a refined value never exceeds the largest input; only the
+// sums inside a kernel can overflow, and this bound keeps them finite.
+float largest_refinable(const PlanImpl& p) {
+    return p.options.levels > 0 || p.limit ? std::numeric_limits<float>::max() / float(p.max_summed_terms + 1)
+                                           : std::numeric_limits<float>::max();
+}
+
+}  // namespace
+
 void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
     PlanImpl& p = *impl_;
     const auto start = Clock::now();
@@ -28,70 +89,47 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
     if (channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(channels));
     if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
         fail("evaluate: missing (null) data");
-    auto input = [&](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; };
-    // Every mask's weights are non-negative and sum to one, so a refined value never exceeds the largest input; only
-    // the sums inside a kernel can overflow, and the bound keeps them finite.
-    const float largest = p.options.levels > 0 ? std::numeric_limits<float>::max() / float(p.max_summed_terms + 1)
-                                               : std::numeric_limits<float>::max();
-    detail::validate_vertex_values(in, p.num_input_vertices, largest, p.max_summed_terms);
-
-    const int levels = p.options.levels;
-    if (p.num_input_vertices == 0) {  // nothing to refine (and the output may be a null pointer)
-        p.evaluate_ms = ms_since(start);
-        return;
+    detail::validate_vertex_values(in, p.num_input_vertices, largest_refinable(p), p.max_summed_terms);
+    if (p.num_input_vertices > 0) {  // otherwise nothing to refine (and the output may be a null pointer)
+        std::vector<const detail::LevelStencils*> passes;
+        for (const detail::LevelStencils& s : p.stencils) passes.push_back(&s);
+        if (p.limit) passes.push_back(&p.limit->positions);
+        std::vector<int> counts = p.level_num_vertices;
+        if (p.limit) counts.push_back(counts.back());
+        run_passes(p, passes, counts, channels,
+                   [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out);
     }
-    // The limit is one more pass, over the last level's vertices only.
-    const int passes = levels + (p.limit ? 1 : 0);
-    auto pass_stencils = [&p, levels](int pass) -> const detail::LevelStencils& {
-        return pass < levels ? p.stencils[pass] : p.limit->positions;
-    };
-    if (passes == 0) {
-        for (int v = 0; v < p.num_input_vertices; ++v)
-            for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = input(v, c);
-        p.evaluate_ms = ms_since(start);
-        return;
-    }
-
-    // Levels are refined in quads: a vertex's channels side by side, padded with zeros to a multiple of four, so
-    // that a kernel fetches every channel of a neighbour with one aligned 16-byte load (kernels_quads.h); with
-    // gathers from planar arrays each channel of each neighbour is a load of its own, measured 1.7x slower
-    // (docs/benchmark.md). The padding refines like a channel (zeros stay zeros); the last pass is written
-    // straight into `out`. Pass l reads scratch[(l + 1) % 2] and writes scratch[l % 2].
-    const std::size_t padded = (std::size_t(channels) + 3) / 4 * 4;
-    std::size_t needed[2] = {0, 0};
-    needed[1] = std::size_t(p.num_input_vertices);
-    for (int l = 0; l + 1 < passes; ++l) needed[l % 2] = std::max(needed[l % 2], std::size_t(p.level_num_vertices[l + 1]));
-    for (int b = 0; b < 2; ++b) p.scratch[b].resize(needed[b] * padded);
-    auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
-    const ChannelsView<float> first = quads(1);
-    for (int v = 0; v < p.num_input_vertices; ++v)
-        for (std::size_t c = 0; c < padded; ++c) first.data[v * padded + c] = c < std::size_t(channels) ? input(v, int(c)) : 0.0f;
-
-    std::vector<ChannelsView<const float>> sources(passes);
-    std::vector<ChannelsView<float>> targets(passes);
-    for (int l = 0; l < passes; ++l) {
-        sources[l] = quads((l + 1) % 2);
-        targets[l] = l + 1 < passes ? quads(l % 2) : out;
-    }
-    // The padding only serves the SIMD loads: the scalar kernel leaves it alone, and the last pass drops it.
-    for (int l = 0; l < passes; ++l) {
-        if (p.kernel == Kernel::Scalar) sources[l].num_channels = targets[l].num_channels = channels;
-    }
-    sources[passes - 1].num_channels = channels;
-
-    const detail::RefineFn refine = detail::refine_function(p.kernel);
-    run_levels(std::max(1, p.options.threads), passes, [&](int pass, int part, int parts) {
-        const detail::LevelStencils& s = pass_stencils(pass);
-        // Small levels are not worth splitting.
-        if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) refine(s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
-            return;
-        }
-        auto split = [parts](int n, int i) { return int(std::int64_t(n) * i / parts); };
-        refine(s, sources[pass], targets[pass], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
-               {split(s.num_edges, part), split(s.num_edges, part + 1)});
-    });
     p.evaluate_ms = ms_since(start);
+}
+
+int Plan::num_face_varying_layers() const { return int(impl_->face_varying.size()); }
+
+namespace {
+const detail::FaceVaryingPlan& layer_plan(const PlanImpl& p, int layer) {
+    if (layer < 0 || layer >= int(p.face_varying.size()))
+        throw std::out_of_range("face-varying layer " + std::to_string(layer) + " is not in 0.." + std::to_string(int(p.face_varying.size()) - 1));
+    return p.face_varying[layer];
+}
+}  // namespace
+
+const std::int32_t* Plan::output_face_varying_indices(int layer) const { return layer_plan(*impl_, layer).output_corner_values.data(); }
+int Plan::num_output_face_varying_values(int layer) const { return layer_plan(*impl_, layer).counts.back(); }
+
+void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, ChannelsView<float> out) {
+    PlanImpl& p = *impl_;
+    const detail::FaceVaryingPlan& plan = layer_plan(p, layer);
+    const int channels = in.num_channels;
+    if (channels != out.num_channels)
+        fail("evaluate_face_varying: input has " + std::to_string(channels) + " channels but output has " + std::to_string(out.num_channels));
+    if (channels < 1) fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(channels));
+    if ((in.data == nullptr && plan.num_input_values > 0) || (out.data == nullptr && plan.counts.back() > 0))
+        fail("evaluate_face_varying: missing (null) data");
+    detail::validate_vertex_values(in, plan.num_input_values, largest_refinable(p), p.max_summed_terms, "face-varying value");
+    if (plan.counts[0] == 0) return;
+    std::vector<const detail::LevelStencils*> passes;
+    for (const detail::LevelStencils& s : plan.passes) passes.push_back(&s);
+    run_passes(p, passes, plan.counts, channels,
+               [&in, &plan](int x, int c) { return in.data[c * in.channel_stride + std::size_t(plan.base_values[x]) * in.element_stride]; }, out);
 }
 
 void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals) {
@@ -102,11 +140,10 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     evaluate(in, out);
     const auto start = Clock::now();
     if (p.num_input_vertices == 0) return;
-    // The last level's refined points: the limit pass's source, still in scratch (or the input, with no levels).
+    // The last level's refined points: the limit pass's source, still in scratch.
     const int levels = p.options.levels;
     const std::size_t padded = (std::size_t(in.num_channels) + 3) / 4 * 4;
-    const ChannelsView<const float> last =
-        levels == 0 ? in : ChannelsView<const float>{p.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
+    const ChannelsView<const float> last{p.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
     p.limit_normals(last, corner_normals);
     p.evaluate_ms += ms_since(start);
 }

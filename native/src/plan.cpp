@@ -268,16 +268,23 @@ void PlanImpl::build(const MeshView& mesh) {
         throw MemoryLimitError(request + ", more than 32-bit indices can address (about " + describe_bytes(needed) + " would be needed)",
                                needed);
 
+    std::vector<detail::FaceVaryingBuilder> layers;
+    for (int k = 0; k < mesh.num_face_varying; ++k) layers.emplace_back(mesh, k, options, level);
     Topology parent;  // the level before `level`: the next-to-last level derives its neighbourhoods from it
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
         plan_level(level, parent, child, l + 1);
+        for (detail::FaceVaryingBuilder& layer : layers) layer.plan_level(level, stencils[l], child, l + 1 == options.levels);
         // A level's edge list serves its child's neighbourhoods, then the stencils as the edge points' ends.
         if (l > 0) stencils[l - 1].edge_ends = std::move(parent.edge_vertices);
         parent = std::move(level.topology);
         level = std::move(child);
     }
     if (options.limit_surface) plan_limit(level, parent);
+    for (detail::FaceVaryingBuilder& layer : layers) {
+        if (options.limit_surface) layer.plan_limit(level, limit->positions);
+        face_varying.push_back(layer.finish());
+    }
     if (options.levels > 0) stencils.back().edge_ends = std::move(parent.edge_vertices);
     output_triangles = std::move(level.topology.face_vertices);
     level_edges.resize(options.levels);

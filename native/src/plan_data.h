@@ -6,6 +6,7 @@
 #include <mutex>
 #include <vector>
 
+#include "face_varying.h"
 #include "large_allocator.h"
 #include "loopsub/loopsub.h"
 #include "rule_set.h"
@@ -57,6 +58,7 @@ struct PlanImpl {
     std::vector<std::vector<VertexType>> level_vertex_types;
     std::vector<detail::LevelStencils> stencils;
     std::unique_ptr<detail::LimitTables> limit;  // with Options::limit_surface
+    std::vector<detail::FaceVaryingPlan> face_varying;  // per MeshView::face_varying layer
     detail::LargeVector<Index> output_triangles;
     mutable detail::LargeVector<Index> output_parents;  // on first request
     mutable std::once_flag output_parents_ready;

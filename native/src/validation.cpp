@@ -19,7 +19,8 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
     if (options.threads < 1) fail("threads must be >= 1, got " + std::to_string(options.threads));
     if (!finite_non_negative(options.crease_threshold))
         fail("crease threshold must be a finite number >= 0, got " + std::to_string(options.crease_threshold));
-    if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0)
+    if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0 ||
+        mesh.num_face_varying < 0)
         fail("negative element count");
     auto require = [](const void* pointer, int count, const char* what) {
         if (count > 0 && pointer == nullptr) fail(std::string(what) + " is missing (null) but its count is " + std::to_string(count));
@@ -30,6 +31,7 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
     require(mesh.corner_vertices, mesh.num_corners, "corner vertices");
     require(mesh.corner_sharpness, mesh.num_corners, "corner sharpness");
     require(mesh.cone_vertices, mesh.num_cones, "cone vertices");
+    require(mesh.face_varying, mesh.num_face_varying, "face-varying layers");
 
     auto check_index = [&](Index v, const std::string& where) {
         if (v < 0 || v >= mesh.num_vertices)
@@ -59,15 +61,15 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
     for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone " + std::to_string(k));
 }
 
-void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms) {
+void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms, const char* element) {
     for (int v = 0; v < num_vertices; ++v)
         for (int c = 0; c < in.num_channels; ++c) {
             const float value = in.data[c * in.channel_stride + std::size_t(v) * in.element_stride];
             if (!std::isfinite(value))
-                fail("vertex " + std::to_string(v) + " has a non-finite value (" + std::to_string(value) + ") in channel " +
+                fail(element + (" " + std::to_string(v)) + " has a non-finite value (" + std::to_string(value) + ") in channel " +
                      std::to_string(c));
             if (std::fabs(value) > largest)
-                fail("vertex " + std::to_string(v) + " has a value too large to refine (" + shortest(value) +
+                fail(element + (" " + std::to_string(v)) + " has a value too large to refine (" + shortest(value) +
                      ") in channel " + std::to_string(c) + ": sums of up to " + std::to_string(summed_terms) +
                      " values must stay finite, so values are limited to +-" + shortest(largest));
         }

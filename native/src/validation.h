@@ -10,8 +10,10 @@ namespace loopsub::detail {
 
 void validate_mesh(const MeshView& mesh, const Options& options);
 
-// Per-vertex values: finite, and within +-largest (the bound that keeps a kernel's sums finite).
-void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms);
+// Per-vertex values (or a face-varying layer's, element "face-varying value"): finite, and within +-largest (the
+// bound that keeps a kernel's sums finite).
+void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms,
+                            const char* element = "vertex");
 
 // Face-varying values: finite.
 void validate_face_varying_values(const float* in, std::size_t num_triangles, int num_channels);

@@ -50,7 +50,7 @@ struct OsdReference::Impl {
     int levels = 0;
     std::vector<std::vector<Point>> points;  // per level, OpenSubdiv's order
     std::vector<std::vector<double>> flat;   // the same, 3 doubles per vertex
-    std::vector<UV> last_uvs;                // last level's face-varying values
+    std::vector<UV> last_uvs, limit_uvs;     // last level's face-varying values, refined and at the limit
     std::vector<Point> limit, tangent1, tangent2;  // Limit() of the last level
     bool has_uvs = false;
 };
@@ -85,7 +85,8 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
                                         : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     sdc.SetCreasingMethod(options.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
                                                                          : Sdc::Options::CREASE_UNIFORM);
-    sdc.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
+    // FaceVaryingInterpolation is declared in OpenSubdiv's order.
+    sdc.SetFVarLinearInterpolation(Sdc::Options::FVarLinearInterpolation(int(options.face_varying)));
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     impl_->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
@@ -122,6 +123,10 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
         }
     }
     impl_->last_uvs = std::move(uv_src);
+    if (impl_->has_uvs) {
+        impl_->limit_uvs.assign(impl_->last_uvs.size(), UV{});
+        primvar.LimitFaceVarying(impl_->last_uvs, impl_->limit_uvs, 0);
+    }
     const int last_count = refiner.GetLevel(options.levels).GetNumVertices();
     impl_->limit.assign(last_count, Point{});
     impl_->tangent1.assign(last_count, Point{});
@@ -211,7 +216,7 @@ MappedReference OsdReference::map(const Plan& plan) const {
     const int nf = last.GetNumFaces();
     out.triangles.resize(3 * std::size_t(nf));
     out.ancestors.resize(nf);
-    if (impl_->has_uvs) out.face_uvs.resize(6 * std::size_t(nf));
+    if (impl_->has_uvs) out.face_uvs.resize(6 * std::size_t(nf)), out.face_uvs_limit.resize(6 * std::size_t(nf));
     for (int e = 0; e < last.GetNumEdges(); ++e) {
         Far::ConstIndexArray ev = last.GetEdgeVertices(e);
         out.edge_tags.push_back({osd_to_our[ev[0]], osd_to_our[ev[1]], last.GetEdgeSharpness(e),
@@ -249,7 +254,10 @@ MappedReference OsdReference::map(const Plan& plan) const {
         if (impl_->has_uvs) {
             Far::ConstIndexArray values = last.GetFaceFVarValues(f, 0);
             for (int k = 0; k < 3; ++k)
-                for (int c = 0; c < 2; ++c) out.face_uvs[6 * f + 2 * k + c] = impl_->last_uvs[values[k]].x[c];
+                for (int c = 0; c < 2; ++c) {
+                    out.face_uvs[6 * f + 2 * k + c] = impl_->last_uvs[values[k]].x[c];
+                    out.face_uvs_limit[6 * f + 2 * k + c] = impl_->limit_uvs[values[k]].x[c];
+                }
         }
     }
     return out;

@@ -24,10 +24,11 @@ struct ReferenceOptions {
     Boundary boundary = Boundary::EdgesOnly;
     CreaseMethod crease_method = CreaseMethod::Uniform;
     int levels = 1;
+    FaceVaryingInterpolation face_varying = FaceVaryingInterpolation::All;
 };
 
 // One face-varying channel of 2 floats per value (UVs): value indices per triangle corner. Interpolated with
-// Sdc::Options::FVAR_LINEAR_ALL (linear within each face).
+// ReferenceOptions::face_varying as Sdc::Options::FVarLinearInterpolation.
 struct ReferenceUVs {
     const std::int32_t* triangle_uvs = nullptr;  // 3 per triangle
     const float* uvs = nullptr;                  // 2 per value
@@ -44,8 +45,9 @@ struct MappedReference {
     std::vector<std::int32_t> triangles;
     // Level-0 face each of them descends from (OpenSubdiv's parent links).
     std::vector<std::int32_t> ancestors;
-    // 2 floats per corner of each of `triangles` (empty without UVs).
-    std::vector<double> face_uvs;
+    // 2 floats per corner of each of `triangles` (empty without UVs): refined (InterpolateFaceVarying) and at the
+    // limit (LimitFaceVarying).
+    std::vector<double> face_uvs, face_uvs_limit;
     // Far::PrimvarRefiner::Limit on the last level, our order: positions (3 per vertex), the unit normal
     // tan1 x tan2 (3 per vertex), and whether OpenSubdiv's rule there is smooth or dart (one normal per vertex).
     std::vector<double> limit_positions, limit_normals;

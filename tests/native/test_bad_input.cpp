@@ -141,6 +141,38 @@ TEST(BadInput, FaceVaryingValuesNonFiniteOrHuge) {
     }
 }
 
+// A face-varying layer whose corner refers past its values, or has none, is refused with the place; values that are
+// not finite are refused by evaluate, as vertex values are.
+TEST(BadInput, FaceVaryingLayerIndicesAndValues) {
+    for (Rules rules : kBothRules) {
+        Tetrahedron mesh;
+        std::vector<std::int32_t> corner_values = {0, 1, 2, 0, 2, 3, 2, 1, 3, 0, 3, 1};
+        loopsub::FaceVaryingLayer layer{corner_values.data(), 4};
+        loopsub::MeshView view = mesh.view();
+        view.face_varying = &layer;
+        view.num_face_varying = 1;
+        corner_values[7] = 4;  // triangle 2, corner 1
+        expect_plan_error(view, options_for(rules), {"face-varying layer 0", "triangle 2", "value 4"});
+        corner_values[7] = -1;
+        expect_plan_error(view, options_for(rules), {"face-varying layer 0", "triangle 2", "value -1"});
+        corner_values[7] = 1;
+        layer.corner_values = nullptr;
+        expect_plan_error(view, options_for(rules), {"face-varying layer 0", "null"});
+        layer.corner_values = corner_values.data();
+
+        loopsub::Plan plan(view, options_for(rules, 2));
+        std::vector<float> values = {0, 0, 1, 0, 0, 1, std::numeric_limits<float>::infinity(), 1};
+        std::vector<float> out(2 * std::size_t(plan.num_output_face_varying_values(0)));
+        try {
+            plan.evaluate_face_varying(0, loopsub::interleaved(values.data(), 2), loopsub::interleaved(out.data(), 2));
+            ADD_FAILURE() << "no InputError";
+        } catch (const loopsub::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("non-finite"), std::string::npos) << e.what();
+        }
+        EXPECT_THROW(plan.output_face_varying_indices(1), std::out_of_range);
+    }
+}
+
 TEST(BadInput, CreaseEdgeThatIsNotAnEdge) {
     for (Rules rules : kBothRules) {
         // A quad of two triangles: 0-2 is its diagonal, 1-3 is not an edge.

@@ -39,6 +39,41 @@ void PrintTo(const ExactCase& c, std::ostream* os) { *os << c.name; }
 
 std::string level_suffix(int level) { return "_L" + std::to_string(level); }
 
+// Our per-corner UVs (2 per corner of each output triangle) against OpenSubdiv's for the same oriented face, corner by
+// corner; "" when all are within 1e-5.
+std::string compare_face_uvs(const Plan& plan, const MappedReference& mapped, const std::vector<float>& ours,
+                             const std::vector<double>& expected_uvs) {
+    std::map<std::array<std::int32_t, 3>, int> osd_face;
+    for (std::size_t f = 0; 3 * f < mapped.triangles.size(); ++f) {
+        const std::int32_t* t = &mapped.triangles[3 * f];
+        osd_face.emplace(canonical_triangle(t[0], t[1], t[2]), int(f));
+    }
+    const std::int32_t* tris = plan.output_triangles();
+    int bad = 0;
+    std::ostringstream report;
+    for (int f = 0; f < plan.num_output_triangles(); ++f) {
+        const std::int32_t* t = &tris[3 * f];
+        auto it = osd_face.find(canonical_triangle(t[0], t[1], t[2]));
+        if (it == osd_face.end()) continue;  // reported by compare_triangles
+        const int g = it->second;
+        const int ours_rotation = canonical_rotation(t[0], t[1], t[2]);
+        const std::int32_t* u = &mapped.triangles[3 * g];
+        const int theirs_rotation = canonical_rotation(u[0], u[1], u[2]);
+        for (int k = 0; k < 3; ++k) {
+            const int our_corner = (k + ours_rotation) % 3, their_corner = (k + theirs_rotation) % 3;
+            for (int c = 0; c < 2; ++c) {
+                const double got = ours[6 * f + 2 * our_corner + c];
+                const double expected = expected_uvs[6 * g + 2 * their_corner + c];
+                if (!(std::abs(got - expected) <= 1e-5) && bad++ < 5)
+                    report << "  triangle " << f << " corner " << our_corner << " (vertex " << t[our_corner] << ") channel " << c
+                           << ": expected " << expected << ", got " << got << "\n";
+            }
+        }
+    }
+    if (bad > 5) report << "  ... " << bad << " in all\n";
+    return report.str();
+}
+
 // Checks one refinement against OpenSubdiv; every expectation names the mesh and level.
 void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     Options options;
@@ -105,43 +140,40 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     }
 
     if (mesh.triangle_uvs.empty()) return;
-    // Face-varying: our per-corner UVs against OpenSubdiv's for the same (oriented) face, corner by corner.
+    // Per-corner face-varying values, linear within each face: OpenSubdiv's FVAR_LINEAR_ALL.
     std::vector<float> corner_uvs(6 * std::size_t(mesh.num_triangles()));
     for (std::size_t c = 0; c < mesh.triangle_uvs.size(); ++c)
         for (int k = 0; k < 2; ++k) corner_uvs[2 * c + k] = mesh.uvs[2 * mesh.triangle_uvs[c] + k];
     std::vector<float> out_uvs(6 * std::size_t(plan.num_output_triangles()));
     plan.evaluate_face_varying(corner_uvs.data(), out_uvs.data(), 2);
+    const std::string linear_report = compare_face_uvs(plan, mapped, out_uvs, mapped.face_uvs);
+    EXPECT_TRUE(linear_report.empty()) << "per-corner face-varying values differ from OpenSubdiv's FVAR_LINEAR_ALL:\n" << linear_report;
 
-    std::map<std::array<std::int32_t, 3>, int> osd_face;
-    for (std::size_t f = 0; 3 * f < mapped.triangles.size(); ++f) {
-        const std::int32_t* t = &mapped.triangles[3 * f];
-        osd_face.emplace(canonical_triangle(t[0], t[1], t[2]), int(f));
-    }
-    const std::int32_t* tris = plan.output_triangles();
-    int bad = 0;
-    std::ostringstream report;
-    for (int f = 0; f < plan.num_output_triangles(); ++f) {
-        const std::int32_t* t = &tris[3 * f];
-        auto it = osd_face.find(canonical_triangle(t[0], t[1], t[2]));
-        if (it == osd_face.end()) continue;  // already reported by compare_triangles
-        const int g = it->second;
-        const int ours_rotation = canonical_rotation(t[0], t[1], t[2]);
-        const std::int32_t* u = &mapped.triangles[3 * g];
-        const int theirs_rotation = canonical_rotation(u[0], u[1], u[2]);
-        for (int k = 0; k < 3; ++k) {
-            const int our_corner = (k + ours_rotation) % 3, their_corner = (k + theirs_rotation) % 3;
-            for (int c = 0; c < 2; ++c) {
-                const double got = out_uvs[6 * f + 2 * our_corner + c];
-                const double expected = mapped.face_uvs[6 * g + 2 * their_corner + c];
-                if (!(std::abs(got - expected) <= 1e-5)) {
-                    if (bad++ < 5)
-                        report << "  triangle " << f << " corner " << our_corner << " (vertex " << t[our_corner]
-                               << ") channel " << c << ": expected " << expected << ", got " << got << "\n";
-                }
-            }
+    // A face-varying layer in every interpolation mode, refined and at the limit.
+    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    MeshView with_layer = mesh.view();
+    with_layer.face_varying = &layer;
+    with_layer.num_face_varying = 1;
+    for (int m = 0; m <= int(FaceVaryingInterpolation::All); ++m) {
+        const auto mode = FaceVaryingInterpolation(m);
+        OsdReference mode_reference(mesh.view(), mesh.positions.data(), {mesh.boundary, mesh.crease_method, levels, mode}, uvs);
+        for (bool limit : {false, true}) {
+            Options layer_options = options;
+            layer_options.face_varying = mode;
+            layer_options.limit_surface = limit;
+            Plan layer_plan(with_layer, layer_options);
+            const MappedReference mode_mapped = mode_reference.map(layer_plan);
+            ASSERT_TRUE(mode_mapped.errors.empty()) << mode_mapped.errors.front();
+            std::vector<float> values(2 * std::size_t(layer_plan.num_output_face_varying_values(0)));
+            layer_plan.evaluate_face_varying(0, interleaved(mesh.uvs.data(), 2), interleaved(values.data(), 2));
+            const std::int32_t* indices = layer_plan.output_face_varying_indices(0);
+            std::vector<float> per_corner(6 * std::size_t(layer_plan.num_output_triangles()));
+            for (std::size_t c = 0; c < per_corner.size() / 2; ++c)
+                for (int k = 0; k < 2; ++k) per_corner[2 * c + k] = values[2 * std::size_t(indices[c]) + k];
+            const std::string report = compare_face_uvs(layer_plan, mode_mapped, per_corner, limit ? mode_mapped.face_uvs_limit : mode_mapped.face_uvs);
+            EXPECT_TRUE(report.empty()) << "face-varying mode " << m << (limit ? " at the limit" : "") << " differs from OpenSubdiv:\n" << report;
         }
     }
-    EXPECT_EQ(bad, 0) << "face-varying values differ from OpenSubdiv's FVAR_LINEAR_ALL:\n" << report.str();
 }
 
 std::vector<ExactCase> peer_cases() {
@@ -422,6 +454,36 @@ TEST(PeerShapes, DegenerateFacesAreRefusedWithTheirLine) {
             ++faces_per_edge[{std::min(a, b), std::max(a, b)}];
         }
     EXPECT_TRUE(std::any_of(faces_per_edge.begin(), faces_per_edge.end(), [](const auto& e) { return e.second > 2; }));
+}
+
+// Where the rule sets coincide (a closed mesh with no tags: both are Loop's smooth scheme) Hoppe 94's face-varying
+// layers are OpenSubdiv's in every mode: seams follow the same rules in both.
+TEST(HoppeFaceVarying, EqualsOpenSubdivOnSmoothClosedMeshes) {
+    TestMesh mesh = icosphere(2);
+    jitter(mesh, 63, 0.01f);
+    add_uvs_with_seam(mesh);
+    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    MeshView view = mesh.view();
+    view.face_varying = &layer;
+    view.num_face_varying = 1;
+    const ReferenceUVs uvs{mesh.triangle_uvs.data(), mesh.uvs.data(), int(mesh.uvs.size() / 2)};
+    for (int m = 0; m <= int(FaceVaryingInterpolation::All); ++m) {
+        Options options;
+        options.rules = Rules::Hoppe94;
+        options.levels = 2;
+        options.face_varying = FaceVaryingInterpolation(m);
+        Plan plan(view, options);
+        OsdReference reference(mesh.view(), mesh.positions.data(), {Boundary::EdgesOnly, CreaseMethod::Uniform, 2, options.face_varying}, uvs);
+        const MappedReference mapped = reference.map(plan);
+        ASSERT_TRUE(mapped.errors.empty()) << mapped.errors.front();
+        std::vector<float> values(2 * std::size_t(plan.num_output_face_varying_values(0)));
+        plan.evaluate_face_varying(0, interleaved(mesh.uvs.data(), 2), interleaved(values.data(), 2));
+        std::vector<float> per_corner(6 * std::size_t(plan.num_output_triangles()));
+        for (std::size_t c = 0; c < per_corner.size() / 2; ++c)
+            for (int k = 0; k < 2; ++k) per_corner[2 * c + k] = values[2 * std::size_t(plan.output_face_varying_indices(0)[c]) + k];
+        const std::string report = compare_face_uvs(plan, mapped, per_corner, mapped.face_uvs);
+        EXPECT_TRUE(report.empty()) << "mode " << m << ":\n" << report;
+    }
 }
 
 // The generated meshes really have the valences and tags the cases above count on (a generator bug would

@@ -51,6 +51,17 @@ enum class Boundary {
 
 enum class CreaseMethod { Uniform, Chaikin };  // OpenSubdiv only: how semi-sharp sharpness decays per level
 
+// Where face-varying values (UVs) stay linear: OpenSubdiv's Sdc::Options::FVarLinearInterpolation, in its order
+// (OpenSubdiv's shape files number them 0 .. 5). Blender's Subdivision Surface names in brackets.
+enum class FaceVaryingInterpolation {
+    None,          // smooth everywhere, seams and boundaries too ("All" smooth)
+    CornersOnly,   // corners of a UV island stay, the rest is smooth ("Keep Corners"); OpenSubdiv's default
+    CornersPlus1,  // and junctions of three or more islands ("Keep Corners, Junctions")
+    CornersPlus2,  // and concave corners ("Keep Corners, Junctions, Concave")
+    Boundaries,    // seams and boundaries stay linear ("Keep Boundaries", Blender's default)
+    All            // linear everywhere ("None")
+};
+
 // Which evaluation kernels run. Auto picks the widest the CPU supports; Scalar is the reference path.
 enum class Kernel { Auto, Scalar, SSE41, AVX2 };
 
@@ -63,6 +74,7 @@ struct Options {
     float crease_threshold = 0.0f;
     Boundary boundary = Boundary::EdgesOnly;
     CreaseMethod crease_method = CreaseMethod::Uniform;
+    FaceVaryingInterpolation face_varying = FaceVaryingInterpolation::CornersOnly;
     Kernel kernel = Kernel::Auto;
     // Put the last level on the limit surface (Blender's "Use Limit Surface"): evaluate() then writes limit values,
     // and can write the limit normals too. OpenSubdiv: Far::PrimvarRefiner::Limit. Hoppe94: the limits of its own
@@ -71,6 +83,14 @@ struct Options {
     int threads = 1;  // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores)
     // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
     std::uint64_t memory_limit_bytes = std::uint64_t(4) << 30;
+};
+
+// One face-varying layer (a UV map): the value index of each corner of each triangle. Corners of a vertex with the
+// same index share their value; where a vertex's corners take different values the layer has a seam there, and each
+// side is refined from its own values (OpenSubdiv's face-varying channel).
+struct FaceVaryingLayer {
+    const std::int32_t* corner_values = nullptr;  // 3 * num_triangles indices in [0, num_values)
+    int num_values = 0;
 };
 
 // A triangle mesh with crease tags. Plain arrays, not owned; only read while building a Plan.
@@ -89,6 +109,9 @@ struct MeshView {
 
     const std::int32_t* cone_vertices = nullptr;  // Hoppe94 only: vertices tagged as cones
     int num_cones = 0;
+
+    const FaceVaryingLayer* face_varying = nullptr;  // num_face_varying layers, refined by Options::face_varying
+    int num_face_varying = 0;
 };
 
 // The owning counterpart of MeshView, for C++ callers that build a mesh: view() lends it to a Plan.
@@ -186,9 +209,19 @@ public:
     // fewer than three channels.
     void evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals);
 
-    // Refines face-varying data (UVs): in holds num_channels floats per corner of each input triangle
-    // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face. Throws
-    // InputError on a non-finite input value.
+    // Face-varying layers (MeshView::face_varying): the output's value index at each corner of each output triangle
+    // (3 per triangle), and the number of output values.
+    int num_face_varying_layers() const;
+    const std::int32_t* output_face_varying_indices(int layer) const;
+    int num_output_face_varying_values(int layer) const;
+    // Refines the values of a face-varying layer (in: its num_values elements; out: num_output_face_varying_values)
+    // by Options::face_varying, to the limit with Options::limit_surface. Throws InputError on a non-finite value.
+    // Not reentrant, as evaluate().
+    void evaluate_face_varying(int layer, ChannelsView<const float> in, ChannelsView<float> out);
+
+    // Face-varying data without a layer: in holds num_channels floats per corner of each input triangle
+    // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face, whatever
+    // Options::face_varying says. Throws InputError on a non-finite input value.
     void evaluate_face_varying(const float* in, float* out, int num_channels) const;
 
     // The kernel the plan actually uses (Auto resolved against the CPU).

@@ -1,0 +1,355 @@
+#include "face_varying.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+#include "common.h"
+
+namespace loopsub::detail {
+
+namespace {
+
+using Mode = FaceVaryingInterpolation;
+
+bool linear_boundaries(Mode mode) { return mode == Mode::Boundaries || mode == Mode::All; }
+bool dependent_sharpness(Mode mode) { return mode == Mode::CornersPlus1 || mode == Mode::CornersPlus2; }
+
+// The values of each vertex, as offsets into one list (CSR), from each value's vertex.
+void group_by_vertex(const std::vector<Index>& vertex_of, int num_vertices, std::vector<Index>& offsets, std::vector<Index>& values) {
+    offsets.assign(num_vertices + 1, 0);
+    for (Index v : vertex_of) ++offsets[v + 1];
+    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+    values.resize(vertex_of.size());
+    std::vector<Index> cursor(offsets.begin(), offsets.end() - 1);
+    for (std::size_t x = 0; x < vertex_of.size(); ++x) values[cursor[vertex_of[x]]++] = Index(x);
+}
+
+template <typename Special, typename Key>
+const Special* find_special(const std::vector<Special>& specials, Index target, Key key) {
+    const auto found = std::lower_bound(specials.begin(), specials.end(), target, [&](const Special& s, Index t) { return key(s) < t; });
+    return found != specials.end() && key(*found) == target ? &*found : nullptr;
+}
+
+SpecialVertex copy_of(Index x) { return {x, x, x, 1.0f, 0.0f, 0.0f, 0.0f}; }
+
+}  // namespace
+
+FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Options& options, const LevelState& base)
+    : options_(options) {
+    const FaceVaryingLayer& input = mesh.face_varying[layer];
+    const std::string name = "face-varying layer " + std::to_string(layer);
+    if (input.num_values < 0) fail(name + " has a negative number of values (" + std::to_string(input.num_values) + ")");
+    if (input.corner_values == nullptr && mesh.num_triangles > 0) fail(name + " has no (null) corner values");
+    const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
+    for (std::size_t c = 0; c < corners; ++c) {
+        const Index value = input.corner_values[c];
+        if (value < 0 || value >= input.num_values)
+            fail(name + ": corner " + std::to_string(c % 3) + " of triangle " + std::to_string(c / 3) + " refers to value " +
+                 std::to_string(value) + ", outside 0.." + std::to_string(input.num_values - 1));
+    }
+    plan_.num_input_values = input.num_values;
+
+    // One layer vertex per (vertex, value) pair: a value index the caller shares between vertices becomes one
+    // value per vertex, as in OpenSubdiv from level 1 on.
+    std::vector<Index> order(corners);
+    std::iota(order.begin(), order.end(), 0);
+    auto key = [&](Index c) { return std::pair<Index, Index>(mesh.triangles[c], input.corner_values[c]); };
+    std::sort(order.begin(), order.end(), [&](Index a, Index b) { return key(a) < key(b); });
+    std::vector<Index> triangles(corners);
+    for (std::size_t i = 0; i < corners; ++i) {
+        if (i == 0 || key(order[i]) != key(order[i - 1])) plan_.base_values.push_back(input.corner_values[order[i]]);
+        triangles[order[i]] = Index(plan_.base_values.size() - 1);
+    }
+    values_ = build_base_topology(triangles.data(), mesh.num_triangles, int(plan_.base_values.size()));
+    plan_.counts.push_back(values_.num_vertices);
+    map_to_vertices(base);
+    classify_base(base);
+}
+
+void FaceVaryingBuilder::map_to_vertices(const LevelState& level) {
+    const Topology& t = level.topology;
+    vertex_of_.assign(values_.num_vertices, 0);
+    edge_of_.assign(values_.num_edges(), 0);
+    std::vector<Index> first_layer_edge(t.num_edges(), -1);
+    std::vector<Index> faces(t.num_edges(), 0);
+    split_.assign(t.num_edges(), 0);
+    for (std::size_t c = 0; c < values_.face_vertices.size(); ++c) {
+        vertex_of_[values_.face_vertices[c]] = t.face_vertices[c];
+        const Index e = t.face_edges[c], layer_edge = values_.face_edges[c];
+        edge_of_[layer_edge] = e;
+        ++faces[e];
+        if (first_layer_edge[e] < 0) first_layer_edge[e] = layer_edge;
+        else if (first_layer_edge[e] != layer_edge) split_[e] = 1;  // the faces disagree at one of its ends: a seam
+    }
+    if (linear_boundaries(options_.face_varying))
+        for (int e = 0; e < t.num_edges(); ++e) split_[e] |= faces[e] == 1;
+}
+
+void FaceVaryingBuilder::inner_edges(Index x, std::vector<Index>& edges) const {
+    edges.clear();
+    for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
+        if (values_.edge_face_count(values_.vertex_edges[k]) == 2) edges.push_back(edge_of_[values_.vertex_edges[k]]);
+}
+
+bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2]) const {
+    int found = 0;
+    for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
+        if (values_.edge_face_count(values_.vertex_edges[k]) != 1) continue;
+        if (found < 2) ends[found] = values_.vertex_vertices[k];
+        ++found;
+    }
+    return found == 2;
+}
+
+Index FaceVaryingBuilder::neighbour_at_vertex(Index x, Index vertex) const {
+    for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
+        if (vertex_of_[values_.vertex_vertices[k]] == vertex) return values_.vertex_vertices[k];
+    return -1;
+}
+
+// Vtr::FVarLevel::completeTopologyFromFaceValues: which values follow the seam rules, and how.
+void FaceVaryingBuilder::classify_base(const LevelState& base) {
+    const Mode mode = options_.face_varying;
+    tags_.assign(values_.num_vertices, Tag{});
+    if (mode == Mode::All) {
+        for (Tag& tag : tags_) tag.mismatch = true;
+        return;
+    }
+    const Topology& t = base.topology;
+    const std::vector<std::uint8_t> vertex_non_manifold = non_manifold_vertices(t, non_manifold_edges(t));
+    const std::vector<std::uint8_t> value_non_manifold = non_manifold_vertices(values_, non_manifold_edges(values_));
+    std::vector<Index> offsets, at_vertex, inner;
+    group_by_vertex(vertex_of_, t.num_vertices, offsets, at_vertex);
+
+    const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode), plus2 = mode == Mode::CornersPlus2;
+    const bool sharp_darts = plus2 || linear_b, sharp_fan_corners = mode != Mode::None;
+    struct Span {
+        int faces = 0, infinite = 0, semi = 0;
+        bool disjoint = false;
+    };
+    std::vector<Span> spans;
+    for (int v = 0; v < t.num_vertices; ++v) {
+        const int n = offsets[v + 1] - offsets[v];
+        if (n == 0) continue;
+        const Index* values = &at_vertex[offsets[v]];
+        bool boundary = false, seam = false;
+        int face_corners = 0;
+        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+            const Index e = t.vertex_edges[k];
+            boundary |= t.edge_face_count(e) == 1;
+            seam |= split_[e] != 0;
+            face_corners += t.edge_face_count(e);
+        }
+        const bool one_face_corner = boundary && face_corners == 2;
+        const bool mismatched = seam || (linear_b && boundary) ||
+                                (one_face_corner && mode != Mode::None && options_.boundary != Boundary::EdgesAndCorners) ||
+                                (vertex_non_manifold[v] && n >= 2);
+        if (!mismatched) continue;
+        for (int i = 0; i < n; ++i) tags_[values[i]].mismatch = true;
+        if (vertex_non_manifold[v]) continue;  // every value stays
+
+        spans.assign(n, Span{});
+        for (int i = 0; i < n; ++i) {
+            const Index x = values[i];
+            Span& span = spans[i];
+            for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
+                span.faces += values_.edge_face_count(values_.vertex_edges[k]);
+            span.faces /= 2;
+            inner_edges(x, inner);
+            for (Index e : inner) {
+                const float sharpness = base.edge_sharpness(e);
+                span.infinite += is_infinite(sharpness);
+                span.semi += is_semi_sharp(sharpness);
+            }
+            span.disjoint = value_non_manifold[x] != 0;  // its faces are not one fan, or a seam ends inside it
+        }
+        const float vertex_sharpness = base.vertex_sharpness(v);
+        bool all_sharp = linear_b || is_infinite(vertex_sharpness) || (dependent && n > 2) || (sharp_darts && n == 1 && !boundary);
+        bool sharpen_dependent = false;
+        if (!all_sharp && dependent && n == 2) {
+            all_sharp = spans[0].infinite || spans[1].infinite || spans[0].disjoint || spans[1].disjoint;
+            if (plus2) all_sharp |= spans[0].faces == 1 || spans[1].faces == 1;
+            sharpen_dependent = (spans[0].semi > 0) != (spans[1].semi > 0);
+        }
+        for (int i = 0; i < n; ++i) {
+            Tag& tag = tags_[values[i]];
+            const Span& span = spans[i];
+            if (span.disjoint || all_sharp || span.infinite > 0 || (span.faces == 1 && sharp_fan_corners)) continue;
+            if (span.semi > 0 || is_semi_sharp(vertex_sharpness)) tag.semi_sharp = true;
+            else if (sharpen_dependent) tag.semi_sharp = tag.dep_sharp = true;
+            else tag.crease = true;
+        }
+    }
+}
+
+void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils& vertex_stencils, const LevelState& child, bool last) {
+    if (plan_.passes.size() > 0) map_to_vertices(level);
+    const Topology& t = level.topology;
+    const Mode mode = options_.face_varying;
+    const int nx = values_.num_vertices, ne = values_.num_edges();
+    LevelStencils& s = plan_.passes.emplace_back();
+    s.num_vertices = nx;
+    s.num_edges = ne;
+    int max_valence = 0;
+    for (int x = 0; x < nx; ++x) max_valence = std::max(max_valence, values_.valence(x));
+    for (int n = 0; n <= max_valence; ++n) {
+        const VertexMask m = smooth_vertex_mask(n);
+        s.smooth_self.push_back(float(m.self));
+        s.smooth_ring.push_back(float(m.ring));
+    }
+
+    // The children's tags: a vertex's child keeps its parent's, except that semi-sharp values turn into creases as
+    // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
+    std::vector<Tag> child_tags = tags_;
+    std::vector<Index> offsets, at_vertex, inner, around;
+    group_by_vertex(vertex_of_, t.num_vertices, offsets, at_vertex);
+    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(child_edge_at(t, e, v)); };
+    for (int v = 0; v < t.num_vertices && mode != Mode::All; ++v) {
+        const int n = offsets[v + 1] - offsets[v];
+        const Index* values = &at_vertex[offsets[v]];
+        if (n == 0 || !tags_[values[0]].mismatch) continue;
+        around.clear();
+        for (int i = 0; i < n; ++i)
+            for (Index k = values_.vertex_edge_offsets[values[i]]; k < values_.vertex_edge_offsets[values[i] + 1]; ++k)
+                around.push_back(edge_of_[values_.vertex_edges[k]]);
+        const bool parent_semi = is_semi_sharp(level.vertex_sharpness(v)) ||
+                                 std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
+        if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
+        const bool child_semi_edges = std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
+        for (int i = 0; i < n; ++i) {
+            Tag& tag = child_tags[values[i]];
+            if (!tag.semi_sharp) continue;
+            if (child_semi_edges && !tag.dep_sharp) {
+                inner_edges(values[i], inner);
+                if (std::any_of(inner.begin(), inner.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); })) continue;
+            } else if (child_semi_edges) {
+                continue;
+            }
+            tag.crease = true;
+            tag.semi_sharp = tag.dep_sharp = false;
+        }
+        if (n == 2 && dependent_sharpness(mode)) {
+            Tag& first = child_tags[values[0]];
+            Tag& second = child_tags[values[1]];
+            if (first.dep_sharp && !second.semi_sharp) first.dep_sharp = false;
+            else if (second.dep_sharp && !first.semi_sharp) second.dep_sharp = false;
+        }
+    }
+
+    // Value points.
+    std::vector<float> parent_edges, child_edges;
+    for (Index x = 0; x < nx; ++x) {
+        const Tag& tag = tags_[x];
+        const Index v = vertex_of_[x];
+        if (!tag.mismatch) {
+            const SpecialVertex* m = find_special(vertex_stencils.special_vertices, v, [](const SpecialVertex& sv) { return sv.vertex; });
+            if (!m) continue;  // the smooth mask, by the same valence
+            const Index a = m->w_crease_a != 0.0f ? neighbour_at_vertex(x, m->crease_a) : x;
+            const Index b = m->w_crease_b != 0.0f ? neighbour_at_vertex(x, m->crease_b) : x;
+            s.special_vertices.push_back({x, a < 0 ? x : a, b < 0 ? x : b, m->w_self, m->w_ring, m->w_crease_a, m->w_crease_b});
+            continue;
+        }
+        Index ends[2];
+        if (!child_tags[x].crease || !seam_ends(x, ends)) {
+            s.special_vertices.push_back(copy_of(x));
+            continue;
+        }
+        double vertex_weight = 0.75, end_weight = 0.125;
+        if (tag.semi_sharp) {
+            // The weight of the held position, from the features that decayed this level: the value's own span,
+            // or its sibling's when it was held for the sibling.
+            Index span = x;
+            if (tag.dep_sharp)
+                for (Index k = offsets[v]; k < offsets[v + 1]; ++k)
+                    if (at_vertex[k] != x) span = at_vertex[k];
+            inner_edges(span, inner);
+            parent_edges.clear();
+            child_edges.clear();
+            for (Index e : inner) {
+                parent_edges.push_back(level.edge_sharpness(e));
+                child_edges.push_back(child_sharpness_at(e, v));
+            }
+            const float w = transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
+                                              parent_edges.data(), child_edges.data(), int(inner.size()));
+            vertex_weight = 0.75 * (1.0 - w) + w;
+            end_weight = 0.125 * (1.0 - w);
+        }
+        s.special_vertices.push_back({x, ends[0], ends[1], float(vertex_weight), 0.0f, float(end_weight), float(end_weight)});
+    }
+
+    // Edge points: midpoints along seams, the edge's own mask elsewhere.
+    for (Index e = 0; e < ne; ++e) {
+        const Index edge = edge_of_[e];
+        if (split_[edge] || mode == Mode::All) {
+            s.special_edges.push_back({e, 0.5f, 0.5f, 0.0f});
+            continue;
+        }
+        const SpecialEdge* m = find_special(vertex_stencils.special_edges, edge, [](const SpecialEdge& se) { return se.edge; });
+        if (!m) continue;
+        const bool same_way = vertex_of_[values_.edge_vertices[2 * e]] == t.edge_vertices[2 * edge];
+        s.special_edges.push_back({e, same_way ? m->wa : m->wb, same_way ? m->wb : m->wa, m->wcd});
+    }
+
+    // Edge children on a seam follow it (smooth modes) or stay (linear boundaries); the rest match.
+    child_tags.resize(std::size_t(nx) + ne);
+    for (Index e = 0; e < ne; ++e) {
+        Tag& tag = child_tags[nx + e];
+        tag = Tag{};
+        if (split_[edge_of_[e]] || mode == Mode::All) {
+            tag.mismatch = true;
+            tag.crease = !linear_boundaries(mode);
+        }
+    }
+    Topology child_values = refine_topology(values_, last && !options_.limit_surface ? Refined::FacesOnly : Refined::Full);
+    s.ring_offsets = std::move(values_.vertex_edge_offsets);
+    s.ring = std::move(values_.vertex_vertices);
+    s.edge_ends = std::move(values_.edge_vertices);
+    s.edge_c = std::move(values_.edge_opposite_c);
+    s.edge_d = std::move(values_.edge_opposite_d);
+    values_ = std::move(child_values);
+    tags_ = std::move(child_tags);
+    plan_.counts.push_back(values_.num_vertices);
+}
+
+void FaceVaryingBuilder::plan_limit(const LevelState& last, const LevelStencils& vertex_limit) {
+    if (plan_.passes.size() > 0) map_to_vertices(last);
+    const Mode mode = options_.face_varying;
+    const int nx = values_.num_vertices;
+    LevelStencils& s = plan_.passes.emplace_back();
+    s.num_vertices = nx;
+    s.num_edges = 0;
+    int max_valence = 0;
+    for (int x = 0; x < nx; ++x) max_valence = std::max(max_valence, values_.valence(x));
+    for (int n = 0; n <= max_valence; ++n) {
+        const LimitMask m = smooth_limit_mask(n);
+        s.smooth_self.push_back(float(m.self));
+        s.smooth_ring.push_back(float(m.ring));
+    }
+    // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
+    // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
+    const LimitMask crease = crease_limit_mask();
+    for (Index x = 0; x < nx; ++x) {
+        const Tag& tag = tags_[x];
+        Index ends[2];
+        if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends)))) {
+            s.special_vertices.push_back(copy_of(x));
+        } else if (tag.mismatch) {
+            s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
+        } else if (const SpecialVertex* m = find_special(vertex_limit.special_vertices, vertex_of_[x], [](const SpecialVertex& sv) { return sv.vertex; })) {
+            const Index a = m->w_crease_a != 0.0f ? neighbour_at_vertex(x, m->crease_a) : x;
+            const Index b = m->w_crease_b != 0.0f ? neighbour_at_vertex(x, m->crease_b) : x;
+            s.special_vertices.push_back({x, a < 0 ? x : a, b < 0 ? x : b, m->w_self, m->w_ring, m->w_crease_a, m->w_crease_b});
+        }
+    }
+    s.ring_offsets = values_.vertex_edge_offsets;
+    s.ring = values_.vertex_vertices;
+    plan_.counts.push_back(nx);
+}
+
+FaceVaryingPlan FaceVaryingBuilder::finish() {
+    plan_.output_corner_values = std::move(values_.face_vertices);
+    return std::move(plan_);
+}
+
+}  // namespace loopsub::detail

@@ -1,0 +1,67 @@
+// Face-varying layers (UVs with seams), planned level by level beside the vertex plan (OpenSubdiv's FVarLevel and
+// FVarRefinement in spirit).
+//
+// A layer is refined as a mesh of its own: one vertex per (vertex, value) pair, the triangles as the input's, so
+// that a seam is a boundary of this mesh and each side refines from its own values with the same Loop split and
+// numbering (refine_topology). Face f of the layer is face f of the vertex mesh at every level, which maps each value
+// to its vertex and each layer edge to its edge through the corners. The masks then come from two sources:
+//   * a value whose vertex has no seam ("matching") takes the vertex's own mask from the vertex plan, its
+//     neighbours read through the layer: creases, semi-sharp blends, Hoppe 94's classes all carry over;
+//   * values on a seam follow Options::face_varying: corners stay, the rest runs along the seam as a uniform cubic
+//     B-spline (1, 6, 1) / 8 with midpoints on the seam's edges, semi-sharp features blending in as they decay.
+// The classification at the base level and its inheritance follow OpenSubdiv 3.5 (Vtr::FVarLevel), so that
+// values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying.
+#pragma once
+
+#include <vector>
+
+#include "level_state.h"
+#include "stencils.h"
+
+namespace loopsub::detail {
+
+struct FaceVaryingPlan {
+    int num_input_values = 0;
+    LargeVector<Index> base_values;            // per value of the layer's base mesh: the caller's value index
+    std::vector<LevelStencils> passes;         // one per level, then the limit
+    std::vector<int> counts;                   // values before each pass, and after the last
+    LargeVector<Index> output_corner_values;   // 3 per output triangle
+};
+
+class FaceVaryingBuilder {
+public:
+    // `base` is the vertex plan's level 0 (full topology, sharpness set).
+    FaceVaryingBuilder(const MeshView& mesh, int layer, const Options& options, const LevelState& base);
+    // Plans one level: `level` (its faces, face edges and features), the vertex plan's stencils for it, and the
+    // child level's features.
+    void plan_level(const LevelState& level, const LevelStencils& vertex_stencils, const LevelState& child, bool last);
+    // The limit pass over the last level, from the vertex plan's limit stencils.
+    void plan_limit(const LevelState& last, const LevelStencils& vertex_limit);
+    FaceVaryingPlan finish();
+
+private:
+    // A value's class on the current level (OpenSubdiv's FVarLevel::ValueTag, reduced to what the masks read).
+    struct Tag {
+        bool mismatch = false;    // its vertex has a seam, or the mode makes it linear: the seam rules apply
+        bool crease = false;      // follows the seam as a B-spline; otherwise (mismatched) it stays where it is
+        bool semi_sharp = false;  // held while semi-sharp features around it decay, then a crease
+        bool dep_sharp = false;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
+    };
+    void map_to_vertices(const LevelState& level);
+    void classify_base(const LevelState& base);
+    // The layer edges at value x with two faces in the layer (inside its span) and their vertex-mesh edges.
+    void inner_edges(Index x, std::vector<Index>& edges) const;
+    // The far ends of the layer's boundary edges at x (its seam neighbours); false unless there are exactly two.
+    bool seam_ends(Index x, Index ends[2]) const;
+    Index neighbour_at_vertex(Index x, Index vertex) const;  // x's neighbour value lying on `vertex`, or -1
+
+    Options options_;
+    FaceVaryingPlan plan_;
+    Topology values_;                  // the layer's mesh on the current level
+    std::vector<Tag> tags_;            // per value
+    std::vector<Index> vertex_of_;     // per value: its vertex
+    std::vector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
+    std::vector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
+};
+
+}  // namespace loopsub::detail
