@@ -173,7 +173,12 @@ void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) 
         }
         current.swap(next);
     }
-    std::copy(current.begin(), current.end(), out);
+    if (p.holes.empty()) {
+        std::copy(current.begin(), current.end(), out);
+        return;
+    }
+    for (std::size_t t = 0; t < p.kept_triangles.size(); ++t)
+        std::copy_n(current.begin() + std::size_t(p.kept_triangles[t]) * face, face, out + t * face);
 }
 
 }  // namespace loopsub

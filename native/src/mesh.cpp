@@ -26,6 +26,8 @@ MeshView MeshData::view() const {
     mesh.num_corners = int(corner_sharpness.size());
     mesh.cone_vertices = cone_vertices.data();
     mesh.num_cones = int(cone_vertices.size());
+    mesh.hole_triangles = hole_triangles.data();
+    mesh.num_holes = int(hole_triangles.size());
     return mesh;
 }
 

@@ -53,6 +53,24 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
                  ") is not an edge of the mesh");
         edge_tag[e] = mesh.crease_sharpness[k];  // a repeated tag overrides, as in OpenSubdiv
     }
+    if (mesh.num_holes > 0) {
+        holes.assign(mesh.num_triangles, 0);
+        for (int k = 0; k < mesh.num_holes; ++k) holes[mesh.hole_triangles[k]] = 1;
+    }
+    if (options.boundary == Boundary::None) {
+        // Far's prepareComponentTagsAndSharpness: a vertex on a boundary edge that its tags do not make infinitely
+        // sharp takes its faces out of the surface.
+        std::vector<std::uint8_t> excluding(t.num_vertices, 0);
+        for (int e = 0; e < t.num_edges(); ++e)
+            if (t.edge_face_count(e) == 1 && !detail::is_infinite(rules->edge_sharpness_from_tag(edge_tag[e])))
+                excluding[t.edge_vertices[2 * e]] = excluding[t.edge_vertices[2 * e + 1]] = 1;
+        for (int f = 0; f < t.num_faces(); ++f)
+            for (int k = 0; k < 3; ++k)
+                if (excluding[t.face_vertices[3 * f + k]]) {
+                    holes.resize(t.num_faces(), 0);
+                    holes[f] = 1;
+                }
+    }
     std::vector<float> vertex_tag(t.num_vertices, 0.0f);
     for (int k = 0; k < mesh.num_corners; ++k) vertex_tag[mesh.corner_vertices[k]] = mesh.corner_sharpness[k];
     if (rules->has_cones()) {
@@ -218,6 +236,31 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     s.edge_d = std::move(t.edge_opposite_d);
 }
 
+void PlanImpl::drop_holes() {
+    // Triangle t of the last level descends from input triangle t / 4^levels.
+    const int shift = 2 * options.levels;
+    const std::size_t count = output_triangles.size() / 3;
+    std::vector<Index> renumbered(count, -1);
+    for (std::size_t t = 0; t < count; ++t) {
+        if (holes[t >> shift]) continue;
+        renumbered[t] = Index(kept_triangles.size());
+        kept_triangles.push_back(Index(t));
+    }
+    auto compact = [&](detail::LargeVector<Index>& corners) {
+        for (std::size_t k = 0; k < kept_triangles.size(); ++k)
+            for (int c = 0; c < 3; ++c) corners[3 * k + c] = corners[3 * std::size_t(kept_triangles[k]) + c];
+        corners.resize(3 * kept_triangles.size());
+    };
+    compact(output_triangles);
+    for (detail::FaceVaryingPlan& layer : face_varying) compact(layer.output_corner_values);
+    if (limit) {
+        std::vector<std::pair<Index, Index>> kept;
+        for (const auto& [corner, side] : limit->corner_sides)
+            if (renumbered[corner / 3] >= 0) kept.push_back({3 * renumbered[corner / 3] + corner % 3, side});
+        limit->corner_sides = std::move(kept);
+    }
+}
+
 void PlanImpl::collect_output_tags(const LevelState& last) {
     // The last level's edges were not built; its tagged edges are halves of the previous level's edges, whose
     // endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b), m the midpoint of e).
@@ -287,6 +330,7 @@ void PlanImpl::build(const MeshView& mesh) {
     }
     if (options.levels > 0) stencils.back().edge_ends = std::move(parent.edge_vertices);
     output_triangles = std::move(level.topology.face_vertices);
+    if (!holes.empty()) drop_holes();
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
     collect_output_tags(level);
@@ -313,7 +357,9 @@ const std::int32_t* Plan::output_parent_triangles() const {
     std::call_once(p.output_parents_ready, [&p] {
         // Child triangle 4f + k of a level has parent f, so a level-L triangle descends from input triangle t / 4^L.
         p.output_parents.resize(p.output_triangles.size() / 3);
-        for (std::size_t t = 0; t < p.output_parents.size(); ++t) p.output_parents[t] = Index(t >> (2 * p.options.levels));
+        const bool holes = !p.holes.empty();
+        for (std::size_t t = 0; t < p.output_parents.size(); ++t)
+            p.output_parents[t] = Index(std::size_t(holes ? p.kept_triangles[t] : Index(t)) >> (2 * p.options.levels));
     });
     return p.output_parents.data();
 }

@@ -60,6 +60,8 @@ struct PlanImpl {
     std::unique_ptr<detail::LimitTables> limit;  // with Options::limit_surface
     std::vector<detail::FaceVaryingPlan> face_varying;  // per MeshView::face_varying layer
     detail::LargeVector<Index> output_triangles;
+    std::vector<std::uint8_t> holes;               // per input triangle (empty: none)
+    detail::LargeVector<Index> kept_triangles;     // with holes: the last level's triangles written, in order
     mutable detail::LargeVector<Index> output_parents;  // on first request
     mutable std::once_flag output_parents_ready;
     std::vector<Index> output_crease_edges, output_corner_vertices;
@@ -77,6 +79,8 @@ struct PlanImpl {
     // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
     void plan_level(detail::LevelState& level, const detail::Topology& parent, detail::LevelState& child, int child_level);
     void collect_output_tags(const detail::LevelState& last);
+    // Leaves the descendants of hole triangles out of everything indexed by output triangle.
+    void drop_holes();
     // The limit's stencils and normal tables for the last level (limit.cpp).
     void plan_limit(detail::LevelState& last, const detail::Topology& parent);
     // Per output corner, the limit normal of the last level's points `last_level` (its first three channels).

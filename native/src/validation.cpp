@@ -20,7 +20,7 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
     if (!finite_non_negative(options.crease_threshold))
         fail("crease threshold must be a finite number >= 0, got " + std::to_string(options.crease_threshold));
     if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0 ||
-        mesh.num_face_varying < 0)
+        mesh.num_face_varying < 0 || mesh.num_holes < 0)
         fail("negative element count");
     auto require = [](const void* pointer, int count, const char* what) {
         if (count > 0 && pointer == nullptr) fail(std::string(what) + " is missing (null) but its count is " + std::to_string(count));
@@ -32,6 +32,11 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
     require(mesh.corner_sharpness, mesh.num_corners, "corner sharpness");
     require(mesh.cone_vertices, mesh.num_cones, "cone vertices");
     require(mesh.face_varying, mesh.num_face_varying, "face-varying layers");
+    require(mesh.hole_triangles, mesh.num_holes, "hole triangles");
+    for (int k = 0; k < mesh.num_holes; ++k)
+        if (mesh.hole_triangles[k] < 0 || mesh.hole_triangles[k] >= mesh.num_triangles)
+            fail("hole " + std::to_string(k) + " refers to triangle " + std::to_string(mesh.hole_triangles[k]) + ", outside 0.." +
+                 std::to_string(mesh.num_triangles - 1));
 
     auto check_index = [&](Index v, const std::string& where) {
         if (v < 0 || v >= mesh.num_vertices)

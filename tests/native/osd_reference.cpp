@@ -70,6 +70,8 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
     desc.numCorners = mesh.num_corners;
     desc.cornerVertexIndices = mesh.corner_vertices;
     desc.cornerWeights = mesh.corner_sharpness;
+    desc.numHoles = mesh.num_holes;
+    desc.holeIndices = mesh.hole_triangles;
     Far::TopologyDescriptor::FVarChannel channel;
     impl_->has_uvs = uvs.triangle_uvs != nullptr;
     if (impl_->has_uvs) {
@@ -80,9 +82,9 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
     }
 
     Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(options.boundary == Boundary::EdgesAndCorners
-                                        ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                        : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    sdc.SetVtxBoundaryInterpolation(options.boundary == Boundary::EdgesAndCorners ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                    : options.boundary == Boundary::None          ? Sdc::Options::VTX_BOUNDARY_NONE
+                                                                                  : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     sdc.SetCreasingMethod(options.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
                                                                          : Sdc::Options::CREASE_UNIFORM);
     // FaceVaryingInterpolation is declared in OpenSubdiv's order.
@@ -244,15 +246,19 @@ MappedReference OsdReference::map(const Plan& plan) const {
         const Sdc::Crease::Rule rule = last.GetVertexRule(ov);
         out.limit_smooth[v] = rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART;
     }
-    for (int f = 0; f < nf; ++f) {
-        Far::ConstIndexArray fv = last.GetFaceVertices(f);
+    // Holes are refined but are no part of the surface: they are left out, as the plan leaves them out.
+    int kept = 0;
+    for (int g = 0; g < nf; ++g) {
+        if (last.IsFaceHole(g)) continue;
+        const int f = kept++;
+        Far::ConstIndexArray fv = last.GetFaceVertices(g);
         if (fv.size() != 3) return fail("OpenSubdiv produced a face with " + std::to_string(fv.size()) + " sides");
         for (int k = 0; k < 3; ++k) out.triangles[3 * f + k] = osd_to_our[fv[k]];
-        int ancestor = f;
+        int ancestor = g;
         for (int level = levels; level > 0; --level) ancestor = refiner.GetLevel(level).GetFaceParentFace(ancestor);
         out.ancestors[f] = ancestor;
         if (impl_->has_uvs) {
-            Far::ConstIndexArray values = last.GetFaceFVarValues(f, 0);
+            Far::ConstIndexArray values = last.GetFaceFVarValues(g, 0);
             for (int k = 0; k < 3; ++k)
                 for (int c = 0; c < 2; ++c) {
                     out.face_uvs[6 * f + 2 * k + c] = impl_->last_uvs[values[k]].x[c];
@@ -260,6 +266,9 @@ MappedReference OsdReference::map(const Plan& plan) const {
                 }
         }
     }
+    out.triangles.resize(3 * std::size_t(kept));
+    out.ancestors.resize(kept);
+    if (impl_->has_uvs) out.face_uvs.resize(6 * std::size_t(kept)), out.face_uvs_limit.resize(6 * std::size_t(kept));
     return out;
 }
 

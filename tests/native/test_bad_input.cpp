@@ -173,6 +173,16 @@ TEST(BadInput, FaceVaryingLayerIndicesAndValues) {
     }
 }
 
+TEST(BadInput, HoleOutOfRange) {
+    for (Rules rules : kBothRules) {
+        for (std::int32_t bad : {-1, 4}) {
+            Tetrahedron mesh;
+            mesh.hole_triangles = {1, bad};
+            expect_plan_error(mesh.view(), options_for(rules), {"hole 1", "triangle " + std::to_string(bad)});
+        }
+    }
+}
+
 TEST(BadInput, CreaseEdgeThatIsNotAnEdge) {
     for (Rules rules : kBothRules) {
         // A quad of two triangles: 0-2 is its diagonal, 1-3 is not an edge.

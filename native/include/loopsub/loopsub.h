@@ -45,8 +45,11 @@ enum class Rules { Hoppe94, OpenSubdiv };
 
 // How a boundary vertex with a single incident face is treated (OpenSubdiv's Sdc::Options::VtxBoundaryInterpolation).
 enum class Boundary {
-    EdgesOnly,       // VTX_BOUNDARY_EDGE_ONLY: Blender's "Boundary Smooth: All"
-    EdgesAndCorners  // VTX_BOUNDARY_EDGE_AND_CORNER: Blender's "Keep Corners"
+    EdgesOnly,        // VTX_BOUNDARY_EDGE_ONLY: Blender's "Boundary Smooth: All"
+    EdgesAndCorners,  // VTX_BOUNDARY_EDGE_AND_CORNER: Blender's "Keep Corners"
+    // VTX_BOUNDARY_NONE: the faces around a boundary vertex with a boundary edge not tagged infinitely sharp become
+    // holes (refined, not written); the rest as EdgesOnly.
+    None
 };
 
 enum class CreaseMethod { Uniform, Chaikin };  // OpenSubdiv only: how semi-sharp sharpness decays per level
@@ -112,6 +115,11 @@ struct MeshView {
 
     const FaceVaryingLayer* face_varying = nullptr;  // num_face_varying layers, refined by Options::face_varying
     int num_face_varying = 0;
+
+    // Holes (OpenSubdiv's hole tags): these triangles shape the surface around them but their descendants are not
+    // part of the output; the vertices stay.
+    const std::int32_t* hole_triangles = nullptr;
+    int num_holes = 0;
 };
 
 // The owning counterpart of MeshView, for C++ callers that build a mesh: view() lends it to a Plan.
@@ -123,6 +131,7 @@ struct MeshData {
     std::vector<std::int32_t> corner_vertices;
     std::vector<float> corner_sharpness;
     std::vector<std::int32_t> cone_vertices;
+    std::vector<std::int32_t> hole_triangles;
 
     int num_vertices() const { return int(positions.size() / 3); }
     int num_triangles() const { return int(triangles.size() / 3); }
@@ -178,7 +187,7 @@ public:
     int num_output_vertices() const;
     int num_output_triangles() const;
 
-    // Output connectivity: 3 * num_output_triangles() indices, winding kept.
+    // Output connectivity: 3 * num_output_triangles() indices, winding kept (holes left out).
     const std::int32_t* output_triangles() const;
     // For each output triangle, the input triangle it came from.
     const std::int32_t* output_parent_triangles() const;
