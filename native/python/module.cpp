@@ -11,12 +11,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -141,7 +143,18 @@ loopsub::Rules parse_rules(const std::string& s) {
 loopsub::Boundary parse_boundary(const std::string& s) {
     if (s == "edges") return loopsub::Boundary::EdgesOnly;
     if (s == "edges-and-corners") return loopsub::Boundary::EdgesAndCorners;
-    throw py::value_error("boundary must be 'edges' or 'edges-and-corners', got '" + s + "'");
+    if (s == "none") return loopsub::Boundary::None;
+    throw py::value_error("boundary must be 'edges', 'edges-and-corners' or 'none', got '" + s + "'");
+}
+
+// The names of the CLI's --uv-interpolation, in OpenSubdiv's order (loopsub::FaceVaryingInterpolation).
+const char* const kUvInterpolations[] = {"none", "corners", "corners-plus1", "corners-plus2", "boundaries", "all"};
+
+loopsub::FaceVaryingInterpolation parse_uv_interpolation(const std::string& s) {
+    for (int m = 0; m < 6; ++m)
+        if (s == kUvInterpolations[m]) return loopsub::FaceVaryingInterpolation(m);
+    throw py::value_error("uv_interpolation must be one of 'none', 'corners', 'corners-plus1', 'corners-plus2', "
+                          "'boundaries', 'all', got '" + s + "'");
 }
 
 loopsub::CreaseMethod parse_crease_method(const std::string& s) {
@@ -155,8 +168,11 @@ const char* rules_name(loopsub::Rules r) { return r == loopsub::Rules::Hoppe94 ?
 // Everything a Plan is built from, read from Python while the GIL is held. The py::array members keep the
 // caller's buffers alive (and referenced by `mesh`) while the core runs without the GIL.
 struct PlanInput {
-    py::array triangles, crease_edges, crease_sharpness, corner_vertices, corner_sharpness, cone_vertices;
+    py::array triangles, crease_edges, crease_sharpness, corner_vertices, corner_sharpness, cone_vertices, holes;
     std::vector<float> default_crease_sharpness, default_corner_sharpness;  // when only the tags are given
+    std::vector<py::array> layer_arrays;                 // face_varying_indices, as given
+    std::vector<std::vector<std::int32_t>> welded_layers;  // subdivide(): indices of per-corner values joined
+    std::vector<loopsub::FaceVaryingLayer> layers;
     loopsub::MeshView mesh;
     loopsub::Options options;
 };
@@ -168,6 +184,9 @@ struct OptionArgs {
     int threads;
     bool scalar;
     long long memory_limit_bytes;
+    bool limit_surface;
+    std::string uv_interpolation;
+    py::object face_varying_indices, hole_triangles;
 };
 
 void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int levels, const OptionArgs& o) {
@@ -188,6 +207,8 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
     opt.threads = o.threads;
     opt.kernel = o.scalar ? loopsub::Kernel::Scalar : loopsub::Kernel::Auto;
     opt.memory_limit_bytes = std::uint64_t(o.memory_limit_bytes);
+    opt.limit_surface = o.limit_surface;
+    opt.face_varying = parse_uv_interpolation(o.uv_interpolation);
 
     loopsub::MeshView& mesh = in.mesh;
     mesh.num_vertices = checked_count(num_vertices, "num_vertices");
@@ -233,26 +254,57 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
         mesh.num_cones = checked_count(in.cone_vertices.shape(0), "number of cone vertices");
         mesh.cone_vertices = data_of<std::int32_t>(in.cone_vertices);
     }
+    if (!o.hole_triangles.is_none()) {
+        in.holes = require_array<std::int32_t>(o.hole_triangles, "hole_triangles", {{-1, "H"}});
+        mesh.num_holes = checked_count(in.holes.shape(0), "number of holes");
+        mesh.hole_triangles = data_of<std::int32_t>(in.holes);
+    }
+    if (!o.face_varying_indices.is_none()) {
+        if (!py::isinstance<py::sequence>(o.face_varying_indices) || py::isinstance<py::array>(o.face_varying_indices))
+            throw py::type_error("face_varying_indices must be a list of int32 arrays of shape (M, 3), one per layer");
+        for (py::handle item : py::reinterpret_borrow<py::sequence>(o.face_varying_indices)) {
+            const std::string name = "face_varying_indices[" + std::to_string(in.layer_arrays.size()) + "]";
+            in.layer_arrays.push_back(require_array<std::int32_t>(item, name.c_str(), {{mesh.num_triangles, "M"}, {3, "3"}}));
+        }
+    }
+    for (const py::array& a : in.layer_arrays) {
+        // A layer has as many values as its largest index says; evaluate_face_varying wants exactly that many.
+        const std::int32_t* indices = data_of<std::int32_t>(a);
+        const std::int32_t* largest = std::max_element(indices, indices + 3 * std::size_t(mesh.num_triangles));
+        in.layers.push_back({indices, largest == indices + 3 * std::size_t(mesh.num_triangles) ? 0 : std::max(*largest + 1, 0)});
+    }
+    for (const std::vector<std::int32_t>& indices : in.welded_layers) {
+        const auto largest = std::max_element(indices.begin(), indices.end());
+        in.layers.push_back({indices.data(), largest == indices.end() ? 0 : *largest + 1});
+    }
+    mesh.face_varying = in.layers.data();
+    mesh.num_face_varying = int(in.layers.size());
 }
 
 // ---------------------------------------------------------------------------------------------------------------
 // The Plan object
 
 struct PyPlan {
-    PyPlan(loopsub::Plan&& p, int triangles) : plan(std::move(p)), num_input_triangles(triangles) {}
+    PyPlan(loopsub::Plan&& p, int triangles, std::vector<int> values)
+        : plan(std::move(p)), num_input_triangles(triangles), layer_values(std::move(values)) {}
     loopsub::Plan plan;
     int num_input_triangles;  // the core does not keep it; face-varying input is checked against it
+    std::vector<int> layer_values;  // values of each face-varying layer
     // Plan::evaluate is not reentrant (it owns scratch buffers) and runs without the GIL, so two Python threads
     // evaluating one plan must take turns.
     std::mutex evaluate_mutex;
 };
 
-std::unique_ptr<PyPlan> build_plan(py::handle triangles, long long num_vertices, int levels, const OptionArgs& args) {
+std::unique_ptr<PyPlan> build_plan(py::handle triangles, long long num_vertices, int levels, const OptionArgs& args,
+                                   std::vector<std::vector<std::int32_t>> welded_layers = {}) {
     PlanInput in;
+    in.welded_layers = std::move(welded_layers);
     read_input(in, triangles, num_vertices, levels, args);
     // All Python objects are read: the topology work runs without the GIL. `in` keeps the buffers alive.
+    std::vector<int> layer_values;
+    for (const loopsub::FaceVaryingLayer& layer : in.layers) layer_values.push_back(layer.num_values);
     py::gil_scoped_release nogil;
-    return std::make_unique<PyPlan>(loopsub::Plan(in.mesh, in.options), in.mesh.num_triangles);
+    return std::make_unique<PyPlan>(loopsub::Plan(in.mesh, in.options), in.mesh.num_triangles, std::move(layer_values));
 }
 
 // A read-only numpy view of memory owned by the plan; `base` (the Python Plan) stays alive as long as the view.
@@ -316,8 +368,49 @@ py::array evaluate(py::object self, py::handle values, py::handle out) {
     return result;
 }
 
-py::array evaluate_face_varying(py::object self, py::handle values, py::handle out) {
+py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
     PyPlan& p = self.cast<PyPlan&>();
+    if (!p.plan.options().limit_surface)
+        throw py::value_error("evaluate_with_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
+    py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
+    const int channels = checked_count(in.shape(1), "number of channels");
+    if (channels < 3) throw py::value_error("positions must have at least 3 channels (x, y, z first), got " + std::to_string(channels));
+    py::array result = output_array(out, {{p.plan.num_output_vertices(), "N_out"}, {channels, "C"}}, in);
+    py::array normals = output_array(normals_out, {{p.plan.num_output_triangles(), "T_out"}, {3, "3"}, {3, "3"}}, in);
+    if (overlaps(normals, result)) throw py::value_error("normals must not share memory with out");
+    const float* src = data_of<float>(in);
+    float* dst = static_cast<float*>(result.mutable_data());
+    float* n = static_cast<float*>(normals.mutable_data());
+    {
+        py::gil_scoped_release nogil;
+        std::lock_guard<std::mutex> lock(p.evaluate_mutex);
+        p.plan.evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels), n);
+    }
+    return py::make_tuple(result, normals);
+}
+
+py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
+    if (layer < 0 || layer >= int(p.layer_values.size()))
+        throw py::value_error("layer " + std::to_string(layer) + " is not a face-varying layer of this Plan (it has " +
+                              std::to_string(p.layer_values.size()) + ")");
+    auto [in, channels] = read_vertex_values(values, "values", p.layer_values[layer]);
+    std::vector<Dim> dims{{p.plan.num_output_face_varying_values(layer), "V_out"}};
+    if (in.ndim() == 2) dims.push_back({channels, "C"});
+    py::array result = output_array(out, dims, in);
+    if (channels == 0) return result;
+    const float* src = data_of<float>(in);
+    float* dst = static_cast<float*>(result.mutable_data());
+    {
+        py::gil_scoped_release nogil;
+        std::lock_guard<std::mutex> lock(p.evaluate_mutex);
+        p.plan.evaluate_face_varying(layer, loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels));
+    }
+    return result;
+}
+
+py::array evaluate_face_varying(py::object self, py::handle values, py::handle out, py::object layer) {
+    PyPlan& p = self.cast<PyPlan&>();
+    if (!layer.is_none()) return evaluate_layer(p, layer.cast<int>(), values, out);
     auto [in, channels] = read_corner_values(values, "values", p.num_input_triangles);
     std::vector<Dim> dims{{p.plan.num_output_triangles(), "T_out"}, {3, "3"}};
     if (in.ndim() == 3) dims.push_back({channels, "C"});
@@ -384,15 +477,77 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
     check_all(vertex_data, "vertex_data", check_vertex);
     check_all(face_varying, "face_varying", check_corner);
 
-    py::object plan = py::cast(build_plan(tris, n, levels, args));
+    // Per-corner face-varying arrays become layers: corners of a vertex with equal values (bit for bit) share a value.
+    std::vector<py::array> corner_arrays;
+    if (!face_varying.is_none()) {
+        if (py::isinstance<py::dict>(face_varying)) {
+            for (auto item : py::reinterpret_borrow<py::dict>(face_varying)) corner_arrays.push_back(py::reinterpret_borrow<py::array>(item.second));
+        } else {
+            corner_arrays.push_back(py::reinterpret_borrow<py::array>(face_varying));
+        }
+    }
+    const std::int32_t* corner_vertices = data_of<std::int32_t>(tris);
+    std::vector<std::vector<std::int32_t>> welded;
+    std::vector<py::array> layer_values;
+    for (const py::array& a : corner_arrays) {
+        const std::size_t channels = a.ndim() == 3 ? std::size_t(a.shape(2)) : 1, corners = 3 * std::size_t(m);
+        const float* v = data_of<float>(a);
+        // Checked here, where the value's place is still its corner.
+        for (std::size_t i = 0; i < corners * channels; ++i)
+            if (!std::isfinite(v[i]))
+                throw py::value_error("face-varying values must be finite: triangle " + std::to_string(i / channels / 3) +
+                                      ", corner " + std::to_string(i / channels % 3) + ", channel " + std::to_string(i % channels) +
+                                      " is " + std::to_string(v[i]));
+        std::vector<std::int32_t> order(corners);
+        std::iota(order.begin(), order.end(), 0);
+        auto less = [&](std::int32_t x, std::int32_t y) {
+            if (corner_vertices[x] != corner_vertices[y]) return corner_vertices[x] < corner_vertices[y];
+            return std::memcmp(v + x * channels, v + y * channels, channels * sizeof(float)) < 0;
+        };
+        std::sort(order.begin(), order.end(), less);
+        std::vector<std::int32_t>& indices = welded.emplace_back(corners);
+        std::vector<std::int32_t> firsts;
+        for (std::size_t i = 0; i < corners; ++i) {
+            if (i == 0 || less(order[i - 1], order[i])) firsts.push_back(order[i]);
+            indices[order[i]] = std::int32_t(firsts.size() - 1);
+        }
+        py::array_t<float> values({py::ssize_t(firsts.size()), py::ssize_t(channels)});
+        for (std::size_t k = 0; k < firsts.size(); ++k)
+            std::copy_n(v + firsts[k] * channels, channels, values.mutable_data() + k * channels);
+        layer_values.push_back(a.ndim() == 3 ? py::array(values) : py::array(values.reshape({py::ssize_t(firsts.size())})));
+    }
+    const int first_welded = args.face_varying_indices.is_none() ? 0 : int(py::len(args.face_varying_indices));
+    py::object plan = py::cast(build_plan(tris, n, levels, args, std::move(welded)));
     const py::handle none = py::none();
     auto eval_vertex = [&](py::handle a) { return evaluate(plan, a, none); };
-    auto eval_corner = [&](py::handle a) { return evaluate_face_varying(plan, a, none); };
+    std::size_t next_layer = 0;
+    auto eval_corner = [&](py::handle) {
+        // Refined per value, then spread to the output's corners.
+        PyPlan& q = plan.cast<PyPlan&>();
+        const int layer = first_welded + int(next_layer);
+        const py::array values = evaluate_layer(q, layer, layer_values[next_layer++], none);
+        const std::size_t channels = values.ndim() == 2 ? std::size_t(values.shape(1)) : 1;
+        const py::ssize_t t_out = q.plan.num_output_triangles();
+        std::vector<py::ssize_t> shape{t_out, 3};
+        if (values.ndim() == 2) shape.push_back(py::ssize_t(channels));
+        py::array result(py::dtype::of<float>(), shape);
+        const std::int32_t* indices = q.plan.output_face_varying_indices(layer);
+        const float* src = data_of<float>(values);
+        float* dst = static_cast<float*>(result.mutable_data());
+        for (py::ssize_t c = 0; c < 3 * t_out; ++c) std::copy_n(src + std::size_t(indices[c]) * channels, channels, dst + c * channels);
+        return result;
+    };
 
     PyPlan& p = plan.cast<PyPlan&>();
     const py::ssize_t m_out = p.plan.num_output_triangles();
     py::dict r;
-    r["positions"] = evaluate(plan, pos, none);
+    if (p.plan.options().limit_surface) {
+        py::tuple both = evaluate_with_normals(plan, pos, none, none);
+        r["positions"] = both[0];
+        r["normals"] = both[1];
+    } else {
+        r["positions"] = evaluate(plan, pos, none);
+    }
     r["triangles"] = plan_view(p.plan.output_triangles(), {m_out, 3}, plan);
     r["parent_triangles"] = plan_view(p.plan.output_parent_triangles(), {m_out}, plan);
     const auto& ce = p.plan.output_crease_edges();
@@ -470,7 +625,7 @@ Example
 >>> moved = plan.evaluate(positions * 2)     # new positions, same topology: no topology work
 )doc";
 
-constexpr const char* kPlanDoc = R"doc(Plan(triangles, num_vertices, levels=1, *, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
+constexpr const char* kPlanDoc = R"doc(Plan(triangles, num_vertices, levels=1, *, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296, limit_surface=False, uv_interpolation="corners", face_varying_indices=None, hole_triangles=None)
 
 The topology work of Loop subdivision, done once for a mesh and reused per frame.
 
@@ -496,9 +651,11 @@ cone_vertices : numpy.ndarray of int32, shape (Q,), optional
     Vertices tagged as cones (``"hoppe94"``; ignored under ``"opensubdiv"``, which has no cones).
 crease_threshold : float, optional
     ``"hoppe94"``: an edge is a crease when its sharpness is positive and at least this (default 0).
-boundary : {"edges", "edges-and-corners"}, optional
+boundary : {"edges", "edges-and-corners", "none"}, optional
     ``"edges-and-corners"`` makes boundary vertices with a single face corners, under either rule set
-    (Blender's "Keep Corners"). Default ``"edges"``: boundary edges are creases.
+    (Blender's "Keep Corners"). Default ``"edges"``: boundary edges are creases. ``"none"``: the faces
+    around a boundary vertex whose boundary edges are not all tagged infinitely sharp become holes
+    (OpenSubdiv's VTX_BOUNDARY_NONE).
 crease_method : {"uniform", "chaikin"}, optional
     ``"opensubdiv"``: how semi-sharp sharpness decays from level to level.
 threads : int, optional
@@ -507,6 +664,19 @@ scalar : bool, optional
     Force the scalar reference kernel instead of the widest SIMD one the CPU runs.
 memory_limit_bytes : int, optional
     Refuse (``MemoryError``) a refinement that would need more than this (default 4 GiB).
+limit_surface : bool, optional
+    Put the last level on the limit surface (Blender's "Use Limit Surface"); ``evaluate_with_normals``
+    then also gives the limit normals. Default False.
+uv_interpolation : {"none", "corners", "corners-plus1", "corners-plus2", "boundaries", "all"}, optional
+    Where face-varying layers stay linear (OpenSubdiv's FVarLinearInterpolation 0..5): nowhere, at the
+    corners of UV islands (the default, OpenSubdiv's), also at junctions, also at concave corners, along
+    seams and boundaries, everywhere.
+face_varying_indices : list of numpy.ndarray of int32, shape (M, 3), optional
+    One face-varying layer per array: the value index at each corner (a UV map's ``vt`` indices). Corners
+    of a vertex with the same index share a value; different indices make a seam there. Layer ``k`` has
+    ``max(indices) + 1`` values; refine them with ``evaluate_face_varying(values, layer=k)``.
+hole_triangles : numpy.ndarray of int32, shape (H,), optional
+    Triangles that are holes: refined (the surface around them is unchanged) but left out of the output.
 
 Raises
 ------
@@ -546,22 +716,45 @@ ValueError
     Wrong shape or layout, or a non-finite value (``out`` may then be partly written).
 )doc";
 
-constexpr const char* kFaceVaryingDoc = R"doc(evaluate_face_varying(values, out=None)
+constexpr const char* kNormalsDoc = R"doc(evaluate_with_normals(positions, out=None, normals=None)
 
-Refine face-varying data (UVs), linearly within each face.
+Refine positions to the limit surface and give its normals (the Plan needs ``limit_surface=True``).
 
 Parameters
 ----------
-values : numpy.ndarray of float32, shape (T, 3, C) or (T, 3)
-    C values per corner of each input triangle, in the corner order of ``triangles``. Must be finite.
-out : numpy.ndarray of float32, shape (T_out, 3, C) or (T_out, 3), optional
-    Where to write the result. Default: a new array.
+positions : numpy.ndarray of float32, shape (N, C), C >= 3
+    x, y, z first; any further channels are refined alike.
+out : numpy.ndarray of float32, shape (N_out, C), optional
+normals : numpy.ndarray of float32, shape (T_out, 3, 3), optional
+    Where to write the results. Default: new arrays.
 
 Returns
 -------
-numpy.ndarray of float32, shape (T_out, 3, C) or (T_out, 3)
-    Values per corner of each output triangle, in the corner order of ``Plan.triangles``.
-    Seams stay seams: each output corner depends only on its parent face's values.
+tuple of numpy.ndarray
+    ``(positions, normals)``: limit positions (N_out, C) and the unit normal at each corner of each output
+    triangle (T_out, 3, 3). Across a crease or a boundary each side has its own normal (the normal of the
+    surface on that side); elsewhere the corners of a vertex share one. Zero where the surface has no
+    tangent plane (a degenerate neighbourhood).
+)doc";
+
+constexpr const char* kFaceVaryingDoc = R"doc(evaluate_face_varying(values, out=None, *, layer=None)
+
+Refine face-varying data (UVs).
+
+Parameters
+----------
+values : numpy.ndarray of float32
+    With ``layer=k``: shape (V, C) or (V,), one row per value of layer ``k`` (V = its largest index + 1),
+    refined by the Plan's ``uv_interpolation`` (to the limit with ``limit_surface``); the result has one row
+    per output value, placed on the output corners by ``face_varying_indices(k)``.
+    Without a layer: shape (T, 3, C) or (T, 3), C values per corner of each input triangle, refined linearly
+    within each face (``uv_interpolation="all"``), whatever the Plan's setting; the result has the shape
+    (T_out, 3, C) or (T_out, 3), in the corner order of ``Plan.triangles``.
+    Must be finite.
+out : numpy.ndarray of float32, optional
+    Where to write the result. Default: a new array.
+layer : int, optional
+    The face-varying layer (index into the Plan's ``face_varying_indices``).
 )doc";
 
 constexpr const char* kSubdivideDoc = R"doc(subdivide(positions, triangles, levels=1, *, <the options of Plan>, vertex_data=None, face_varying=None)
@@ -574,12 +767,13 @@ positions : numpy.ndarray of float32, shape (N, 3)
 triangles : numpy.ndarray of int32, shape (M, 3)
 levels : int, optional
     Default 1.
-rules, crease_edges, crease_sharpness, corner_vertices, corner_sharpness, cone_vertices, crease_threshold, boundary, crease_method, threads, scalar, memory_limit_bytes
+rules, crease_edges, crease_sharpness, corner_vertices, corner_sharpness, cone_vertices, crease_threshold, boundary, crease_method, threads, scalar, memory_limit_bytes, limit_surface, uv_interpolation, face_varying_indices, hole_triangles
     As for :class:`Plan`.
 vertex_data : numpy.ndarray of float32, shape (N, C) or (N,), or dict of them, optional
     Other per-vertex channels, refined with the same weights as the positions.
 face_varying : numpy.ndarray of float32, shape (M, 3, C) or (M, 3), or dict of them, optional
-    Per-corner data (UVs), refined linearly within each face.
+    Per-corner data (UVs), refined by ``uv_interpolation``: the corners of a vertex with equal values
+    (bit for bit) share one value, different values make a seam there.
 
 Returns
 -------
@@ -588,7 +782,9 @@ dict
     (index of the input triangle each output triangle comes from); ``crease_edges`` (K, 2) int32 and
     ``crease_sharpness`` (K,) float32, ``corner_vertices`` and ``corner_sharpness``: the output's tags, ready
     to be fed back in; ``vertex_data`` and ``face_varying``: refined like the arguments (an array, a dict with the
-    same keys, or None); ``plan``: the :class:`Plan`, to re-evaluate new positions on the same topology.
+    same keys, or None; face-varying data per output corner); ``normals`` (M_out, 3, 3) with ``limit_surface``
+    (see ``Plan.evaluate_with_normals``); ``plan``: the :class:`Plan`, to re-evaluate new positions on the same
+    topology.
     The index and tag arrays are read-only views of the plan's memory.
 )doc";
 
@@ -604,7 +800,9 @@ static_assert(loopsub::Options{}.memory_limit_bytes == 4294967296u, "update kPla
         py::arg("corner_sharpness") = py::none(), py::arg("cone_vertices") = py::none(),                             \
         py::arg("crease_threshold") = 0.0, py::arg("boundary") = "edges", py::arg("crease_method") = "uniform",     \
         py::arg("threads") = 1, py::arg("scalar") = false,                                                            \
-        py::arg("memory_limit_bytes") = static_cast<long long>(loopsub::Options{}.memory_limit_bytes)
+        py::arg("memory_limit_bytes") = static_cast<long long>(loopsub::Options{}.memory_limit_bytes),                \
+        py::arg("limit_surface") = false, py::arg("uv_interpolation") = "corners",                                    \
+        py::arg("face_varying_indices") = py::none(), py::arg("hole_triangles") = py::none()
 
 PYBIND11_MODULE(_loopsub, m) {
     m.doc() = kModuleDoc;
@@ -619,16 +817,38 @@ PYBIND11_MODULE(_loopsub, m) {
                          py::object crease_edges, py::object crease_sharpness, py::object corner_vertices,
                          py::object corner_sharpness, py::object cone_vertices, double crease_threshold,
                          std::string boundary, std::string crease_method, int threads, bool scalar,
-                         long long memory_limit_bytes) {
+                         long long memory_limit_bytes, bool limit_surface, std::string uv_interpolation,
+                         py::object face_varying_indices, py::object hole_triangles) {
                  OptionArgs o{rules,          boundary,         crease_method,    crease_edges, crease_sharpness,
                               corner_vertices, corner_sharpness, cone_vertices,   crease_threshold,
-                              threads,         scalar,           memory_limit_bytes};
+                              threads,         scalar,           memory_limit_bytes, limit_surface, uv_interpolation,
+                              face_varying_indices, hole_triangles};
                  return build_plan(triangles, num_vertices, levels, o);
              }),
              py::arg("triangles"), py::arg("num_vertices"), py::arg("levels") = 1, LOOPSUB_OPTION_ARGS)
         .def("evaluate", &evaluate, kEvaluateDoc, py::arg("values"), py::arg("out") = py::none())
+        .def("evaluate_with_normals", &evaluate_with_normals, kNormalsDoc, py::arg("positions"), py::arg("out") = py::none(),
+             py::arg("normals") = py::none())
         .def("evaluate_face_varying", &evaluate_face_varying, kFaceVaryingDoc, py::arg("values"),
-             py::arg("out") = py::none())
+             py::arg("out") = py::none(), py::kw_only(), py::arg("layer") = py::none())
+        .def(
+            "face_varying_indices",
+            [](py::object self, int layer) {
+                PyPlan& p = self.cast<PyPlan&>();
+                if (layer < 0 || layer >= int(p.layer_values.size()))
+                    throw py::value_error("layer " + std::to_string(layer) + " is not a face-varying layer of this Plan (it has " +
+                                          std::to_string(p.layer_values.size()) + ")");
+                return plan_view(p.plan.output_face_varying_indices(layer), {p.plan.num_output_triangles(), 3}, self);
+            },
+            py::arg("layer"),
+            "face_varying_indices(layer)\n\nint32 array (T_out, 3), read-only: the value index (into "
+            "evaluate_face_varying(values, layer=layer)'s result) at each corner of each output triangle.")
+        .def_property_readonly("num_face_varying_layers", [](PyPlan& p) { return int(p.layer_values.size()); },
+                               "Number of face-varying layers (face_varying_indices given to the Plan).")
+        .def_property_readonly("limit_surface", [](PyPlan& p) { return p.plan.options().limit_surface; },
+                               "Whether the last level is put on the limit surface.")
+        .def_property_readonly("uv_interpolation", [](PyPlan& p) { return kUvInterpolations[int(p.plan.options().face_varying)]; },
+                               "How face-varying layers are interpolated (see the Plan's uv_interpolation).")
         .def_property_readonly("levels", [](PyPlan& p) { return p.plan.levels(); }, "Levels of subdivision.")
         .def_property_readonly("rules", [](PyPlan& p) { return rules_name(p.plan.options().rules); },
                                "The rule set: 'hoppe94' or 'opensubdiv'.")
@@ -738,10 +958,12 @@ PYBIND11_MODULE(_loopsub, m) {
         [](py::handle positions, py::handle triangles, int levels, std::string rules, py::object crease_edges,
            py::object crease_sharpness, py::object corner_vertices, py::object corner_sharpness,
            py::object cone_vertices, double crease_threshold, std::string boundary, std::string crease_method,
-           int threads, bool scalar, long long memory_limit_bytes, py::handle vertex_data, py::handle face_varying) {
+           int threads, bool scalar, long long memory_limit_bytes, bool limit_surface, std::string uv_interpolation,
+           py::object face_varying_indices, py::object hole_triangles, py::handle vertex_data, py::handle face_varying) {
             OptionArgs o{rules,          boundary,         crease_method,  crease_edges, crease_sharpness,
                          corner_vertices, corner_sharpness, cone_vertices, crease_threshold,
-                         threads,         scalar,           memory_limit_bytes};
+                         threads,         scalar,           memory_limit_bytes, limit_surface, uv_interpolation,
+                         face_varying_indices, hole_triangles};
             return subdivide(positions, triangles, levels, o, vertex_data, face_varying);
         },
         kSubdivideDoc, py::arg("positions"), py::arg("triangles"), py::arg("levels") = 1, LOOPSUB_OPTION_ARGS,

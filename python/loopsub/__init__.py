@@ -11,7 +11,7 @@ from ._loopsub import subdivide as _subdivide_strict
 
 __all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "Plan", "best_kernel", "subdivide"]
 
-_INDEX_ARGUMENTS = ("crease_edges", "corner_vertices", "cone_vertices")
+_INDEX_ARGUMENTS = ("crease_edges", "corner_vertices", "cone_vertices", "hole_triangles")
 _VALUE_ARGUMENTS = ("crease_sharpness", "corner_sharpness")
 
 
@@ -38,6 +38,9 @@ def subdivide(positions, triangles, levels=1, **options):
     for name in _INDEX_ARGUMENTS:
         if options.get(name) is not None:
             options[name] = _indices(name, options[name])
+    if options.get("face_varying_indices") is not None:
+        options["face_varying_indices"] = [_indices(f"face_varying_indices[{k}]", layer)
+                                           for k, layer in enumerate(options["face_varying_indices"])]
     for name in _VALUE_ARGUMENTS:
         if options.get(name) is not None:
             options[name] = _floats(name, options[name])

@@ -231,7 +231,8 @@ def test_negative_levels(mesh, levels):
 
 @pytest.mark.parametrize("options,match", [
     (dict(rules="loop"), "rules must be 'hoppe94' or 'opensubdiv', got 'loop'"),
-    (dict(boundary="none"), "boundary"),
+    (dict(boundary="sideways"), "boundary"),
+    (dict(uv_interpolation="linear"), "uv_interpolation"),
     (dict(crease_method="linear"), "crease_method"),
     (dict(threads=0), "threads"),
     (dict(memory_limit_bytes=-1), "memory_limit_bytes"),

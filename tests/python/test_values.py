@@ -429,12 +429,22 @@ def test_face_varying_is_linear_per_face_and_keeps_seams(rules):
 def test_face_varying_single_channel_and_subdivide_dict():
     p, t = tetrahedron()
     u = np.ascontiguousarray(p[t][:, :, 0])  # (T, 3): one channel
-    r = _loopsub.subdivide(p, t, 1, face_varying={"u": u, "uvw": np.ascontiguousarray(p[t])})
+    r = _loopsub.subdivide(p, t, 1, face_varying={"u": u, "uvw": np.ascontiguousarray(p[t])}, uv_interpolation="all")
     plan = r["plan"]
     lin = linear_positions(plan, p)
     assert r["face_varying"]["u"].shape == (16, 3)
     np.testing.assert_allclose(r["face_varying"]["u"], lin[plan.triangles][:, :, 0], atol=1e-6)
     np.testing.assert_allclose(r["face_varying"]["uvw"], lin[plan.triangles], atol=1e-6)
+
+
+@pytest.mark.parametrize("rules", RULES)
+@pytest.mark.parametrize("mode", ["none", "corners", "corners-plus1", "corners-plus2", "boundaries"])
+def test_face_varying_without_seams_follows_the_vertices(rules, mode):
+    # Every corner of a vertex carries the vertex's own value: no seam anywhere, so in every smooth mode a
+    # face-varying layer refines exactly as vertex data does (on a closed mesh, where boundaries play no part).
+    p, t = tetrahedron()
+    r = _loopsub.subdivide(p, t, 2, rules=rules, face_varying=np.ascontiguousarray(p[t]), uv_interpolation=mode)
+    np.testing.assert_allclose(r["face_varying"], r["positions"][r["triangles"]], atol=1e-6)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -472,3 +482,60 @@ def test_scalar_and_simd_and_threads_agree(rules, channels):
         plan = _loopsub.Plan(t, len(p), 5, rules=rules, **options, **creases)
         assert plan.kernel == ("scalar" if options.get("scalar") else _loopsub.best_kernel())
         np.testing.assert_allclose(plan.evaluate(values), reference, atol=2e-6, err_msg=str(options))
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The limit surface, face-varying layers, holes
+
+
+@pytest.mark.parametrize("rules", RULES)
+def test_limit_normals_are_unit_and_point_out_of_a_closed_mesh(rules):
+    p, t = tetrahedron()
+    plan = _loopsub.Plan(t, len(p), 2, rules=rules, limit_surface=True)
+    positions, normals = plan.evaluate_with_normals(p)
+    assert positions.shape == (plan.num_output_vertices, 3)
+    assert normals.shape == (plan.num_output_triangles, 3, 3)
+    np.testing.assert_allclose(np.linalg.norm(normals, axis=2), 1.0, atol=1e-5)
+    # The tetrahedron is centred on the origin: outward normals point away from it.
+    assert (np.einsum("tkc,tkc->tk", normals, positions[plan.triangles]) > 0).all()
+    # The same plan without normals gives the same limit positions.
+    np.testing.assert_array_equal(plan.evaluate(p), positions)
+
+
+def test_normals_need_the_limit_surface():
+    p, t = tetrahedron()
+    with pytest.raises(ValueError, match="limit_surface=True"):
+        _loopsub.Plan(t, len(p), 1).evaluate_with_normals(p)
+    with pytest.raises(ValueError, match="at least 3 channels"):
+        _loopsub.Plan(t, len(p), 1, limit_surface=True).evaluate_with_normals(np.ascontiguousarray(p[:, :2]))
+
+
+def test_face_varying_layer_by_indices_equals_the_welded_corners():
+    p, t = tetrahedron()
+    # A seam: triangle 0 has its own copies of its three values.
+    indices = np.array([[4, 5, 6], [0, 2, 3], [0, 3, 1], [1, 3, 2]], np.int32)
+    values = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [2, 2], [3, 2], [2, 3]], np.float32)
+    plan = _loopsub.Plan(t, len(p), 2, rules="opensubdiv", face_varying_indices=[indices], uv_interpolation="boundaries")
+    assert plan.num_face_varying_layers == 1
+    refined = plan.evaluate_face_varying(values, layer=0)
+    per_corner = refined[plan.face_varying_indices(0)]
+    r = _loopsub.subdivide(p, t, 2, rules="opensubdiv", face_varying=np.ascontiguousarray(values[indices]),
+                           uv_interpolation="boundaries")
+    np.testing.assert_array_equal(per_corner, r["face_varying"])
+    # Keep Boundaries: the seam's corners stay where they were.
+    for corner in range(3):
+        assert any(np.array_equal(values[4 + corner], uv) for uv in per_corner.reshape(-1, 2))
+    with pytest.raises(ValueError, match="layer 1"):
+        plan.evaluate_face_varying(values, layer=1)
+    with pytest.raises(ValueError, match=r"\(N=7, C\)"):
+        plan.evaluate_face_varying(values[:6], layer=0)
+
+
+def test_holes_are_left_out_and_refuse_bad_indices():
+    p, t = tetrahedron()
+    r = _loopsub.subdivide(p, t, 2, hole_triangles=np.array([1], np.int32))
+    assert r["triangles"].shape == (3 * 16, 3)
+    assert set(r["parent_triangles"].tolist()) == {0, 2, 3}
+    assert r["positions"].shape[0] == _loopsub.subdivide(p, t, 2)["positions"].shape[0]  # vertices stay
+    with pytest.raises(ValueError, match="hole 0 refers to triangle 4"):
+        _loopsub.Plan(t, len(p), 1, hole_triangles=np.array([4], np.int32))
