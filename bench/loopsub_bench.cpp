@@ -11,10 +11,15 @@
 //   opensubdiv_stencil_table      StencilTableFactory::Create from the refined refiner (last level only, offsets)
 //   opensubdiv_cpu_evaluator      Osd::CpuEvaluator::EvalStencils over that table (per frame)
 //   opensubdiv_omp_evaluator      Osd::OmpEvaluator::EvalStencils with 2 OpenMP threads (per frame)
+//   opensubdiv_limit              Interpolate, levels 1-4, then Limit with both tangents (per frame)
+//   opensubdiv_face_varying       InterpolateFaceVarying of a UV layer with a seam, levels 1-4, FVAR_LINEAR_CORNERS_ONLY
+//                                 (per frame)
 // loopsub (kernel: scalar, sse4.1, avx2; threads: Options::threads):
 //   loopsub_full                  Plan construction + evaluate
 //   loopsub_topology              Plan construction
 //   loopsub_evaluate              Plan::evaluate (per frame)
+//   loopsub_limit                 Plan::evaluate with the limit surface and its normals (per frame)
+//   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
 #include <benchmark/benchmark.h>
@@ -55,6 +60,9 @@ struct Mesh {
     std::vector<float> crease_sharpness;
     std::vector<int> corners;
     std::vector<float> corner_sharpness;
+    // A UV layer with a seam: the triangles with x > 0 take their own copies of their values.
+    std::vector<float> uvs;      // 2 per value
+    std::vector<int> uv_indices;  // 3 per triangle
 
     int num_vertices() const { return int(positions.size() / 3); }
     int num_triangles() const { return int(triangles.size() / 3); }
@@ -120,11 +128,24 @@ Mesh creased_icosphere() {
     return m;
 }
 
+void add_uv_seam(Mesh& m) {
+    const int n = m.num_vertices();
+    for (int copy = 0; copy < 2; ++copy)
+        for (int v = 0; v < n; ++v) m.uvs.insert(m.uvs.end(), {m.positions[3 * v] + copy, m.positions[3 * v + 1]});
+    for (int f = 0; f < m.num_triangles(); ++f) {
+        const int* v = &m.triangles[3 * f];
+        const bool east = m.positions[3 * v[0]] + m.positions[3 * v[1]] + m.positions[3 * v[2]] > 0;
+        for (int k = 0; k < 3; ++k) m.uv_indices.push_back(v[k] + (east ? n : 0));
+    }
+}
+
 const std::vector<Mesh>& meshes() {
     static const std::vector<Mesh> all = [] {
         Mesh smooth = icosphere(4);
         smooth.name = "icosphere";
-        return std::vector<Mesh>{smooth, creased_icosphere()};
+        std::vector<Mesh> both{smooth, creased_icosphere()};
+        for (Mesh& m : both) add_uv_seam(m);
+        return both;
     }();
     return all;
 }
@@ -141,10 +162,14 @@ struct Vertex {  // PrimvarRefiner's interface
     }
 };
 
-std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m) {
+std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m, bool full_last_level = false) {
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+    sdc.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_CORNERS_ONLY);
+    Far::TopologyDescriptor::FVarChannel uv_channel;
+    uv_channel.numValues = int(m.uvs.size() / 2);
+    uv_channel.valueIndices = m.uv_indices.data();
     const std::vector<int> three(m.num_triangles(), 3);
     Far::TopologyDescriptor d;
     d.numVertices = m.num_vertices();
@@ -157,10 +182,14 @@ std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m) {
     d.numCorners = int(m.corners.size());
     d.cornerVertexIndices = m.corners.data();
     d.cornerWeights = m.corner_sharpness.data();
+    d.numFVarChannels = 1;
+    d.fvarChannels = &uv_channel;
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     std::unique_ptr<Far::TopologyRefiner> refiner(
         Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
-    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(kLevels));
+    Far::TopologyRefiner::UniformOptions uniform(kLevels);
+    uniform.fullTopologyInLastLevel = full_last_level;  // what Limit needs
+    refiner->RefineUniform(uniform);
     return refiner;
 }
 
@@ -199,6 +228,47 @@ void osd_primvar_refiner(benchmark::State& state, const Mesh* m) {
     const std::unique_ptr<Vertex[]> all(new Vertex[refiner->GetNumVerticesTotal()]);
     for (auto _ : state) benchmark::DoNotOptimize(osd_interpolate(*refiner, *m, all.get()));
     set_rate(state, output_vertices(*refiner));
+}
+
+void osd_limit(benchmark::State& state, const Mesh* m) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m, true);
+    const std::unique_ptr<Vertex[]> all(new Vertex[refiner->GetNumVerticesTotal()]);
+    const int count = output_vertices(*refiner);
+    std::vector<Vertex> limit(count), tangent1(count), tangent2(count);
+    const Far::PrimvarRefiner primvar(*refiner);
+    for (auto _ : state) {
+        const Vertex* last = osd_interpolate(*refiner, *m, all.get());
+        primvar.Limit(last, limit, tangent1, tangent2);
+        benchmark::DoNotOptimize(limit.data());
+    }
+    set_rate(state, count);
+}
+
+struct UV {  // PrimvarRefiner's interface, two floats
+    float p[2];
+    void Clear(void* = nullptr) { p[0] = p[1] = 0.0f; }
+    void AddWithWeight(const UV& src, float weight) {
+        p[0] += weight * src.p[0];
+        p[1] += weight * src.p[1];
+    }
+};
+
+void osd_face_varying(benchmark::State& state, const Mesh* m) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m);
+    const Far::PrimvarRefiner primvar(*refiner);
+    std::vector<int> offsets{0};
+    for (int level = 0; level <= kLevels; ++level) offsets.push_back(offsets.back() + refiner->GetLevel(level).GetNumFVarValues(0));
+    std::vector<UV> all(offsets.back());
+    std::copy(m->uvs.begin(), m->uvs.end(), &all[0].p[0]);
+    for (auto _ : state) {
+        for (int level = 1; level <= kLevels; ++level) {
+            const UV* src = &all[offsets[level - 1]];
+            UV* dst = &all[offsets[level]];
+            primvar.InterpolateFaceVarying(level, src, dst, 0);
+        }
+        benchmark::DoNotOptimize(all.data());
+    }
+    set_rate(state, refiner->GetLevel(kLevels).GetNumFVarValues(0));
 }
 
 std::unique_ptr<const Far::StencilTable> osd_stencils(const Far::TopologyRefiner& refiner) {
@@ -242,6 +312,10 @@ loopsub::MeshView view(const Mesh& m) {
     v.corner_vertices = m.corners.data();
     v.corner_sharpness = m.corner_sharpness.data();
     v.num_corners = int(m.corners.size());
+    static thread_local loopsub::FaceVaryingLayer layer;
+    layer = {m.uv_indices.data(), int(m.uvs.size() / 2)};
+    v.face_varying = &layer;
+    v.num_face_varying = 1;
     return v;
 }
 
@@ -288,6 +362,28 @@ void ours_evaluate(benchmark::State& state, const Mesh* m, loopsub::Kernel kerne
     set_rate(state, plan.num_output_vertices());
 }
 
+void ours_limit(benchmark::State& state, const Mesh* m, int threads) {
+    loopsub::Options o = options(loopsub::Kernel::Auto, threads);
+    o.limit_surface = true;
+    loopsub::Plan plan(view(*m), o);
+    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3), normals(std::size_t(plan.num_output_triangles()) * 9);
+    for (auto _ : state) {
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3), normals.data());
+        benchmark::DoNotOptimize(normals.data());
+    }
+    set_rate(state, plan.num_output_vertices());
+}
+
+void ours_face_varying(benchmark::State& state, const Mesh* m, int threads) {
+    loopsub::Plan plan(view(*m), options(loopsub::Kernel::Auto, threads));
+    std::vector<float> out(std::size_t(plan.num_output_face_varying_values(0)) * 2);
+    for (auto _ : state) {
+        plan.evaluate_face_varying(0, loopsub::interleaved(m->uvs.data(), 2), loopsub::interleaved(out.data(), 2));
+        benchmark::DoNotOptimize(out.data());
+    }
+    set_rate(state, plan.num_output_face_varying_values(0));
+}
+
 // ---- Registration and the speedup table --------------------------------------------------------------------------
 
 constexpr loopsub::Kernel kKernels[] = {loopsub::Kernel::Scalar, loopsub::Kernel::SSE41, loopsub::Kernel::AVX2};
@@ -307,7 +403,11 @@ void register_all() {
         add("opensubdiv_stencil_table/" + m.name, osd_stencil_table, &m);
         add("opensubdiv_cpu_evaluator/" + m.name, osd_evaluator<Osd::CpuEvaluator>, &m);
         add("opensubdiv_omp_evaluator/" + m.name + "/threads:2", osd_evaluator<Osd::OmpEvaluator>, &m);
+        add("opensubdiv_limit/" + m.name, osd_limit, &m);
+        add("opensubdiv_face_varying/" + m.name, osd_face_varying, &m);
         for (int threads : {1, 2}) {
+            add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
+            add("loopsub_face_varying/" + m.name + "/threads:" + std::to_string(threads), ours_face_varying, &m, threads);
             add("loopsub_topology/" + m.name + "/threads:" + std::to_string(threads), ours_topology, &m, threads);
             for (loopsub::Kernel kernel : kKernels) {
                 add(ours_name("full", m, kernel, threads), ours_full, &m, kernel, threads);
@@ -366,6 +466,21 @@ void print_speedups(const RecordingReporter& r) {
                 std::printf("%-10s %-7s %-8d %16s %22s %21s\n", m.name.c_str(), loopsub::kernel_name(kernel), threads,
                             ratio(far, full).c_str(), ratio(primvar, evaluate).c_str(), ratio(stencils, evaluate).c_str());
             }
+        }
+    }
+    std::printf("\nPer frame, limit surface and face-varying (best kernel), OpenSubdiv time / loopsub time:\n");
+    std::printf("%-10s %-8s %34s %38s\n", "mesh", "threads", "limit+normals vs Interpolate+Limit",
+                "UVs vs InterpolateFaceVarying (ms)");
+    for (const Mesh& m : meshes()) {
+        for (int threads : {1, 2}) {
+            const std::string suffix = m.name + "/threads:" + std::to_string(threads);
+            const double limit = r.ms("loopsub_limit/" + suffix), uvs = r.ms("loopsub_face_varying/" + suffix);
+            const double osd_limit = r.ms("opensubdiv_limit/" + m.name), osd_uvs = r.ms("opensubdiv_face_varying/" + m.name);
+            if (limit < 0 && uvs < 0) continue;
+            char a[64] = "-", b[64] = "-";
+            if (limit > 0 && osd_limit > 0) std::snprintf(a, sizeof a, "%.1fx (%.1f vs %.1f ms)", osd_limit / limit, limit, osd_limit);
+            if (uvs > 0 && osd_uvs > 0) std::snprintf(b, sizeof b, "%.1fx (%.1f vs %.1f ms)", osd_uvs / uvs, uvs, osd_uvs);
+            std::printf("%-10s %-8d %34s %38s\n", m.name.c_str(), threads, a, b);
         }
     }
 }
