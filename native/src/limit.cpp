@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "level_state.h"
+#include "parallel.h"
 #include "plan_data.h"
 
 namespace loopsub {
@@ -203,7 +204,8 @@ Vec3 unit_normal(const Vec3& t1, const Vec3& t2) {
     const double z = double(t1.x) * t2.y - double(t1.y) * t2.x;
     const double length = std::sqrt(x * x + y * y + z * z);
     if (!(length > 0.0) || !std::isfinite(length)) return {};
-    return {float(x / length), float(y / length), float(z / length)};
+    const double inverse = 1.0 / length;
+    return {float(x * inverse), float(y * inverse), float(z * inverse)};
 }
 
 }  // namespace
@@ -211,7 +213,10 @@ Vec3 unit_normal(const Vec3& t1, const Vec3& t2) {
 void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals) {
     detail::LimitTables& lt = *limit;
     const detail::LevelStencils& s = lt.positions;
-    auto at = [&p](Index i, int c) { return p.data[c * p.channel_stride + std::size_t(i) * p.element_stride]; };
+    // The last level's points come from the evaluation's scratch: an element's channels side by side.
+    const float* points_data = p.data;
+    const std::size_t stride = p.element_stride;
+    auto at = [points_data, stride](Index i, int c) { return points_data[std::size_t(i) * stride + std::size_t(c)]; };
     // Tangent masks sum to zero, so they apply to the neighbours' offsets from the vertex: small numbers, where the
     // positions themselves would lose the tangents' low bits at deep levels.
     auto tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
@@ -223,36 +228,50 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
         }
     };
 
+    // Three phases, each split among the threads: vertex normals, side normals, then the corners that read them.
     lt.vertex_normals.resize(3 * std::size_t(s.num_vertices));
-    for (int v = 0; v < s.num_vertices; ++v) {
-        if (lt.by_side[v]) continue;
-        const Index first = s.ring_offsets[v];
-        const int valence = s.ring_offsets[v + 1] - first;
-        Vec3 t1, t2;
-        tangents(v, s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
-        const Vec3 n = unit_normal(t1, t2);
-        lt.vertex_normals[3 * v] = n.x, lt.vertex_normals[3 * v + 1] = n.y, lt.vertex_normals[3 * v + 2] = n.z;
-    }
     lt.side_normals.resize(3 * lt.sides.size());
-    for (std::size_t i = 0; i < lt.sides.size(); ++i) {
-        const detail::LimitTables::Side& side = lt.sides[i];
-        const Index* points = lt.side_points.data() + side.first;
-        Vec3 t1, t2;
-        if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
-        else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
-        const Vec3 n = unit_normal(t1, t2);
-        lt.side_normals[3 * i] = n.x, lt.side_normals[3 * i + 1] = n.y, lt.side_normals[3 * i + 2] = n.z;
-    }
-
     const std::size_t corners = output_triangles.size();
-    for (std::size_t c = 0; c < corners; ++c) {
-        const float* n = &lt.vertex_normals[3 * std::size_t(output_triangles[c])];
-        corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
-    }
-    for (const auto& [corner, side] : lt.corner_sides) {
-        const float* n = &lt.side_normals[3 * std::size_t(side)];
-        corner_normals[3 * corner] = n[0], corner_normals[3 * corner + 1] = n[1], corner_normals[3 * corner + 2] = n[2];
-    }
+    auto store = [](float* to, const Vec3& n) { to[0] = n.x, to[1] = n.y, to[2] = n.z; };
+    detail::run_levels(std::max(1, options.threads), 3, [&](int phase, int part, int parts) {
+        auto range = [&](std::size_t n) {
+            return std::pair<std::size_t, std::size_t>(n * std::size_t(part) / std::size_t(parts), n * std::size_t(part + 1) / std::size_t(parts));
+        };
+        if (phase == 0) {
+            const auto [begin, end] = range(std::size_t(s.num_vertices));
+            for (std::size_t v = begin; v < end; ++v) {
+                if (lt.by_side[v]) continue;
+                const Index first = s.ring_offsets[v];
+                const int valence = s.ring_offsets[v + 1] - first;
+                Vec3 t1, t2;
+                tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
+                store(&lt.vertex_normals[3 * v], unit_normal(t1, t2));
+            }
+        } else if (phase == 1) {
+            const auto [begin, end] = range(lt.sides.size());
+            for (std::size_t i = begin; i < end; ++i) {
+                const detail::LimitTables::Side& side = lt.sides[i];
+                const Index* points = lt.side_points.data() + side.first;
+                Vec3 t1, t2;
+                if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
+                else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
+                store(&lt.side_normals[3 * i], unit_normal(t1, t2));
+            }
+        } else {
+            const auto [begin, end] = range(corners);
+            for (std::size_t c = begin; c < end; ++c) {
+                const float* n = &lt.vertex_normals[3 * std::size_t(output_triangles[c])];
+                corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
+            }
+            // The corners on sides overwrite theirs, in the same part of the corner range.
+            const auto first = std::lower_bound(lt.corner_sides.begin(), lt.corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
+            for (auto it = first; it != lt.corner_sides.end() && std::size_t(it->first) < end; ++it) {
+                const float* n = &lt.side_normals[3 * std::size_t(it->second)];
+                const std::size_t c = std::size_t(it->first);
+                corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
+            }
+        }
+    });
 }
 
 }  // namespace loopsub

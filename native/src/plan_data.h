@@ -83,7 +83,8 @@ struct PlanImpl {
     void drop_holes();
     // The limit's stencils and normal tables for the last level (limit.cpp).
     void plan_limit(detail::LevelState& last, const detail::Topology& parent);
-    // Per output corner, the limit normal of the last level's points `last_level` (its first three channels).
+    // Per output corner, the limit normal of the last level's points `last_level` (its first three channels; an
+    // element's channels side by side, as in the evaluation's scratch).
     void limit_normals(ChannelsView<const float> last_level, float* corner_normals);
 };
 

@@ -167,5 +167,29 @@ TEST(LimitSurface, LevelZeroPutsTheInputOnTheLimit) {
     }
 }
 
+// Two threads split the normals pass, never its arithmetic; the scalar kernel's limit gives the same normals to
+// float rounding.
+TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {
+    TestMesh mesh = icosphere(3);
+    jitter(mesh, 7, 0.01f);
+    add_random_creases(mesh, 7, 0.1, true);
+    auto normals_for = [&](int threads, Kernel kernel) {
+        Options options;
+        options.rules = Rules::OpenSubdiv;
+        options.levels = 2;
+        options.limit_surface = true;
+        options.threads = threads;
+        options.kernel = kernel;
+        Plan plan(mesh.view(), options);
+        std::vector<float> limit(3 * std::size_t(plan.num_output_vertices())), normals(9 * std::size_t(plan.num_output_triangles()));
+        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3), normals.data());
+        return normals;
+    };
+    const std::vector<float> one = normals_for(1, Kernel::Auto);
+    EXPECT_EQ(one, normals_for(2, Kernel::Auto));
+    const std::vector<float> scalar = normals_for(1, Kernel::Scalar);
+    for (std::size_t i = 0; i < one.size(); ++i) ASSERT_NEAR(one[i], scalar[i], 1e-5) << "component " << i;
+}
+
 }  // namespace
 }  // namespace loopsub::testing
