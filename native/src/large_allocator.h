@@ -2,10 +2,16 @@
 // touch, which measured as more time than the topology work itself; asking the kernel for transparent huge
 // pages (2 MiB) on large blocks cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode).
 // Elsewhere large blocks are just aligned to 2 MiB.
+//
+// Freed large blocks are kept for reuse, up to kPoolBytes in all (block_pool): a plan built again (the modifier after
+// an edit that changes the topology, a benchmark loop) then finds its arrays already faulted in, instead of paying
+// the kernel again to map and zero them, which is most of what a fresh plan's memory costs.
 #pragma once
 
 #include <cstddef>
 #include <cstdlib>
+#include <deque>
+#include <mutex>
 #include <new>
 #include <utility>
 #include <vector>
@@ -18,10 +24,65 @@
 
 namespace loopsub::detail {
 
+// Large blocks by size, oldest first; shared by every plan of the process, and never destroyed, so that plans freed
+// during static destruction still find it (the blocks it holds at exit stay reachable).
+class BlockPool {
+public:
+    static constexpr std::size_t kPoolBytes = std::size_t(256) << 20;
+
+    static BlockPool& instance() {
+        static BlockPool* pool = new BlockPool;
+        return *pool;
+    }
+    // A block of exactly `bytes`, or null.
+    void* take(std::size_t bytes) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto it = blocks_.begin(); it != blocks_.end(); ++it) {
+            if (it->first != bytes) continue;
+            void* block = it->second;
+            held_ -= bytes;
+            blocks_.erase(it);
+            return block;
+        }
+        return nullptr;
+    }
+    // Keeps the block, freeing the oldest ones past the budget; false when the block alone is past it.
+    template <typename Free>
+    bool keep(void* block, std::size_t bytes, Free free_block) {
+        if (bytes > kPoolBytes) return false;
+        std::vector<std::pair<std::size_t, void*>> evicted;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            while (held_ + bytes > kPoolBytes) {
+                evicted.push_back(blocks_.front());
+                held_ -= blocks_.front().first;
+                blocks_.pop_front();
+            }
+            blocks_.emplace_back(bytes, block);
+            held_ += bytes;
+        }
+        for (const auto& [size, old] : evicted) free_block(old, size);
+        return true;
+    }
+
+private:
+    std::mutex mutex_;
+    std::deque<std::pair<std::size_t, void*>> blocks_;
+    std::size_t held_ = 0;
+};
+
 template <typename T>
 struct LargeAllocator {
     using value_type = T;
     static constexpr std::size_t kHugePage = std::size_t(2) << 20;
+    static constexpr std::size_t kPooled = std::size_t(64) << 10;  // smaller blocks are malloc's business
+
+    // Large blocks are whole huge pages; middling ones (64 KiB up) whole multiples of 64 KiB, so that plans of one
+    // mesh ask for the same sizes again.
+    static std::size_t block_size(std::size_t bytes) {
+        const std::size_t unit = bytes >= kHugePage ? kHugePage : kPooled;
+        return (bytes + unit - 1) / unit * unit;
+    }
 
     LargeAllocator() = default;
     template <typename U>
@@ -29,29 +90,40 @@ struct LargeAllocator {
 
     T* allocate(std::size_t n) {
         const std::size_t bytes = n * sizeof(T);
-        if (bytes < kHugePage) {
+        if (bytes < kPooled) {
             if (void* p = std::malloc(bytes ? bytes : 1)) return static_cast<T*>(p);
             throw std::bad_alloc();
         }
-        const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+        const std::size_t rounded = block_size(bytes);
+        if (void* reused = BlockPool::instance().take(rounded)) return static_cast<T*>(reused);
+        const std::size_t alignment = rounded >= kHugePage ? kHugePage : kPooled;
 #if defined(_WIN32)
-        void* p = _aligned_malloc(rounded, kHugePage);  // Windows has no aligned_alloc
+        void* p = _aligned_malloc(rounded, alignment);  // Windows has no aligned_alloc
 #else
-        void* p = std::aligned_alloc(kHugePage, rounded);
+        void* p = std::aligned_alloc(alignment, rounded);
 #endif
         if (!p) throw std::bad_alloc();
 #if defined(__linux__)
-        madvise(p, rounded, MADV_HUGEPAGE);  // advisory: without huge pages it is ordinary memory
+        if (rounded >= kHugePage) madvise(p, rounded, MADV_HUGEPAGE);  // advisory: else it is ordinary memory
 #endif
         return static_cast<T*>(p);
     }
     void deallocate(T* p, std::size_t n) noexcept {
+        const std::size_t bytes = n * sizeof(T);
+        if (bytes < kPooled) return std::free(p);
+        const std::size_t rounded = block_size(bytes);
+        try {
+            if (BlockPool::instance().keep(p, rounded, free_large)) return;
+        } catch (...) {  // no memory left to remember the block: give it back
+        }
+        free_large(p, rounded);
+    }
+    static void free_large(void* p, std::size_t) noexcept {
 #if defined(_WIN32)
-        if (n * sizeof(T) >= kHugePage) return _aligned_free(p);
+        _aligned_free(p);  // every pooled block came from _aligned_malloc
 #else
-        (void)n;
-#endif
         std::free(p);
+#endif
     }
 
     // resize(n) leaves new elements uninitialised: every array here is filled right after it is sized, so
