@@ -301,7 +301,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
             tag.crease = !linear_boundaries(mode);
         }
     }
-    Topology child_values = refine_topology(values_, last && !options_.limit_surface ? Refined::FacesOnly : Refined::Full);
+    Topology child_values = refine_topology(values_, last && !options_.limit_surface ? Refined::FacesOnly : Refined::Full, options_.threads);
     s.ring_offsets = std::move(values_.vertex_edge_offsets);
     s.ring = std::move(values_.vertex_vertices);
     s.edge_ends = std::move(values_.edge_vertices);

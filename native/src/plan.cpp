@@ -211,7 +211,8 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level.
     child.topology = detail::refine_topology(t, last_child        ? detail::Refined::FacesOnly
                                                 : grandchild_last ? detail::Refined::ForStencils
-                                                                  : detail::Refined::Full);
+                                                                  : detail::Refined::Full,
+                                             options.threads);
     child.own_neighbourhood = !grandchild_last;
     level_num_vertices.push_back(child.topology.num_vertices);
 

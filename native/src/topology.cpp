@@ -1,6 +1,10 @@
 #include "topology.h"
 
+#include <algorithm>
 #include <numeric>
+#include <utility>
+
+#include "parallel.h"
 
 namespace loopsub::detail {
 
@@ -124,141 +128,162 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     return t;
 }
 
-Topology refine_topology(const Topology& p, Refined what) {
+Topology refine_topology(const Topology& p, Refined what, int threads) {
     const int nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
+    const bool faces_only = what == Refined::FacesOnly, full = what == Refined::Full;
     Topology c;
     c.num_vertices = nv + ne;
-
-    c.face_vertices.resize(12 * std::size_t(nf));
-    for (int f = 0; f < nf; ++f) {
-        const Index* v = &p.face_vertices[3 * f];
-        const Index m0 = nv + p.face_edges[3 * f], m1 = nv + p.face_edges[3 * f + 1], m2 = nv + p.face_edges[3 * f + 2];
-        Index* out = &c.face_vertices[12 * std::size_t(f)];
-        out[0] = v[0], out[1] = m0, out[2] = m2;
-        out[3] = v[1], out[4] = m1, out[5] = m0;
-        out[6] = v[2], out[7] = m2, out[8] = m1;
-        out[9] = m0, out[10] = m1, out[11] = m2;
-    }
-    if (what == Refined::FacesOnly) return c;
-    const bool full = what == Refined::Full;
-
     const Index interior_base = 2 * ne;
-    c.edge_vertices.resize(2 * (std::size_t(2 * ne) + 3 * std::size_t(nf)));
-    for (int e = 0; e < ne; ++e) {
-        const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
-        c.edge_vertices[4 * e + 0] = a, c.edge_vertices[4 * e + 1] = m;
-        c.edge_vertices[4 * e + 2] = m, c.edge_vertices[4 * e + 3] = b;
-    }
-    c.face_edges.resize(12 * std::size_t(nf));
-    for (int f = 0; f < nf; ++f) {
-        const Index* v = &p.face_vertices[3 * f];
-        const Index* fe = &p.face_edges[3 * f];
-        const Index interior = interior_base + 3 * f;  // interior edge k joins midpoints k and k + 1
-        for (int k = 0; k < 3; ++k) {
-            const Index edge = 2 * (interior + k);
-            c.edge_vertices[edge] = nv + fe[k];
-            c.edge_vertices[edge + 1] = nv + fe[next_corner(k)];
-        }
-        Index* out = &c.face_edges[12 * std::size_t(f)];
-        for (int k = 0; k < 3; ++k) {
-            // Corner child k = (v_k, m_k, m_{k-1}): half of edge k at v_k, interior edge k-1, half of edge k-1 at v_k.
-            out[3 * k + 0] = child_edge_at(p, fe[k], v[k]);
-            out[3 * k + 1] = interior + prev_corner(k);
-            out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
-        }
-        out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
-    }
+    const std::size_t child_edges = 2 * std::size_t(ne) + 3 * std::size_t(nf);
 
-    // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
-    // edge k of face f lies in the corner child k + 1 and the middle child.
-    if (full) {
-        c.edge_face_offsets.resize(c.num_edges() + 1);
-        c.edge_face_offsets[0] = 0;
-        for (int e = 0; e < ne; ++e) {
+    // Every array is sized first; then each thread fills its share of faces, edges and vertices. Each child slot
+    // is written by exactly one parent element, and every offset has a closed form in the parent's, so the parts
+    // need no synchronisation.
+    c.face_vertices.resize(12 * std::size_t(nf));
+    if (!faces_only) {
+        c.edge_vertices.resize(2 * child_edges);
+        c.face_edges.resize(12 * std::size_t(nf));
+        c.edge_opposite_c.resize(child_edges);
+        c.edge_opposite_d.resize(child_edges);
+        // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two
+        // halves and, per face of e, the two interior edges that meet it.
+        c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
+        c.vertex_vertices.resize(std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]));
+        if (full) {
+            // A half of parent edge e has e's faces; an interior edge has two.
+            c.edge_face_offsets.resize(child_edges + 1);
+            c.edge_faces.resize(2 * std::size_t(p.edge_face_offsets[ne]) + 6 * std::size_t(nf));
+            c.vertex_edges.resize(c.vertex_vertices.size());
+        }
+    }
+    // (A FacesOnly child's parent may lack its edge faces and vertex edges: it was refined ForStencils.)
+    const Index faces_of_halves = faces_only ? 0 : 2 * p.edge_face_offsets[ne];
+    const Index edges_of_old = faces_only ? 0 : p.vertex_edge_offsets[nv];
+
+    run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
+        auto slice = [part, parts](int n) {
+            return std::pair<int, int>(int(std::int64_t(n) * part / parts), int(std::int64_t(n) * (part + 1) / parts));
+        };
+        const auto [f0, f1] = slice(nf);
+        const auto [e0, e1] = slice(ne);
+        const auto [v0, v1] = slice(nv);
+
+        for (int f = f0; f < f1; ++f) {
+            const Index* v = &p.face_vertices[3 * f];
+            const Index m0 = nv + p.face_edges[3 * f], m1 = nv + p.face_edges[3 * f + 1], m2 = nv + p.face_edges[3 * f + 2];
+            Index* out = &c.face_vertices[12 * std::size_t(f)];
+            out[0] = v[0], out[1] = m0, out[2] = m2;
+            out[3] = v[1], out[4] = m1, out[5] = m0;
+            out[6] = v[2], out[7] = m2, out[8] = m1;
+            out[9] = m0, out[10] = m1, out[11] = m2;
+        }
+        if (faces_only) return;
+
+        for (int e = e0; e < e1; ++e) {
+            const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
+            c.edge_vertices[4 * e + 0] = a, c.edge_vertices[4 * e + 1] = m;
+            c.edge_vertices[4 * e + 2] = m, c.edge_vertices[4 * e + 3] = b;
+        }
+        for (int f = f0; f < f1; ++f) {
+            const Index* v = &p.face_vertices[3 * f];
+            const Index* fe = &p.face_edges[3 * f];
+            const Index interior = interior_base + 3 * f;  // interior edge k joins midpoints k and k + 1
+            for (int k = 0; k < 3; ++k) {
+                const std::size_t edge = 2 * std::size_t(interior + k);
+                c.edge_vertices[edge] = nv + fe[k];
+                c.edge_vertices[edge + 1] = nv + fe[next_corner(k)];
+            }
+            Index* out = &c.face_edges[12 * std::size_t(f)];
+            for (int k = 0; k < 3; ++k) {
+                // Corner child k = (v_k, m_k, m_{k-1}): half of edge k at v_k, interior edge k-1, half of edge k-1 at v_k.
+                out[3 * k + 0] = child_edge_at(p, fe[k], v[k]);
+                out[3 * k + 1] = interior + prev_corner(k);
+                out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
+            }
+            out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
+        }
+
+        // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
+        // edge k of face f lies in the corner child k + 1 and the middle child.
+        // Opposite vertices: a half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there;
+        // interior edge k lies opposite v_{k+1} in its corner child and opposite m_{k-1} in the middle child.
+        for (int e = e0; e < e1; ++e) {
             const Index count = p.edge_face_count(e);
-            c.edge_face_offsets[2 * e + 1] = c.edge_face_offsets[2 * e] + count;
-            c.edge_face_offsets[2 * e + 2] = c.edge_face_offsets[2 * e + 1] + count;
+            if (full) {
+                c.edge_face_offsets[2 * e] = 2 * p.edge_face_offsets[e];
+                c.edge_face_offsets[2 * e + 1] = 2 * p.edge_face_offsets[e] + count;
+            }
+            Index* at_a = full ? &c.edge_faces[c.edge_face_offsets[2 * e]] : nullptr;
+            Index* at_b = full ? at_a + count : nullptr;
+            const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
+            Index opposite_at_a[2] = {a, m}, opposite_at_b[2] = {m, b};  // (c, d) when faces are missing
+            int face = 0;
+            for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k, ++face) {
+                const Index f = p.edge_faces[k];
+                const Index* fe = &p.face_edges[3 * f];
+                const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;  // edge `local` runs from corner local to local+1
+                const bool a_first = p.face_vertices[3 * f + local] == a;
+                if (full) {
+                    *at_a++ = 4 * f + (a_first ? local : next_corner(local));
+                    *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
+                }
+                if (face < 2) {
+                    const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
+                    opposite_at_a[face] = a_first ? before : after;
+                    opposite_at_b[face] = a_first ? after : before;
+                }
+            }
+            c.edge_opposite_c[2 * e] = opposite_at_a[0], c.edge_opposite_d[2 * e] = opposite_at_a[1];
+            c.edge_opposite_c[2 * e + 1] = opposite_at_b[0], c.edge_opposite_d[2 * e + 1] = opposite_at_b[1];
         }
-        for (int k = interior_base; k < c.num_edges(); ++k) c.edge_face_offsets[k + 1] = c.edge_face_offsets[k] + 2;
-        c.edge_faces.resize(c.edge_face_offsets.back());
-    }
-    // Opposite vertices: a half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there;
-    // interior edge k lies opposite v_{k+1} in its corner child and opposite m_{k-1} in the middle child.
-    c.edge_opposite_c.resize(c.num_edges());
-    c.edge_opposite_d.resize(c.num_edges());
-    for (int e = 0; e < ne; ++e) {
-        Index* at_a = full ? &c.edge_faces[c.edge_face_offsets[2 * e]] : nullptr;
-        Index* at_b = full ? &c.edge_faces[c.edge_face_offsets[2 * e + 1]] : nullptr;
-        const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
-        Index opposite_at_a[2] = {a, m}, opposite_at_b[2] = {m, b};  // (c, d) when faces are missing
-        int face = 0;
-        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k, ++face) {
-            const Index f = p.edge_faces[k];
+        for (int f = f0; f < f1; ++f) {
             const Index* fe = &p.face_edges[3 * f];
-            const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;  // edge `local` runs from corner local to local+1
-            const bool a_first = p.face_vertices[3 * f + local] == a;
-            if (full) {
-                *at_a++ = 4 * f + (a_first ? local : next_corner(local));
-                *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
-            }
-            if (face < 2) {
-                const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
-                opposite_at_a[face] = a_first ? before : after;
-                opposite_at_b[face] = a_first ? after : before;
+            for (int k = 0; k < 3; ++k) {
+                const Index edge = interior_base + 3 * f + k;
+                if (full) {
+                    const Index first = faces_of_halves + 2 * (3 * f + k);
+                    c.edge_face_offsets[edge] = first;
+                    c.edge_faces[first] = 4 * f + next_corner(k);
+                    c.edge_faces[first + 1] = 4 * f + 3;
+                }
+                c.edge_opposite_c[edge] = p.face_vertices[3 * f + next_corner(k)];
+                c.edge_opposite_d[edge] = nv + fe[prev_corner(k)];
             }
         }
-        c.edge_opposite_c[2 * e] = opposite_at_a[0], c.edge_opposite_d[2 * e] = opposite_at_a[1];
-        c.edge_opposite_c[2 * e + 1] = opposite_at_b[0], c.edge_opposite_d[2 * e + 1] = opposite_at_b[1];
-    }
-    for (int f = 0; f < nf; ++f) {
-        const Index* fe = &p.face_edges[3 * f];
-        for (int k = 0; k < 3; ++k) {
-            const Index edge = interior_base + 3 * f + k;
-            if (full) {
-                Index* faces = &c.edge_faces[c.edge_face_offsets[edge]];
-                faces[0] = 4 * f + next_corner(k);
-                faces[1] = 4 * f + 3;
-            }
-            c.edge_opposite_c[edge] = p.face_vertices[3 * f + next_corner(k)];
-            c.edge_opposite_d[edge] = nv + fe[prev_corner(k)];
-        }
-    }
+        if (full && part + 1 == parts) c.edge_face_offsets[child_edges] = faces_of_halves + 6 * nf;
 
-    // Vertex edges: an old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e
-    // has its two halves and, per face of e, the two interior edges that meet it.
-    c.vertex_edge_offsets.resize(c.num_vertices + 1);
-    c.vertex_edge_offsets[0] = 0;
-    for (int v = 0; v < nv; ++v) c.vertex_edge_offsets[v + 1] = c.vertex_edge_offsets[v] + p.valence(v);
-    for (int e = 0; e < ne; ++e) c.vertex_edge_offsets[nv + e + 1] = c.vertex_edge_offsets[nv + e] + 2 + 2 * p.edge_face_count(e);
-    c.vertex_vertices.resize(c.vertex_edge_offsets.back());
-    if (full) c.vertex_edges.resize(c.vertex_edge_offsets.back());
-    for (int v = 0; v < nv; ++v) {
-        // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end (or
-        // the arrays empty, when no vertex has an edge).
-        Index* neighbours = c.vertex_vertices.data() + c.vertex_edge_offsets[v];
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *neighbours++ = nv + p.vertex_edges[k];
-        if (!full) continue;
-        Index* edges = c.vertex_edges.data() + c.vertex_edge_offsets[v];
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
-    }
-    for (int e = 0; e < ne; ++e) {
-        Index* neighbours = &c.vertex_vertices[c.vertex_edge_offsets[nv + e]];
-        Index* edges = full ? &c.vertex_edges[c.vertex_edge_offsets[nv + e]] : nullptr;
-        *neighbours++ = p.edge_vertices[2 * e];
-        *neighbours++ = p.edge_vertices[2 * e + 1];
-        if (full) *edges++ = 2 * e, *edges++ = 2 * e + 1;
-        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
-            const Index f = p.edge_faces[k];
-            const Index* fe = &p.face_edges[3 * f];
-            const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
-            *neighbours++ = nv + fe[next_corner(local)];
-            *neighbours++ = nv + fe[prev_corner(local)];
-            if (full) {
-                *edges++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
-                *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
+        for (int v = v0; v < v1; ++v) {
+            c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
+            // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end
+            // (or the arrays empty, when no vertex has an edge).
+            Index* neighbours = c.vertex_vertices.data() + p.vertex_edge_offsets[v];
+            for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *neighbours++ = nv + p.vertex_edges[k];
+            if (!full) continue;
+            Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
+            for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
+        }
+        for (int e = e0; e < e1; ++e) {
+            const Index first = edges_of_old + 2 * e + 2 * p.edge_face_offsets[e];
+            c.vertex_edge_offsets[nv + e] = first;
+            Index* neighbours = c.vertex_vertices.data() + first;
+            Index* edges = full ? c.vertex_edges.data() + first : nullptr;
+            *neighbours++ = p.edge_vertices[2 * e];
+            *neighbours++ = p.edge_vertices[2 * e + 1];
+            if (full) *edges++ = 2 * e, *edges++ = 2 * e + 1;
+            for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+                const Index f = p.edge_faces[k];
+                const Index* fe = &p.face_edges[3 * f];
+                const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
+                *neighbours++ = nv + fe[next_corner(local)];
+                *neighbours++ = nv + fe[prev_corner(local)];
+                if (full) {
+                    *edges++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
+                    *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
+                }
             }
         }
-    }
+        if (part + 1 == parts) c.vertex_edge_offsets[c.num_vertices] = Index(c.vertex_vertices.size());
+    });
     return c;
 }
 

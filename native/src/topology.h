@@ -50,7 +50,8 @@ enum class Refined {
     ForStencils,  // no edge faces or vertex edges: a level whose vertices need no classification or further split
     FacesOnly     // face_vertices only: the last level
 };
-Topology refine_topology(const Topology& parent, Refined what);
+// `threads` share the work (each writes its own slice of every array).
+Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
 
 // The connectivity around single vertices of a level, whether the level holds it (Refined::Full and the base) or
 // was refined ForStencils: then it is derived from the parent level through the numbering, as refine_topology
