@@ -12,6 +12,16 @@ INFINITE_SHARPNESS = np.float32(10.0)
 
 RULES = {'HOPPE94': "hoppe94", 'OPENSUBDIV': "opensubdiv"}
 BOUNDARY = {'SMOOTH': "edges", 'KEEP_CORNERS': "edges-and-corners"}
+# Subdivision Surface's uv_smooth, mapped to OpenSubdiv's FVarLinearInterpolation as Blender maps it
+# (BKE_subdiv_fvar_interpolation_from_uv_smooth): None keeps UVs linear everywhere, All smooths them everywhere.
+UV_SMOOTH = {
+    'NONE': "all",
+    'PRESERVE_CORNERS': "corners",
+    'PRESERVE_CORNERS_AND_JUNCTIONS': "corners-plus1",
+    'PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE': "corners-plus2",
+    'PRESERVE_BOUNDARIES': "boundaries",
+    'SMOOTH_ALL': "none",
+}
 
 
 def crease_to_sharpness(weights):
@@ -269,6 +279,28 @@ def plan_attributes(attributes, skip):
         else:
             dropped.append((name, domain, data_type))
     return point, corner, face, edge, dropped
+
+
+def weld_corner_values(corner_vertices, corner_values):
+    """One face-varying layer from per-corner values (a UV map read per triangle corner): the corners of a vertex
+    whose values are equal bit for bit (-0.0 and 0.0 alike) share one value, different values make a seam there.
+
+    corner_vertices (T, 3) int; corner_values (T, 3, C) float32. Returns (indices (T, 3) int32, values (V, C)
+    float32): the value index of each corner, as _loopsub.Plan's face_varying_indices takes it, and the values."""
+    corner_vertices = np.asarray(corner_vertices).reshape(-1)
+    values = np.asarray(corner_values, dtype=np.float32)
+    width = values.shape[-1]
+    values = values.reshape(-1, width) + np.float32(0.0)  # -0.0 + 0.0 is 0.0: equal values, equal bits
+    if not len(values):
+        return np.zeros((0, 3), np.int32), np.zeros((0, width), np.float32)
+    bits = np.ascontiguousarray(values).view(np.uint32)
+    order = np.lexsort(tuple(bits[:, k] for k in reversed(range(width))) + (corner_vertices,))
+    keys = np.column_stack([corner_vertices[order], bits[order]])
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = (keys[1:] != keys[:-1]).any(axis=1)
+    index = np.empty(len(order), dtype=np.int32)
+    index[order] = np.cumsum(first, dtype=np.int64) - 1
+    return index.reshape(-1, 3), np.ascontiguousarray(values[order[first]])
 
 
 def from_refined(values, data_type):

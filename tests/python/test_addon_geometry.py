@@ -150,6 +150,39 @@ def test_options_keywords():
         "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7)}
 
 
+def test_uv_smooth_is_blenders_mapping():
+    # BKE_subdiv_fvar_interpolation_from_uv_smooth: None is linear everywhere, All smooth everywhere.
+    assert geometry.UV_SMOOTH == {
+        'NONE': "all", 'PRESERVE_CORNERS': "corners", 'PRESERVE_CORNERS_AND_JUNCTIONS': "corners-plus1",
+        'PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE': "corners-plus2", 'PRESERVE_BOUNDARIES': "boundaries",
+        'SMOOTH_ALL': "none"}
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    for interpolation in geometry.UV_SMOOTH.values():
+        plan = _loopsub.Plan(triangles, 4, 1, face_varying_indices=[triangles], uv_interpolation=interpolation)
+        assert plan.uv_interpolation == interpolation
+
+
+def test_weld_corner_values():
+    # Two triangles sharing the edge 1-2; vertex 2 has the same UV on both (welded, -0.0 and 0.0 alike), vertex 1
+    # different ones (a seam).
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    uvs = np.array([[[0, 0], [1, 0], [0, 1]], [[5, 0], [5, 1], [-0.0, 1]]], np.float32)
+    indices, values = geometry.weld_corner_values(triangles, uvs)
+    assert indices.dtype == np.int32 and indices.shape == (2, 3) and values.dtype == np.float32
+    assert len(values) == 5
+    assert indices[0, 2] == indices[1, 2] and indices[0, 1] != indices[1, 0]
+    assert np.array_equal(values[indices], uvs + 0.0)
+    # Equal UVs on different vertices stay different values.
+    indices, values = geometry.weld_corner_values(triangles, np.zeros((2, 3, 2), np.float32))
+    assert len(values) == 4 and indices[0, 1] == indices[1, 0] and indices[0, 2] == indices[1, 2]
+    # The layer refines through the core: a constant UV stays that constant in every mode.
+    for interpolation in geometry.UV_SMOOTH.values():
+        plan = _loopsub.Plan(triangles, 4, 2, rules="opensubdiv", uv_interpolation=interpolation,
+                             face_varying_indices=[indices], limit_surface=True)
+        refined = plan.evaluate_face_varying(values + 0.25, layer=0)[plan.face_varying_indices(0)]
+        assert refined.shape == (plan.num_output_triangles, 3, 2) and np.allclose(refined, 0.25)
+
+
 def test_shared_positions():
     positions = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1], [1, 1, 1]], np.float32)
     assert geometry.shared_positions(positions) == 1
