@@ -3,8 +3,11 @@
 Blender 4.0 moved edge and vertex creases from dedicated layers (MeshEdge.crease, Mesh.edge_creases,
 Mesh.vertex_creases, bmesh's crease layers) to the generic float attributes "crease_edge" and "crease_vert",
 made MeshPolygon.loop_total read-only (face sizes follow from loop_start) and moved node group sockets to
-NodeTree.interface; 4.1 dropped Auto Smooth.
+NodeTree.interface; 4.1 dropped Auto Smooth, so that custom split normals and marked sharp edges always shade, and
+replaced Mesh.calc_normals_split / MeshLoop.normal with Mesh.corner_normals.
 """
+import math
+
 import bpy
 import numpy as np
 
@@ -158,3 +161,36 @@ def smooth_by_angle(mesh, angle):
         mesh.auto_smooth_angle = angle
     else:
         mesh.set_sharp_from_angle(angle=angle)
+
+
+def shades_sharp_edges(mesh):
+    """Whether custom split normals and marked sharp edges show in the mesh's shading: with Auto Smooth up to 4.0,
+    always from 4.1."""
+    return getattr(mesh, "use_auto_smooth", True)
+
+
+def custom_normals_in_use(mesh):
+    return mesh.has_custom_normals and shades_sharp_edges(mesh)
+
+
+def read_corner_normals(mesh):
+    """The normal Blender shades each corner (loop) with, custom split normals included: (L, 3) float32."""
+    values = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+    if hasattr(mesh, "corner_normals"):
+        mesh.corner_normals.foreach_get("vector", values)
+    else:
+        mesh.calc_normals_split()
+        mesh.loops.foreach_get("normal", values)
+        mesh.free_normals_split()
+    return values.reshape(-1, 3)
+
+
+def set_custom_normals(mesh, normals):
+    """Custom split normals, one per loop ((L, 3); a zero vector keeps Blender's own normal at that corner). Up to 4.0
+    they show only with Auto Smooth, which this turns on; a mesh that had it off gets the widest angle, so that only
+    marked sharp edges (and the normals themselves) split the shading. Blender marks the edges sharp where the normals
+    of one smooth fan differ (across creases)."""
+    if hasattr(mesh, "use_auto_smooth") and not mesh.use_auto_smooth:
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = math.pi
+    mesh.normals_split_custom_set(np.ascontiguousarray(normals, dtype=np.float32).reshape(-1, 3))

@@ -231,13 +231,17 @@ class Options:
     boundary: str = 'SMOOTH'
     use_creases: bool = True
     cone_group: str = ""
+    use_limit_surface: bool = True
+    uv_smooth: str = 'PRESERVE_BOUNDARIES'
 
     def plan_keywords(self):
-        """Keyword arguments of _loopsub.Plan for these settings (tags and cones come from the mesh)."""
+        """Keyword arguments of _loopsub.Plan for these settings (tags, cones and UV layers come from the mesh)."""
         return {
             "rules": RULES[self.rules],
             "boundary": BOUNDARY[self.boundary],
             "crease_threshold": float(self.crease_threshold) if self.rules == 'HOPPE94' else 0.0,
+            "limit_surface": bool(self.use_limit_surface),
+            "uv_interpolation": UV_SMOOTH[self.uv_smooth],
         }
 
 

@@ -11,8 +11,9 @@ settings): Blender 3.4 does not re-evaluate a render depsgraph reliably when a m
 Python. A render from the interface runs its handlers in the render thread, which must not evaluate the view layer:
 it asks the main thread to write the results and waits.
 
-The core's plan (all topology work) is kept per object while the input's triangles, tags and settings stay the same;
-then only the vertex and face-varying values are refined again and written into the result in place.
+The core's plan (all topology work) is kept per object while the input's triangles, tags, UV seams and settings
+(Use Limit Surface and UV Smooth included) stay the same; then only the vertex and face-varying values are refined
+again and written into the result in place, its limit normals too.
 """
 import queue
 import threading
@@ -34,6 +35,7 @@ class Cache:
         self.layout_key = None
         self.result = None  # name of the helper mesh built for plan_key and layout_key
         self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
+        self.auto_loops = None  # the result's corners that keep Blender's own normal (mesh_data.build_mesh)
         self.plan_builds = 0  # plans built so far (tests check that position edits reuse the plan)
         self.error = ""
         self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
@@ -98,20 +100,19 @@ def _write(entry, obj, evaluated, mesh, carrier, options):
             entry.plan, entry.plan_key, entry.inputs = source.plan(), plan_key, None
             entry.plan_builds += 1
             entry.messages = source.messages
-        inputs = (source.vertex.packed(), source.corners.packed() if source.corners.parts else None)
+        inputs = source.inputs()
         layout_key = source.layout_key()
         in_place = (entry.result == carrier.data.name and _equal(entry.layout_key, layout_key)
                     and len(carrier.data.vertices) == entry.plan.num_output_vertices)
         if in_place and _equal(entry.inputs, inputs):
             return
-        refined, refined_corners = source.refine(entry.plan)
+        refined = source.refine(entry.plan)
         if in_place:
-            mesh_data.update_mesh(carrier.data, source, refined, refined_corners)
+            mesh_data.update_mesh(carrier.data, source, refined, entry.auto_loops)
         else:
             old = carrier.data
-            _swap(carrier, old, mesh_data.build_mesh(source, entry.plan, refined, refined_corners, carrier.name,
-                                                     carrier))
-            entry.result, entry.layout_key = carrier.data.name, layout_key
+            _swap(carrier, old, mesh_data.build_mesh(source, entry.plan, refined, carrier.name, carrier))
+            entry.result, entry.layout_key, entry.auto_loops = carrier.data.name, layout_key, source.auto_loops
         entry.inputs = inputs
         entry.error = ""
     except (LoopSubError, _PassThrough) as problem:

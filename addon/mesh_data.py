@@ -3,6 +3,8 @@
 Apply builds the subdivided mesh completely in a new data-block and only then swaps it in, so any error leaves the
 object's mesh untouched.
 """
+import dataclasses
+
 import bpy
 import numpy as np
 
@@ -54,8 +56,9 @@ class Topology:
         return geometry.crease_tags(self.edge_vertices[in_faces], self.edge_weights[in_faces], vertex_weights,
                                     options.rules, options.crease_threshold)
 
-    def plan(self, options, levels, cones):
-        return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones)
+    def plan(self, options, levels, cones, face_varying_indices=()):
+        return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones,
+                                 face_varying_indices)
 
     def vertex_types(self, options, cones, candidates):
         """The core's class of every vertex. candidates: vertices that may be other than smooth although no tag,
@@ -65,8 +68,13 @@ class Topology:
                                    self.edge_face_counts, cones, candidates)
         if not len(part.triangles):
             return np.zeros(self.num_vertices, dtype=np.int32)
-        plan = native.build_plan(part.triangles, len(part.kept), 1, options, part.tags, part.cones)
+        plan = native.build_plan(part.triangles, len(part.kept), 1, _classifying(options), part.tags, part.cones)
         return part.whole(plan.level_vertex_types(0))
+
+
+def _classifying(options):
+    """Options for a plan that only classifies vertices: the limit surface plays no part in it."""
+    return dataclasses.replace(options, use_limit_surface=False)
 
 
 class Cage(Topology):
@@ -162,6 +170,18 @@ class Result:
         self.active_group = active_group
 
 
+class Refined:
+    """What a plan's evaluation gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
+    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, and the limit normals per output
+    corner (T_out, 3, 3), None without the limit surface."""
+
+    def __init__(self, vertex, uvs, corners, normals):
+        self.vertex = vertex
+        self.uvs = uvs
+        self.corners = corners
+        self.normals = normals
+
+
 class _Channels:
     """Several arrays packed side by side along their last axis for one native call, unpacked by key afterwards."""
 
@@ -201,10 +221,27 @@ def _notes(name, cage):
     return notes
 
 
+def _normal_notes(name, mesh, source):
+    """What an artist should be told about the result's normals."""
+    notes = []
+    if source.custom_normals and source.options.use_limit_surface:
+        notes.append(('INFO', f"{name}: its custom split normals are carried over (interpolated per face) in place "
+                              "of the limit normals"))
+    elif mesh.has_custom_normals and not source.custom_normals:
+        notes.append(('WARNING', f"{name}: its custom split normals are not carried over (Auto Smooth is off, so "
+                                 "they do not shade it)"))
+    flat = int(np.count_nonzero(~source.smooth))
+    if source.limit_normals and flat:
+        notes.append(('INFO', f"{name}: {flat} flat-shaded faces are shaded smooth to show the limit normals "
+                              "(Use Limit Surface off keeps flat shading)"))
+    return notes
+
+
 class Source:
     """Everything a subdivision reads from one input mesh, gathered once: the cage and its tags, the vertex channels
-    (positions, point attributes, vertex-group weights) and face-varying channels (UVs, corner attributes) packed for
-    the core, and the per-face and per-edge data that the result inherits.
+    (positions, point attributes, vertex-group weights) packed for the core, the UV maps as face-varying layers (each
+    welded per vertex: corners of a vertex with equal UVs share a value), the linear corner channels (corner
+    attributes, custom split normals), and the per-face and per-edge data that the result inherits.
 
     obj gives the vertex-group names and the cone group; mesh is its own data (apply) or its evaluated mesh up to the
     Loop Subdivision entry (the live entry). checked_triangles: triangles validated before (the live entry's last
@@ -244,40 +281,67 @@ class Source:
                            for prop in ("use_seam", "use_edge_sharp")}
         self.edge_values = [_get_attribute(mesh.attributes[name], len(mesh.edges)) for name, _, _ in self.edge]
 
-        # Face-varying channels, refined linearly per face so that discontinuities (UV seams) stay where they are.
-        self.corners = _Channels()
+        # UV maps: face-varying layers with their own topology (a seam splits the value, not the vertex), refined as
+        # UV Smooth says, to the limit with the limit surface.
         self.uv_names = [uv.name for uv in mesh.uv_layers]
-        for uv in mesh.uv_layers:
-            self.corners.add(("uv", uv.name),
-                             _get(uv.data, "uv", cage.num_loops, 2, np.float32)[cage.triangle_loops])
+        self.uv_layers = [geometry.weld_corner_values(cage.triangles, _get(uv.data, "uv", cage.num_loops, 2,
+                                                                          np.float32)[cage.triangle_loops])
+                          for uv in mesh.uv_layers]
+
+        # Corner channels refined linearly per face: corner attributes, and custom split normals where the mesh
+        # shades with them (they then take the place of the limit normals).
+        self.corners = _Channels()
         for name, _, _ in self.corner:
             self.corners.add(("attribute", name),
                              _get_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
+        self.custom_normals = compat.custom_normals_in_use(mesh)
+        if self.custom_normals:
+            self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])
+        # The result shades with the limit normals as custom split normals, on smooth faces.
+        self.limit_normals = options.use_limit_surface and not self.custom_normals
+        self.auto_loops = None  # result corners that keep Blender's own normal (build_mesh sets it)
 
         self.materials = _get(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
         self.smooth = _get(mesh.polygons, "use_smooth", cage.num_polygons, 1, np.bool_)
         self.face_values = [_get_attribute(mesh.attributes[name], cage.num_polygons) for name, _, _ in self.face]
+        if not known:
+            self.messages += _normal_notes(obj.name, mesh, self)
 
     def plan_key(self):
         """What the plan depends on: equal keys, equal plans."""
-        return (self.options, self.cage.triangles, *self.cage.tags(self.options).values(), self.cones)
+        return (self.options, self.cage.triangles, *self.cage.tags(self.options).values(), self.cones,
+                *(indices for indices, _ in self.uv_layers))
 
     def layout_key(self):
         """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
         stay the same, a result can be updated in place (update_mesh) instead of built anew."""
-        return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names),
+        return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names), self.custom_normals,
+                self.limit_normals,
                 tuple(self.edge), tuple(self.group_names), self.group_weights, self.materials, self.smooth,
                 *self.face_values, *self.edge_values, *self.edge_flags.values(), self.cage.edge_weights,
                 self.cage.vertex_weights)
 
     def plan(self, levels=None):
-        return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones)
+        return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones,
+                              [indices for indices, _ in self.uv_layers])
+
+    def inputs(self):
+        """The values a refinement reads (for the live entry: equal inputs on the same plan, equal result)."""
+        return (self.vertex.packed(), self.corners.packed() if self.corners.parts else None,
+                *(values for _, values in self.uv_layers))
 
     def refine(self, plan):
-        """The refined vertex channels and face-varying channels (None when there are none)."""
-        refined = native.run(plan.evaluate, self.vertex.packed())
+        """Evaluates plan (built from this source's plan key) on the source's values: a Refined."""
+        normals = None
+        if self.options.use_limit_surface:
+            # Positions come first among the vertex channels; the others are refined with the same limit weights.
+            vertex, normals = native.run(plan.evaluate_with_normals, self.vertex.packed())
+        else:
+            vertex = native.run(plan.evaluate, self.vertex.packed())
+        uvs = [native.run(plan.evaluate_face_varying, values, layer=layer)[plan.face_varying_indices(layer)]
+               for layer, (_, values) in enumerate(self.uv_layers)]
         corners = native.run(plan.evaluate_face_varying, self.corners.packed()) if self.corners.parts else None
-        return refined, corners
+        return Refined(vertex, uvs, corners, normals)
 
 
 # The long stages of subdivide, in order (the progress counter at the cursor counts them).
@@ -292,16 +356,17 @@ def subdivide(obj, options, progress):
     progress(1)
     plan = source.plan()
     progress(2)
-    refined, refined_corners = source.refine(plan)
+    refined = source.refine(plan)
     progress(3)
-    new = build_mesh(source, plan, refined, refined_corners, obj.data.name, None)
+    new = build_mesh(source, plan, refined, obj.data.name, None)
     locks = [group.lock_weight for group in obj.vertex_groups]
     return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 
 
-def build_mesh(source, plan, refined, refined_corners, name, holder):
-    """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, vertex groups, tags.
-    holder: an object whose data the new mesh may become while vertex groups are written (None: a temporary one)."""
+def build_mesh(source, plan, refined, name, holder):
+    """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
+    groups, tags. refined: source.refine(plan). holder: an object whose data the new mesh may become while vertex
+    groups are written (None: a temporary one). Sets source.auto_loops, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
     new = bpy.data.meshes.new(name)
@@ -312,15 +377,17 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
         compat.copy_shading_settings(mesh, new)
         if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
-        new_edges, triangle_edges = _write_geometry(new, refined[:, vertex.columns["position"]], plan)
+        new_edges, triangle_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], plan)
         parents = cage.triangle_polygons[plan.parent_triangles]
         _write_face_data(new, source, parents)
         edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
-        _write_edge_data(new, source, plan, new_edges)
+        sharp = _write_edge_data(new, source, plan, new_edges)
+        source.auto_loops = _auto_loops(source, plan, new_edges, sharp)
         _add_value_layers(new, source)
-        _write_values(new, source, refined, refined_corners)
+        _write_values(new, source, refined)
         new.update()
-        _write_vertex_groups(new, source, refined[:, vertex.columns["groups"]], holder)
+        _write_normals(new, source, refined, source.auto_loops)
+        _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
         try:
             # Cone vertices keep their indices in the result, so its cones are the cage's.
             result = Topology(len(new.vertices), plan.triangles, new_edges,
@@ -339,12 +406,14 @@ def build_mesh(source, plan, refined, refined_corners, name, holder):
     return new
 
 
-def update_mesh(new, source, refined, refined_corners):
+def update_mesh(new, source, refined, auto_loops):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
-    positions, point attributes, UVs and corner attributes (what moving vertices in Edit Mode or animation changes)."""
-    new.vertices.foreach_set("co", np.ascontiguousarray(refined[:, source.vertex.columns["position"]]).ravel())
-    _write_values(new, source, refined, refined_corners)
+    positions, point attributes, UVs, corner attributes and normals (what moving vertices in Edit Mode or animation
+    changes). auto_loops: the source.auto_loops of that build."""
+    new.vertices.foreach_set("co", np.ascontiguousarray(refined.vertex[:, source.vertex.columns["position"]]).ravel())
+    _write_values(new, source, refined)
     new.update()
+    _write_normals(new, source, refined, auto_loops)
 
 
 def _add_value_layers(new, source):
@@ -359,18 +428,44 @@ def _add_value_layers(new, source):
     _restore_color_choice(new, mesh)
 
 
-def _write_values(new, source, refined, refined_corners):
+def _write_values(new, source, refined):
     """The refined values besides positions, into their layers: point attributes (back to their types), UV maps and
     corner attributes (one value per loop, 3 per triangle)."""
     vertex, corners = source.vertex, source.corners
     for name, _, data_type in source.point:
         _fill(new.attributes[name], data_type,
-              geometry.from_refined(refined[:, vertex.columns["attribute", name]], data_type))
-    for uv_name in source.uv_names:
-        new.uv_layers[uv_name].data.foreach_set(
-            "uv", np.ascontiguousarray(refined_corners[:, :, corners.columns["uv", uv_name]]).ravel())
+              geometry.from_refined(refined.vertex[:, vertex.columns["attribute", name]], data_type))
+    for uv_name, uvs in zip(source.uv_names, refined.uvs):
+        new.uv_layers[uv_name].data.foreach_set("uv", np.ascontiguousarray(uvs).ravel())
     for name, _, data_type in source.corner:
-        _fill(new.attributes[name], data_type, refined_corners[:, :, corners.columns["attribute", name]])
+        _fill(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
+
+
+def _auto_loops(source, plan, new_edges, sharp):
+    """(T_out, 3) bool, or None: the result's corners at vertices on marked sharp edges, where the mesh shades with
+    them (Auto Smooth up to 4.0). With the limit normals, those corners keep Blender's own normal (a zero custom
+    normal), so that a marked sharp edge still shows as one."""
+    if not source.limit_normals or sharp is None or not sharp.any() or not compat.shades_sharp_edges(source.mesh):
+        return None
+    on_sharp = np.zeros(plan.num_output_vertices, dtype=bool)
+    on_sharp[new_edges[sharp].ravel()] = True
+    return on_sharp[plan.triangles]
+
+
+def _write_normals(new, source, refined, auto_loops):
+    """Custom split normals: the cage's own, interpolated linearly per face (normalised), where it shades with
+    them; else, with the limit surface, the limit normals (split across creases and boundaries, shared elsewhere)."""
+    if source.custom_normals:
+        normals = np.array(refined.corners[:, :, source.corners.columns["normal"]], dtype=np.float32)
+        lengths = np.linalg.norm(normals, axis=2, keepdims=True)
+        np.divide(normals, lengths, out=normals, where=lengths > 0)
+    elif source.limit_normals:
+        normals = refined.normals
+        if auto_loops is not None:
+            normals = np.where(auto_loops[:, :, None], np.float32(0), normals)
+    else:
+        return
+    compat.set_custom_normals(new, normals)
 
 
 def _write_geometry(new, positions, plan):
@@ -394,13 +489,15 @@ def _write_geometry(new, positions, plan):
 
 
 def _write_face_data(new, source, parent_polygons):
-    """Per-face data comes from the parent face of the cage (through its triangle). Material indices go through
-    their attribute (Blender 3.4+), many times faster than MeshPolygon.material_index; like Blender, none is
-    written when every face uses the first slot."""
+    """Per-face data comes from the parent face of the cage (through its triangle), flat/smooth shading too unless
+    the limit normals are written. Material indices go through their attribute (Blender 3.4+), many times faster than
+    MeshPolygon.material_index; like Blender, none is written when every face uses the first slot."""
     materials = source.materials[parent_polygons]
     if materials.any():
         _set_attribute(new, "material_index", 'FACE', 'INT', materials)
-    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(source.smooth[parent_polygons]))
+    # The limit normals show on smooth faces: the result is shaded smooth then (a note says so).
+    smooth = np.ones(len(parent_polygons), dtype=bool) if source.limit_normals else source.smooth[parent_polygons]
+    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth))
     for (name, domain, data_type), values in zip(source.face, source.face_values):
         _set_attribute(new, name, domain, data_type, values[parent_polygons])
 
@@ -423,18 +520,20 @@ def _write_creases(new, cage, plan, options, new_edges):
 
 def _write_edge_data(new, source, plan, new_edges):
     """Seam and sharp marks and edge attributes pass to the child edges that lie on a cage edge; edges inside a cage
-    face get none (zero, false)."""
+    face get none (zero, false). Returns the child edges' sharp marks (None when there are none)."""
     flags = {prop: values for prop, values in source.edge_flags.items() if values.any()}
     if not flags and not source.edge:
-        return
+        return None
     cage = source.cage
     parents = geometry.parent_edges(new_edges, [plan.level_edges(level) for level in range(plan.levels)],
                                     [plan.level_num_vertices(level) for level in range(plan.levels)],
                                     cage.edge_vertices, cage.num_vertices)
-    for prop, values in flags.items():
-        new.edges.foreach_set(prop, geometry.inherit_edge_values(values, parents))
+    inherited = {prop: geometry.inherit_edge_values(values, parents) for prop, values in flags.items()}
+    for prop, values in inherited.items():
+        new.edges.foreach_set(prop, values)
     for (name, domain, data_type), values in zip(source.edge, source.edge_values):
         _set_attribute(new, name, domain, data_type, geometry.inherit_edge_values(values, parents))
+    return inherited.get("use_edge_sharp")
 
 
 def _restore_color_choice(new, mesh):
@@ -494,7 +593,7 @@ def write_tags(mesh, topology, options, cones, candidates=None):
     if not len(topology.triangles):
         raise LoopSubError(f"\"{mesh.name}\" has no faces to tag")
     if candidates is None:
-        types = np.asarray(topology.plan(options, 1, cones).level_vertex_types(0), dtype=np.int32)
+        types = np.asarray(topology.plan(_classifying(options), 1, cones).level_vertex_types(0), dtype=np.int32)
     else:
         types = topology.vertex_types(options, cones, candidates)
     creases = geometry.crease_edge_mask(topology.edge_weights, topology.edge_face_counts, options.rules,

@@ -21,25 +21,27 @@ def load():
     return _loopsub
 
 
-def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices):
+def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, face_varying_indices=()):
     """A reusable plan (all topology work) for the triangulated cage.
 
     tags: the dict of geometry.crease_tags (empty arrays when creases are off); cone_vertices: int32 indices, used by
-    the seed's rules only (OpenSubdiv has no cones).
+    the seed's rules only (OpenSubdiv has no cones); face_varying_indices: one (M, 3) int32 array per UV map
+    (geometry.weld_corner_values), refined by the options' UV Smooth.
     """
     if options.rules != 'HOPPE94':
         cone_vertices = np.zeros(0, dtype=np.int32)
     try:
         return load().Plan(triangles, num_vertices, levels, cone_vertices=cone_vertices,
+                           face_varying_indices=list(face_varying_indices) or None,
                            **tags, **options.plan_keywords())
     # The bindings raise ValueError/TypeError for bad input, RuntimeError/MemoryError for limits.
     except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
         raise LoopSubError(str(error)) from error
 
 
-def run(call, *args):
+def run(call, *args, **keywords):
     """Calls a plan method, turning the core's errors into LoopSubError."""
     try:
-        return call(*args)
+        return call(*args, **keywords)
     except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
         raise LoopSubError(str(error)) from error

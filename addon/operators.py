@@ -4,7 +4,8 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, St
 
 from . import live, mesh_data, stack
 from .native import LoopSubError
-from .properties import BOUNDARY_ITEMS, RULES_ITEMS
+from .properties import (BOUNDARY_ITEMS, LIMIT_SURFACE_DESCRIPTION, RULES_ITEMS, UV_SMOOTH_DESCRIPTION,
+                         UV_SMOOTH_ITEMS)
 
 
 def _mesh_objects(context):
@@ -28,11 +29,18 @@ class _RuleArguments:
                                     description="Crease weights at or above this value make creases and corners")
     boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
                            description="Controls how open boundaries are smoothed")
+    use_limit_surface: BoolProperty(name="Use Limit Surface", default=True, options={'SKIP_SAVE'},
+                                    description=LIMIT_SURFACE_DESCRIPTION)
+    uv_smooth: EnumProperty(name="UV Smooth", items=UV_SMOOTH_ITEMS, default='PRESERVE_BOUNDARIES',
+                            options={'SKIP_SAVE'}, description=UV_SMOOTH_DESCRIPTION)
 
 
 _LONG_APPLY_FACES = 2_000_000  # output triangles: about two seconds of applying
 
-_SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group")
+_SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group",
+             "use_limit_surface", "uv_smooth")
+# The arguments of Apply that override the object's settings when given.
+_APPLY_OVERRIDES = ("levels", "rules", "crease_threshold", "boundary", "use_limit_surface", "uv_smooth")
 
 
 class OBJECT_OT_loop_subdivision_add(_RuleArguments, bpy.types.Operator):
@@ -107,7 +115,7 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
 
     def execute(self, context):
         obj = context.object
-        options = obj.loop_subdivision.options(**_overrides(self, ("levels", "rules", "crease_threshold", "boundary")))
+        options = obj.loop_subdivision.options(**_overrides(self, _APPLY_OVERRIDES))
         modifier = stack.entry(obj)
         if modifier is not None and not stack.is_first(obj, modifier):
             # Blender's own words when a modifier that is not first is applied: it acts on the object's mesh.

@@ -11,6 +11,21 @@ RULES_ITEMS = (
     ('OPENSUBDIV', "OpenSubdiv (as Subdivision Surface)",
      "OpenSubdiv's Loop rules, which Blender's Subdivision Surface uses: crease weights give semi-sharp creases"),
 )
+# Subdivision Surface's own identifiers, names and descriptions (geometry.UV_SMOOTH maps them to the core's modes).
+UV_SMOOTH_ITEMS = (
+    ('NONE', "None", "UVs are not smoothed, boundaries are kept sharp"),
+    ('PRESERVE_CORNERS', "Keep Corners", "UVs are smoothed, corners on discontinuous boundary are kept sharp"),
+    ('PRESERVE_CORNERS_AND_JUNCTIONS', "Keep Corners, Junctions",
+     "UVs are smoothed, corners on discontinuous boundary and junctions of 3 or more regions are kept sharp"),
+    ('PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE', "Keep Corners, Junctions, Concave",
+     "UVs are smoothed, corners on discontinuous boundary, junctions of 3 or more regions and darts and concave "
+     "corners are kept sharp"),
+    ('PRESERVE_BOUNDARIES', "Keep Boundaries", "UVs are smoothed, boundaries are kept sharp"),
+    ('SMOOTH_ALL', "All", "UVs and boundaries are smoothed"),
+)
+LIMIT_SURFACE_DESCRIPTION = ("Place vertices at the surface that would be produced with infinite levels of "
+                             "subdivision (smoothest possible shape)")
+UV_SMOOTH_DESCRIPTION = "Controls how smoothing is applied to UVs"
 BOUNDARY_ITEMS = (
     ('SMOOTH', "All", "Smooth boundaries, as Boundary Smooth: All of Subdivision Surface"),
     ('KEEP_CORNERS', "Keep Corners", "Boundary vertices with a single face stay sharp corners"),
@@ -43,10 +58,16 @@ class LoopSubdivisionSettings(bpy.types.PropertyGroup):
     cone_group: StringProperty(
         name="Cone Group", default="", update=_changed,
         description="Vertex group whose vertices become cones: the surface comes to a point there")
+    use_limit_surface: BoolProperty(
+        name="Use Limit Surface", default=True, update=_changed, description=LIMIT_SURFACE_DESCRIPTION)
+    uv_smooth: EnumProperty(
+        name="UV Smooth", items=UV_SMOOTH_ITEMS, default='PRESERVE_BOUNDARIES', update=_changed,
+        description=UV_SMOOTH_DESCRIPTION)
 
     def options(self, **overrides):
         values = {name: getattr(self, name)
-                  for name in ("levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group")}
+                  for name in ("levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group",
+                               "use_limit_surface", "uv_smooth")}
         values.update(overrides)
         return geometry.Options(**values)
 

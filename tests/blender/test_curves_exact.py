@@ -167,9 +167,9 @@ def result_curve_vertices(mesh):
     return np.unique(support.edges(mesh)[creased])
 
 
-def loop_result(obj, levels, rules, boundary):
+def loop_result(obj, levels, rules, boundary, use_limit_surface=False):
     result = support.copy_object(obj, f"{obj.name}.{rules}.{levels}")
-    support.apply_loop(result, levels=levels, rules=rules, boundary=boundary)
+    support.apply_loop(result, levels=levels, rules=rules, boundary=boundary, use_limit_surface=use_limit_surface)
     return result
 
 

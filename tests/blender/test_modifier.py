@@ -171,8 +171,9 @@ def edits():
 
 
 def uv_edits():
-    """A moved vertex of a cage with a UV map and a corner colour is written into the result in place, UVs and
-    colours included, as Apply would write them."""
+    """A moved vertex and a moved UV of a cage with a UV map and a corner colour are written into the result in place,
+    UVs, colours and limit normals included, as Apply would write them; a UV split off its vertex's other corners (a
+    new seam) builds a new plan."""
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
@@ -180,22 +181,45 @@ def uv_edits():
     colors = obj.data.color_attributes.new("Paint", 'FLOAT_COLOR', 'CORNER')
     colors.data.foreach_set("color", np.tile([0.2, 0.4, 0.6, 1.0], len(obj.data.loops)).astype(np.float32))
     add_entry(obj)
+
+    def shown_and_applied():
+        mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
+                 support.read_array(mesh.attributes["Paint"].data, "color", 4), corner_normals(mesh))
+        twin = support.copy_object(obj, "UVEdited twin")
+        twin.modifiers.clear()
+        support.apply_loop(twin, levels=1)
+        expected = (support.positions(twin.data), support.read_array(twin.data.uv_layers["UVMap"].data, "uv", 2),
+                    support.read_array(twin.data.attributes["Paint"].data, "color", 4), corner_normals(twin.data))
+        support.remove(twin)
+        support.select_only(obj)
+        return all(np.array_equal(a, b) for a, b in zip(shown[:3], expected[:3])), \
+            float(np.abs(shown[3] - expected[3]).max())
+
     builds = plan_builds(obj)
+    uvs = support.read_array(obj.data.uv_layers["UVMap"].data, "uv", 2)
+    loop_vertices = support.read_array(obj.data.loops, "vertex_index", dtype=np.int32)
+    # Every corner of vertex 0 with the UV of its first corner: the value moves, the UV topology stays.
+    moved = (loop_vertices == 0) & (uvs == uvs[0]).all(axis=1)
+    uvs[moved] = (0.9, 0.1)
+    obj.data.uv_layers["UVMap"].data.foreach_set("uv", uvs.ravel())
     obj.data.vertices[0].co.z += 0.25
-    obj.data.uv_layers["UVMap"].data[0].uv = (0.9, 0.1)
     obj.data.update()
-    mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
-    shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
-             support.read_array(mesh.attributes["Paint"].data, "color", 4))
-    twin = support.copy_object(obj, "UVEdited twin")
-    twin.modifiers.clear()
-    support.apply_loop(twin, levels=1)
-    expected = (support.positions(twin.data), support.read_array(twin.data.uv_layers["UVMap"].data, "uv", 2),
-                support.read_array(twin.data.attributes["Paint"].data, "color", 4))
-    check(plan_builds(obj) == builds and all(np.array_equal(a, b) for a, b in zip(shown, expected)),
-          "with a UV map and corner colours, an edit is written in place: positions, UVs and colours as Apply's")
-    support.remove(twin)
+    same, normals = shown_and_applied()
+    check(plan_builds(obj) == builds and same and normals < 1e-6,
+          "with a UV map and corner colours, an edit is written in place: positions, UVs, colours and normals as "
+          f"Apply's (normals within {normals:.1e})")
+    obj.data.uv_layers["UVMap"].data[0].uv = (0.5, 0.5)  # one corner leaves its vertex's others: a new seam
+    obj.data.update()
+    same, normals = shown_and_applied()
+    check(plan_builds(obj) == builds + 1 and same and normals < 1e-6,
+          "a UV split off its vertex's other corners builds a new plan, and the result is Apply's")
     support.remove(obj)
+
+
+def corner_normals(mesh):
+    mesh.calc_normals_split()
+    return support.read_array(mesh.loops, "normal", 3)
 
 
 def animation():

@@ -145,9 +145,11 @@ def test_inherit_edge_values():
 
 def test_options_keywords():
     assert geometry.Options(rules='OPENSUBDIV', boundary='KEEP_CORNERS', crease_threshold=0.7).plan_keywords() == {
-        "rules": "opensubdiv", "boundary": "edges-and-corners", "crease_threshold": 0.0}
-    assert geometry.Options(crease_threshold=0.7).plan_keywords() == {
-        "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7)}
+        "rules": "opensubdiv", "boundary": "edges-and-corners", "crease_threshold": 0.0, "limit_surface": True,
+        "uv_interpolation": "boundaries"}
+    assert geometry.Options(crease_threshold=0.7, use_limit_surface=False, uv_smooth='NONE').plan_keywords() == {
+        "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7), "limit_surface": False,
+        "uv_interpolation": "all"}
 
 
 def test_uv_smooth_is_blenders_mapping():
@@ -157,9 +159,10 @@ def test_uv_smooth_is_blenders_mapping():
         'PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE': "corners-plus2", 'PRESERVE_BOUNDARIES': "boundaries",
         'SMOOTH_ALL': "none"}
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
-    for interpolation in geometry.UV_SMOOTH.values():
-        plan = _loopsub.Plan(triangles, 4, 1, face_varying_indices=[triangles], uv_interpolation=interpolation)
-        assert plan.uv_interpolation == interpolation
+    for smooth in geometry.UV_SMOOTH:
+        options = geometry.Options(rules='OPENSUBDIV', uv_smooth=smooth)
+        plan = _loopsub.Plan(triangles, 4, 1, face_varying_indices=[triangles], **options.plan_keywords())
+        assert plan.uv_interpolation == geometry.UV_SMOOTH[smooth] and plan.limit_surface
 
 
 def test_weld_corner_values():
