@@ -165,17 +165,21 @@ def set_edge_creases(mesh, edge_indices, weight, compat):
     compat.write_edge_creases(mesh, weights)
 
 
-def blender_subdivision(obj, levels, boundary_smooth='ALL', use_limit_surface=False):
-    """Blender's own Subdivision Surface (Catmull-Clark through OpenSubdiv) of obj, as positions and a mesh copy
-    (the caller removes the copy). The modifier is removed again, so obj is left as it was."""
+def blender_subdivision(obj, levels, boundary_smooth='ALL', use_limit_surface=False, uv_smooth='NONE'):
+    """Blender's own Subdivision Surface (Catmull-Clark through OpenSubdiv) of obj, as a mesh copy (the caller removes
+    it). The modifier is removed again, so obj is left as it was.
+
+    With the limit surface, at Quality 10 (its most): Blender evaluates the limit on patches isolated to that level
+    around irregular vertices, and lower qualities leave an error there (measured at the one-face corners of a
+    triangulated grid, Boundary Smooth All: 6.5e-4 of the diagonal at Quality 3, 1.0e-5 at 6, 1e-7 at 10)."""
     modifier = obj.modifiers.new("Reference", 'SUBSURF')
     modifier.levels = levels
     modifier.use_limit_surface = use_limit_surface
     modifier.use_creases = True
     modifier.boundary_smooth = boundary_smooth
-    modifier.uv_smooth = 'NONE'
+    modifier.uv_smooth = uv_smooth
     if use_limit_surface:
-        modifier.quality = 6
+        modifier.quality = 10
     depsgraph = bpy.context.evaluated_depsgraph_get()
     result = bpy.data.meshes.new_from_object(obj.evaluated_get(depsgraph))
     obj.modifiers.remove(modifier)

@@ -5,6 +5,10 @@ vertex of a crease curve that is closed or ends at corners, and of every boundar
 result and in the add-on's OpenSubdiv-compatible result (use_limit_surface off, creases on, weight 1.0), at every level
 and in both boundary modes: checked within 1e-5 of the bounding-box diagonal, matching vertices by nearest neighbour.
 
+With Use Limit Surface on both sides (Blender's at Quality 10) the curve vertices coincide too, with each other and
+with the cubic B-spline limit points of the hand-written curves, (1, 4, 1)/6 of each crease vertex and its curve
+neighbours, corners fixed: Loop's and Catmull-Clark's limits agree on crease and boundary curves.
+
 Weight mapping: crease c gives sharpness s = 10·c², so the curves still coincide through level ⌊s⌋ and part at the
 next level: c = 0.6 (s = 3.6, levels 3 / 4) and c = 0.8 (s = 6.4, levels 6 / 7).
 
@@ -116,8 +120,11 @@ def crease_curves(obj, boundary):
     return chains, kinds, positions
 
 
-def subdivide_curve(points, kinds, closed, levels, seed_rules):
-    """The crease rules on one curve, by hand: returns the curve's points at the given level."""
+def subdivide_curve(points, kinds, closed, levels, seed_rules, limit=False):
+    """The crease rules on one curve, by hand: returns the curve's points at the given level, or with limit their
+    limit points: the cubic B-spline's (1, 4, 1)/6 at every crease vertex, corners staying where they are (the
+    triple of a crease vertex and its two curve neighbours maps to itself under the rules, whatever lies beyond, and
+    (1, 4, 1)/6 is that map's left eigenvector for eigenvalue 1)."""
     points = np.asarray(points, dtype=np.float64)
     for _ in range(levels):
         n = len(points)
@@ -143,12 +150,17 @@ def subdivide_curve(points, kinds, closed, levels, seed_rules):
                 interleaved.append(middles[i])
                 new_kinds.append('regular')  # every vertex created on a crease edge is a regular crease vertex
         points, kinds = np.array(interleaved), new_kinds
+    if limit:
+        n = len(points)
+        points = np.array([points[i] if kinds[i] == 'corner'
+                           else (points[i - 1] + 4 * points[i] + points[(i + 1) % n]) / 6 for i in range(n)])
     return points
 
 
-def reference_curves(obj, boundary, levels, seed_rules):
+def reference_curves(obj, boundary, levels, seed_rules, limit=False):
     chains, kinds, positions = crease_curves(obj, boundary)
-    return np.concatenate([subdivide_curve(positions[chain], [kinds[v] for v in chain], closed, levels, seed_rules)
+    return np.concatenate([subdivide_curve(positions[chain], [kinds[v] for v in chain], closed, levels, seed_rules,
+                                           limit)
                            for chain, closed in chains])
 
 
@@ -225,6 +237,39 @@ def exact_curves(make, boundaries, levels=(1, 2, 3)):
     return obj
 
 
+def limit_curves(make, boundaries, levels=(1, 2, 3)):
+    """With Use Limit Surface on both sides, the crease and boundary curves of the add-on's OpenSubdiv-compatible
+    result coincide with Blender's: both put a curve vertex on the limit curve, the cubic B-spline of the curve's
+    control points (Loop and Catmull-Clark share the crease rules, so the curves' control points are the same)."""
+    obj = make()
+    diagonal = support.bbox_diagonal(support.positions(obj.data))
+    tolerance = TOLERANCE * diagonal
+    for boundary in boundaries:
+        blender_boundary = {'SMOOTH': 'ALL', 'KEEP_CORNERS': 'PRESERVE_CORNERS'}[boundary]
+        for level in levels:
+            where = f"{obj.name}, {boundary}, level {level}, limit surface"
+            blender = support.blender_subdivision(obj, level, blender_boundary, use_limit_surface=True)
+            blender_points = support.positions(blender)
+            expected = unique_points(reference_curves(obj, boundary, level, seed_rules=False, limit=True), tolerance)
+            distance, _ = support.nearest_distances(expected, blender_points)
+            check(distance.max() <= tolerance, f"{where}: the hand-written B-spline limit points are Blender's "
+                                               f"({len(expected)} points, max {distance.max() / diagonal:.1e} of "
+                                               "the diagonal)")
+            ours = loop_result(obj, level, 'OPENSUBDIV', boundary, use_limit_surface=True)
+            mesh = ours.data
+            curve = support.positions(mesh)[result_curve_vertices(mesh)]
+            distance, nearest = support.nearest_distances(curve, blender_points)
+            to_expected, _ = support.nearest_distances(curve, expected)
+            check(len(curve) == len(expected) and distance.max() <= tolerance
+                  and len(np.unique(nearest)) == len(curve) and to_expected.max() <= tolerance,
+                  f"{where}: the add-on's {len(curve)} curve vertices are Blender's limit points "
+                  f"(max distance {distance.max() / diagonal:.1e} of the diagonal; to the hand-written ones "
+                  f"{to_expected.max() / diagonal:.1e})")
+            remove(ours)
+            bpy.data.meshes.remove(blender)
+    return obj
+
+
 def weight_mapping(make, weight, coincide_level):
     """Crease weight c coincides with Blender through level ⌊10·c²⌋ and parts at the next one."""
     obj = make(weight)
@@ -292,6 +337,9 @@ support.clear_scene()
 remove(exact_curves(creased_cube, ('SMOOTH',)))
 remove(exact_curves(ringed_sphere, ('SMOOTH',)))
 remove(exact_curves(open_grid, ('SMOOTH', 'KEEP_CORNERS')))
+remove(limit_curves(creased_cube, ('SMOOTH',)))
+remove(limit_curves(ringed_sphere, ('SMOOTH',)))
+remove(limit_curves(open_grid, ('SMOOTH', 'KEEP_CORNERS')))
 weight_mapping(ringed_sphere, 0.6, 3)
 weight_mapping(ringed_octahedron, 0.8, 6)
 dart_by_hand()
