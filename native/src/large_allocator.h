@@ -3,7 +3,7 @@
 // pages (2 MiB) on large blocks cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode).
 // Elsewhere large blocks are just aligned to 2 MiB.
 //
-// Freed large blocks are kept for reuse, up to kPoolBytes in all (block_pool): a plan built again (the modifier after
+// Freed blocks of 64 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built again (the modifier after
 // an edit that changes the topology, a benchmark loop) then finds its arrays already faulted in, instead of paying
 // the kernel again to map and zero them, which is most of what a fresh plan's memory costs.
 #pragma once
@@ -28,7 +28,7 @@ namespace loopsub::detail {
 // during static destruction still find it (the blocks it holds at exit stay reachable).
 class BlockPool {
 public:
-    static constexpr std::size_t kPoolBytes = std::size_t(256) << 20;
+    static constexpr std::size_t kPoolBytes = std::size_t(64) << 20;
 
     static BlockPool& instance() {
         static BlockPool* pool = new BlockPool;
