@@ -3,9 +3,11 @@
 // pages (2 MiB) on large blocks cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode).
 // Elsewhere large blocks are just aligned to 2 MiB.
 //
-// Freed blocks of 64 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built again (the modifier after
-// an edit that changes the topology, a benchmark loop) then finds its arrays already faulted in, instead of paying
-// the kernel again to map and zero them, which is most of what a fresh plan's memory costs.
+// Freed blocks of 64 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built
+// again (the modifier after an edit that changes the topology, a benchmark loop) then finds its arrays already
+// faulted in, instead of paying the kernel again to map and zero them, which is most of what a fresh plan's memory
+// costs. The budget bounds what stays mapped once plans are gone, and what a large refinement holds on top of its
+// own arrays.
 #pragma once
 
 #include <cstddef>
