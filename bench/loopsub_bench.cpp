@@ -22,6 +22,10 @@
 //   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
+//
+// --memory [LEVELS] instead measures peak resident memory, each side in a process of its own: the icosphere to
+// level 6 (21M triangles) by default, Plan + evaluate against TopologyRefiner + PrimvarRefiner, beside the bytes of
+// the output arrays (positions and triangles).
 #include <benchmark/benchmark.h>
 
 #include <opensubdiv/far/primvarRefiner.h>
@@ -32,6 +36,8 @@
 #include <opensubdiv/osd/cpuEvaluator.h>
 #include <opensubdiv/osd/ompEvaluator.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -485,9 +491,93 @@ void print_speedups(const RecordingReporter& r) {
     }
 }
 
+// ---- Peak memory -------------------------------------------------------------------------------------------------
+
+long peak_rss_kib() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss;  // KiB on Linux
+}
+
+int measure_memory(int levels) {
+    const Mesh& m = meshes().front();
+    // The child prints its own peak: read it back through a pipe.
+    auto run = [&](const char* what, auto work) {
+        int fds[2];
+        if (pipe(fds) != 0) return -1L;
+        std::fflush(stdout);
+        const pid_t child = fork();
+        if (child == 0) {
+            close(fds[0]);
+            const long before = peak_rss_kib();
+            work();
+            char line[64];
+            const int length = std::snprintf(line, sizeof line, "%ld %ld", before, peak_rss_kib());
+            if (write(fds[1], line, std::size_t(length)) != length) _exit(1);
+            _exit(0);
+        }
+        close(fds[1]);
+        char line[64] = {0};
+        const ssize_t got = read(fds[0], line, sizeof line - 1);
+        close(fds[0]);
+        int status = 0;
+        waitpid(child, &status, 0);
+        long before = 0, peak = -1;
+        if (got <= 0 || std::sscanf(line, "%ld %ld", &before, &peak) != 2) std::printf("%s: failed\n", what);
+        return peak < 0 ? -1L : peak - before;
+    };
+    const std::size_t triangles = std::size_t(m.num_triangles()) << (2 * levels);
+    const long ours = run("loopsub", [&] {
+        loopsub::Options o = options(loopsub::Kernel::Auto, 1);
+        o.levels = levels;
+        loopsub::MeshView v = view(m);
+        v.num_face_varying = 0;
+        loopsub::Plan plan(v, o);
+        std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
+        plan.evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3));
+        benchmark::DoNotOptimize(out.data());
+    });
+    const long theirs = run("opensubdiv", [&] {
+        Sdc::Options sdc;
+        const std::vector<int> three(m.num_triangles(), 3);
+        Far::TopologyDescriptor d;
+        d.numVertices = m.num_vertices();
+        d.numFaces = m.num_triangles();
+        d.numVertsPerFace = three.data();
+        d.vertIndicesPerFace = m.triangles.data();
+        using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+        std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
+        refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+        std::vector<Vertex> a(refiner->GetNumVerticesTotal());
+        std::copy(m.positions.begin(), m.positions.end(), &a[0].p[0]);
+        const Far::PrimvarRefiner primvar(*refiner);
+        Vertex* src = a.data();
+        for (int level = 1; level <= levels; ++level) {
+            Vertex* dst = src + refiner->GetLevel(level - 1).GetNumVertices();
+            primvar.Interpolate(level, src, dst);
+            src = dst;
+        }
+        benchmark::DoNotOptimize(src);
+    });
+    // A closed mesh: each level adds one vertex per edge, three halves per triangle.
+    std::size_t vertices = std::size_t(m.num_vertices());
+    for (int l = 0; l < levels; ++l) vertices = vertices + (std::size_t(m.num_triangles()) << (2 * l)) * 3 / 2;
+    const double output_mib = double(vertices * 12 + triangles * 12) / (1 << 20);
+    std::printf("peak resident memory, %s to level %d: %zu triangles, %zu vertices; output arrays (positions + "
+                "triangles) %.1f MiB\n", m.name.c_str(), levels, triangles, vertices, output_mib);
+    for (const auto& [name, kib] : {std::pair<const char*, long>{"loopsub", ours}, {"opensubdiv", theirs}}) {
+        if (kib < 0) continue;
+        const double mib = double(kib) / 1024.0;
+        std::printf("  %-10s %8.1f MiB above the process's start = %.2fx the output arrays, %.1f bytes per output "
+                    "triangle\n", name, mib, mib / output_mib, double(kib) * 1024.0 / double(triangles));
+    }
+    return ours < 0 || theirs < 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc >= 2 && std::string(argv[1]) == "--memory") return measure_memory(argc >= 3 ? std::atoi(argv[2]) : 6);
     Osd::OmpEvaluator::SetNumThreads(2);
     register_all();
     benchmark::Initialize(&argc, argv);
