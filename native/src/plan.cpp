@@ -170,6 +170,10 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // each edge get their sharpness at their own end vertex (Chaikin looks at the other edges there), old vertices
     // decay; edges inside faces and vertices on edges start smooth.
     std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
+    // The last level is refined no further, but its classes are reported too (what the result is tagged with): an
+    // old vertex's from its child sharpness, a midpoint's from its two halves, over this level's neighbourhoods.
+    std::vector<VertexType> last_types;
+    if (last_child) last_types.assign(std::size_t(nv) + std::size_t(ne), VertexType::Smooth);
     const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
     std::vector<float> child_sharpness;
     detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {
@@ -193,6 +197,11 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
 
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, vertex.sharp_edges);
         types[v] = detail::classify_vertex(rule, vertex, around);
+        if (last_child) {
+            const detail::FeatureVertex as_child{v, vertex.edges, child_sharpness, vertex.tags, child_sharp_edges,
+                                                 {child_crease[0], child_crease[1]}, vertex.tagged_cone};
+            last_types[v] = detail::classify_vertex(detail::sdc_vertex_rule(child_vertex_sharpness, child_sharp_edges), as_child, around);
+        }
         const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
         Index ends[2];
         const detail::VertexMask mask = rules->vertex_mask(
@@ -206,6 +215,16 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         }
     });
     std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
+    if (last_child) {
+        // A midpoint's only edges that can be sharp are its two halves; it is regular where its edge has at most
+        // two faces (valence 6 with three faces on each side, or a boundary of valence 4).
+        for (const Feature& f : level.edges) {
+            const int sharp_halves = detail::is_sharp(child.edge_sharpness(2 * f.index)) + detail::is_sharp(child.edge_sharpness(2 * f.index + 1));
+            VertexType& type = last_types[std::size_t(nv) + std::size_t(f.index)];
+            if (sharp_halves == 1) type = VertexType::Dart;
+            if (sharp_halves == 2) type = around.edge_face_count(f.index) <= 2 ? VertexType::RegularCrease : VertexType::IrregularCrease;
+        }
+    }
 
     // The last level needs only its triangles. The one before it needs its stencils, but not its edge faces and
     // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level.
@@ -235,6 +254,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     s.ring = std::move(t.vertex_vertices);
     s.edge_c = std::move(t.edge_opposite_c);
     s.edge_d = std::move(t.edge_opposite_d);
+    if (last_child) level_vertex_types.push_back(std::move(last_types));  // last: it moves `types`
 }
 
 void PlanImpl::drop_holes() {
@@ -387,7 +407,7 @@ int Plan::level_num_vertices(int level) const {
     return impl_->level_num_vertices[level];
 }
 const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
-    const int last = int(impl_->level_vertex_types.size()) - 1;  // levels() - 1, or levels() with the limit
+    const int last = int(impl_->level_vertex_types.size()) - 1;  // levels()
     if (level < 0 || level > last) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(last));
     return impl_->level_vertex_types[level];
 }

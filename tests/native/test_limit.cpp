@@ -146,7 +146,7 @@ TEST(LimitSurface, NormalsNeedTheLimitAndPositions) {
     Plan limit_plan(mesh.view(), options);
     EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 2), interleaved(out.data(), 2), normals.data()), InputError);
     EXPECT_EQ(limit_plan.level_vertex_types(1).size(), std::size_t(limit_plan.num_output_vertices()));
-    EXPECT_THROW(plan.level_vertex_types(1), std::out_of_range);
+    EXPECT_THROW(plan.level_vertex_types(2), std::out_of_range);
 }
 
 // Level 0 with the limit: the input's own vertices go to the limit, as OpenSubdiv's Limit of an unrefined mesh.
@@ -189,6 +189,33 @@ TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {
     EXPECT_EQ(one, normals_for(2, Kernel::Auto));
     const std::vector<float> scalar = normals_for(1, Kernel::Scalar);
     for (std::size_t i = 0; i < one.size(); ++i) ASSERT_NEAR(one[i], scalar[i], 1e-5) << "component " << i;
+}
+
+// The last level's classes (what an application tags the output with) are the ones a plan one level deeper
+// repositions that level with, and the ones the limit uses: one classification, three ways to reach it.
+TEST(VertexTypes, LastLevelEqualsTheNextLevelsAndTheLimits) {
+    for (Rules rules : {Rules::Hoppe94, Rules::OpenSubdiv}) {
+        TestMesh mesh = grid(6, 5);
+        jitter(mesh, 9, 0.01f);
+        add_random_creases(mesh, 9, 0.3, rules == Rules::OpenSubdiv);
+        add_random_corners(mesh, 10, 3, rules == Rules::OpenSubdiv);
+        if (rules == Rules::Hoppe94) mesh.cone_vertices = {grid_vertex(6, 3, 3)};
+        for (int levels = 1; levels <= 3; ++levels) {
+            Options options;
+            options.rules = rules;
+            options.levels = levels;
+            const Plan plan(mesh.view(), options);
+            options.levels = levels + 1;
+            const Plan deeper(mesh.view(), options);
+            options.levels = levels;
+            options.limit_surface = true;
+            const Plan limit(mesh.view(), options);
+            EXPECT_EQ(plan.level_vertex_types(levels), deeper.level_vertex_types(levels)) << "levels " << levels;
+            EXPECT_EQ(plan.level_vertex_types(levels), limit.level_vertex_types(levels)) << "levels " << levels;
+            std::set<VertexType> seen(plan.level_vertex_types(levels).begin(), plan.level_vertex_types(levels).end());
+            EXPECT_GE(seen.size(), 4u) << "the grid should show several classes at level " << levels;
+        }
+    }
 }
 
 }  // namespace

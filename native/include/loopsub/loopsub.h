@@ -203,8 +203,10 @@ public:
     // (number of level-L vertices + k) of level L+1.
     const std::vector<std::int32_t>& level_edges(int level) const;
     int level_num_vertices(int level) const;  // 0 <= level <= levels()
-    // Class of each vertex of level L under the chosen rules (what the repositioning at level L used; with the limit
-    // surface, L = levels() too: what the limit used).
+    // Class of each vertex of level L (0 <= L <= levels()) under the chosen rules: what the repositioning at level L
+    // used; for the last level, the class its vertices would take at the next level (with the limit surface: what
+    // the limit used). The one classification an application needs to tag the output. (With no levels and no limit
+    // surface there is none: out_of_range.)
     const std::vector<VertexType>& level_vertex_types(int level) const;
 
     // Refines per-vertex data: in has num_input_vertices() elements, out num_output_vertices(), both with the same
