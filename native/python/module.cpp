@@ -936,16 +936,17 @@ PYBIND11_MODULE(_loopsub, m) {
             "level_vertex_types",
             [](py::object self, int level) {
                 auto& p = self.cast<PyPlan&>();
-                if (level < 0 || level >= p.plan.levels())
-                    throw py::index_error("level must be in [0, " + std::to_string(p.plan.levels()) + "), got " +
-                                          std::to_string(level));
+                if (level < 0 || level > p.plan.levels() || (p.plan.levels() == 0 && !p.plan.options().limit_surface))
+                    throw py::index_error("level must be in [0, " + std::to_string(p.plan.levels()) + "], got " +
+                                          std::to_string(level) + (p.plan.levels() == 0 ? " (a plan of no levels has no classes)" : ""));
                 const auto& v = p.plan.level_vertex_types(level);
                 static_assert(sizeof(loopsub::VertexType) == 1, "VertexType is viewed as uint8");
                 return plan_view(reinterpret_cast<const std::uint8_t*>(v.data()), {py::ssize_t(v.size())}, self);
             },
             py::arg("level"),
-            "level_vertex_types(level)\n\n(N_L,) uint8: the class of each vertex of level L as used to reposition it; "
-            "names in VERTEX_TYPES (read-only view).")
+            "level_vertex_types(level)\n\n(N_L,) uint8: the class of each vertex of level L (0 <= L <= levels) as used to "
+            "reposition it; for L = levels, the output's classes (as a deeper plan or the limit uses them: what to tag "
+            "the result with). Names in VERTEX_TYPES (read-only view).")
         .def("__repr__", [](PyPlan& p) {
             return "<_loopsub.Plan rules=" + std::string(rules_name(p.plan.options().rules)) +
                    " levels=" + std::to_string(p.plan.levels()) + " vertices=" + std::to_string(p.plan.num_input_vertices()) +

@@ -102,10 +102,14 @@ def test_level_accessors_reject_bad_levels():
     for bad in (-1, 2):
         with pytest.raises(IndexError):
             plan.level_edges(bad)
+    for bad in (-1, 3):
         with pytest.raises(IndexError):
             plan.level_vertex_types(bad)
     with pytest.raises(IndexError):
         plan.level_num_vertices(3)
+    # The last level's classes: the output's, as a deeper plan repositions them.
+    assert plan.level_vertex_types(2).shape == (plan.num_output_vertices,)
+    np.testing.assert_array_equal(plan.level_vertex_types(2), _loopsub.Plan(t, 4, 3).level_vertex_types(2))
     assert set(map(tuple, np.sort(plan.level_edges(0), axis=1).tolist())) == set(edges_of(t))
 
 
