@@ -307,6 +307,17 @@ def weld_corner_values(corner_vertices, corner_values):
     return index.reshape(-1, 3), np.ascontiguousarray(values[order[first]])
 
 
+def shared_vertex_normals(triangles, corner_normals, num_vertices):
+    """The normal of each vertex, (V, 3), when every corner of every vertex has the same one (bit for bit; no crease
+    splits them): Blender then takes one normal per vertex, six times fewer values than one per corner. None when
+    some vertex has corners with different normals. Vertices in no triangle get zero (Blender's own normal)."""
+    vertices = np.asarray(triangles).reshape(-1)
+    normals = np.asarray(corner_normals, dtype=np.float32).reshape(-1, 3)
+    shared = np.zeros((num_vertices, 3), dtype=np.float32)
+    shared[vertices] = normals
+    return shared if np.array_equal(shared[vertices], normals) else None
+
+
 def from_refined(values, data_type):
     """Refined float channels back to the attribute's type: integers rounded to the nearest, booleans true where
     any vertex with a positive weight was (every Loop weight of a contributing vertex is positive)."""

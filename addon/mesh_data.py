@@ -172,14 +172,15 @@ class Result:
 
 class Refined:
     """What a plan's evaluation gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
-    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, and the limit normals per output
-    corner (T_out, 3, 3), None without the limit surface."""
+    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the limit normals per output
+    corner (T_out, 3, 3), None without the limit surface, and the output triangles (the plan's)."""
 
-    def __init__(self, vertex, uvs, corners, normals):
+    def __init__(self, vertex, uvs, corners, normals, triangles):
         self.vertex = vertex
         self.uvs = uvs
         self.corners = corners
         self.normals = normals
+        self.triangles = triangles
 
 
 class _Channels:
@@ -341,7 +342,7 @@ class Source:
         uvs = [native.run(plan.evaluate_face_varying, values, layer=layer)[plan.face_varying_indices(layer)]
                for layer, (_, values) in enumerate(self.uv_layers)]
         corners = native.run(plan.evaluate_face_varying, self.corners.packed()) if self.corners.parts else None
-        return Refined(vertex, uvs, corners, normals)
+        return Refined(vertex, uvs, corners, normals, plan.triangles)
 
 
 # The long stages of subdivide, in order (the progress counter at the cursor counts them).
@@ -465,7 +466,11 @@ def _write_normals(new, source, refined, auto_loops):
             normals = np.where(auto_loops[:, :, None], np.float32(0), normals)
     else:
         return
-    compat.set_custom_normals(new, normals)
+    # One normal per vertex where no crease splits them, several times faster for Blender to take; not with corners
+    # that keep Blender's own normal (from vertices, Blender then gives a marked sharp edge's sides one normal).
+    shared = (geometry.shared_vertex_normals(refined.triangles, normals, len(new.vertices))
+              if auto_loops is None else None)
+    compat.set_custom_normals(new, normals, shared)
 
 
 def _write_geometry(new, positions, plan):

@@ -251,3 +251,13 @@ def test_output_edges_number_every_output_edge_once(levels):
         assert np.array_equal(np.unique(triangle_edges), np.arange(len(edges)))
         if closed:
             assert plan.num_output_vertices - len(edges) + len(t) == 2
+
+
+def test_shared_vertex_normals():
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    up = np.tile(np.array([0, 0, 1], np.float32), (2, 3, 1))
+    shared = geometry.shared_vertex_normals(triangles, up, 5)
+    assert shared.shape == (5, 3) and np.array_equal(shared[:4], np.tile([0, 0, 1], (4, 1))) and not shared[4].any()
+    split = up.copy()
+    split[1, 0] = (0, 1, 0)  # vertex 1 gets another normal in the second triangle: a crease
+    assert geometry.shared_vertex_normals(triangles, split, 5) is None
