@@ -1,10 +1,12 @@
 // libFuzzer target: raw bytes as a mesh with tags and options, straight into Plan, evaluate and
 // evaluate_face_varying, with no reader in between: indices out of range, NaN and huge values, negative counts
 // of nothing, every option. Layout (each field taken from the bytes in turn, zero when they run out):
-//   options byte (rules, boundary, crease method, kernel, 2 threads), levels 0-3, crease threshold (float),
-//   vertex count 0-63, triangle count 0-63, crease count 0-15, corner count 0-7, cone count 0-7,
-//   then the triangles' indices, crease edges and sharpness, corners and sharpness, cones (indices are bytes, so
-//   some fall outside the mesh), then the positions and two face-varying channels (raw float bits).
+//   options byte (rules, boundary, crease method, kernel, 2 threads, limit surface), second options byte
+//   (boundary none, face-varying mode, a face-varying layer), levels 0-3, crease threshold (float),
+//   vertex count 0-63, triangle count 0-63, crease count 0-15, corner count 0-7, cone count 0-7, hole count 0-3,
+//   layer value count 0-63, then the triangles' indices, crease edges and sharpness, corners and sharpness, cones,
+//   holes, the layer's value indices (indices are bytes, so some fall outside the mesh), then the positions, two
+//   face-varying channels per corner and the layer's values (raw float bits).
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -43,11 +45,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.crease_method = flags & 4 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
     options.kernel = Kernel((flags >> 3) % 4);
     options.threads = flags & 32 ? 2 : 1;
+    options.limit_surface = (flags & 64) != 0;
+    const std::uint8_t more = in.byte();
+    if (more & 1) options.boundary = Boundary::None;
+    options.face_varying = FaceVaryingInterpolation((more >> 1) % 6);
+    const bool with_layer = (more & 16) != 0;
     options.levels = in.byte() % 4;
     options.crease_threshold = in.number();
     options.memory_limit_bytes = fuzz::kMemoryLimit;
     const int vertices = in.byte() % 64, triangles = in.byte() % 64, creases = in.byte() % 16, corners = in.byte() % 8,
-              cones = in.byte() % 8;
+              cones = in.byte() % 8, holes = in.byte() % 4, layer_values = in.byte() % 64;
 
     MeshData mesh;
     mesh.positions.resize(3 * std::size_t(vertices));
@@ -61,13 +68,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         mesh.corner_sharpness.push_back(in.number());
     }
     for (int i = 0; i < cones; ++i) mesh.cone_vertices.push_back(in.index(vertices));
+    for (int i = 0; i < holes; ++i) mesh.hole_triangles.push_back(in.index(triangles));
+    std::vector<std::int32_t> corner_values(3 * std::size_t(triangles));
+    for (std::int32_t& value : corner_values) value = in.index(layer_values);
     for (float& value : mesh.positions) value = in.number();
     std::vector<float> face_varying(6 * std::size_t(triangles));
     for (float& value : face_varying) value = in.number();
+    std::vector<std::vector<float>> values(1, std::vector<float>(2 * std::size_t(layer_values)));
+    for (float& value : values[0]) value = in.number();
 
     try {
-        Plan plan(mesh.view(), options);
-        fuzz::exercise(plan, mesh.positions, face_varying, 2);
+        const FaceVaryingLayer layer{corner_values.data(), layer_values};
+        MeshView view = mesh.view();
+        if (with_layer) view.face_varying = &layer, view.num_face_varying = 1;
+        Plan plan(view, options);
+        fuzz::exercise(plan, mesh.positions, face_varying, 2, values);
     } catch (const InputError&) {
     } catch (const MemoryLimitError&) {
     }

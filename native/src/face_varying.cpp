@@ -132,7 +132,7 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
     for (int v = 0; v < t.num_vertices; ++v) {
         const int n = offsets[v + 1] - offsets[v];
         if (n == 0) continue;
-        const Index* values = &at_vertex[offsets[v]];
+        const Index* values = at_vertex.data() + offsets[v];
         bool boundary = false, seam = false;
         int face_corners = 0;
         for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
@@ -207,7 +207,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(child_edge_at(t, e, v)); };
     for (int v = 0; v < t.num_vertices && mode != Mode::All; ++v) {
         const int n = offsets[v + 1] - offsets[v];
-        const Index* values = &at_vertex[offsets[v]];
+        const Index* values = at_vertex.data() + offsets[v];
         if (n == 0 || !tags_[values[0]].mismatch) continue;
         around.clear();
         for (int i = 0; i < n; ++i)

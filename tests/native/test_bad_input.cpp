@@ -173,6 +173,24 @@ TEST(BadInput, FaceVaryingLayerIndicesAndValues) {
     }
 }
 
+// Found by fuzz_plan: a face-varying layer on a mesh with vertices but no triangles.
+TEST(BadInput, FaceVaryingLayerWithoutTriangles) {
+    for (Rules rules : kBothRules) {
+        loopsub::MeshData mesh;
+        mesh.positions = {0, 0, 0, 1, 0, 0};
+        loopsub::FaceVaryingLayer layer{nullptr, 0};
+        loopsub::MeshView view = mesh.view();
+        view.face_varying = &layer;
+        view.num_face_varying = 1;
+        loopsub::Options options = options_for(rules, 2);
+        options.threads = 2;
+        loopsub::Plan plan(view, options);
+        EXPECT_EQ(plan.num_output_face_varying_values(0), 0);
+        std::vector<float> none;
+        plan.evaluate_face_varying(0, loopsub::interleaved(none.data(), 2), loopsub::interleaved(none.data(), 2));
+    }
+}
+
 TEST(BadInput, HoleOutOfRange) {
     for (Rules rules : kBothRules) {
         for (std::int32_t bad : {-1, 4}) {
