@@ -3,12 +3,14 @@ animation playback. Prints medians; run with scripts/bench_blender.sh (or blende
 -- --addon-dir addon [--repeat N]).
 
 - Apply: the add-on's operator vs Blender's modifier_apply of Subdivision Surface (Catmull-Clark of the same
-  triangles) with its defaults (limit surface on) and with the limit surface off (refinement only, as Loop here), on
-  a 200x200 grid (80,000 triangles) at level 2 and a 20,480-triangle icosphere at level 3; times per output vertex
-  too, since Catmull-Clark of triangles makes more vertices than Loop.
+  triangles), each with its default, the limit surface on (the add-on then also writes the limit normals as custom
+  split normals), and with the limit surface off (refinement only), on a 200x200 grid (80,000 triangles) at level 2
+  and a 20,480-triangle icosphere at level 3; times per output vertex too, since Catmull-Clark of triangles makes more
+  vertices than Loop. Ratios compare like with like (limit on with limit on).
 - Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
-  100,352-triangle grid at level 1.
-- Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2, stepping frames.
+  100,352-triangle grid at level 1, limit surface on (both defaults) and off.
+- Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2, stepping frames, limit surface
+  on and off.
 """
 import argparse
 import os
@@ -69,8 +71,11 @@ def subsurf(obj, levels, use_limit_surface=True):
 
 
 def apply_rows(name, build, levels):
-    def loop(obj):
-        return bpy.ops.object.loop_subdivision_apply(levels=levels, rules='OPENSUBDIV')
+    def loop(use_limit_surface):
+        def run(obj):
+            return bpy.ops.object.loop_subdivision_apply(levels=levels, rules='OPENSUBDIV',
+                                                         use_limit_surface=use_limit_surface)
+        return run
 
     def blender(use_limit_surface):
         def run(obj):
@@ -80,8 +85,8 @@ def apply_rows(name, build, levels):
         return run
 
     rows = {}
-    for kind, apply in (("Loop", loop), ("Subdivision Surface", blender(True)),
-                        ("Subdivision Surface, limit off", blender(False))):
+    for kind, apply in (("Loop", loop(True)), ("Subdivision Surface", blender(True)),
+                        ("Loop, limit off", loop(False)), ("Subdivision Surface, limit off", blender(False))):
         samples = []
         for _ in range(args.repeat):
             obj = mesh_object(name, build)
@@ -89,22 +94,25 @@ def apply_rows(name, build, levels):
             vertices = len(obj.data.vertices)
             clear()
         rows[kind] = median(samples), vertices
-    ours, ours_vertices = rows["Loop"]
     for kind, (seconds, vertices) in rows.items():
-        ratio = "" if kind == "Loop" else (f"   Loop/this: time {ours / seconds:4.2f}, "
-                                           f"per vertex {ours / ours_vertices / (seconds / vertices):4.2f}")
+        ratio = ""
+        if not kind.startswith("Loop"):
+            ours, ours_vertices = rows["Loop, limit off" if kind.endswith("limit off") else "Loop"]
+            ratio = (f"   Loop/this: time {ours / seconds:4.2f}, "
+                     f"per vertex {ours / ours_vertices / (seconds / vertices):4.2f}")
         print(f"apply  {name:<28} level {levels}  {kind:<31} {seconds * 1e3:8.1f} ms {vertices:>9,} vertices "
               f"{seconds / vertices * 1e9:6.0f} ns/vertex{ratio}")
 
 
-def edit_rows(name, build, levels):
+def edit_rows(name, build, levels, use_limit_surface=True):
     results = {}
     for kind in ("Loop", "Subdivision Surface"):
         obj = mesh_object(name, build)
         if kind == "Loop":
-            bpy.ops.object.loop_subdivision_add(levels=levels, rules='OPENSUBDIV')
+            bpy.ops.object.loop_subdivision_add(levels=levels, rules='OPENSUBDIV',
+                                                use_limit_surface=use_limit_surface)
         else:
-            subsurf(obj, levels)
+            subsurf(obj, levels, use_limit_surface)
         depsgraph = bpy.context.evaluated_depsgraph_get()
         co = np.empty(len(obj.data.vertices) * 3, np.float32)
         obj.data.vertices.foreach_get("co", co)
@@ -123,11 +131,12 @@ def edit_rows(name, build, levels):
         results[kind] = median(samples), len(obj.evaluated_get(depsgraph).data.vertices)
         clear()
     (ours, n_ours), (theirs, n_theirs) = results["Loop"], results["Subdivision Surface"]
-    print(f"edit   {name:<28} level {levels}: Loop {ours * 1e3:8.1f} ms ({n_ours:,} vertices)   "
+    limit = "limit on " if use_limit_surface else "limit off"
+    print(f"edit   {name:<28} level {levels}, {limit}: Loop {ours * 1e3:8.1f} ms ({n_ours:,} vertices)   "
           f"Subdivision Surface {theirs * 1e3:8.1f} ms ({n_theirs:,} vertices)   time ratio {ours / theirs:4.2f}")
 
 
-def playback_rows(name, build, levels, frames=24):
+def playback_rows(name, build, levels, frames=24, use_limit_surface=True):
     results = {}
     scene = bpy.context.scene
     for kind in ("Loop", "Subdivision Surface"):
@@ -135,9 +144,10 @@ def playback_rows(name, build, levels, frames=24):
         wave = obj.modifiers.new("Wave", 'WAVE')
         wave.height = 0.1
         if kind == "Loop":
-            bpy.ops.object.loop_subdivision_add(levels=levels, rules='OPENSUBDIV')
+            bpy.ops.object.loop_subdivision_add(levels=levels, rules='OPENSUBDIV',
+                                                use_limit_surface=use_limit_surface)
         else:
-            subsurf(obj, levels)
+            subsurf(obj, levels, use_limit_surface)
         scene.frame_set(1)
         samples = []
         for _ in range(args.repeat):
@@ -147,7 +157,8 @@ def playback_rows(name, build, levels, frames=24):
             samples.append(frames / (time.perf_counter() - started))
         results[kind] = median(samples)
         clear()
-    print(f"play   {name:<28} level {levels}: Loop {results['Loop']:6.1f} fps   "
+    limit = "limit on " if use_limit_surface else "limit off"
+    print(f"play   {name:<28} level {levels}, {limit}: Loop {results['Loop']:6.1f} fps   "
           f"Subdivision Surface {results['Subdivision Surface']:6.1f} fps")
 
 
@@ -156,4 +167,6 @@ print(f"Blender {bpy.app.version_string}, medians of {args.repeat}")
 apply_rows("grid 200x200 (80,000 tris)", grid(200), 2)
 apply_rows("icosphere (20,480 tris)", icosphere(5), 3)
 edit_rows("grid 224x224 (100,352 tris)", grid(224), 1)
+edit_rows("grid 224x224 (100,352 tris)", grid(224), 1, use_limit_surface=False)
 playback_rows("icosphere (20,480 tris)", icosphere(5), 2)
+playback_rows("icosphere (20,480 tris)", icosphere(5), 2, use_limit_surface=False)
