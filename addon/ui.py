@@ -22,7 +22,7 @@ def _draw_settings(layout, obj, modifier):
     threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
     threshold.prop(settings, "crease_threshold")
     layout.prop(settings, "use_limit_surface")
-    layout.prop(settings, "uv_smooth", text="UV Smooth")
+    layout.prop(settings, "uv_smooth")
     layout.prop(settings, "boundary")
     layout.prop(settings, "use_creases")
     cones = layout.row()
