@@ -1,5 +1,6 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -19,11 +20,17 @@ const char* const kUsage =
     "  --rules hoppe94|opensubdiv    rule set (default hoppe94)\n"
     "  --crease-threshold S          hoppe94: an edge is a crease when its sharpness is >= S (default 0: any\n"
     "                                positive sharpness)\n"
-    "  --boundary edges|edges-and-corners\n"
-    "                                boundary rule (default: the file's interpolateboundary tag, else edges)\n"
+    "  --boundary edges|edges-and-corners|none\n"
+    "                                boundary rule (default: the file's interpolateboundary tag, else edges);\n"
+    "                                none: faces at a boundary not tagged sharp become holes\n"
     "  --crease-method uniform|chaikin\n"
     "                                opensubdiv: semi-sharp decay (default: the file's creasemethod tag, else\n"
     "                                uniform)\n"
+    "  --limit                       put the result on the limit surface and write its normals (vn), split\n"
+    "                                across creases and boundaries\n"
+    "  --uv-interpolation MODE       none|corners|corners-plus1|corners-plus2|boundaries|all: where UVs stay\n"
+    "                                linear (default: the file's facevaryinginterpolateboundary tag, else\n"
+    "                                corners, as OpenSubdiv)\n"
     "  --threads N                   worker threads, N >= 1 (default 1)\n"
     "  --scalar                      force the scalar reference kernel instead of SIMD\n"
     "  --memory-limit-mb N           refuse a refinement that would need more than N MiB (default 4096)\n"
@@ -98,7 +105,18 @@ Command parse_command_line(int argc, char** argv) {
             std::string boundary = value();
             if (boundary == "edges") command.boundary = Boundary::EdgesOnly;
             else if (boundary == "edges-and-corners") command.boundary = Boundary::EdgesAndCorners;
-            else throw UsageError("--boundary expects edges or edges-and-corners, got '" + boundary + "'");
+            else if (boundary == "none") command.boundary = Boundary::None;
+            else throw UsageError("--boundary expects edges, edges-and-corners or none, got '" + boundary + "'");
+        } else if (arg == "--limit") {
+            no_value();
+            command.options.limit_surface = true;
+        } else if (arg == "--uv-interpolation") {
+            const std::string mode = value();
+            const char* const names[] = {"none", "corners", "corners-plus1", "corners-plus2", "boundaries", "all"};
+            const auto found = std::find(std::begin(names), std::end(names), mode);
+            if (found == std::end(names))
+                throw UsageError("--uv-interpolation expects none, corners, corners-plus1, corners-plus2, boundaries or all, got '" + mode + "'");
+            command.face_varying = FaceVaryingInterpolation(found - std::begin(names));
         } else if (arg == "--crease-method") {
             std::string method = value();
             if (method == "uniform") command.crease_method = CreaseMethod::Uniform;

@@ -22,6 +22,7 @@ struct Command {
     Options options;
     std::optional<Boundary> boundary;  // from the flag; else the file's tag decides
     std::optional<CreaseMethod> crease_method;
+    std::optional<FaceVaryingInterpolation> face_varying;  // from the flag; else the file's tag, else CornersOnly
     bool stats = false;
     bool help = false;
 };

@@ -1,5 +1,6 @@
 // loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
 // Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -18,13 +19,13 @@ using loopsub::cli::kUsage;
 using loopsub::cli::UsageError;
 using loopsub::cli::parse_command_line;
 
-// Face-varying UVs come out of the plan as one value per output corner. In the file, corners of the same vertex
-// with the same value share one vt, and differing values keep their own: seams stay seams without writing three
-// vt lines per triangle. Corners are grouped by vertex with a counting sort, so this is linear in their number.
-void set_output_uvs(const std::vector<float>& corner_uvs, loopsub::obj::ObjMesh& out) {
-    const std::vector<std::int32_t>& triangles = out.triangles;
-    const std::size_t num_corners = triangles.size();
-    std::vector<std::int32_t> bucket_start(std::size_t(out.num_vertices()) + 1, 0);
+// Per-corner values (normals) as an OBJ writes them: corners of the same vertex with the same value share one
+// entry, differing values keep their own. Corners are grouped by vertex with a counting sort, so this is linear in
+// their number.
+void share_per_vertex(const std::vector<float>& corner_values, int width, int num_vertices,
+                      const std::vector<std::int32_t>& triangles, std::vector<float>& values, std::vector<std::int32_t>& indices) {
+    const std::size_t num_corners = triangles.size(), w = std::size_t(width);
+    std::vector<std::int32_t> bucket_start(std::size_t(num_vertices) + 1, 0);
     for (std::int32_t v : triangles) ++bucket_start[std::size_t(v) + 1];
     for (std::size_t v = 1; v < bucket_start.size(); ++v) bucket_start[v] += bucket_start[v - 1];
     std::vector<std::int32_t> corners_by_vertex(num_corners);
@@ -32,21 +33,17 @@ void set_output_uvs(const std::vector<float>& corner_uvs, loopsub::obj::ObjMesh&
         std::vector<std::int32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
         for (std::size_t c = 0; c < num_corners; ++c) corners_by_vertex[std::size_t(fill[std::size_t(triangles[c])]++)] = std::int32_t(c);
     }
-
-    out.uvs.clear();
-    out.triangle_uvs.assign(num_corners, 0);
+    values.clear();
+    indices.assign(num_corners, 0);
     for (std::size_t v = 0; v + 1 < bucket_start.size(); ++v) {
-        const std::size_t first_uv_of_vertex = out.uvs.size() / 2;
+        const std::size_t first_of_vertex = values.size() / w;
         for (std::int32_t i = bucket_start[v]; i < bucket_start[v + 1]; ++i) {
             const std::size_t corner = std::size_t(corners_by_vertex[std::size_t(i)]);
-            const float u = corner_uvs[2 * corner], w = corner_uvs[2 * corner + 1];
-            std::size_t uv = first_uv_of_vertex;
-            while (uv < out.uvs.size() / 2 && !(out.uvs[2 * uv] == u && out.uvs[2 * uv + 1] == w)) ++uv;
-            if (uv == out.uvs.size() / 2) {
-                out.uvs.push_back(u);
-                out.uvs.push_back(w);
-            }
-            out.triangle_uvs[corner] = std::int32_t(uv);
+            const float* value = &corner_values[w * corner];
+            std::size_t k = first_of_vertex;
+            while (k < values.size() / w && !std::equal(value, value + w, values.begin() + std::ptrdiff_t(w * k))) ++k;
+            if (k == values.size() / w) values.insert(values.end(), value, value + w);
+            indices[corner] = std::int32_t(k);
         }
     }
 }
@@ -62,26 +59,35 @@ int run(const Command& command) {
     loopsub::Options options = command.options;
     options.boundary = command.boundary.value_or(in.boundary.value_or(loopsub::Boundary::EdgesOnly));
     options.crease_method = command.crease_method.value_or(in.crease_method.value_or(loopsub::CreaseMethod::Uniform));
+    options.face_varying = command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
 
-    loopsub::Plan plan(in.view(), options);
+    // The vt indices are the UV layer's topology: where a vertex's corners name different vt, a seam runs.
+    loopsub::MeshView mesh = in.view();
+    const loopsub::FaceVaryingLayer uv_layer{in.triangle_uvs.data(), int(in.uvs.size() / 2)};
+    if (!in.triangle_uvs.empty()) {
+        mesh.face_varying = &uv_layer;
+        mesh.num_face_varying = 1;
+    }
+    loopsub::Plan plan(mesh, options);
 
     loopsub::obj::ObjMesh out;
     out.positions.resize(std::size_t(plan.num_output_vertices()) * 3);
-    plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
-    const double evaluate_ms = plan.last_evaluate_ms();
-
     const std::int32_t* triangles = plan.output_triangles();
     out.triangles.assign(triangles, triangles + std::size_t(plan.num_output_triangles()) * 3);
+    if (options.limit_surface) {
+        std::vector<float> corner_normals(out.triangles.size() * 3);
+        plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3), corner_normals.data());
+        share_per_vertex(corner_normals, 3, plan.num_output_vertices(), out.triangles, out.normals, out.triangle_normals);
+    } else {
+        plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
+    }
+    const double evaluate_ms = plan.last_evaluate_ms();
 
     if (!in.triangle_uvs.empty()) {
-        std::vector<float> corner_uvs_in(in.triangle_uvs.size() * 2);
-        for (std::size_t c = 0; c < in.triangle_uvs.size(); ++c) {
-            corner_uvs_in[2 * c] = in.uvs[2 * std::size_t(in.triangle_uvs[c])];
-            corner_uvs_in[2 * c + 1] = in.uvs[2 * std::size_t(in.triangle_uvs[c]) + 1];
-        }
-        std::vector<float> corner_uvs_out(out.triangles.size() * 2);
-        plan.evaluate_face_varying(corner_uvs_in.data(), corner_uvs_out.data(), 2);
-        set_output_uvs(corner_uvs_out, out);
+        out.uvs.resize(std::size_t(plan.num_output_face_varying_values(0)) * 2);
+        plan.evaluate_face_varying(0, loopsub::interleaved(in.uvs.data(), 2), loopsub::interleaved(out.uvs.data(), 2));
+        const std::int32_t* uv_indices = plan.output_face_varying_indices(0);
+        out.triangle_uvs.assign(uv_indices, uv_indices + out.triangles.size());
     }
 
     out.crease_edges = plan.output_crease_edges();
@@ -93,6 +99,7 @@ int run(const Command& command) {
     // The rules that shaped the output go with it, so that refining it again continues the same surface.
     out.boundary = command.boundary ? command.boundary : in.boundary;
     out.crease_method = command.crease_method ? command.crease_method : in.crease_method;
+    out.face_varying = command.face_varying ? command.face_varying : in.face_varying;
     loopsub::obj::write_obj(command.output, out);
 
     if (command.stats) {

@@ -361,6 +361,7 @@ private:
             return nullptr;
         }
         if (!with_uvs) ++faces_without_uvs_;
+        face_first_triangle_.push_back(mesh_.num_triangles());
         add_triangle(vertices, with_uvs ? uvs : nullptr);
         return p == end_ ? p : p + 1;
     }
@@ -496,6 +497,7 @@ private:
                                                    : std::string(" and cannot be split into triangles that do not")));
             }
         }
+        face_first_triangle_.push_back(mesh_.num_triangles());
         for (std::size_t t = 0; t < face_triangles_.size(); t += 3) {
             std::int32_t vertices[3], uvs[3];
             for (int k = 0; k < 3; ++k) {
@@ -561,13 +563,23 @@ private:
             require_counts(ints.size() == 1 && floats.empty() && strings.empty(), "one integer, as in 1/0/0");
             // RenderMan's numbering.
             switch (ints[0]) {
+                case 0: mesh_.boundary = Boundary::None; break;
                 case 1: mesh_.boundary = Boundary::EdgesAndCorners; break;
                 case 2: mesh_.boundary = Boundary::EdgesOnly; break;
-                case 0:
-                    fail("interpolateboundary 0 (boundary faces not interpolated) is not supported; use 1 (edges and "
-                         "corners) or 2 (edges only)");
-                default: fail("interpolateboundary " + std::to_string(ints[0]) + " is unknown; use 1 (edges and corners) or 2 (edges only)");
+                default:
+                    fail("interpolateboundary " + std::to_string(ints[0]) +
+                         " is unknown; use 0 (none: boundary faces become holes), 1 (edges and corners) or 2 (edges only)");
             }
+        } else if (name == "facevaryinginterpolateboundary") {
+            require_counts(ints.size() == 1 && floats.empty() && strings.empty(), "one integer, as in 1/0/0");
+            // OpenSubdiv's Sdc::Options::FVarLinearInterpolation, in its order.
+            if (ints[0] < 0 || ints[0] > 5)
+                fail("facevaryinginterpolateboundary " + std::to_string(ints[0]) +
+                     " is unknown; use 0 (smooth everywhere) to 5 (linear everywhere)");
+            mesh_.face_varying = FaceVaryingInterpolation(ints[0]);
+        } else if (name == "hole") {
+            require_counts(!ints.empty() && floats.empty() && strings.empty(), "faces only, as in 1/0/0");
+            for (std::int64_t f : ints) hole_indices_.push_back({f, line_});
         } else if (name == "creasemethod") {
             require_counts(ints.empty() && floats.empty() && strings.size() == 1, "one string, as in 0/0/1");
             // OpenSubdiv's shapes call the uniform method "normal".
@@ -579,8 +591,9 @@ private:
                 fail("creasemethod '" + strings[0] + "' is unknown; use chaikin, normal or uniform");
             }
         } else {
-            // Ignoring a tag such as "hole" would silently change the surface.
-            fail("unsupported tag '" + name + "' (loopsub reads crease, corner, cone, interpolateboundary and creasemethod)");
+            // Ignoring a tag would silently change the surface.
+            fail("unsupported tag '" + name + "' (loopsub reads crease, corner, cone, hole, interpolateboundary, "
+                 "facevaryinginterpolateboundary and creasemethod)");
         }
     }
 
@@ -601,6 +614,16 @@ private:
         for (const TaggedIndex& index : crease_indices_) mesh_.crease_edges.push_back(checked_vertex(index, "crease"));
         for (const TaggedIndex& index : corner_indices_) mesh_.corner_vertices.push_back(checked_vertex(index, "corner"));
         for (const TaggedIndex& index : cone_indices_) mesh_.cone_vertices.push_back(checked_vertex(index, "cone"));
+        // A hole names a face of the file: every triangle it was split into.
+        face_first_triangle_.push_back(mesh_.num_triangles());
+        const std::int64_t faces = std::int64_t(face_first_triangle_.size()) - 1;
+        for (const TaggedIndex& index : hole_indices_) {
+            if (index.value < 0 || index.value >= faces)
+                fail_at(index.line, "hole face " + std::to_string(index.value) + " is out of range (" + std::to_string(faces) +
+                                        " faces, tags count from 0)");
+            for (std::int32_t t = face_first_triangle_[std::size_t(index.value)]; t < face_first_triangle_[std::size_t(index.value) + 1]; ++t)
+                mesh_.hole_triangles.push_back(t);
+        }
         if (mesh_.crease_edges.empty()) return;
 
         // Only the tagged edges are looked up, so the scan costs one hash probe per triangle edge.
@@ -633,7 +656,8 @@ private:
     int faces_without_uvs_ = 0;
     bool any_uvs_ = false;  // some face so far had texture indices
     std::map<std::string, int> skipped_;  // statements read past, by keyword
-    std::vector<TaggedIndex> crease_indices_, corner_indices_, cone_indices_;
+    std::vector<TaggedIndex> crease_indices_, corner_indices_, cone_indices_, hole_indices_;
+    std::vector<std::int32_t> face_first_triangle_;  // per face read, its first triangle
 };
 
 // ---- Numbers out ----------------------------------------------------------------------------------------------
@@ -965,15 +989,27 @@ void write_obj(const std::string& path, const ObjMesh& mesh) {
         *p++ = '\n';
         out.done(p);
     }
-    const bool with_uvs = !mesh.triangle_uvs.empty();
+    for (std::size_t k = 0; k < mesh.normals.size(); k += 3) {
+        char* p = put_text(out.line(), "vn ");
+        p = put_float(p, mesh.normals[k]);
+        *p++ = ' ';
+        p = put_float(p, mesh.normals[k + 1]);
+        *p++ = ' ';
+        p = put_float(p, mesh.normals[k + 2]);
+        *p++ = '\n';
+        out.done(p);
+    }
+    const bool with_uvs = !mesh.triangle_uvs.empty(), with_normals = !mesh.triangle_normals.empty();
     for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
         char* p = put_text(out.line(), "f");
         for (std::size_t c = k; c < k + 3; ++c) {
             *p++ = ' ';
             p = put_int(p, std::int64_t(mesh.triangles[c]) + 1);
-            if (with_uvs) {
+            if (with_uvs || with_normals) *p++ = '/';
+            if (with_uvs) p = put_int(p, std::int64_t(mesh.triangle_uvs[c]) + 1);
+            if (with_normals) {
                 *p++ = '/';
-                p = put_int(p, std::int64_t(mesh.triangle_uvs[c]) + 1);
+                p = put_int(p, std::int64_t(mesh.triangle_normals[c]) + 1);
             }
         }
         *p++ = '\n';
@@ -1004,8 +1040,16 @@ void write_obj(const std::string& path, const ObjMesh& mesh) {
         out.done(p);
     }
     if (mesh.boundary) {
+        // RenderMan's numbering.
         out.done(*mesh.boundary == Boundary::EdgesAndCorners ? put_text(out.line(), "t interpolateboundary 1/0/0 1\n")
+                 : *mesh.boundary == Boundary::None          ? put_text(out.line(), "t interpolateboundary 1/0/0 0\n")
                                                              : put_text(out.line(), "t interpolateboundary 1/0/0 2\n"));
+    }
+    if (mesh.face_varying) {
+        char* p = put_text(out.line(), "t facevaryinginterpolateboundary 1/0/0 ");
+        p = put_int(p, int(*mesh.face_varying));
+        *p++ = '\n';
+        out.done(p);
     }
     if (mesh.crease_method) {
         out.done(*mesh.crease_method == CreaseMethod::Chaikin ? put_text(out.line(), "t creasemethod 0/0/1 chaikin\n")

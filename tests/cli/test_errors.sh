@@ -23,8 +23,8 @@ run_cli 2 "$good" "$out" --levels 1 --threads 0
 expect_stderr "--threads must be >= 1"
 run_cli 2 "$good" "$out" --levels 1 --rules catmull
 expect_stderr "--rules expects hoppe94 or opensubdiv, got 'catmull'"
-run_cli 2 "$good" "$out" --levels 1 --boundary none
-expect_stderr "--boundary expects edges or edges-and-corners"
+run_cli 2 "$good" "$out" --levels 1 --boundary sideways
+expect_stderr "--boundary expects edges, edges-and-corners or none"
 run_cli 2 "$good" "$out" --levels 1 --crease-method wobbly
 expect_stderr "--crease-method expects uniform or chaikin"
 run_cli 2 "$good" "$out" --levels
@@ -76,9 +76,16 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nt crease 2/1/0 0 3 1\n' >"$
 run_cli 1 "$WORK/not_an_edge.obj" "$out" --levels 1
 expect_stderr "not_an_edge.obj:6: crease 0-3 is not an edge of the mesh"
 
-printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt interpolateboundary 1/0/0 0\n' >"$WORK/boundary_none.obj"
-run_cli 1 "$WORK/boundary_none.obj" "$out" --levels 1
-expect_stderr "boundary_none.obj:5: interpolateboundary 0"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt interpolateboundary 1/0/0 7\n' >"$WORK/boundary_seven.obj"
+run_cli 1 "$WORK/boundary_seven.obj" "$out" --levels 1
+expect_stderr "boundary_seven.obj:5: interpolateboundary 7 is unknown"
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt hole 1/0/0 1\n' >"$WORK/hole_past_the_faces.obj"
+run_cli 1 "$WORK/hole_past_the_faces.obj" "$out" --levels 1
+expect_stderr "hole_past_the_faces.obj:5: hole face 1 is out of range (1 faces"
+
+run_cli 2 "$good" "$out" --levels 1 --uv-interpolation linear
+expect_stderr "--uv-interpolation expects none, corners, corners-plus1, corners-plus2, boundaries or all, got 'linear'"
 
 # 4 x 4^8 triangles of three 4-byte indices alone are 3 MiB: the message gives the need against the limit.
 run_cli 1 "$good" "$out" --levels 8 --memory-limit-mb 1

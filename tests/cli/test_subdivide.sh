@@ -107,4 +107,38 @@ for rules in hoppe94 opensubdiv; do
   done
 done
 
+# --limit: limit positions and unit normals, written as vn and referenced by every corner.
+out="$WORK/limit.obj"
+run_cli 0 "$SHAPES/loop_cube_creases0.obj" "$out" --levels 2 --rules opensubdiv --limit
+[ "$(count_lines vn "$out")" -gt 0 ] || fail "$out: --limit wrote no vn"
+awk '$1 == "f" { for (i = 2; i <= 4; ++i) if (split($i, p, "/") != 3 || p[3] == "") bad = 1 } END { exit bad }' "$out" \
+  || fail "$out: a corner has no normal index: $(grep -m1 '^f' "$out")"
+awk '$1 == "vn" { n = sqrt($2 * $2 + $3 * $3 + $4 * $4); if (n < 0.99999 || n > 1.00001) { print; exit 1 } }' "$out" \
+  || fail "$out: a normal is not of unit length"
+run_cli 0 "$SHAPES/loop_cube_creases0.obj" "$WORK/refined.obj" --levels 2 --rules opensubdiv
+same_file "$out" "$WORK/refined.obj" && fail "--limit changed nothing"
+run_cli 0 "$SHAPES/loop_pole8.obj" "$WORK/limit_no_uvs.obj" --levels 1 --limit
+grep -q '^f [0-9]*//[0-9]* ' "$WORK/limit_no_uvs.obj" || fail "without UVs the faces should be f v//vn"
+
+# --uv-interpolation: the modes give different UVs, the default is OpenSubdiv's (corners), and the mode is written.
+for mode in none corners boundaries all; do
+  run_cli 0 "$SHAPES/loop_fvar_bound0.obj" "$WORK/uv_$mode.obj" --levels 2 --rules opensubdiv --uv-interpolation "$mode"
+  grep -q '^t facevaryinginterpolateboundary 1/0/0 ' "$WORK/uv_$mode.obj" || fail "uv_$mode.obj: the mode is not written"
+done
+run_cli 0 "$SHAPES/loop_fvar_bound0.obj" "$WORK/uv_default.obj" --levels 2 --rules opensubdiv
+diff <(grep '^vt' "$WORK/uv_default.obj") <(grep '^vt' "$WORK/uv_corners.obj") >/dev/null || fail "the default UVs are not 'corners'"
+diff <(grep '^vt' "$WORK/uv_none.obj") <(grep '^vt' "$WORK/uv_all.obj") >/dev/null && fail "'none' and 'all' gave the same UVs"
+diff <(grep '^vt' "$WORK/uv_boundaries.obj") <(grep '^vt' "$WORK/uv_all.obj") >/dev/null && fail "'boundaries' and 'all' gave the same UVs"
+
+# Holes and boundary "none": the faces are refined but not written; the vertices stay.
+printf 't hole 1/0/0 3\n' | cat "$SHAPES/loop_icosahedron.obj" - >"$WORK/holed.obj"
+run_cli 0 "$WORK/holed.obj" "$WORK/holed_out.obj" --levels 2 --rules opensubdiv
+run_cli 0 "$SHAPES/loop_icosahedron.obj" "$WORK/whole_out.obj" --levels 2 --rules opensubdiv
+[ "$(count_lines f "$WORK/holed_out.obj")" -eq $(( $(count_lines f "$WORK/whole_out.obj") - 16 )) ] \
+  || fail "one hole at level 2 should leave out 16 triangles"
+[ "$(count_lines v "$WORK/holed_out.obj")" -eq "$(count_lines v "$WORK/whole_out.obj")" ] || fail "a hole dropped vertices"
+run_cli 0 "$SHAPES/loop_saddle_edgecorner.obj" "$WORK/none.obj" --levels 1 --boundary none
+[ "$(count_lines f "$WORK/none.obj")" -lt 16 ] || fail "--boundary none kept every face of an open mesh"
+grep -qx 't interpolateboundary 1/0/0 0' "$WORK/none.obj" || fail "--boundary none is not written"
+
 finish

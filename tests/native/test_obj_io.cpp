@@ -197,8 +197,27 @@ TEST(ObjRead, InterpolateBoundaryUsesRenderMansNumbering) {
     EXPECT_FALSE(parse_obj(kFourVertices).boundary.has_value());
     EXPECT_EQ(parse_obj("t interpolateboundary 1/0/0 1\n").boundary, loopsub::Boundary::EdgesAndCorners);
     EXPECT_EQ(parse_obj("t interpolateboundary 1/0/0 2\n").boundary, loopsub::Boundary::EdgesOnly);
-    expect_error("\nt interpolateboundary 1/0/0 0\n", 2, "not supported");
+    EXPECT_EQ(parse_obj("t interpolateboundary 1/0/0 0\n").boundary, loopsub::Boundary::None);
     expect_error("t interpolateboundary 1/0/0 3\n", 1, "unknown");
+}
+
+TEST(ObjRead, FaceVaryingInterpolationUsesOpenSubdivsNumbering) {
+    EXPECT_FALSE(parse_obj(kFourVertices).face_varying.has_value());
+    for (int m = 0; m <= 5; ++m)
+        EXPECT_EQ(parse_obj("t facevaryinginterpolateboundary 1/0/0 " + std::to_string(m) + "\n").face_varying,
+                  loopsub::FaceVaryingInterpolation(m));
+    expect_error("\nt facevaryinginterpolateboundary 1/0/0 6\n", 2, "unknown");
+    expect_error("t facevaryinginterpolateboundary 1/0/0 -1\n", 1, "unknown");
+}
+
+// A hole names a face of the file, 0-based: all the triangles a polygon was split into.
+TEST(ObjRead, HolesNameFacesOfTheFile) {
+    const std::string mesh = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 2 5 3\n";
+    EXPECT_EQ(parse_obj(mesh + "t hole 1/0/0 0\n").hole_triangles, (std::vector<std::int32_t>{0, 1}));
+    EXPECT_EQ(parse_obj(mesh + "t hole 1/0/0 1\n").hole_triangles, (std::vector<std::int32_t>{2}));
+    EXPECT_EQ(parse_obj(mesh + "t hole 2/0/0 1 0\n").hole_triangles, (std::vector<std::int32_t>{2, 0, 1}));
+    expect_error(mesh + "t hole 1/0/0 2\n", 8, "hole face 2 is out of range (2 faces");
+    expect_error(mesh + "t hole 1/1/0 0 1.5\n", 8, "faces only");
 }
 
 TEST(ObjRead, CreaseMethod) {
@@ -250,7 +269,7 @@ TEST(ObjReadErrors, NonFiniteCoordinates) {
 
 TEST(ObjReadErrors, MalformedTags) {
     std::string mesh = std::string(kFourVertices) + "f 1 2 3\nf 1 3 4\n";  // lines 1-6
-    expect_error(mesh + "t hole 1/0/0 0\n", 7, "unsupported tag 'hole'");
+    expect_error(mesh + "t bumpiness 1/0/0 0\n", 7, "unsupported tag 'bumpiness'");
     expect_error(mesh + "t crease 2/1 0 1 3\n", 7, "argument counts");
     expect_error(mesh + "t crease two/1/0 0 1 3\n", 7, "argument counts");
     expect_error(mesh + "t crease 2/1/0 0 1\n", 7, "missing tag value");
