@@ -1,30 +1,39 @@
-"""compare_obj.py A.obj B.obj TOLERANCE: the same faces and tags (every line but v lines identical) and the same
-vertices within TOLERANCE times A's bounding-box diagonal. Exit 0 when equal, 1 with the first difference."""
+"""compare_obj.py A.obj B.obj TOLERANCE: the same faces and tags (every line but v, vt and vn lines identical), the
+same vertices within TOLERANCE times A's bounding-box diagonal, the same texture coordinates and normals within
+TOLERANCE (smooth UVs and normals are sums of floats: another instruction set may round their last bit
+differently). Exit 0 when equal, 1 with the first difference."""
 import sys
 
 import numpy as np
 
+NUMBERED = {"v": 3, "vt": 2, "vn": 3}
+
 
 def read(path):
-    positions, rest = [], []
+    numbers, rest = {key: [] for key in NUMBERED}, []
     with open(path) as file:
         for line in file:
-            if line.startswith("v "):
-                positions.append([float(x) for x in line.split()[1:4]])
+            key = line.split(" ", 1)[0]
+            if key in NUMBERED:
+                numbers[key].append([float(x) for x in line.split()[1:1 + NUMBERED[key]]])
             else:
                 rest.append(line.rstrip("\r\n"))
-    return np.array(positions, dtype=np.float64).reshape(-1, 3), rest
+    return {key: np.array(values, dtype=np.float64).reshape(-1, NUMBERED[key]) for key, values in numbers.items()}, rest
 
 
-a_positions, a_rest = read(sys.argv[1])
-b_positions, b_rest = read(sys.argv[2])
+a_numbers, a_rest = read(sys.argv[1])
+b_numbers, b_rest = read(sys.argv[2])
 tolerance = float(sys.argv[3])
 if a_rest != b_rest:
     line = next(i for i, (x, y) in enumerate(zip(a_rest + [""], b_rest + [""])) if x != y)
-    sys.exit(f"faces, texture coordinates or tags differ (non-v line {line})")
-if a_positions.shape != b_positions.shape:
-    sys.exit(f"{len(a_positions)} vertices against {len(b_positions)}")
-diagonal = np.linalg.norm(a_positions.max(axis=0) - a_positions.min(axis=0)) if len(a_positions) else 0.0
-worst = np.abs(a_positions - b_positions).max() if len(a_positions) else 0.0
-if worst > tolerance * diagonal:
-    sys.exit(f"positions differ by {worst:.3g}, more than {tolerance} of the diagonal {diagonal:.3g}")
+    sys.exit(f"faces or tags differ (line {line} of those that are not v, vt or vn)")
+for key in NUMBERED:
+    a, b = a_numbers[key], b_numbers[key]
+    if a.shape != b.shape:
+        sys.exit(f"{len(a)} '{key}' lines against {len(b)}")
+    if not len(a):
+        continue
+    scale = np.linalg.norm(a.max(axis=0) - a.min(axis=0)) if key == "v" else 1.0
+    worst = np.abs(a - b).max()
+    if worst > tolerance * scale:
+        sys.exit(f"'{key}' values differ by {worst:.3g}, more than {tolerance} of {scale:.3g}")
