@@ -200,11 +200,11 @@ std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m, bool full_last_
 }
 
 // All levels into one buffer, level after level (OpenSubdiv's tutorial layout); returns the last level.
-const Vertex* osd_interpolate(const Far::TopologyRefiner& refiner, const Mesh& m, Vertex* all) {
+const Vertex* osd_interpolate(const Far::TopologyRefiner& refiner, const Mesh& m, Vertex* all, int levels = kLevels) {
     std::copy(m.positions.begin(), m.positions.end(), &all[0].p[0]);
     const Far::PrimvarRefiner primvar(refiner);
     Vertex* src = all;
-    for (int level = 1; level <= kLevels; ++level) {
+    for (int level = 1; level <= levels; ++level) {
         Vertex* dst = src + refiner.GetLevel(level - 1).GetNumVertices();
         primvar.Interpolate(level, src, dst);
         src = dst;
@@ -548,16 +548,8 @@ int measure_memory(int levels) {
         using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
         std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
         refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
-        std::vector<Vertex> a(refiner->GetNumVerticesTotal());
-        std::copy(m.positions.begin(), m.positions.end(), &a[0].p[0]);
-        const Far::PrimvarRefiner primvar(*refiner);
-        Vertex* src = a.data();
-        for (int level = 1; level <= levels; ++level) {
-            Vertex* dst = src + refiner->GetLevel(level - 1).GetNumVertices();
-            primvar.Interpolate(level, src, dst);
-            src = dst;
-        }
-        benchmark::DoNotOptimize(src);
+        std::vector<Vertex> all(refiner->GetNumVerticesTotal());
+        benchmark::DoNotOptimize(osd_interpolate(*refiner, m, all.data(), levels));
     });
     // A closed mesh: each level adds one vertex per edge, three halves per triangle.
     std::size_t vertices = std::size_t(m.num_vertices());

@@ -74,6 +74,17 @@ std::string compare_face_uvs(const Plan& plan, const MappedReference& mapped, co
     return report.str();
 }
 
+// A face-varying layer refined by the plan, spread to the output's corners (2 floats per corner of each triangle).
+std::vector<float> layer_per_corner(Plan& plan, const std::vector<float>& uvs) {
+    std::vector<float> values(2 * std::size_t(plan.num_output_face_varying_values(0)));
+    plan.evaluate_face_varying(0, interleaved(uvs.data(), 2), interleaved(values.data(), 2));
+    const std::int32_t* indices = plan.output_face_varying_indices(0);
+    std::vector<float> per_corner(6 * std::size_t(plan.num_output_triangles()));
+    for (std::size_t c = 0; c < per_corner.size() / 2; ++c)
+        for (int k = 0; k < 2; ++k) per_corner[2 * c + k] = values[2 * std::size_t(indices[c]) + k];
+    return per_corner;
+}
+
 // Checks one refinement against OpenSubdiv; every expectation names the mesh and level.
 void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     Options options;
@@ -167,12 +178,7 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
             Plan layer_plan(with_layer, layer_options);
             const MappedReference mode_mapped = mode_reference.map(layer_plan);
             ASSERT_TRUE(mode_mapped.errors.empty()) << mode_mapped.errors.front();
-            std::vector<float> values(2 * std::size_t(layer_plan.num_output_face_varying_values(0)));
-            layer_plan.evaluate_face_varying(0, interleaved(mesh.uvs.data(), 2), interleaved(values.data(), 2));
-            const std::int32_t* indices = layer_plan.output_face_varying_indices(0);
-            std::vector<float> per_corner(6 * std::size_t(layer_plan.num_output_triangles()));
-            for (std::size_t c = 0; c < per_corner.size() / 2; ++c)
-                for (int k = 0; k < 2; ++k) per_corner[2 * c + k] = values[2 * std::size_t(indices[c]) + k];
+            const std::vector<float> per_corner = layer_per_corner(layer_plan, mesh.uvs);
             const std::string report = compare_face_uvs(layer_plan, mode_mapped, per_corner, limit ? mode_mapped.face_uvs_limit : mode_mapped.face_uvs);
             EXPECT_TRUE(report.empty()) << "face-varying mode " << m << (limit ? " at the limit" : "") << " differs from OpenSubdiv:\n" << report;
         }
@@ -508,12 +514,7 @@ TEST(HoppeFaceVarying, EqualsOpenSubdivOnSmoothClosedMeshes) {
         OsdReference reference(mesh.view(), mesh.positions.data(), {Boundary::EdgesOnly, CreaseMethod::Uniform, 2, options.face_varying}, uvs);
         const MappedReference mapped = reference.map(plan);
         ASSERT_TRUE(mapped.errors.empty()) << mapped.errors.front();
-        std::vector<float> values(2 * std::size_t(plan.num_output_face_varying_values(0)));
-        plan.evaluate_face_varying(0, interleaved(mesh.uvs.data(), 2), interleaved(values.data(), 2));
-        std::vector<float> per_corner(6 * std::size_t(plan.num_output_triangles()));
-        for (std::size_t c = 0; c < per_corner.size() / 2; ++c)
-            for (int k = 0; k < 2; ++k) per_corner[2 * c + k] = values[2 * std::size_t(plan.output_face_varying_indices(0)[c]) + k];
-        const std::string report = compare_face_uvs(plan, mapped, per_corner, mapped.face_uvs);
+        const std::string report = compare_face_uvs(plan, mapped, layer_per_corner(plan, mesh.uvs), mapped.face_uvs);
         EXPECT_TRUE(report.empty()) << "mode " << m << ":\n" << report;
     }
 }
