@@ -911,6 +911,21 @@ PYBIND11_MODULE(_loopsub, m) {
                 return plan_view(v.data(), {py::ssize_t(v.size())}, self);
             },
             "(K,) float32: sharpness of the output's corner vertices (read-only view).")
+        .def_property_readonly(
+            "sharp_edges",
+            [](py::object self) {
+                const auto& v = self.cast<PyPlan&>().plan.output_sharp_edges();
+                return plan_view(v.data(), {py::ssize_t(v.size() / 2), 2}, self);
+            },
+            "(S, 2) int32: every output edge the rules treat as sharp: creases that pass the rules, boundary and "
+            "non-manifold edges (read-only view). With level_vertex_types(levels), what to tag the output with.")
+        .def_property_readonly(
+            "sharp_edge_sharpness",
+            [](py::object self) {
+                const auto& v = self.cast<PyPlan&>().plan.output_sharp_edge_sharpness();
+                return plan_view(v.data(), {py::ssize_t(v.size())}, self);
+            },
+            "(S,) float32: sharpness of each of sharp_edges (10: infinitely sharp) (read-only view).")
         .def(
             "level_edges",
             [](py::object self, int level) {

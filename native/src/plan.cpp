@@ -286,16 +286,23 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
     // The last level's edges were not built; its tagged edges are halves of the previous level's edges, whose
     // endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b), m the midpoint of e).
     const detail::LevelStencils* parent = stencils.empty() ? nullptr : &stencils.back();
-    for (const Feature& f : last.edges) {
-        if (f.tag <= 0.0f) continue;
+    auto add_ends = [&](Index edge, std::vector<Index>& to) {
         if (parent) {
-            const Index e = f.index / 2, m = parent->num_vertices + e;
-            output_crease_edges.push_back(f.index % 2 == 0 ? parent->edge_ends[2 * e] : m);
-            output_crease_edges.push_back(f.index % 2 == 0 ? m : parent->edge_ends[2 * e + 1]);
+            const Index e = edge / 2, m = parent->num_vertices + e;
+            to.push_back(edge % 2 == 0 ? parent->edge_ends[2 * e] : m);
+            to.push_back(edge % 2 == 0 ? m : parent->edge_ends[2 * e + 1]);
         } else {
-            output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index]);
-            output_crease_edges.push_back(last.topology.edge_vertices[2 * f.index + 1]);
+            to.push_back(last.topology.edge_vertices[2 * edge]);
+            to.push_back(last.topology.edge_vertices[2 * edge + 1]);
         }
+    };
+    for (const Feature& f : last.edges) {
+        if (f.sharpness > 0.0f) {
+            add_ends(f.index, output_sharp_edges);
+            output_sharp_edge_sharpness.push_back(f.sharpness);
+        }
+        if (f.tag <= 0.0f) continue;
+        add_ends(f.index, output_crease_edges);
         output_crease_sharpness.push_back(f.tag);
     }
     for (const Feature& f : last.vertices) {
@@ -388,6 +395,8 @@ const std::vector<std::int32_t>& Plan::output_crease_edges() const { return impl
 const std::vector<float>& Plan::output_crease_sharpness() const { return impl_->output_crease_sharpness; }
 const std::vector<std::int32_t>& Plan::output_corner_vertices() const { return impl_->output_corner_vertices; }
 const std::vector<float>& Plan::output_corner_sharpness() const { return impl_->output_corner_sharpness; }
+const std::vector<std::int32_t>& Plan::output_sharp_edges() const { return impl_->output_sharp_edges; }
+const std::vector<float>& Plan::output_sharp_edge_sharpness() const { return impl_->output_sharp_edge_sharpness; }
 Kernel Plan::kernel() const { return impl_->kernel; }
 double Plan::topology_ms() const { return impl_->topology_ms; }
 double Plan::last_evaluate_ms() const { return impl_->evaluate_ms; }

@@ -64,7 +64,8 @@ struct PlanImpl {
     detail::LargeVector<Index> kept_triangles;     // with holes: the last level's triangles written, in order
     mutable detail::LargeVector<Index> output_parents;  // on first request
     mutable std::once_flag output_parents_ready;
-    std::vector<Index> output_crease_edges, output_corner_vertices;
+    std::vector<Index> output_crease_edges, output_corner_vertices, output_sharp_edges;
+    std::vector<float> output_sharp_edge_sharpness;
     std::vector<float> output_crease_sharpness, output_corner_sharpness;
     std::vector<Index> cones;  // Hoppe94: the vertices tagged as cones, sorted
     detail::LargeVector<float> scratch[2];

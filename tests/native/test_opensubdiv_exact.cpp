@@ -120,6 +120,24 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     // the same surface.
     const std::string tag_report = compare_crease_tags(plan, mapped);
     EXPECT_TRUE(tag_report.empty()) << tag_report;
+    // Every edge the rules treat as sharp on the last level, boundaries and non-manifold edges included: what
+    // OpenSubdiv's last level holds as sharp.
+    {
+        std::map<std::pair<std::int32_t, std::int32_t>, float> theirs, ours;
+        for (const MappedReference::EdgeTag& tag : mapped.edge_tags)
+            if (tag.sharpness > 0.0f) theirs[std::minmax(tag.a, tag.b)] = tag.sharpness;
+        const std::vector<std::int32_t>& sharp = plan.output_sharp_edges();
+        for (std::size_t k = 0; k < plan.output_sharp_edge_sharpness().size(); ++k)
+            ours[std::minmax(sharp[2 * k], sharp[2 * k + 1])] = plan.output_sharp_edge_sharpness()[k];
+        EXPECT_EQ(ours.size(), theirs.size()) << "sharp edges of the output";
+        int differing = 0;
+        for (const auto& [edge, sharpness] : theirs) {
+            const auto found = ours.find(edge);
+            if ((found == ours.end() || std::abs(found->second - sharpness) > 1e-5f) && differing++ < 5)
+                ADD_FAILURE() << "sharp edge " << edge.first << "-" << edge.second << ": OpenSubdiv " << sharpness << ", ours "
+                              << (found == ours.end() ? 0.0f : found->second);
+        }
+    }
 
     // The limit surface: positions against Far::PrimvarRefiner::Limit, and at OpenSubdiv's smooth and dart vertices
     // (one normal per vertex) every corner's normal against tan1 x tan2 of its limit tangents.

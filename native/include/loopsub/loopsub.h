@@ -198,6 +198,11 @@ public:
     const std::vector<float>& output_crease_sharpness() const;
     const std::vector<std::int32_t>& output_corner_vertices() const;
     const std::vector<float>& output_corner_sharpness() const;
+    // Every edge of the output the rules treat as sharp (pairs), with its sharpness: tagged creases that pass the
+    // rules (Hoppe94: the crease threshold), boundary and non-manifold edges (infinitely sharp). With
+    // level_vertex_types(levels()), the one classification to tag the output with.
+    const std::vector<std::int32_t>& output_sharp_edges() const;  // pairs
+    const std::vector<float>& output_sharp_edge_sharpness() const;
 
     // Edges of level L (0 <= L < levels()), as vertex pairs: edge k of level L becomes vertex
     // (number of level-L vertices + k) of level L+1.
