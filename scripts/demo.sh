@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# The demo in one command: Loop-subdivides a cage with the Blender add-on in headless Blender, saves the scene as a
-# .blend and renders the cage, the add-on's result and Blender's own Subdivision Surface side by side (Cycles, CPU).
+# The demo in one command: Loop-subdivides a UV-mapped, creased cage with the Blender add-on in headless Blender (limit
+# surface and limit normals), saves the scene as a .blend and renders the cage, the add-on's result and Blender's own
+# Subdivision Surface with the same settings side by side, under a UV checker (Cycles, CPU).
 # Sets the project up first (scripts/setup.sh) when it was never built.
 #
 # Usage: scripts/demo.sh [PATH.obj|PATH.blend] [--levels N] [--rules HOPPE94|OPENSUBDIV] [--out DIR]
-#   no path: a built-in tufted cushion with creases and tagged corners; a path: that OBJ (OpenSubdiv's `t crease`
-#   and `t corner` tags are read too) or the active (else first) mesh object of that .blend.
+#   no path: a built-in tufted cushion with creases, tagged corners and a UV map; a path: that OBJ (OpenSubdiv's
+#   `t crease` and `t corner` tags are read too) or the active (else first) mesh object of that .blend (without a UV
+#   map, the demo unwraps it with Smart UV Project).
 #   Writes DIR/demo.blend and DIR/demo.png; DIR defaults to out/ in the repository.
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"

@@ -4,7 +4,9 @@ Run inside Blender (scripts/demo.sh does it):
     blender --background --factory-startup --python-exit-code 1 --python scripts/demo_blender.py -- \
         [PATH.obj|PATH.blend] [--levels N] [--rules HOPPE94|OPENSUBDIV] [--out DIR]
 
-Without a path the cage is built here: a tufted cushion with a creased seam and tagged corners.
+Without a path the cage is built here: a tufted cushion with a creased seam, tagged corners and a UV map.
+The add-on's Apply (limit surface, Keep Boundaries UVs, limit normals) and Blender's Subdivision Surface with the same
+settings, both under a checker through the UV map.
 Writes DIR/demo.blend (cage, Loop result, Subdivision Surface, camera and lights) and DIR/demo.png (Cycles, CPU).
 Any failure raises, and --python-exit-code turns it into a non-zero exit status.
 """
@@ -31,6 +33,8 @@ TURN = math.radians(-35)  # each model turns the same way, so the three read as 
 ELEVATION = math.radians(28)  # of the camera, looking along +Y
 RESOLUTION = (960, 400)
 SAMPLES = 24
+UV_SMOOTH = 'PRESERVE_BOUNDARIES'  # Keep Boundaries: Subdivision Surface's default, and the add-on's
+CHECKER_SCALE = 16.0  # squares per unit of UV: four across each face of the default cage's unwrap
 BACKDROP = (0.80, 0.82, 0.85, 1.0)  # linear RGB behind the shadow-catching floor
 
 
@@ -39,7 +43,9 @@ def parse_args():
     parser = argparse.ArgumentParser(
         prog="scripts/demo.sh",
         description="Loop-subdivide a cage with the add-on and render it beside Blender's Subdivision Surface.")
-    parser.add_argument("path", nargs="?", help=".obj or .blend file (default: a built-in tufted cushion)")
+    parser.add_argument("path", nargs="?",
+                        help=".obj or .blend file (default: a built-in tufted cushion; a model without a UV map is "
+                             "unwrapped with Smart UV Project)")
     parser.add_argument("--levels", type=int, default=3, help="subdivision levels, 1-5 (default 3)")
     parser.add_argument("--rules", choices=("HOPPE94", "OPENSUBDIV"), default="HOPPE94",
                         help="the add-on's rule set (default HOPPE94, the add-on's own default)")
@@ -71,9 +77,12 @@ def register_addon():
 def default_cage():
     """A tufted cushion: a flattened box whose faces are split 2x2 and poked, so its triangles are symmetric. The seam
     around its middle, pushed out a little, is a closed crease (edge crease 1.0) whose four corners are tagged (vertex
-    crease 1.0) so they stay pointed; the centre of the top is pulled in and tagged too, a tuft. The rest is smooth."""
+    crease 1.0) so they stay pointed; the centre of the top is pulled in and tagged too, a tuft. The rest is smooth.
+    Its UV map is the box's own unwrap (a cross of six squares, calc_uvs), split and poked with the faces: UV seams
+    along the box's edges, where the checker must meet itself across the seam."""
     bm = bmesh.new()
-    bmesh.ops.create_cube(bm, size=2.0)
+    bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
     bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=1, use_grid_fill=True)
     bmesh.ops.poke(bm, faces=bm.faces[:])
     edge_crease, vertex_crease = compat.bmesh_crease_layers(bm)
@@ -83,7 +92,7 @@ def default_cage():
         if seam.issuperset(e.verts):
             e[edge_crease] = 1.0
     for v in seam:
-        v.co.xy *= 1.18
+        v.co.xy *= 1.3
         if abs(v.co.x) > 1 and abs(v.co.y) > 1:
             v[vertex_crease] = 1.0
     tuft[vertex_crease] = 1.0
@@ -185,6 +194,22 @@ def material(name, color, roughness):
     return mat
 
 
+def checker_material(name, colors, roughness, uv_map):
+    """A checker through the UV map (UV Map node into Checker Texture into the base colour): where UVs are smoothed,
+    stretched or split, the squares show it."""
+    mat = material(name, colors[0], roughness)
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    coordinates = nodes.new('ShaderNodeUVMap')
+    coordinates.uv_map = uv_map
+    checker = nodes.new('ShaderNodeTexChecker')
+    checker.inputs["Scale"].default_value = CHECKER_SCALE
+    checker.inputs["Color1"].default_value = (*colors[0], 1.0)
+    checker.inputs["Color2"].default_value = (*colors[1], 1.0)
+    links.new(coordinates.outputs["UV"], checker.inputs["Vector"])
+    links.new(checker.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+    return mat
+
+
 def new_object(name, data, collection):
     obj = bpy.data.objects.new(name, data)
     collection.objects.link(obj)
@@ -279,11 +304,12 @@ def label(text, size, location, camera, collection, mat):
     return obj
 
 
-def style_cage(cage, collection):
-    """Flat faces with the edges drawn as thin dark bars (the Wireframe modifier keeps the faces and puts the bars in
-    the second material slot), and the crease tags in red. Returns the caption for the tags."""
+def style_cage(cage, collection, uv_map):
+    """Flat faces with the checker through its UV map, the edges drawn as thin dark bars (the Wireframe modifier keeps
+    the faces and puts the bars in the second material slot), and the crease tags in red. Returns the caption for the
+    tags."""
     cage.data.polygons.foreach_set("use_smooth", [False] * len(cage.data.polygons))
-    set_materials(cage, material("Cage", (0.80, 0.80, 0.78), roughness=0.6),
+    set_materials(cage, checker_material("Cage", ((0.88, 0.88, 0.86), (0.45, 0.45, 0.44)), 0.6, uv_map),
                   material("Cage edges", (0.02, 0.02, 0.02), roughness=0.8))
     mesh = cage.data
     co = np.empty(3 * len(mesh.vertices))
@@ -302,11 +328,35 @@ def style_cage(cage, collection):
     return tag_markers(cage, collection, material("Crease tags", (0.85, 0.05, 0.03), roughness=0.3))
 
 
+def ensure_uv_map(cage):
+    """The name of the UV map the checker follows: the cage's active one, or, for a model without UVs (or whose UVs
+    are all one point), one made with Smart UV Project (its islands' borders are the seams)."""
+    mesh = cage.data
+    uvs = np.empty(2 * len(mesh.loops), dtype=np.float32)
+    if mesh.uv_layers:
+        mesh.uv_layers.active.data.foreach_get("uv", uvs)
+    if not mesh.uv_layers or np.ptp(uvs.reshape(-1, 2), axis=0).max() < 1e-6:
+        bpy.ops.object.select_all(action='DESELECT')
+        cage.select_set(True)
+        bpy.context.view_layer.objects.active = cage
+        if not mesh.uv_layers:
+            mesh.uv_layers.new(name="UVMap")
+        bpy.ops.object.mode_set(mode='EDIT')
+        bpy.ops.mesh.select_all(action='SELECT')
+        bpy.ops.uv.smart_project()
+        bpy.ops.object.mode_set(mode='OBJECT')
+        print("demo: the model has no UV map to show a checker with: unwrapped it with Smart UV Project")
+    return mesh.uv_layers.active.name
+
+
 def apply_loop(obj, levels, rules, boundary):
+    """The add-on's Apply with Subdivision Surface's defaults for the limit surface and UVs, spelled out: the vertices
+    on the limit surface, shaded with its normals (custom split normals, sharp across creases), UVs smoothed inside
+    their islands and kept on their seams."""
     bpy.ops.object.select_all(action='DESELECT')
     obj.select_set(True)
     bpy.context.view_layer.objects.active = obj
-    options = {"levels": levels, "rules": rules}
+    options = {"levels": levels, "rules": rules, "use_limit_surface": True, "uv_smooth": UV_SMOOTH}
     if boundary:
         options["boundary"] = boundary
     started = time.perf_counter()
@@ -318,21 +368,20 @@ def apply_loop(obj, levels, rules, boundary):
 
 
 def add_subsurf(obj, levels, boundary):
+    """Blender's Subdivision Surface with the settings the add-on was applied with: the same level, creases used
+    (edge and vertex creases), the limit surface and Keep Boundaries UVs (both its defaults), the boundary mode."""
     subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
     subsurf.subdivision_type = 'CATMULL_CLARK'
     subsurf.levels = subsurf.render_levels = levels
     subsurf.use_creases = True
-    # Both sides at the same level, not projected to the limit: where the rules coincide, the points coincide.
-    subsurf.use_limit_surface = False
+    subsurf.use_limit_surface = True
+    subsurf.uv_smooth = UV_SMOOTH
     subsurf.boundary_smooth = 'PRESERVE_CORNERS' if boundary == 'KEEP_CORNERS' else 'ALL'
 
 
-def shade_result(obj, mat):
-    """Smooth, and sharp across creases: auto smooth splits the normals where the surface folds by more than 30
-    degrees, which at these levels happens on creases only."""
+def shade_smooth(obj):
+    """Blender's result shaded as an artist shades it (Shade Smooth): its own normals, from its faces."""
     obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
-    compat.smooth_by_angle(obj.data, math.radians(30))
-    set_materials(obj, mat)
 
 
 def frame(scene, objects, captions):
@@ -350,7 +399,7 @@ def frame(scene, objects, captions):
     points = np.concatenate([world_points(obj) for obj in objects])
     u, v = points @ right, points @ up
     margin = 0.08 * MODEL_SIZE
-    sizes = (0.13 * MODEL_SIZE, 0.085 * MODEL_SIZE)  # title, subtitle
+    sizes = (0.13 * MODEL_SIZE, 0.085 * MODEL_SIZE, 0.085 * MODEL_SIZE)  # title, two lines of subtitle
     text_mat = material("Captions", (0.0, 0.0, 0.0), roughness=1.0)
     # Captions float between the camera and the scene, where nothing hides them; an orthographic camera draws them
     # the same size at any distance.
@@ -365,7 +414,7 @@ def frame(scene, objects, captions):
     half_widths = [0.5 * t.dimensions.x for t in texts]
     u_lo = min(u.min(), *(t.location.x - w for t, w in zip(texts, half_widths))) - margin
     u_hi = max(u.max(), *(t.location.x + w for t, w in zip(texts, half_widths))) + margin
-    v_lo, v_hi = baseline - 0.6 * sizes[1], v.max() + margin
+    v_lo, v_hi = baseline - 0.6 * sizes[-1], v.max() + margin
     aspect = RESOLUTION[0] / RESOLUTION[1]
     camera_data.ortho_scale = max(u_hi - u_lo, (v_hi - v_lo) * aspect)  # the width, as the picture is wide
     centre = 0.5 * (u_lo + u_hi) * right + 0.5 * (v_lo + v_hi) * up
@@ -395,27 +444,32 @@ def light(scene):
 
 
 def build_scene(scene, mesh, matrix, levels, rules, boundary):
-    objects = []
-    for i, name in enumerate(("Cage", "Loop subdivision", "Subdivision Surface")):
-        obj = new_object(name, mesh if i == 0 else mesh.copy(), scene.collection)
+    cage = new_object("Cage", mesh, scene.collection)
+    uv_map = ensure_uv_map(cage)  # before the copies, which take it with them
+    objects = [cage] + [new_object(name, mesh.copy(), scene.collection)
+                        for name in ("Loop subdivision", "Subdivision Surface")]
+    for i, obj in enumerate(objects):
         obj.matrix_world = fit_matrix(mesh, matrix, (i - 1) * SPACING)
-        objects.append(obj)
+        obj.data.name = obj.name
     cage, loop, blender = objects
-    cage.data.name, loop.data.name, blender.data.name = (obj.name for obj in objects)
 
-    tags_caption = style_cage(cage, scene.collection)
-    apply_loop(loop, levels, rules, boundary)
+    tags_caption = style_cage(cage, scene.collection, uv_map)
+    apply_loop(loop, levels, rules, boundary)  # shades smooth, with the limit normals
     add_subsurf(blender, levels, boundary)
+    shade_smooth(blender)
     # After apply, which rebuilds the mesh.
-    shade_result(loop, material("Loop result", (0.90, 0.38, 0.08), roughness=0.35))
-    shade_result(blender, material("Subdivision Surface", (0.12, 0.35, 0.75), roughness=0.35))
+    set_materials(loop, checker_material("Loop result", ((0.88, 0.32, 0.05), (0.98, 0.70, 0.42)), 0.35, uv_map))
+    set_materials(blender, checker_material("Subdivision Surface", ((0.12, 0.35, 0.75), (0.52, 0.70, 0.93)), 0.35,
+                                            uv_map))
     stand_on_floor(loop)
     stand_on_floor(blender)
 
     rules_name = "Hoppe 94 rules" if rules == 'HOPPE94' else "OpenSubdiv rules"
-    frame(scene, objects, (("Control cage", tags_caption),
-                           ("Loop subdivision", f"this add-on, {rules_name}, level {levels}"),
-                           ("Subdivision Surface", f"Blender's modifier, level {levels}")))
+    frame(scene, objects, (("Control cage", tags_caption, "UV checker, flat shaded"),
+                           ("Loop subdivision", f"this add-on, level {levels}, {rules_name}",
+                            "limit surface and limit normals"),
+                           ("Subdivision Surface", f"Blender's modifier, level {levels}",
+                            "limit surface, Shade Smooth")))
     light(scene)
 
 
