@@ -318,6 +318,31 @@ def shared_vertex_normals(triangles, corner_normals, num_vertices):
     return shared if np.array_equal(shared[vertices], normals) else None
 
 
+def split_normal_edges(triangle_edges, corner_normals, edge_vertices, triangles):
+    """(E, ) bool: the edges across which the corner normals split, where the two faces of an edge give one of its
+    ends different normals (bit for bit). Blender marks the same edges sharp when it takes custom normals; with them
+    marked sharp (and Auto Smooth on, up to 4.0) its own normals split where these do.
+
+    triangle_edges (T, 3): edge i of triangle t joins corners i and i + 1 (output_edges); corner_normals (T, 3, 3);
+    edge_vertices (E, 2); triangles (T, 3)."""
+    triangle_edges = np.asarray(triangle_edges, dtype=np.int64).reshape(-1, 3)
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    normals = np.asarray(corner_normals, dtype=np.float32).reshape(-1, 3, 3)
+    edge_vertices = np.asarray(edge_vertices, dtype=np.int64).reshape(-1, 2)
+    # Each triangle edge twice, once per end: (edge, which end of the edge, the normal of that corner).
+    edges = np.concatenate([triangle_edges.ravel(), triangle_edges.ravel()])
+    ends = np.concatenate([triangles.ravel(), np.roll(triangles, -1, axis=1).ravel()])
+    values = np.concatenate([normals.reshape(-1, 3), np.roll(normals, -1, axis=1).reshape(-1, 3)])
+    second = (ends == edge_vertices[edges, 1]).astype(np.int64)
+    slot = 2 * edges + second
+    first_seen = np.zeros((2 * len(edge_vertices), 3), dtype=np.float32)
+    first_seen[slot] = values  # one of the corners at each end of each edge
+    differs = (first_seen[slot] != values).any(axis=1)
+    split = np.zeros(len(edge_vertices), dtype=bool)
+    split[edges[differs]] = True
+    return split
+
+
 def from_refined(values, data_type):
     """Refined float channels back to the attribute's type: integers rounded to the nearest, booleans true where
     any vertex with a positive weight was (every Loop weight of a contributing vertex is positive)."""
