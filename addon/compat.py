@@ -169,6 +169,15 @@ def shades_sharp_edges(mesh):
     return getattr(mesh, "use_auto_smooth", True)
 
 
+def shade_sharp_edges(mesh):
+    """Makes marked sharp edges (and custom split normals) shade: up to 4.0 they do only with Auto Smooth, which this
+    turns on; a mesh that had it off gets the widest angle, so that only the marks split the shading. From 4.1 they
+    always do."""
+    if hasattr(mesh, "use_auto_smooth") and not mesh.use_auto_smooth:
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = math.pi
+
+
 def custom_normals_in_use(mesh):
     return mesh.has_custom_normals and shades_sharp_edges(mesh)
 
@@ -191,10 +200,26 @@ def set_custom_normals(mesh, normals, vertex_normals=None):
     4.0 they show only with Auto Smooth, which this turns on; a mesh that had it off gets the widest angle, so that
     only marked sharp edges (and the normals themselves) split the shading. Blender marks the edges sharp where the
     normals of one smooth fan differ (across creases)."""
-    if hasattr(mesh, "use_auto_smooth") and not mesh.use_auto_smooth:
-        mesh.use_auto_smooth = True
-        mesh.auto_smooth_angle = math.pi
+    shade_sharp_edges(mesh)
     if vertex_normals is not None:
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(vertex_normals, dtype=np.float32))
     else:
         mesh.normals_split_custom_set(np.ascontiguousarray(normals, dtype=np.float32).reshape(-1, 3))
+
+
+def shading_state(mesh):
+    """What set_custom_normals may change besides the normals: Auto Smooth and its angle up to 4.0; None from 4.1."""
+    return (mesh.use_auto_smooth, mesh.auto_smooth_angle) if hasattr(mesh, "use_auto_smooth") else None
+
+
+def restore_shading_state(mesh, state):
+    if state is not None:
+        mesh.use_auto_smooth, mesh.auto_smooth_angle = state
+
+
+def clear_custom_normals(mesh, holder):
+    """Removes the custom split normals of mesh, the data of the object holder (Blender's operator is the only way
+    in every version; it needs the object, not the mesh, and works on one linked to no scene)."""
+    if mesh.has_custom_normals:
+        with bpy.context.temp_override(object=holder, active_object=holder):
+            bpy.ops.mesh.customdata_custom_splitnormals_clear()

@@ -13,7 +13,13 @@ it asks the main thread to write the results and waits.
 
 The core's plan (all topology work) is kept per object while the input's triangles, tags, UV seams and settings
 (Use Limit Surface and UV Smooth included) stay the same; then only the vertex and face-varying values are refined
-again and written into the result in place, its limit normals too.
+again and written into the result in place.
+
+With Use Limit Surface, a render's result carries the limit normals as custom split normals, as Apply writes them.
+The viewport's shades with Blender's own normals while it changes (edits, playback), smooth and split along the edges
+where the limit normals split (marked sharp): Blender takes and evaluates custom normals several times slower than the
+rest of an update (mesh_data.Source.blender_normals). SETTLE_SECONDS after the last change, settle() writes the limit
+normals into it, so that a still viewport shows them too (docs/addon.md, Normals).
 """
 import queue
 import threading
@@ -36,6 +42,11 @@ class Cache:
         self.result = None  # name of the helper mesh built for plan_key and layout_key
         self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
         self.auto_loops = None  # the result's corners that keep Blender's own normal (mesh_data.build_mesh)
+        # A result showing Blender's normals in place of the limit normals (the viewport): the limit normals and
+        # triangles it was refined with, for settle() to write once the result is still; the shading to go back to.
+        self.limit_normals = None
+        self.exact_shown = False  # settle() wrote them: the next update goes back to Blender's normals
+        self.blender_shading = None
         self.plan_builds = 0  # plans built so far (tests check that position edits reuse the plan)
         self.error = ""
         self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
@@ -80,7 +91,7 @@ def refresh(obj, depsgraph, render=False):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
-            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, carrier, options)
+            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, carrier, options, render)
         finally:
             evaluated.to_mesh_clear()
     finally:
@@ -90,11 +101,13 @@ def refresh(obj, depsgraph, render=False):
         _busy = False
 
 
-def _write(entry, obj, evaluated, mesh, carrier, options):
+def _write(entry, obj, evaluated, mesh, carrier, options, render):
     try:
         if options.levels == 0:
             raise _PassThrough
-        source = mesh_data.Source(obj, mesh, options, entry.plan_key[1] if entry.plan_key else None)
+        # Renders get the limit normals themselves; the viewport Blender's own, split where they split.
+        source = mesh_data.Source(obj, mesh, options, entry.plan_key[1] if entry.plan_key else None,
+                                  exact_normals=render)
         plan_key = source.plan_key()
         if not _equal(entry.plan_key, plan_key):
             entry.plan, entry.plan_key, entry.inputs = source.plan(), plan_key, None
@@ -108,18 +121,85 @@ def _write(entry, obj, evaluated, mesh, carrier, options):
             return
         refined = source.refine(entry.plan)
         if in_place:
+            if entry.exact_shown:
+                mesh_data.show_blender_normals(carrier.data, carrier, entry.blender_shading)
             mesh_data.update_mesh(carrier.data, source, refined, entry.auto_loops)
         else:
             old = carrier.data
             _swap(carrier, old, mesh_data.build_mesh(source, entry.plan, refined, carrier.name, carrier))
             entry.result, entry.layout_key, entry.auto_loops = carrier.data.name, layout_key, source.auto_loops
+            entry.blender_shading = mesh_data.shading_state(carrier.data)
+        entry.exact_shown = False
+        entry.limit_normals = (refined.normals, refined.triangles) if source.blender_normals else None
         entry.inputs = inputs
         entry.error = ""
+        if entry.limit_normals is not None:
+            _settle_later()
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
         entry.error = str(problem)
-        entry.plan_key = entry.result = entry.inputs = None
+        entry.plan_key = entry.result = entry.inputs = entry.limit_normals = None
+        entry.exact_shown = False
         _swap(carrier, carrier.data, bpy.data.meshes.new_from_object(evaluated))
+
+
+# The viewport's result shows Blender's normals while it changes; this long after the last change, settle() writes the
+# limit normals into it, so that a still viewport (and Blender's own Apply, and a saved file) shows what renders and
+# the add-on's Apply show.
+SETTLE_SECONDS = 0.3
+
+
+def _settle_later():
+    """(Re)starts the countdown to settle(); only where timers run (the interface, not background mode)."""
+    if bpy.app.background:
+        return
+    if bpy.app.timers.is_registered(_settle_timer):
+        bpy.app.timers.unregister(_settle_timer)
+    bpy.app.timers.register(_settle_timer, first_interval=SETTLE_SECONDS)
+
+
+def _playing():
+    return any(window.screen is not None and window.screen.is_animation_playing
+               for window in bpy.context.window_manager.windows)
+
+
+def _settle_timer():
+    if _busy or _rendering or _playing():
+        return SETTLE_SECONDS  # ask again later: playback goes on, or a render holds the scene
+    settle()
+    return None
+
+
+def settle():
+    """Writes the limit normals into every result that shows Blender's normals in their place, as custom split
+    normals (what renders and Apply write), and has the depsgraph evaluate them. The next change of a result goes
+    back to Blender's normals. Runs SETTLE_SECONDS after the last change in the interface; tests call it directly.
+    Returns how many results it wrote."""
+    global _busy
+    # Changes not evaluated yet first (the handlers refresh their results), so that the normals written are theirs
+    # and the evaluation below, which the handlers skip, holds no edit.
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    written = 0
+    for name, entry in _caches.items():
+        obj = bpy.data.objects.get(name)
+        modifier = stack.entry(obj)
+        carrier = stack.helper(obj, modifier, create=False) if modifier is not None else None
+        if entry.limit_normals is None or carrier is None:
+            continue
+        normals, triangles = entry.limit_normals
+        if carrier.data.name != entry.result or len(carrier.data.loops) != normals.size // 3:
+            continue
+        mesh_data.write_limit_normals(carrier.data, normals, triangles, entry.auto_loops)
+        carrier.data.update()
+        entry.limit_normals, entry.exact_shown = None, True
+        written += 1
+    if written:
+        _busy = True  # the updates this makes are not edits
+        try:
+            depsgraph.update()
+        finally:
+            _busy = False
+    return written
 
 
 class _PassThrough(Exception):
@@ -280,6 +360,7 @@ def register():
 def unregister():
     for name, handler in _handlers:
         getattr(bpy.app.handlers, name).remove(handler)
-    if bpy.app.timers.is_registered(_serve):
-        bpy.app.timers.unregister(_serve)
+    for timer in (_serve, _settle_timer):
+        if bpy.app.timers.is_registered(timer):
+            bpy.app.timers.unregister(timer)
     _caches.clear()

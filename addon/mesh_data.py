@@ -247,11 +247,17 @@ class Source:
     obj gives the vertex-group names and the cone group; mesh is its own data (apply) or its evaluated mesh up to the
     Loop Subdivision entry (the live entry). checked_triangles: triangles validated before (the live entry's last
     ones): when the cage has the same, the checks and notes that depend on the topology alone are skipped, and so
-    are the notes (messages) altogether, since the result is then only updated."""
+    are the notes (messages) altogether, since the result is then only updated.
 
-    def __init__(self, obj, mesh, options, checked_triangles=None):
+    exact_normals: with the limit surface, write the limit normals as custom split normals (Apply, renders); False
+    (the live entry in the viewport, while it changes) leaves the normals to Blender, with the edges across which the
+    limit normals split marked sharp, which Blender takes and evaluates several times faster (Source.blender_normals;
+    write_limit_normals puts the limit normals in afterwards)."""
+
+    def __init__(self, obj, mesh, options, checked_triangles=None, exact_normals=True):
         self.mesh = mesh
         self.options = options
+        self.exact_normals = exact_normals
         self.cage = cage = Cage(mesh)
         known = checked_triangles is not None and np.array_equal(cage.triangles, checked_triangles)
         cage.validate(obj.name, topology=not known)
@@ -298,8 +304,10 @@ class Source:
         self.custom_normals = compat.custom_normals_in_use(mesh)
         if self.custom_normals:
             self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])
-        # The result shades with the limit normals as custom split normals, on smooth faces.
+        # The result shades with the limit normals as custom split normals, on smooth faces; or, for the viewport,
+        # with Blender's own normals, split where the limit normals split.
         self.limit_normals = options.use_limit_surface and not self.custom_normals
+        self.blender_normals = self.limit_normals and not exact_normals
         self.auto_loops = None  # result corners that keep Blender's own normal (build_mesh sets it)
 
         self.materials = _get(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
@@ -317,7 +325,7 @@ class Source:
         """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
         stay the same, a result can be updated in place (update_mesh) instead of built anew."""
         return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names), self.custom_normals,
-                self.limit_normals,
+                self.limit_normals, self.blender_normals,
                 tuple(self.edge), tuple(self.group_names), self.group_weights, self.materials, self.smooth,
                 *self.face_values, *self.edge_values, *self.edge_flags.values(), self.cage.edge_weights,
                 self.cage.vertex_weights)
@@ -383,6 +391,8 @@ def build_mesh(source, plan, refined, name, holder):
         _write_face_data(new, source, parents)
         edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
         sharp = _write_edge_data(new, source, plan, new_edges)
+        if source.blender_normals:
+            _mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp)
         source.auto_loops = _auto_loops(source, plan, new_edges, sharp)
         _add_value_layers(new, source)
         _write_values(new, source, refined)
@@ -414,7 +424,7 @@ def update_mesh(new, source, refined, auto_loops):
     new.vertices.foreach_set("co", np.ascontiguousarray(refined.vertex[:, source.vertex.columns["position"]]).ravel())
     _write_values(new, source, refined)
     new.update()
-    _write_normals(new, source, refined, auto_loops)
+    _write_normals(new, source, refined, auto_loops)  # nothing to write with Blender's normals: they follow
 
 
 def _add_value_layers(new, source):
@@ -453,24 +463,70 @@ def _auto_loops(source, plan, new_edges, sharp):
     return on_sharp[plan.triangles]
 
 
+def _mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp):
+    """Blender's normals in place of the limit normals (the viewport): the edges across which the limit normals split
+    are marked sharp, beside the cage's marked sharp edges, and shade so (Auto Smooth on, at 180 degrees when the cage
+    had it off); where nothing splits, the mesh shades smooth with Blender's vertex normals, and Auto Smooth stays as
+    the cage had it.
+
+    Where the limit normals split depends on the plan alone (the sides of crease, corner and boundary vertices), not
+    on the positions, but a flat crease gives both sides the same normal: the split is found from the limit normals
+    of generic positions (a fixed pseudo-random cage), where every side has a normal of its own."""
+    probe = np.random.default_rng(1).random((source.cage.num_vertices, 3), dtype=np.float32)
+    _, normals = native.run(plan.evaluate_with_normals, probe)
+    split = geometry.split_normal_edges(triangle_edges, normals, new_edges, plan.triangles)
+    if not split.any():
+        return
+    marked = split if sharp is None else split | sharp
+    new.edges.foreach_set("use_edge_sharp", marked)
+    compat.shade_sharp_edges(new)
+
+
 def _write_normals(new, source, refined, auto_loops):
     """Custom split normals: the cage's own, interpolated linearly per face (normalised), where it shades with
-    them; else, with the limit surface, the limit normals (split across creases and boundaries, shared elsewhere)."""
+    them; else, with the limit surface, the limit normals (split across creases and boundaries, shared elsewhere),
+    unless the result shows Blender's own normals (Source.blender_normals), which need nothing written."""
+    if source.blender_normals:
+        return
     if source.custom_normals:
         normals = np.array(refined.corners[:, :, source.corners.columns["normal"]], dtype=np.float32)
         lengths = np.linalg.norm(normals, axis=2, keepdims=True)
         np.divide(normals, lengths, out=normals, where=lengths > 0)
     elif source.limit_normals:
-        normals = refined.normals
-        if auto_loops is not None:
-            normals = np.where(auto_loops[:, :, None], np.float32(0), normals)
+        write_limit_normals(new, refined.normals, refined.triangles, auto_loops)
+        return
     else:
         return
+    _set_normals(new, normals, refined.triangles, None)
+
+
+def write_limit_normals(new, normals, triangles, auto_loops):
+    """The limit normals (T_out, 3, 3) as custom split normals, but Blender's own at auto_loops (see _auto_loops).
+    Also what the live entry writes into a result that showed Blender's normals, once it is still (live.py)."""
+    if auto_loops is not None:
+        normals = np.where(auto_loops[:, :, None], np.float32(0), normals)
+    _set_normals(new, normals, triangles, auto_loops)
+
+
+def _set_normals(new, normals, triangles, auto_loops):
     # One normal per vertex where no crease splits them, several times faster for Blender to take; not with corners
     # that keep Blender's own normal (from vertices, Blender then gives a marked sharp edge's sides one normal).
-    shared = (geometry.shared_vertex_normals(refined.triangles, normals, len(new.vertices))
+    shared = (geometry.shared_vertex_normals(triangles, normals, len(new.vertices))
               if auto_loops is None else None)
     compat.set_custom_normals(new, normals, shared)
+
+
+def shading_state(mesh):
+    """What write_limit_normals may change in a result's shading besides the normals, for show_blender_normals to
+    put back (compat.shading_state)."""
+    return compat.shading_state(mesh)
+
+
+def show_blender_normals(new, holder, state):
+    """Back from write_limit_normals to Blender's own normals: the custom split normals removed (Blender's operator,
+    on holder, an object whose data new is), the shading as it was (state, from shading_state)."""
+    compat.clear_custom_normals(new, holder)
+    compat.restore_shading_state(new, state)
 
 
 def _write_geometry(new, positions, plan):

@@ -54,12 +54,15 @@ def entry(obj):
     return next((modifier for modifier in obj.modifiers if is_entry(modifier)), None)
 
 
-def helper(obj, modifier):
-    """The object that carries this entry's result; a new one when the entry has none of its own."""
+def helper(obj, modifier, create=True):
+    """The object that carries this entry's result; a new one when the entry has none of its own (None with
+    create=False)."""
     key = compat.group_input_identifier(modifier.node_group, RESULT_SOCKET)
     current = modifier.get(key)
     if current is not None and current.get(OWNER_TAG) == obj:
         return current
+    if not create:
+        return None
     mesh = bpy.data.meshes.new(f"{obj.name} ({ENTRY_NAME})")
     carrier = bpy.data.objects.new(mesh.name, mesh)
     carrier[OWNER_TAG] = obj

@@ -22,6 +22,11 @@ def _draw_settings(layout, obj, modifier):
     threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
     threshold.prop(settings, "crease_threshold")
     layout.prop(settings, "use_limit_surface")
+    if settings.use_limit_surface:
+        # What the viewport shows (live.settle): the setting's own tooltip is Subdivision Surface's.
+        note = layout.column(align=True)
+        note.label(text="Limit normals once still,", icon='INFO')
+        note.label(text="Blender's while it changes", icon='BLANK1')
     layout.prop(settings, "uv_smooth")
     layout.prop(settings, "boundary")
     layout.prop(settings, "use_creases")

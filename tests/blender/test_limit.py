@@ -268,7 +268,7 @@ def suzanne():
 # --- the modifier ---------------------------------------------------------------------------------------------------
 
 def modifier_settings():
-    """The live entry honours both settings: each change builds a new plan and shows what Apply writes."""
+    """The live entry honours both settings: each change builds a new plan and shows what Apply writes (once still)."""
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
@@ -279,6 +279,7 @@ def modifier_settings():
     for name, value in (("use_limit_surface", False), ("uv_smooth", 'SMOOTH_ALL'), ("use_limit_surface", True)):
         builds = addon.live.cache(obj).plan_builds
         setattr(settings, name, value)
+        addon.live.settle()  # the limit normals, as a still viewport shows them (test_viewport_normals: before it)
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
                  mesh.has_custom_normals)

@@ -172,8 +172,8 @@ def edits():
 
 def uv_edits():
     """A moved vertex and a moved UV of a cage with a UV map and a corner colour are written into the result in place,
-    UVs, colours and limit normals included, as Apply would write them; a UV split off its vertex's other corners (a
-    new seam) builds a new plan."""
+    UVs, colours and (once the result is still) limit normals included, as Apply would write them; a UV split off its
+    vertex's other corners (a new seam) builds a new plan."""
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
@@ -183,6 +183,7 @@ def uv_edits():
     add_entry(obj)
 
     def shown_and_applied():
+        addon.live.settle()  # the limit normals, as a still viewport shows them (test_viewport_normals: before it)
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
                  support.read_array(mesh.attributes["Paint"].data, "color", 4), corner_normals(mesh))
@@ -382,18 +383,19 @@ addon.register()
 def frame(scene, depsgraph):
     if depsgraph.mode == 'RENDER':
         mesh = bpy.data.objects["Saved"].evaluated_get(depsgraph).data
-        print("RENDERED", scene.frame_current, len(mesh.polygons), round(mesh.vertices[0].co.z, 5), flush=True)
+        print("RENDERED", scene.frame_current, len(mesh.polygons), round(mesh.vertices[0].co.z, 5),
+              mesh.has_custom_normals, flush=True)
 bpy.app.handlers.frame_change_post.append(frame)
 """
         process = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path, "--python-expr",
                                   record, "-o", os.path.join(folder, "frame_####"), "-s", "1", "-e", "2", "-a"],
                                  capture_output=True, text=True, timeout=300)
         frames = [line.split()[1:] for line in process.stdout.splitlines() if line.startswith("RENDERED")]
-        check(len(frames) == 2 and all(int(faces_seen) == 4 * faces for _, faces_seen, _ in frames)
-              and frames[0][2] != frames[1][2]
+        check(len(frames) == 2 and all(int(faces_seen) == 4 * faces for _, faces_seen, _, _ in frames)
+              and frames[0][2] != frames[1][2] and all(custom == "True" for *_, custom in frames)
               and os.path.exists(os.path.join(folder, "frame_0002.png")),
               f"blender -b file -a renders the Render levels (2: {4 * faces} faces) frame by frame, following a "
-              f"Wave above the entry ({frames})")
+              f"Wave above the entry, with the limit normals ({frames})")
     check(evaluated(obj)[1] == faces, "the viewport keeps Levels Viewport")
     support.remove(obj)
     bpy.data.objects.remove(camera)
