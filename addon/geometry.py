@@ -70,17 +70,6 @@ def child_crease_weights(sharpness, rules):
     return np.clip(np.asarray(sharpness, dtype=np.float32), 0.0, 1.0)
 
 
-def crease_edge_mask(edge_weights, edge_face_counts, rules, crease_threshold, use_creases):
-    """Edges the rules treat as creases at the first level: tagged creases and boundary or non-manifold edges."""
-    mask = (edge_face_counts == 1) | (edge_face_counts > 2)
-    if use_creases:
-        tagged = edge_weights > 0
-        if rules == 'HOPPE94':
-            tagged &= edge_weights >= crease_threshold
-        mask |= tagged
-    return mask
-
-
 def edge_keys(pairs, num_vertices):
     """One int64 per undirected edge, so edges can be matched with sorting instead of dictionaries."""
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
@@ -172,50 +161,6 @@ def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_ve
         a, b = ends[:, 0], ends[:, 1]
     found = lookup_edges(cage_edges, np.stack([a, b], axis=1), num_cage_vertices)
     return np.where(on_edge, found, -1)
-
-
-def has_same_way_edges(triangles, num_vertices):
-    """Whether two triangles run along an edge the same way (inconsistent winding): such an edge is non-manifold to
-    the core although it has two faces."""
-    t = np.asarray(triangles, dtype=np.int64)
-    directed = np.concatenate([t[:, 0] * num_vertices + t[:, 1], t[:, 1] * num_vertices + t[:, 2],
-                               t[:, 2] * num_vertices + t[:, 0]])
-    return len(np.unique(directed)) < len(directed)
-
-
-class TagSubmesh:
-    """The part of a mesh whose vertices the core must classify for the tags: the whole fans of the vertices that
-    can be other than smooth (ends of tagged, boundary and non-manifold edges, corners, cones, and the given
-    candidates), renumbered compactly. A vertex's class depends on its fan alone, so the core's classes of these
-    vertices on the part are their classes on the whole mesh; every other vertex is smooth. On a subdivided mesh the
-    part is a thin band along the creases, and classifying it costs a fraction of classifying the whole.
-
-    triangles (M, 3); tags: the core's tag arrays (crease_tags); edge_vertices (E, 2) with edge_face_counts (E,);
-    cones and candidates: vertex indices."""
-
-    def __init__(self, triangles, num_vertices, tags, edge_vertices, edge_face_counts, cones, candidates):
-        features = np.zeros(num_vertices, dtype=bool)
-        for vertices in (tags["crease_edges"], edge_vertices[edge_face_counts != 2], tags["corner_vertices"], cones,
-                         candidates):
-            features[np.asarray(vertices, dtype=np.int64).ravel()] = True
-        part = triangles[features[triangles].any(axis=1)]
-        self.kept, compact = np.unique(part, return_inverse=True)  # kept[i]: the whole mesh's index of vertex i
-        self.triangles = compact.reshape(-1, 3).astype(np.int32)
-        self.features = features[self.kept]
-        index = np.full(num_vertices, -1, dtype=np.int64)
-        index[self.kept] = np.arange(len(self.kept))
-        # Tagged edges and corners are features, so both their ends are kept; cones outside faces are not.
-        self.tags = dict(tags, crease_edges=index[tags["crease_edges"]].astype(np.int32).reshape(-1, 2),
-                         corner_vertices=index[tags["corner_vertices"]].astype(np.int32))
-        cone_index = index[np.asarray(cones, dtype=np.int64)]
-        self.cones = cone_index[cone_index >= 0].astype(np.int32)
-        self.num_vertices = num_vertices
-
-    def whole(self, part_types):
-        """The classes on the whole mesh, from the core's classes on the part."""
-        types = np.zeros(self.num_vertices, dtype=np.int32)
-        types[self.kept[self.features]] = np.asarray(part_types, dtype=np.int32)[self.features]
-        return types
 
 
 def edge_face_counts(loop_edges, num_edges):

@@ -60,17 +60,6 @@ class Topology:
         return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones,
                                  face_varying_indices)
 
-    def vertex_types(self, options, cones, candidates):
-        """The core's class of every vertex. candidates: vertices that may be other than smooth although no tag,
-        boundary or non-manifold edge touches them (a subdivided mesh: the cage's non-smooth vertices, which keep
-        their indices, such as non-manifold ones); only the fans of those and of the tagged vertices are classified."""
-        part = geometry.TagSubmesh(self.triangles, self.num_vertices, self.tags(options), self.edge_vertices,
-                                   self.edge_face_counts, cones, candidates)
-        if not len(part.triangles):
-            return np.zeros(self.num_vertices, dtype=np.int32)
-        plan = native.build_plan(part.triangles, len(part.kept), 1, _classifying(options), part.tags, part.cones)
-        return part.whole(plan.level_vertex_types(0))
-
 
 def _classifying(options):
     """Options for a plan that only classifies vertices: the limit surface plays no part in it."""
@@ -389,7 +378,7 @@ def build_mesh(source, plan, refined, name, holder):
         new_edges, triangle_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], plan)
         parents = cage.triangle_polygons[plan.parent_triangles]
         _write_face_data(new, source, parents)
-        edge_weights, vertex_weights = _write_creases(new, cage, plan, options, new_edges)
+        _write_creases(new, cage, plan, options, new_edges)
         sharp = _write_edge_data(new, source, plan, new_edges)
         if source.blender_normals:
             _mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp)
@@ -399,18 +388,7 @@ def build_mesh(source, plan, refined, name, holder):
         new.update()
         _write_normals(new, source, refined, source.auto_loops)
         _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
-        try:
-            # Cone vertices keep their indices in the result, so its cones are the cage's.
-            result = Topology(len(new.vertices), plan.triangles, new_edges,
-                              geometry.edge_face_counts(triangle_edges.ravel(), len(new_edges)), edge_weights,
-                              vertex_weights)
-            # The cage's non-smooth vertices keep their indices and may stay so with no feature edge (non-manifold
-            # vertices); edges wound the same way on the cage leave such edges on the result: classify everything.
-            candidates = (None if geometry.has_same_way_edges(cage.triangles, cage.num_vertices)
-                          else np.flatnonzero(np.asarray(plan.level_vertex_types(0)) != 0))
-            write_tags(new, result, options, source.cones, candidates)
-        except LoopSubError as error:
-            source.messages.append(('WARNING', f"{name}: tags not refreshed on the result ({error})"))
+        _write_plan_tags(new, plan, new_edges)
     except Exception:
         bpy.data.meshes.remove(new)
         raise
@@ -564,8 +542,7 @@ def _write_face_data(new, source, parent_polygons):
 
 
 def _write_creases(new, cage, plan, options, new_edges):
-    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights.
-    Returns the edge and vertex crease weights of the result."""
+    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
     num_vertices = len(new.vertices)
     edge_weights = np.zeros(len(new_edges), dtype=np.float32)
     found = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
@@ -576,7 +553,6 @@ def _write_creases(new, cage, plan, options, new_edges):
     vertex_weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
     if compat.has_vertex_creases(new):
         compat.write_vertex_creases(new, vertex_weights)
-    return edge_weights, vertex_weights
 
 
 def _write_edge_data(new, source, plan, new_edges):
@@ -648,17 +624,35 @@ def replace_mesh(obj, result):
     result.mesh.name = name
 
 
-def write_tags(mesh, topology, options, cones, candidates=None):
-    """Writes what the rules derive from the crease weights: "loop_crease" (edges) and "loop_vertex_type" (points).
-    candidates: see Topology.vertex_types; None classifies every vertex."""
+def write_tags(mesh, topology, options, cones):
+    """Writes what the rules derive from the crease weights of a cage: "loop_crease" (edges) and "loop_vertex_type"
+    (points), both from the core's plan of its first level."""
     if not len(topology.triangles):
         raise LoopSubError(f"\"{mesh.name}\" has no faces to tag")
-    if candidates is None:
-        types = np.asarray(topology.plan(_classifying(options), 1, cones).level_vertex_types(0), dtype=np.int32)
-    else:
-        types = topology.vertex_types(options, cones, candidates)
-    creases = geometry.crease_edge_mask(topology.edge_weights, topology.edge_face_counts, options.rules,
-                                        options.crease_threshold, options.use_creases)
+    # The classes of level 0 come from a plan of one level; its sharp edges from a plan of none (its output is the
+    # cage itself).
+    types = np.asarray(topology.plan(_classifying(options), 1, cones).level_vertex_types(0), dtype=np.int32)
+    _replace_tags(mesh, _sharp_edge_mask(topology.plan(_classifying(options), 0, cones), topology.edge_vertices,
+                                         topology.num_vertices), types)
+
+
+def _write_plan_tags(mesh, plan, edges):
+    """The tags of a result, from the plan that made it: the classes its vertices take at the next level and the edges
+    its rules treat as sharp (tagged creases that pass them, boundary and non-manifold edges). No second
+    classification: refining the result further uses exactly these."""
+    _replace_tags(mesh, _sharp_edge_mask(plan, edges, len(mesh.vertices)),
+                  np.asarray(plan.level_vertex_types(plan.levels), dtype=np.int32))
+
+
+def _sharp_edge_mask(plan, edges, num_vertices):
+    """Which of `edges` (vertex pairs of the plan's output) the plan's rules treat as sharp."""
+    mask = np.zeros(len(edges), dtype=bool)
+    found = geometry.lookup_edges(edges, np.asarray(plan.sharp_edges), num_vertices)
+    mask[found[found >= 0]] = True
+    return mask
+
+
+def _replace_tags(mesh, creases, types):
     for name, domain, data_type, values in ((CREASE_TAG, 'EDGE', 'BOOLEAN', creases),
                                             (VERTEX_TYPE_TAG, 'POINT', 'INT', types)):
         existing = mesh.attributes.get(name)

@@ -71,14 +71,6 @@ def test_child_crease_weights():
     assert np.array_equal(geometry.child_crease_weights(kept, 'HOPPE94'), kept)
 
 
-def test_crease_edge_mask():
-    weights = np.array([0.0, 0.4, 0.6, 0.0], np.float32)
-    faces = np.array([2, 2, 2, 1])
-    assert geometry.crease_edge_mask(weights, faces, 'HOPPE94', 0.5, True).tolist() == [False, False, True, True]
-    assert geometry.crease_edge_mask(weights, faces, 'OPENSUBDIV', 0.5, True).tolist() == [False, True, True, True]
-    assert geometry.crease_edge_mask(weights, faces, 'HOPPE94', 0.5, False).tolist() == [False, False, False, True]
-
-
 def test_lookup_edges_either_direction():
     table = np.array([[0, 1], [2, 1], [3, 0]], np.int32)
     query = np.array([[1, 0], [1, 2], [0, 3], [2, 3]], np.int32)
@@ -190,46 +182,6 @@ def test_shared_positions():
     positions = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1], [1, 1, 1]], np.float32)
     assert geometry.shared_positions(positions) == 1
     assert geometry.shared_positions(positions[:4]) == 0
-
-
-def _core_types(triangles, num_vertices, tags, cones, rules):
-    plan = _loopsub.Plan(triangles, num_vertices, 1, rules=rules, cone_vertices=cones, **tags)
-    return np.asarray(plan.level_vertex_types(0), dtype=np.int32)
-
-
-@pytest.mark.parametrize("rules", ["hoppe94", "opensubdiv"])
-def test_tag_submesh_gives_the_core_classes_of_the_whole_mesh(rules):
-    # A subdivided octahedron cut open (boundary), with a crease, a corner, a cone and a bowtie vertex where a
-    # second octahedron touches it: the classes from the part equal those of the whole, vertex for vertex.
-    octahedron = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4], [1, 0, 5], [2, 1, 5], [3, 2, 5], [0, 3, 5]],
-                          np.int32)
-    plan = _loopsub.Plan(octahedron, 6, 2, rules="opensubdiv")
-    first = plan.triangles[8:]  # 8 triangles removed: a hole
-    second = octahedron + len(np.unique(first)) + 1
-    second[second == second.max()] = 5  # shares the first's bottom apex, far from the hole: non-manifold there
-    triangles = np.ascontiguousarray(np.concatenate([first, second]), dtype=np.int32)
-    num_vertices = int(triangles.max()) + 1
-    t = triangles
-    pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
-    keys = geometry.edge_keys(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), num_vertices)
-    counts = np.bincount(np.searchsorted(geometry.edge_keys(pairs, num_vertices), keys), minlength=len(pairs))
-    weights = np.zeros(len(pairs), np.float32)
-    weights[[5, 17]] = 1.0
-    vertex_weights = np.zeros(num_vertices, np.float32)
-    vertex_weights[30] = 1.0
-    tags = geometry.crease_tags(pairs, weights, vertex_weights, 'HOPPE94' if rules == "hoppe94" else 'OPENSUBDIV',
-                                0.5)
-    cones = np.array([12], np.int32) if rules == "hoppe94" else np.zeros(0, np.int32)
-    whole = _core_types(triangles, num_vertices, tags, cones, rules)
-    part = geometry.TagSubmesh(triangles, num_vertices, tags, pairs, counts, cones, candidates=[5])
-    assert len(part.triangles) < len(triangles)
-    assert np.array_equal(part.whole(_core_types(part.triangles, len(part.kept), part.tags, part.cones, rules)), whole)
-    assert (whole != 0).sum() > 10 and whole[5] != 0  # the check meets every kind of feature, the bowtie included
-
-
-def test_same_way_edges():
-    assert not geometry.has_same_way_edges(np.array([[0, 1, 2], [2, 1, 3]]), 4)
-    assert geometry.has_same_way_edges(np.array([[0, 1, 2], [1, 2, 3]]), 4)
 
 
 @pytest.mark.parametrize("levels", [1, 2, 3])
