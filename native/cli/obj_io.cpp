@@ -662,9 +662,9 @@ private:
 
 // ---- Numbers out ----------------------------------------------------------------------------------------------
 // std::to_chars(float) writes the shortest form that reads back exactly, but costs about 29 ns a call in libstdc++
-// 12: 57 ms of the 110 ms that writing a 655,362-vertex mesh took. put_float writes the same characters (the same
-// shortest digits, the same choice between fixed and scientific notation) in about a third of the time: it was
-// compared with std::to_chars on every float, and tests/native/test_obj_io_fast.cpp compares a sample of them.
+// 12: 57 ms of the 114 ms that writing a 655,362-vertex mesh took. put_float writes the same characters (the same
+// shortest digits, the same choice between fixed and scientific notation) in about 20 ns: it was compared with
+// std::to_chars on every float, and tests/native/test_obj_io_fast.cpp compares a sample of them.
 
 // Digits are made eight at a time in one 64-bit word: the eight digits of a number below 10^8 as byte values, the
 // first in the lowest byte (Paul Khuong's method: 10^4, then 10^2, then 10 split off in 32-, 16- and 8-bit lanes

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -24,7 +25,12 @@ namespace {
 using loopsub::obj::ObjMesh;
 using loopsub::obj::parse_obj;
 
-std::string temp_path(const std::string& name) { return ::testing::TempDir() + "loopsub_test_obj_io_fast_" + name; }
+// Named per process: another run of the tests at the same time (a second build tree, a second ctest) must not
+// write the same files.
+std::string temp_path(const std::string& name) {
+    static const std::string run = std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+    return ::testing::TempDir() + "loopsub_test_obj_io_fast_" + run + "_" + name;
+}
 
 std::string to_chars_text(float value) {
     char buffer[64];
