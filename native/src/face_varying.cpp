@@ -102,6 +102,12 @@ bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2]) const {
     return found == 2;
 }
 
+SpecialVertex FaceVaryingBuilder::on_layer(Index x, const SpecialVertex& m) const {
+    const Index a = m.w_crease_a != 0.0f ? neighbour_at_vertex(x, m.crease_a) : x;
+    const Index b = m.w_crease_b != 0.0f ? neighbour_at_vertex(x, m.crease_b) : x;
+    return {x, a < 0 ? x : a, b < 0 ? x : b, m.w_self, m.w_ring, m.w_crease_a, m.w_crease_b};
+}
+
 Index FaceVaryingBuilder::neighbour_at_vertex(Index x, Index vertex) const {
     for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
         if (vertex_of_[values_.vertex_vertices[k]] == vertex) return values_.vertex_vertices[k];
@@ -191,13 +197,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
     s.num_edges = ne;
-    int max_valence = 0;
-    for (int x = 0; x < nx; ++x) max_valence = std::max(max_valence, values_.valence(x));
-    for (int n = 0; n <= max_valence; ++n) {
-        const VertexMask m = smooth_vertex_mask(n);
-        s.smooth_self.push_back(float(m.self));
-        s.smooth_ring.push_back(float(m.ring));
-    }
+    set_smooth_masks(s, values_.max_valence(), smooth_vertex_mask);
 
     // The children's tags: a vertex's child keeps its parent's, except that semi-sharp values turn into creases as
     // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
@@ -244,10 +244,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
         const Index v = vertex_of_[x];
         if (!tag.mismatch) {
             const SpecialVertex* m = find_special(vertex_stencils.special_vertices, v, [](const SpecialVertex& sv) { return sv.vertex; });
-            if (!m) continue;  // the smooth mask, by the same valence
-            const Index a = m->w_crease_a != 0.0f ? neighbour_at_vertex(x, m->crease_a) : x;
-            const Index b = m->w_crease_b != 0.0f ? neighbour_at_vertex(x, m->crease_b) : x;
-            s.special_vertices.push_back({x, a < 0 ? x : a, b < 0 ? x : b, m->w_self, m->w_ring, m->w_crease_a, m->w_crease_b});
+            if (m) s.special_vertices.push_back(on_layer(x, *m));  // else the smooth mask, by the same valence
             continue;
         }
         Index ends[2];
@@ -319,13 +316,7 @@ void FaceVaryingBuilder::plan_limit(const LevelState& last, const LevelStencils&
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
     s.num_edges = 0;
-    int max_valence = 0;
-    for (int x = 0; x < nx; ++x) max_valence = std::max(max_valence, values_.valence(x));
-    for (int n = 0; n <= max_valence; ++n) {
-        const LimitMask m = smooth_limit_mask(n);
-        s.smooth_self.push_back(float(m.self));
-        s.smooth_ring.push_back(float(m.ring));
-    }
+    set_smooth_masks(s, values_.max_valence(), smooth_limit_mask);
     // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
     // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
     const LimitMask crease = crease_limit_mask();
@@ -337,9 +328,7 @@ void FaceVaryingBuilder::plan_limit(const LevelState& last, const LevelStencils&
         } else if (tag.mismatch) {
             s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
         } else if (const SpecialVertex* m = find_special(vertex_limit.special_vertices, vertex_of_[x], [](const SpecialVertex& sv) { return sv.vertex; })) {
-            const Index a = m->w_crease_a != 0.0f ? neighbour_at_vertex(x, m->crease_a) : x;
-            const Index b = m->w_crease_b != 0.0f ? neighbour_at_vertex(x, m->crease_b) : x;
-            s.special_vertices.push_back({x, a < 0 ? x : a, b < 0 ? x : b, m->w_self, m->w_ring, m->w_crease_a, m->w_crease_b});
+            s.special_vertices.push_back(on_layer(x, *m));
         }
     }
     s.ring_offsets = values_.vertex_edge_offsets;

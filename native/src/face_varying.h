@@ -54,6 +54,8 @@ private:
     // The far ends of the layer's boundary edges at x (its seam neighbours); false unless there are exactly two.
     bool seam_ends(Index x, Index ends[2]) const;
     Index neighbour_at_vertex(Index x, Index vertex) const;  // x's neighbour value lying on `vertex`, or -1
+    // A vertex's mask `m` for value x on that vertex: its crease neighbours read through the layer.
+    SpecialVertex on_layer(Index x, const SpecialVertex& m) const;
 
     Options options_;
     FaceVaryingPlan plan_;

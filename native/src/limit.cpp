@@ -39,19 +39,12 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
     detail::LevelStencils& s = lt.positions;
     s.num_vertices = nv;
     s.num_edges = 0;
-    int max_valence = 0;
-    for (int v = 0; v < nv; ++v) max_valence = std::max(max_valence, t.valence(v));
+    const int max_valence = t.max_valence();
     max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));
-    s.smooth_self.resize(max_valence + 1);
-    s.smooth_ring.resize(max_valence + 1);
+    detail::set_smooth_masks(s, max_valence, detail::smooth_limit_mask);
     lt.smooth_t1.resize(max_valence + 1);
     lt.smooth_t2.resize(max_valence + 1);
-    for (int n = 0; n <= max_valence; ++n) {
-        const detail::LimitMask m = detail::smooth_limit_mask(n);
-        s.smooth_self[n] = float(m.self);
-        s.smooth_ring[n] = float(m.ring);
-        detail::smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
-    }
+    for (int n = 0; n <= max_valence; ++n) detail::smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
     struct Classified {

@@ -155,16 +155,9 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     detail::LevelStencils& s = stencils.emplace_back();
     s.num_vertices = nv;
     s.num_edges = ne;
-    int max_valence = 0;
-    for (int v = 0; v < nv; ++v) max_valence = std::max(max_valence, t.valence(v));
+    const int max_valence = t.max_valence();
     max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));  // a ring, or an edge's two ends
-    s.smooth_self.resize(max_valence + 1);
-    s.smooth_ring.resize(max_valence + 1);
-    for (int n = 0; n <= max_valence; ++n) {
-        const detail::VertexMask m = detail::smooth_vertex_mask(n);
-        s.smooth_self[n] = float(m.self);
-        s.smooth_ring[n] = float(m.ring);
-    }
+    detail::set_smooth_masks(s, max_valence, detail::smooth_vertex_mask);
 
     // Only vertices next to a feature (or cones) can differ from the smooth pass. Child features: the halves of
     // each edge get their sharpness at their own end vertex (Chaikin looks at the other edges there), old vertices

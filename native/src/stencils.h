@@ -49,6 +49,19 @@ struct LevelStencils {
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 };
 
+// Fills the smooth pass's weights for valences 0 .. max_valence from `mask(n)` (the refinement's or the limit's
+// mask, anything with `self` and `ring`).
+template <typename SmoothMask>
+void set_smooth_masks(LevelStencils& s, int max_valence, SmoothMask mask) {
+    s.smooth_self.resize(std::size_t(max_valence) + 1);
+    s.smooth_ring.resize(std::size_t(max_valence) + 1);
+    for (int n = 0; n <= max_valence; ++n) {
+        const auto m = mask(n);
+        s.smooth_self[n] = float(m.self);
+        s.smooth_ring[n] = float(m.ring);
+    }
+}
+
 // The smooth edge mask, as the kernels' smooth pass applies it to every edge.
 inline constexpr float kSmoothEdgeEndWeight = float(smooth_edge_mask().a);
 inline constexpr float kSmoothEdgeWingWeight = float(smooth_edge_mask().wings);

@@ -63,6 +63,12 @@ void fill_neighbourhood(Topology& t) {
 
 }  // namespace
 
+int Topology::max_valence() const {
+    int largest = 0;
+    for (int v = 0; v < num_vertices; ++v) largest = std::max(largest, valence(v));
+    return largest;
+}
+
 Index Topology::opposite_vertex(Index f, Index e) const {
     for (int k = 0; k < 3; ++k)
         if (face_edges[3 * f + k] == e) return face_vertices[3 * f + prev_corner(k)];

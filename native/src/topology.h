@@ -29,6 +29,7 @@ struct Topology {
     int num_edges() const { return int(edge_vertices.size() / 2); }
     int edge_face_count(Index e) const { return edge_face_offsets[e + 1] - edge_face_offsets[e]; }
     int valence(Index v) const { return vertex_edge_offsets[v + 1] - vertex_edge_offsets[v]; }
+    int max_valence() const;  // 0 for a mesh without edges
     Index other_end(Index e, Index v) const { return edge_vertices[2 * e] == v ? edge_vertices[2 * e + 1] : edge_vertices[2 * e]; }
     // The vertex of face f that is not on edge e.
     Index opposite_vertex(Index f, Index e) const;
