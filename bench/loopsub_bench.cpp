@@ -169,7 +169,8 @@ struct Vertex {  // PrimvarRefiner's interface
 };
 
 // The UV layer only where face-varying data is timed: it costs topology work on both sides.
-std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m, bool full_last_level = false, bool with_uvs = false) {
+std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m, bool full_last_level = false, bool with_uvs = false,
+                                                  int levels = kLevels) {
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
@@ -194,7 +195,7 @@ std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m, bool full_last_
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     std::unique_ptr<Far::TopologyRefiner> refiner(
         Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
-    Far::TopologyRefiner::UniformOptions uniform(kLevels);
+    Far::TopologyRefiner::UniformOptions uniform(levels);
     uniform.fullTopologyInLastLevel = full_last_level;  // what Limit needs
     refiner->RefineUniform(uniform);
     return refiner;
@@ -539,16 +540,7 @@ int measure_memory(int levels) {
         benchmark::DoNotOptimize(out.data());
     });
     const long theirs = run("opensubdiv", [&] {
-        Sdc::Options sdc;
-        const std::vector<int> three(m.num_triangles(), 3);
-        Far::TopologyDescriptor d;
-        d.numVertices = m.num_vertices();
-        d.numFaces = m.num_triangles();
-        d.numVertsPerFace = three.data();
-        d.vertIndicesPerFace = m.triangles.data();
-        using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-        std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
-        refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+        const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(m, false, false, levels);
         std::vector<Vertex> all(refiner->GetNumVerticesTotal());
         benchmark::DoNotOptimize(osd_interpolate(*refiner, m, all.data(), levels));
     });

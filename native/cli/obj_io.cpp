@@ -851,6 +851,17 @@ char* put_text(char* out, const char (&text)[N]) {
     return out + N - 1;
 }
 
+// N floats separated by blanks, and the line's end.
+template <int N>
+char* put_floats(char* out, const float* values) {
+    for (int k = 0; k < N; ++k) {
+        if (k > 0) *out++ = ' ';
+        out = put_float(out, values[k]);
+    }
+    *out++ = '\n';
+    return out;
+}
+
 // ---- The file -------------------------------------------------------------------------------------------------
 
 struct FileCloser {
@@ -975,34 +986,9 @@ void write_obj(const std::string& path, const ObjMesh& mesh) {
     if (!file) throw std::runtime_error(path + ": cannot open for writing");
     Writer out(file.get(), path);
 
-    for (std::size_t k = 0; k < mesh.positions.size(); k += 3) {
-        char* p = put_text(out.line(), "v ");
-        p = put_float(p, mesh.positions[k]);
-        *p++ = ' ';
-        p = put_float(p, mesh.positions[k + 1]);
-        *p++ = ' ';
-        p = put_float(p, mesh.positions[k + 2]);
-        *p++ = '\n';
-        out.done(p);
-    }
-    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) {
-        char* p = put_text(out.line(), "vt ");
-        p = put_float(p, mesh.uvs[k]);
-        *p++ = ' ';
-        p = put_float(p, mesh.uvs[k + 1]);
-        *p++ = '\n';
-        out.done(p);
-    }
-    for (std::size_t k = 0; k < mesh.normals.size(); k += 3) {
-        char* p = put_text(out.line(), "vn ");
-        p = put_float(p, mesh.normals[k]);
-        *p++ = ' ';
-        p = put_float(p, mesh.normals[k + 1]);
-        *p++ = ' ';
-        p = put_float(p, mesh.normals[k + 2]);
-        *p++ = '\n';
-        out.done(p);
-    }
+    for (std::size_t k = 0; k < mesh.positions.size(); k += 3) out.done(put_floats<3>(put_text(out.line(), "v "), &mesh.positions[k]));
+    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) out.done(put_floats<2>(put_text(out.line(), "vt "), &mesh.uvs[k]));
+    for (std::size_t k = 0; k < mesh.normals.size(); k += 3) out.done(put_floats<3>(put_text(out.line(), "vn "), &mesh.normals[k]));
     const bool with_uvs = !mesh.triangle_uvs.empty(), with_normals = !mesh.triangle_normals.empty();
     for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
         char* p = put_text(out.line(), "f");
