@@ -50,6 +50,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (more & 1) options.boundary = Boundary::None;
     options.face_varying = FaceVaryingInterpolation((more >> 1) % 6);
     const bool with_layer = (more & 16) != 0;
+    options.level_tables = LevelTables((more >> 5) % 3);
     options.levels = in.byte() % 4;
     options.crease_threshold = in.number();
     options.memory_limit_bytes = fuzz::kMemoryLimit;

@@ -26,10 +26,15 @@ namespace {
 // elements and writes counts[i + 1]; the first reads load(element, channel), the last writes `out`.
 //
 // Passes run on quads: an element's channels side by side, padded with zeros to a multiple of four, so that a kernel
-// fetches every channel of a neighbour with one aligned 16-byte load (kernels_quads.h); with gathers from planar
-// arrays each channel of each neighbour is a load of its own, measured 1.7x slower (docs/benchmark.md). The padding
-// refines like a channel (zeros stay zeros). Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the
-// last pass's source stays there for the limit normals.
+// fetches every channel of a neighbour with one 16-byte load (kernels_quads.h); with gathers from planar arrays each
+// channel of each neighbour is a load of its own, measured 1.7x slower (docs/benchmark.md). The padding refines like
+// a channel (zeros stay zeros). Three channels (positions) are not padded: a 16-byte load then also reads the next
+// element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a quad
+// of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the last
+// pass's source stays there for the limit normals.
+// Floats per element in the scratch levels (see run_passes).
+std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : (std::size_t(channels) + 3) / 4 * 4; }
+
 template <typename Load>
 void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
                 int channels, Load load, ChannelsView<float> out) {
@@ -39,10 +44,13 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
             for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = load(v, c);
         return;
     }
-    const std::size_t padded = (std::size_t(channels) + 3) / 4 * 4;
+    const std::size_t padded = scratch_stride(channels);
     std::size_t needed[2] = {0, std::size_t(counts[0])};
     for (int i = 0; i + 1 < n; ++i) needed[i % 2] = std::max(needed[i % 2], std::size_t(counts[i + 1]));
-    for (int b = 0; b < 2; ++b) p.scratch[b].resize(needed[b] * padded);
+    for (int b = 0; b < 2; ++b) {
+        p.scratch[b].resize(needed[b] * padded + 4);
+        std::fill(p.scratch[b].end() - 4, p.scratch[b].end(), 0.0f);
+    }
     auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
     float* first = p.scratch[1].data();
     for (int v = 0; v < counts[0]; ++v)
@@ -62,11 +70,11 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         const detail::LevelStencils& s = *passes[pass];
         // Small levels are not worth splitting.
         if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) refine(s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
+            if (part == 0) detail::refine_ranges(refine, s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
             return;
         }
         auto split = [parts](int count, int i) { return int(std::int64_t(count) * i / parts); };
-        refine(s, sources[pass], targets[pass], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
+        detail::refine_ranges(refine, s, sources[pass], targets[pass], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
                {split(s.num_edges, part), split(s.num_edges, part + 1)});
     });
 }
@@ -142,7 +150,7 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     if (p.num_input_vertices == 0) return;
     // The last level's refined points: the limit pass's source, still in scratch.
     const int levels = p.options.levels;
-    const std::size_t padded = (std::size_t(in.num_channels) + 3) / 4 * 4;
+    const std::size_t padded = scratch_stride(in.num_channels);
     const ChannelsView<const float> last{p.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
     p.limit_normals(last, corner_normals);
     p.evaluate_ms += ms_since(start);

@@ -15,14 +15,19 @@ struct Range {
 };
 
 // Computes, for every channel, output vertex points [vertices.begin, vertices.end) and output edge points
-// num_vertices + [edges.begin, edges.end), special masks included. Ranges of different calls may run on
-// different threads at once: a call writes only its own outputs.
-using RefineFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
-                          Range vertices, Range edges);
+// num_vertices + [edges.begin, edges.end), special masks included, reading indices through `view` (which covers
+// the ranges). Ranges of different calls may run on different threads at once: a call writes only its own outputs.
+using RefineFn = void (*)(const LevelStencils& stencils, const StencilView& view, ChannelsView<const float> in,
+                          ChannelsView<float> out, Range vertices, Range edges);
 
-void refine_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
-void refine_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
-void refine_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+void refine_scalar(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+void refine_sse41(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+void refine_avx2(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+
+// Runs `refine` over the ranges of a level: a stored level in one call, a derived one (LevelStencils::derived_from) a
+// chunk at a time, each chunk's tables filled from the parent just before.
+void refine_ranges(RefineFn refine, const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
+                   Range vertices, Range edges);
 
 // The function for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
 Kernel resolve_kernel(Kernel requested);

@@ -42,8 +42,8 @@ inline void store_pair(const QuadTarget& out, std::size_t element, __m256 v, boo
 // Smooth vertex points i and j (j = i + 1, or j = i for an odd last vertex: then only i is stored).
 template <std::size_t Step, typename Out>
 inline void vertex_pair(const Tables& t, const QuadSource<Step>& in, const Out& out, int i, int j) {
-    const int first_i = t.ring_offsets[i], valence_i = t.ring_offsets[i + 1] - first_i;
-    const int first_j = t.ring_offsets[j], valence_j = t.ring_offsets[j + 1] - first_j;
+    const int first_i = t.ring_first(i), valence_i = t.valence(i);
+    const int first_j = t.ring_first(j), valence_j = t.valence(j);
     const int common = std::min(valence_i, valence_j);
     __m256 ring_sum = _mm256_setzero_ps();
     for (int k = 0; k < common; ++k) ring_sum = _mm256_add_ps(ring_sum, load_pair(in, t.ring[first_i + k], t.ring[first_j + k]));
@@ -62,8 +62,8 @@ inline void vertex_pair(const Tables& t, const QuadSource<Step>& in, const Out& 
 // Smooth edge points e and f (f = e + 1, or f = e for an odd last edge).
 template <std::size_t Step, typename Out>
 inline void edge_pair(const Tables& t, const QuadSource<Step>& in, const Out& out, int e, int f) {
-    const __m256 ends = _mm256_add_ps(load_pair(in, t.edge_ends[2 * e], t.edge_ends[2 * f]), load_pair(in, t.edge_ends[2 * e + 1], t.edge_ends[2 * f + 1]));
-    const __m256 wings = _mm256_add_ps(load_pair(in, t.edge_c[e], t.edge_c[f]), load_pair(in, t.edge_d[e], t.edge_d[f]));
+    const __m256 ends = _mm256_add_ps(load_pair(in, t.end(e, 0), t.end(f, 0)), load_pair(in, t.end(e, 1), t.end(f, 1)));
+    const __m256 wings = _mm256_add_ps(load_pair(in, t.wing_c(e), t.wing_c(f)), load_pair(in, t.wing_d(e), t.wing_d(f)));
     const __m256 point = _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), ends,
                                          _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
     store_pair(out, t.first_edge_point + e, point, f != e);
@@ -82,13 +82,13 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
 
 }  // namespace
 
-void refine_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range vertices,
-                 Range edges) {
-    if (!reads_as_quads(in)) return refine_scalar(s, in, out, vertices, edges);
-    for_each_quad(s, in, out, [&](const Tables& tables, auto source, auto target) {
+void refine_avx2(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
+                 Range vertices, Range edges) {
+    if (!reads_as_quads(in)) return refine_scalar(s, view, in, out, vertices, edges);
+    for_each_quad(s, view, in, out, [&](const Tables& tables, auto source, auto target) {
         smooth_quad(tables, source, target, vertices, edges);
     });
-    apply_specials(s, in, out, vertices, edges);
+    apply_specials(s, view, in, out, vertices, edges);
 }
 
 }  // namespace loopsub::detail

@@ -1,8 +1,31 @@
-// Run-time choice of the evaluation kernel: the widest instruction set the CPU has, unless one is forced.
+// Run-time choice of the evaluation kernel: the widest instruction set the CPU has, unless one is forced; and the
+// runs over a level derived from its parent, chunk by chunk.
+#include <algorithm>
+#include <vector>
+
 #include "cpu_features.h"
 #include "kernels.h"
 
 namespace loopsub::detail {
+
+void refine_ranges(RefineFn refine, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                   Range vertices, Range edges) {
+    if (!s.derived_from) return refine(s, stored_view(s), in, out, vertices, edges);
+    // Chunks small enough that their tables stay in the first-level cache while the kernel reads them.
+    constexpr int kChunk = 1024;
+    const Topology& parent = *s.derived_from;
+    std::vector<std::int32_t> offsets(kChunk + 1), ring, ends(2 * kChunk), c(kChunk), d(kChunk);
+    for (int first = vertices.begin; first < vertices.end; first += kChunk) {
+        const int last = std::min(vertices.end, first + kChunk);
+        child_rings(parent, first, last, offsets.data(), ring);
+        refine(s, {offsets.data(), ring.data(), nullptr, nullptr, nullptr, first, 0}, in, out, {first, last}, {0, 0});
+    }
+    for (int first = edges.begin; first < edges.end; first += kChunk) {
+        const int last = std::min(edges.end, first + kChunk);
+        child_edges(parent, first, last, ends.data(), c.data(), d.data());
+        refine(s, {nullptr, nullptr, ends.data(), c.data(), d.data(), 0, first}, in, out, {0, 0}, {first, last});
+    }
+}
 
 // A forced kernel the CPU cannot run steps down to the next narrower one rather than crash.
 Kernel resolve_kernel(Kernel requested) {

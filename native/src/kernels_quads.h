@@ -21,15 +21,16 @@ namespace {
 
 constexpr int kQuad = 4;
 
-// True when every element's channels can be read as whole quads. Lanes past num_channels are read too (they lie
-// inside the element) and go through the same arithmetic without being stored; scratch padding should hold zeros
-// (garbage there could be a denormal, which slows the arithmetic down).
+// True when every element's channels can be read as whole quads. Lanes past num_channels are read too and go through
+// the same arithmetic without being stored: padding inside the element (which should hold zeros: garbage there could
+// be a denormal, which slows the arithmetic down), or, for rows of three channels, the next element's first channel;
+// such rows (the evaluation's scratch) must be followed by a readable quad.
 inline bool reads_as_quads(const ChannelsView<const float>& v) {
-    return v.channel_stride == 1 && v.element_stride % kQuad == 0;
+    return v.channel_stride == 1 && (v.element_stride % kQuad == 0 || (v.element_stride == 3 && v.num_channels == 3));
 }
 
-// The input of a quad pass: quad of element i at in + i * step. Step is a compile-time 4 in the common case (up to
-// four channels), which turns the address arithmetic into shifts; 0 means the run-time `step`.
+// The input of a quad pass: quad of element i at in + i * step. Step is a compile-time 4 or 3 in the common cases (up
+// to four channels, or positions), which keeps the address arithmetic cheap; 0 means the run-time `step`.
 template <std::size_t Step>
 struct QuadSource {
     const float* in;
@@ -78,24 +79,23 @@ inline QuadTarget quad_target(const ChannelsView<float>& out, int quad) {
     return {out.data + std::size_t(quad) * kQuad * out.channel_stride, out.element_stride, out.channel_stride, lanes};
 }
 
-// The tables a pass reads, as plain pointers: vector stores may alias anything, so the compiler would otherwise
-// reload the data pointers of LevelStencils' vectors after every output.
-struct Tables {
-    const std::int32_t *ring_offsets, *ring, *edge_ends, *edge_c, *edge_d;
+// The tables a run reads, as plain pointers (a StencilView and the smooth weights): vector stores may alias anything,
+// so the compiler would otherwise reload the data pointers of LevelStencils' vectors after every output.
+struct Tables : StencilView {
     const float *smooth_self, *smooth_ring;
     std::size_t first_edge_point;  // output element of edge point 0
 
-    explicit Tables(const LevelStencils& s)
-        : ring_offsets(s.ring_offsets.data()), ring(s.ring.data()), edge_ends(s.edge_ends.data()),
-          edge_c(s.edge_c.data()), edge_d(s.edge_d.data()), smooth_self(s.smooth_self.data()),
-          smooth_ring(s.smooth_ring.data()), first_edge_point(std::size_t(s.num_vertices)) {}
+    Tables(const LevelStencils& s, const StencilView& view)
+        : StencilView(view), smooth_self(s.smooth_self.data()), smooth_ring(s.smooth_ring.data()),
+          first_edge_point(std::size_t(s.num_vertices)) {}
 };
 
 // Runs an instruction set's smooth pass, smooth(tables, source, target), over every quad of channels, with the
 // source and target types that let it compile the common layouts to plain strided loads and stores.
 template <typename SmoothPass>
-void for_each_quad(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, const SmoothPass& smooth) {
-    const Tables tables(s);
+void for_each_quad(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
+                   const SmoothPass& smooth) {
+    const Tables tables(s, view);
     for (int quad = 0; quad * kQuad < in.num_channels; ++quad) {
         const float* first_channel = in.data + quad * kQuad;
         const QuadTarget target = quad_target(out, quad);
@@ -103,6 +103,8 @@ void for_each_quad(const LevelStencils& s, ChannelsView<const float> in, Channel
             smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, PackedQuads{target.data});
         else if (in.element_stride == kQuad)
             smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, target);
+        else if (in.element_stride == 3)  // positions in the evaluation's scratch
+            smooth(tables, QuadSource<3>{first_channel, 3}, target);
         else
             smooth(tables, QuadSource<0>{first_channel, in.element_stride}, target);
     }

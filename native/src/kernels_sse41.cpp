@@ -20,7 +20,7 @@ namespace {
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     for (int i = vertices.begin; i < vertices.end; ++i) {
-        const int first = t.ring_offsets[i], last = t.ring_offsets[i + 1], valence = last - first;
+        const int first = t.ring_first(i), valence = t.valence(i), last = first + valence;
         __m128 ring_sum = _mm_setzero_ps();
         for (int k = first; k < last; ++k) ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(t.ring[k])));
         out.store(i, _mm_add_ps(_mm_mul_ps(_mm_set1_ps(t.smooth_self[valence]), _mm_loadu_ps(in.at(i))),
@@ -29,21 +29,21 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
     const __m128 end_weight = _mm_set1_ps(kSmoothEdgeEndWeight);
     const __m128 wing_weight = _mm_set1_ps(kSmoothEdgeWingWeight);
     for (int e = edges.begin; e < edges.end; ++e) {
-        const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.edge_ends[2 * e])), _mm_loadu_ps(in.at(t.edge_ends[2 * e + 1])));
-        const __m128 wings = _mm_add_ps(_mm_loadu_ps(in.at(t.edge_c[e])), _mm_loadu_ps(in.at(t.edge_d[e])));
+        const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))));
+        const __m128 wings = _mm_add_ps(_mm_loadu_ps(in.at(t.wing_c(e))), _mm_loadu_ps(in.at(t.wing_d(e))));
         out.store(t.first_edge_point + e, _mm_add_ps(_mm_mul_ps(end_weight, ends), _mm_mul_ps(wing_weight, wings)));
     }
 }
 
 }  // namespace
 
-void refine_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range vertices,
-                 Range edges) {
-    if (!reads_as_quads(in)) return refine_scalar(s, in, out, vertices, edges);
-    for_each_quad(s, in, out, [&](const Tables& tables, auto source, auto target) {
+void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
+                  Range vertices, Range edges) {
+    if (!reads_as_quads(in)) return refine_scalar(s, view, in, out, vertices, edges);
+    for_each_quad(s, view, in, out, [&](const Tables& tables, auto source, auto target) {
         smooth_quad(tables, source, target, vertices, edges);
     });
-    apply_specials(s, in, out, vertices, edges);
+    apply_specials(s, view, in, out, vertices, edges);
 }
 
 }  // namespace loopsub::detail

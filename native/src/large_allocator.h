@@ -67,6 +67,19 @@ public:
         return true;
     }
 
+    // Gives every kept block back (a plan far bigger than the budget is done building: its dead levels would
+    // otherwise sit in the pool beside its output, for little reuse).
+    template <typename Free>
+    void release_all(Free free_block) {
+        std::deque<std::pair<std::size_t, void*>> released;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            released.swap(blocks_);
+            held_ = 0;
+        }
+        for (const auto& [size, block] : released) free_block(block, size);
+    }
+
 private:
     std::mutex mutex_;
     std::deque<std::pair<std::size_t, void*>> blocks_;

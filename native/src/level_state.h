@@ -58,15 +58,16 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         const Feature* edge;  // null: the vertex is a feature itself, or a cone
         bool operator<(const Touch& other) const { return vertex < other.vertex; }
     };
-    const Topology& t = level.topology;
     std::vector<Touch> touches;
     touches.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
     for (const Feature& f : level.edges) {
-        touches.push_back({t.edge_vertices[2 * f.index], &f});
-        touches.push_back({t.edge_vertices[2 * f.index + 1], &f});
+        Index ends[2];
+        around.edge_ends(f.index, ends);
+        touches.push_back({ends[0], &f});
+        touches.push_back({ends[1], &f});
     }
     for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr});
-    for (Index v : cones) if (v < t.num_vertices) touches.push_back({v, nullptr});
+    for (Index v : cones) if (v < level.topology.num_vertices) touches.push_back({v, nullptr});
     std::sort(touches.begin(), touches.end());
 
     std::vector<Index> edges;

@@ -10,6 +10,7 @@
 #include "common.h"
 #include "kernels.h"
 #include "level_state.h"
+#include "parallel.h"
 #include "plan_data.h"
 #include "rule_set.h"
 #include "rules.h"
@@ -24,9 +25,14 @@ using detail::Topology;
 using detail::describe_bytes;
 using detail::estimate_for_counts;
 using detail::kSaturated;
+using detail::add;
 using detail::mul;
 
 namespace {
+
+// LevelTables::Auto: past this size of stored tables of the level before the last (its rings, edge ends and wings,
+// and its faces while the plan is built), tables are derived instead.
+constexpr std::uint64_t kDeriveAboveBytes = std::uint64_t(128) << 20;
 
 Index find_edge(const Topology& t, Index a, Index b) {
     for (Index k = t.vertex_edge_offsets[a]; k < t.vertex_edge_offsets[a + 1]; ++k)
@@ -149,13 +155,14 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // With the limit surface, the last level is planned like the others, its limit pass standing in for a child.
     const int final_level = options.levels + (options.limit_surface ? 1 : 0);
     const bool last_child = child_level == final_level, grandchild_last = child_level + 1 == final_level;
-    Topology& t = level.topology;
-    const int nv = t.num_vertices, ne = t.num_edges();
+    Topology& t = level.topology;  // empty but for num_vertices where the level is derived
+    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
+    const int nv = t.num_vertices, ne = around.num_edges();
 
     detail::LevelStencils& s = stencils.emplace_back();
     s.num_vertices = nv;
     s.num_edges = ne;
-    const int max_valence = t.max_valence();
+    const int max_valence = around.max_valence();
     max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));  // a ring, or an edge's two ends
     detail::set_smooth_masks(s, max_valence, detail::smooth_vertex_mask);
 
@@ -167,7 +174,6 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // old vertex's from its child sharpness, a midpoint's from its two halves, over this level's neighbourhoods.
     std::vector<VertexType> last_types;
     if (last_child) last_types.assign(std::size_t(nv) + std::size_t(ne), VertexType::Smooth);
-    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
     std::vector<float> child_sharpness;
     detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {
         const Index v = vertex.vertex;
@@ -181,7 +187,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
             const float child_tag = rules->child_tag(vertex.tags[k], decayed);
-            if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({detail::child_edge_at(t, e, v), decayed, child_tag});
+            if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({around.child_edge_at(e, v), decayed, child_tag});
         }
         const float vertex_sharpness = level.vertex_sharpness(v);
         const float child_vertex_sharpness = rules->child_vertex_sharpness(vertex_sharpness);
@@ -203,7 +209,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             ends);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
             const bool has_ends = mask.crease != 0.0;
-            s.special_vertices.push_back({v, has_ends ? t.other_end(ends[0], v) : v, has_ends ? t.other_end(ends[1], v) : v,
+            s.special_vertices.push_back({v, has_ends ? around.other_end(ends[0], v) : v, has_ends ? around.other_end(ends[1], v) : v,
                                           float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
         }
     });
@@ -220,11 +226,26 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     }
 
     // The last level needs only its triangles. The one before it needs its stencils, but not its edge faces and
-    // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level.
-    child.topology = detail::refine_topology(t, last_child        ? detail::Refined::FacesOnly
-                                                : grandchild_last ? detail::Refined::ForStencils
-                                                                  : detail::Refined::Full,
-                                             options.threads);
+    // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level. With
+    // derived tables (Options::level_tables) a level keeps its connectivity only, and the one before the last is not
+    // stored at all: its child's triangles come from this level through the numbering, as its stencils will.
+    if (derive_tables && grandchild_last) {
+        child.topology.num_vertices = nv + ne;
+    } else if (derive_tables && last_child) {
+        child.topology.num_vertices = nv + ne;
+        child.topology.face_vertices.resize(48 * std::size_t(parent.num_faces()));
+        detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
+            const int faces = parent.num_faces();
+            detail::write_grandchild_faces(parent, int(std::int64_t(faces) * part / parts), int(std::int64_t(faces) * (part + 1) / parts),
+                                           child.topology.face_vertices.data());
+        });
+    } else {
+        child.topology = detail::refine_topology(t, last_child        ? detail::Refined::FacesOnly
+                                                    : grandchild_last ? detail::Refined::ForStencils
+                                                    : derive_tables   ? detail::Refined::Connectivity
+                                                                      : detail::Refined::Full,
+                                                 options.threads);
+    }
     child.own_neighbourhood = !grandchild_last;
     level_num_vertices.push_back(child.topology.num_vertices);
 
@@ -234,19 +255,23 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         const Index e = feature.index;
         const float sharpness = feature.sharpness;
         if (!detail::is_sharp(sharpness)) continue;
-        const Index a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
+        Index ends[2];
+        around.edge_ends(e, ends);
+        const Index a = ends[0], b = ends[1];
         const bool halves_sharp = detail::is_sharp(child.edge_sharpness(2 * e)) && detail::is_sharp(child.edge_sharpness(2 * e + 1));
         const detail::EdgeMask mask = rules->edge_mask({sharpness, types[a], types[b], around.edge_face_count(e), halves_sharp});
         if (!(mask == detail::smooth_edge_mask())) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
 
     // Hand over what the stencils keep rather than copy it; the offsets stay where the next level may still derive
-    // its neighbourhoods from this one.
-    if (last_child) s.ring_offsets = std::move(t.vertex_edge_offsets);
-    else s.ring_offsets = t.vertex_edge_offsets;
-    s.ring = std::move(t.vertex_vertices);
-    s.edge_c = std::move(t.edge_opposite_c);
-    s.edge_d = std::move(t.edge_opposite_d);
+    // its neighbourhoods from this one. Derived tables (levels past the base) are not stored.
+    if (!derive_tables || child_level == 1) {
+        if (last_child) s.ring_offsets = std::move(t.vertex_edge_offsets);
+        else s.ring_offsets = t.vertex_edge_offsets;
+        s.ring = std::move(t.vertex_vertices);
+        s.edge_c = std::move(t.edge_opposite_c);
+        s.edge_d = std::move(t.edge_opposite_d);
+    }
     if (last_child) level_vertex_types.push_back(std::move(last_types));  // last: it moves `types`
 }
 
@@ -282,8 +307,11 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
     auto add_ends = [&](Index edge, std::vector<Index>& to) {
         if (parent) {
             const Index e = edge / 2, m = parent->num_vertices + e;
-            to.push_back(edge % 2 == 0 ? parent->edge_ends[2 * e] : m);
-            to.push_back(edge % 2 == 0 ? m : parent->edge_ends[2 * e + 1]);
+            Index ends[2];
+            if (parent->derived_from) detail::child_edge_ends(*parent->derived_from, e, ends);
+            else ends[0] = parent->edge_ends[2 * e], ends[1] = parent->edge_ends[2 * e + 1];
+            to.push_back(edge % 2 == 0 ? ends[0] : m);
+            to.push_back(edge % 2 == 0 ? m : ends[1]);
         } else {
             to.push_back(last.topology.edge_vertices[2 * edge]);
             to.push_back(last.topology.edge_vertices[2 * edge + 1]);
@@ -334,13 +362,27 @@ void PlanImpl::build(const MeshView& mesh) {
 
     std::vector<detail::FaceVaryingBuilder> layers;
     for (int k = 0; k < mesh.num_face_varying; ++k) layers.emplace_back(mesh, k, options, level);
+    // Options::level_tables. Auto: an evaluation from stored tables is faster (docs/benchmark.md), so a plan keeps
+    // them up to where its memory, and its build time, matter more.
+    LevelCounts last_but_one = counts;
+    for (int l = 1; l < options.levels; ++l) last_but_one = last_but_one.child();
+    const std::uint64_t stored_tables = mul(24, add(last_but_one.edges, last_but_one.faces));  // ring, edges, faces
+    const bool derivable = options.levels >= 2 && !options.limit_surface && layers.empty();
+    derive_tables = derivable && (options.level_tables == LevelTables::Derived ||
+                                  (options.level_tables == LevelTables::Auto && stored_tables > kDeriveAboveBytes));
     Topology parent;  // the level before `level`: the next-to-last level derives its neighbourhoods from it
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
         plan_level(level, parent, child, l + 1);
         for (detail::FaceVaryingBuilder& layer : layers) layer.plan_level(level, stencils[l], child, l + 1 == options.levels);
-        // A level's edge list serves its child's neighbourhoods, then the stencils as the edge points' ends.
-        if (l > 0) stencils[l - 1].edge_ends = std::move(parent.edge_vertices);
+        // A level's edge list serves its child's neighbourhoods, then the stencils as the edge points' ends; with
+        // derived tables, a level's stencils keep the whole level before (the base's stencils its own edge list).
+        if (derive_tables && l > 0) {
+            if (l == 1) stencils[0].edge_ends = parent.edge_vertices;
+            stencils[l].derived_from = std::make_unique<Topology>(std::move(parent));
+        } else if (l > 0) {
+            stencils[l - 1].edge_ends = std::move(parent.edge_vertices);
+        }
         parent = std::move(level.topology);
         level = std::move(child);
     }
@@ -349,13 +391,14 @@ void PlanImpl::build(const MeshView& mesh) {
         if (options.limit_surface) layer.plan_limit(level, limit->positions);
         face_varying.push_back(layer.finish());
     }
-    if (options.levels > 0) stencils.back().edge_ends = std::move(parent.edge_vertices);
+    if (options.levels > 0 && !stencils.back().derived_from) stencils.back().edge_ends = std::move(parent.edge_vertices);
     output_triangles = std::move(level.topology.face_vertices);
     if (!holes.empty()) drop_holes();
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
     collect_output_tags(level);
     rules.reset();
+    if (needed > 4 * detail::BlockPool::kPoolBytes) detail::BlockPool::instance().release_all(detail::LargeAllocator<char>::free_large);
     topology_ms = detail::ms_since(start);
 }
 
@@ -400,7 +443,12 @@ const std::vector<std::int32_t>& Plan::level_edges(int level) const {
     std::call_once(p.level_edges_ready[level], [&p, level] {
         const detail::LevelStencils& s = p.stencils[level];
         std::vector<Index>& edges = p.level_edges[level];
-        edges.assign(s.edge_ends.begin(), s.edge_ends.end());
+        if (!s.derived_from) {
+            edges.assign(s.edge_ends.begin(), s.edge_ends.end());
+            return;
+        }
+        edges.resize(2 * std::size_t(s.num_edges));
+        for (Index e = 0; e < s.num_edges; ++e) detail::child_edge_ends(*s.derived_from, e, &edges[2 * std::size_t(e)]);
     });
     return p.level_edges[level];
 }

@@ -72,6 +72,8 @@ struct PlanImpl {
     // A kernel sums up to this many input values before it weights them (a vertex's ring): inputs must stay below
     // the float maximum divided by it, or the sums overflow to infinity and give NaN (checked by evaluate).
     int max_summed_terms = 1;
+    // Options::level_tables, resolved: the stencils of levels 1 .. levels - 1 are derived (LevelStencils::derived_from).
+    bool derive_tables = false;
     double topology_ms = 0.0, evaluate_ms = 0.0;
 
     // Building (plan.cpp).

@@ -10,10 +10,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "large_allocator.h"
 #include "rules.h"
+#include "topology.h"
 
 namespace loopsub::detail {
 
@@ -47,7 +49,34 @@ struct LevelStencils {
     LargeVector<std::int32_t> edge_ends;  // 2 per edge: A, B
     LargeVector<std::int32_t> edge_c, edge_d;
     std::vector<SpecialEdge> special_edges;  // sorted by edge
+
+    // Set for a level whose tables above are not stored (the level before the last, when nothing but positions is
+    // refined): its rings and edges are derived from its parent level's connectivity through the numbering, a chunk
+    // at a time as the kernels run (child_rings, child_edges). That level is the biggest one refined from: writing
+    // and holding its tables cost more than deriving them.
+    std::unique_ptr<Topology> derived_from;
 };
+
+// The index tables of one kernel run, as plain pointers: a stored level's own (bases 0), or a derived level's for a
+// chunk, filled just before the run. Vertex i's ring is ring[ring_offsets[i - vertex_base] ..
+// ring_offsets[i - vertex_base + 1]); edge e's ends are edge_ends[2 (e - edge_base)] and the next, its wings
+// edge_c[e - edge_base] and edge_d[e - edge_base].
+struct StencilView {
+    const std::int32_t *ring_offsets, *ring, *edge_ends, *edge_c, *edge_d;
+    int vertex_base = 0, edge_base = 0;
+
+    // Vertex i's ring: ring[ring_first(i) .. ring_first(i) + valence(i)).
+    int ring_first(int i) const { return ring_offsets[i - vertex_base]; }
+    int valence(int i) const { return ring_offsets[i - vertex_base + 1] - ring_offsets[i - vertex_base]; }
+    // Edge e's ends A (0) and B (1), and its wings C and D.
+    std::int32_t end(int e, int which) const { return edge_ends[2 * (e - edge_base) + which]; }
+    std::int32_t wing_c(int e) const { return edge_c[e - edge_base]; }
+    std::int32_t wing_d(int e) const { return edge_d[e - edge_base]; }
+};
+
+inline StencilView stored_view(const LevelStencils& s) {
+    return {s.ring_offsets.data(), s.ring.data(), s.edge_ends.data(), s.edge_c.data(), s.edge_d.data(), 0, 0};
+}
 
 // Fills the smooth pass's weights for valences 0 .. max_valence from `mask(n)` (the refinement's or the limit's
 // mask, anything with `self` and `ring`).

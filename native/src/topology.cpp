@@ -13,6 +13,39 @@ namespace {
 inline int next_corner(int corner) { return corner == 2 ? 0 : corner + 1; }
 inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
 
+// Where edge e sits in face f's edges (edge k runs from corner k to corner k + 1).
+inline int local_edge(const Index* face_edges, Index e) { return face_edges[0] == e ? 0 : face_edges[1] == e ? 1 : 2; }
+
+// The vertices opposite the two halves of parent edge e in their first two faces: (C, D) of half 2e, then of half
+// 2e + 1. A half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there; where a face is
+// missing, C / D repeat the half's ends.
+inline void half_edge_wings(const Topology& p, Index e, Index wings[4]) {
+    const Index nv = p.num_vertices, a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
+    Index at_a[2] = {a, m}, at_b[2] = {m, b};
+    int face = 0;
+    for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1] && face < 2; ++k, ++face) {
+        const Index f = p.edge_faces[k];
+        const Index* fe = &p.face_edges[3 * f];
+        const int local = local_edge(fe, e);
+        const bool a_first = p.face_vertices[3 * f + local] == a;
+        const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
+        at_a[face] = a_first ? before : after;
+        at_b[face] = a_first ? after : before;
+    }
+    wings[0] = at_a[0], wings[1] = at_a[1], wings[2] = at_b[0], wings[3] = at_b[1];
+}
+
+// Ends and wings of interior edge k of face f, which joins midpoints k and k + 1: it lies opposite v_{k+1} in its
+// corner child and opposite m_{k-1} in the middle child.
+inline void interior_edge(const Topology& p, Index f, int k, Index abcd[4]) {
+    const Index nv = p.num_vertices;
+    const Index* fe = &p.face_edges[3 * f];
+    abcd[0] = nv + fe[k];
+    abcd[1] = nv + fe[next_corner(k)];
+    abcd[2] = p.face_vertices[3 * f + next_corner(k)];
+    abcd[3] = nv + fe[prev_corner(k)];
+}
+
 // Prefix sums of per-item counts: offsets has one more entry than counts.
 LargeVector<Index> offsets_from_counts(const LargeVector<Index>& counts) {
     LargeVector<Index> offsets(counts.size() + 1);
@@ -59,6 +92,30 @@ void fill_neighbourhood(Topology& t) {
         t.edge_opposite_c[e] = faces > 0 ? t.opposite_vertex(f[0], e) : t.edge_vertices[2 * e];
         t.edge_opposite_d[e] = faces > 1 ? t.opposite_vertex(f[1], e) : t.edge_vertices[2 * e + 1];
     }
+}
+
+// The one-ring of child vertex v, in refine_topology's order; returns the end of what it wrote.
+inline Index* write_child_ring(const Topology& p, Index v, Index* out) {
+    const Index nv = p.num_vertices;
+    if (v < nv) {  // an old vertex: the midpoints of its edges, in order
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *out++ = nv + p.vertex_edges[k];
+        return out;
+    }
+    // The midpoint of edge e: its ends, then per face of e the two midpoints it is joined to.
+    const Index e = v - nv;
+    *out++ = p.edge_vertices[2 * e];
+    *out++ = p.edge_vertices[2 * e + 1];
+    for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+        const Index* fe = &p.face_edges[3 * p.edge_faces[k]];
+        const int local = local_edge(fe, e);
+        *out++ = nv + fe[next_corner(local)];
+        *out++ = nv + fe[prev_corner(local)];
+    }
+    return out;
+}
+
+inline int child_valence(const Topology& p, Index v) {
+    return v < p.num_vertices ? p.valence(v) : 2 + 2 * p.edge_face_count(v - p.num_vertices);
 }
 
 }  // namespace
@@ -136,7 +193,9 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
 
 Topology refine_topology(const Topology& p, Refined what, int threads) {
     const int nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
-    const bool faces_only = what == Refined::FacesOnly, full = what == Refined::Full;
+    const bool faces_only = what == Refined::FacesOnly;
+    const bool full = what == Refined::Full || what == Refined::Connectivity;  // edge faces and vertex edges
+    const bool neighbourhood = what == Refined::Full || what == Refined::ForStencils;
     Topology c;
     c.num_vertices = nv + ne;
     const Index interior_base = 2 * ne;
@@ -146,23 +205,27 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     // is written by exactly one parent element, and every offset has a closed form in the parent's, so the parts
     // need no synchronisation.
     c.face_vertices.resize(12 * std::size_t(nf));
+    // (A FacesOnly child's parent may lack its edge faces and vertex edges: it was refined ForStencils.)
+    const std::size_t ring_entries =
+        faces_only ? 0 : std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]);
     if (!faces_only) {
         c.edge_vertices.resize(2 * child_edges);
         c.face_edges.resize(12 * std::size_t(nf));
-        c.edge_opposite_c.resize(child_edges);
-        c.edge_opposite_d.resize(child_edges);
         // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two
         // halves and, per face of e, the two interior edges that meet it.
         c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
-        c.vertex_vertices.resize(std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]));
+        if (neighbourhood) {
+            c.edge_opposite_c.resize(child_edges);
+            c.edge_opposite_d.resize(child_edges);
+            c.vertex_vertices.resize(ring_entries);
+        }
         if (full) {
             // A half of parent edge e has e's faces; an interior edge has two.
             c.edge_face_offsets.resize(child_edges + 1);
             c.edge_faces.resize(2 * std::size_t(p.edge_face_offsets[ne]) + 6 * std::size_t(nf));
-            c.vertex_edges.resize(c.vertex_vertices.size());
+            c.vertex_edges.resize(ring_entries);
         }
     }
-    // (A FacesOnly child's parent may lack its edge faces and vertex edges: it was refined ForStencils.)
     const Index faces_of_halves = faces_only ? 0 : 2 * p.edge_face_offsets[ne];
     const Index edges_of_old = faces_only ? 0 : p.vertex_edge_offsets[nv];
 
@@ -193,11 +256,15 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
         for (int f = f0; f < f1; ++f) {
             const Index* v = &p.face_vertices[3 * f];
             const Index* fe = &p.face_edges[3 * f];
-            const Index interior = interior_base + 3 * f;  // interior edge k joins midpoints k and k + 1
+            const Index interior = interior_base + 3 * f;
             for (int k = 0; k < 3; ++k) {
-                const std::size_t edge = 2 * std::size_t(interior + k);
-                c.edge_vertices[edge] = nv + fe[k];
-                c.edge_vertices[edge + 1] = nv + fe[next_corner(k)];
+                Index abcd[4];
+                interior_edge(p, f, k, abcd);
+                c.edge_vertices[2 * std::size_t(interior + k)] = abcd[0];
+                c.edge_vertices[2 * std::size_t(interior + k) + 1] = abcd[1];
+                if (!neighbourhood) continue;
+                c.edge_opposite_c[interior + k] = abcd[2];
+                c.edge_opposite_d[interior + k] = abcd[3];
             }
             Index* out = &c.face_edges[12 * std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
@@ -211,49 +278,34 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
 
         // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
         // edge k of face f lies in the corner child k + 1 and the middle child.
-        // Opposite vertices: a half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there;
-        // interior edge k lies opposite v_{k+1} in its corner child and opposite m_{k-1} in the middle child.
         for (int e = e0; e < e1; ++e) {
+            if (neighbourhood) {
+                Index wings[4];
+                half_edge_wings(p, e, wings);
+                c.edge_opposite_c[2 * e] = wings[0], c.edge_opposite_d[2 * e] = wings[1];
+                c.edge_opposite_c[2 * e + 1] = wings[2], c.edge_opposite_d[2 * e + 1] = wings[3];
+            }
+            if (!full) continue;
             const Index count = p.edge_face_count(e);
-            if (full) {
-                c.edge_face_offsets[2 * e] = 2 * p.edge_face_offsets[e];
-                c.edge_face_offsets[2 * e + 1] = 2 * p.edge_face_offsets[e] + count;
-            }
-            Index* at_a = full ? &c.edge_faces[c.edge_face_offsets[2 * e]] : nullptr;
-            Index* at_b = full ? at_a + count : nullptr;
-            const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
-            Index opposite_at_a[2] = {a, m}, opposite_at_b[2] = {m, b};  // (c, d) when faces are missing
-            int face = 0;
-            for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k, ++face) {
+            c.edge_face_offsets[2 * e] = 2 * p.edge_face_offsets[e];
+            c.edge_face_offsets[2 * e + 1] = 2 * p.edge_face_offsets[e] + count;
+            Index* at_a = &c.edge_faces[c.edge_face_offsets[2 * e]];
+            Index* at_b = at_a + count;
+            const Index a = p.edge_vertices[2 * e];
+            for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
                 const Index f = p.edge_faces[k];
-                const Index* fe = &p.face_edges[3 * f];
-                const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;  // edge `local` runs from corner local to local+1
+                const int local = local_edge(&p.face_edges[3 * f], e);
                 const bool a_first = p.face_vertices[3 * f + local] == a;
-                if (full) {
-                    *at_a++ = 4 * f + (a_first ? local : next_corner(local));
-                    *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
-                }
-                if (face < 2) {
-                    const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
-                    opposite_at_a[face] = a_first ? before : after;
-                    opposite_at_b[face] = a_first ? after : before;
-                }
+                *at_a++ = 4 * f + (a_first ? local : next_corner(local));
+                *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
             }
-            c.edge_opposite_c[2 * e] = opposite_at_a[0], c.edge_opposite_d[2 * e] = opposite_at_a[1];
-            c.edge_opposite_c[2 * e + 1] = opposite_at_b[0], c.edge_opposite_d[2 * e + 1] = opposite_at_b[1];
         }
-        for (int f = f0; f < f1; ++f) {
-            const Index* fe = &p.face_edges[3 * f];
+        for (int f = f0; f < f1 && full; ++f) {
             for (int k = 0; k < 3; ++k) {
-                const Index edge = interior_base + 3 * f + k;
-                if (full) {
-                    const Index first = faces_of_halves + 2 * (3 * f + k);
-                    c.edge_face_offsets[edge] = first;
-                    c.edge_faces[first] = 4 * f + next_corner(k);
-                    c.edge_faces[first + 1] = 4 * f + 3;
-                }
-                c.edge_opposite_c[edge] = p.face_vertices[3 * f + next_corner(k)];
-                c.edge_opposite_d[edge] = nv + fe[prev_corner(k)];
+                const Index first = faces_of_halves + 2 * (3 * f + k);
+                c.edge_face_offsets[interior_base + 3 * f + k] = first;
+                c.edge_faces[first] = 4 * f + next_corner(k);
+                c.edge_faces[first + 1] = 4 * f + 3;
             }
         }
         if (full && part + 1 == parts) c.edge_face_offsets[child_edges] = faces_of_halves + 6 * nf;
@@ -262,8 +314,7 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
             c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
             // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end
             // (or the arrays empty, when no vertex has an edge).
-            Index* neighbours = c.vertex_vertices.data() + p.vertex_edge_offsets[v];
-            for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *neighbours++ = nv + p.vertex_edges[k];
+            if (neighbourhood) write_child_ring(p, v, c.vertex_vertices.data() + p.vertex_edge_offsets[v]);
             if (!full) continue;
             Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
             for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
@@ -271,26 +322,98 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
         for (int e = e0; e < e1; ++e) {
             const Index first = edges_of_old + 2 * e + 2 * p.edge_face_offsets[e];
             c.vertex_edge_offsets[nv + e] = first;
-            Index* neighbours = c.vertex_vertices.data() + first;
-            Index* edges = full ? c.vertex_edges.data() + first : nullptr;
-            *neighbours++ = p.edge_vertices[2 * e];
-            *neighbours++ = p.edge_vertices[2 * e + 1];
-            if (full) *edges++ = 2 * e, *edges++ = 2 * e + 1;
+            if (neighbourhood) write_child_ring(p, nv + e, c.vertex_vertices.data() + first);
+            if (!full) continue;
+            Index* edges = c.vertex_edges.data() + first;
+            *edges++ = 2 * e, *edges++ = 2 * e + 1;
             for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
                 const Index f = p.edge_faces[k];
-                const Index* fe = &p.face_edges[3 * f];
-                const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
-                *neighbours++ = nv + fe[next_corner(local)];
-                *neighbours++ = nv + fe[prev_corner(local)];
-                if (full) {
-                    *edges++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
-                    *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
-                }
+                const int local = local_edge(&p.face_edges[3 * f], e);
+                *edges++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
+                *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
             }
         }
-        if (part + 1 == parts) c.vertex_edge_offsets[c.num_vertices] = Index(c.vertex_vertices.size());
+        if (part + 1 == parts) c.vertex_edge_offsets[c.num_vertices] = Index(ring_entries);
     });
     return c;
+}
+
+void child_rings(const Topology& p, int begin, int end, Index* offsets, std::vector<Index>& ring) {
+    offsets[0] = 0;
+    for (int v = begin; v < end; ++v) offsets[v - begin + 1] = offsets[v - begin] + child_valence(p, v);
+    ring.resize(std::size_t(offsets[end - begin]));
+    Index* out = ring.data();
+    for (int v = begin; v < end; ++v) out = write_child_ring(p, v, out);
+}
+
+void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, Index* d) {
+    const Index nv = p.num_vertices, halves = 2 * p.num_edges();
+    auto put = [&](int e, Index a, Index b, Index wing_c, Index wing_d) {
+        const int k = e - begin;
+        ends[2 * k] = a, ends[2 * k + 1] = b, c[k] = wing_c, d[k] = wing_d;
+    };
+    // Halves 2h and 2h + 1 of parent edge h share their wings' search.
+    for (int h = begin / 2; h < (std::min(end, halves) + 1) / 2; ++h) {
+        Index wings[4];
+        half_edge_wings(p, h, wings);
+        if (2 * h >= begin) put(2 * h, p.edge_vertices[2 * h], nv + h, wings[0], wings[1]);
+        if (2 * h + 1 < end) put(2 * h + 1, nv + h, p.edge_vertices[2 * h + 1], wings[2], wings[3]);
+    }
+    // Interior edges, three per face.
+    const int interior_begin = std::max(begin, halves) - halves, interior_end = end - halves;
+    for (int f = interior_begin / 3; f < (interior_end + 2) / 3; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const int e = halves + 3 * f + k;
+            if (e < begin || e >= end) continue;
+            Index abcd[4];
+            interior_edge(p, f, k, abcd);
+            put(e, abcd[0], abcd[1], abcd[2], abcd[3]);
+        }
+    }
+}
+
+void child_edge_ends(const Topology& p, Index e, Index ends[2]) {
+    const Index nv = p.num_vertices, halves = 2 * p.num_edges();
+    if (e < halves) {  // half 2h = (a, m), 2h + 1 = (m, b)
+        ends[0] = e % 2 == 0 ? p.edge_vertices[e] : nv + e / 2;
+        ends[1] = e % 2 == 0 ? nv + e / 2 : p.edge_vertices[e];
+        return;
+    }
+    const Index f = (e - halves) / 3;
+    const int k = (e - halves) % 3;
+    ends[0] = nv + p.face_edges[3 * f + k];
+    ends[1] = nv + p.face_edges[3 * f + next_corner(k)];
+}
+
+void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
+    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
+    const Index child_vertices = nv + p.num_edges();  // the grandchild's midpoint of child edge E is child_vertices + E
+    out += 48 * std::size_t(f0);
+    for (int f = f0; f < f1; ++f) {
+        const Index* v = &p.face_vertices[3 * f];
+        const Index* fe = &p.face_edges[3 * f];
+        const Index m[3] = {nv + fe[0], nv + fe[1], nv + fe[2]};
+        const Index interior = interior_base + 3 * f;
+        // The four children as refine_topology numbers them, each with its corners and edges (edge i from corner i
+        // to corner i + 1), then each child split the same way.
+        Index corners[4][3], edges[4][3];
+        for (int k = 0; k < 3; ++k) {
+            const int before = prev_corner(k);
+            corners[k][0] = v[k], corners[k][1] = m[k], corners[k][2] = m[before];
+            edges[k][0] = child_edge_at(p, fe[k], v[k]);
+            edges[k][1] = interior + before;
+            edges[k][2] = child_edge_at(p, fe[before], v[k]);
+            corners[3][k] = m[k];
+            edges[3][k] = interior + k;
+        }
+        for (int child = 0; child < 4; ++child) {
+            const Index a = corners[child][0], b = corners[child][1], c = corners[child][2];
+            const Index m0 = child_vertices + edges[child][0], m1 = child_vertices + edges[child][1], m2 = child_vertices + edges[child][2];
+            const Index twelve[12] = {a, m0, m2, b, m1, m0, c, m2, m1, m0, m1, m2};
+            std::copy(twelve, twelve + 12, out);
+            out += 12;
+        }
+    }
 }
 
 std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
@@ -369,6 +492,25 @@ namespace loopsub::detail {
 VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived)
     : level_(level), parent_(parent_if_derived) {}
 
+int VertexNeighbourhood::num_edges() const {
+    return parent_ ? 2 * parent_->num_edges() + 3 * parent_->num_faces() : level_.num_edges();
+}
+
+int VertexNeighbourhood::max_valence() const {
+    if (!parent_) return level_.max_valence();
+    int largest = parent_->max_valence();  // old vertices keep theirs
+    for (int e = 0; e < parent_->num_edges(); ++e) largest = std::max(largest, child_valence(*parent_, parent_->num_vertices + e));
+    return largest;
+}
+
+void VertexNeighbourhood::edge_ends(Index e, Index ends[2]) const {
+    if (!parent_) {
+        ends[0] = level_.edge_vertices[2 * e], ends[1] = level_.edge_vertices[2 * e + 1];
+        return;
+    }
+    child_edge_ends(*parent_, e, ends);
+}
+
 void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
     out.clear();
     if (!parent_) {
@@ -378,7 +520,7 @@ void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
     const Topology& p = *parent_;
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
     if (v < nv) {
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) out.push_back(child_edge_at(p, p.vertex_edges[k], v));
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) out.push_back(detail::child_edge_at(p, p.vertex_edges[k], v));
         return;
     }
     const Index e = v - nv;

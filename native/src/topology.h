@@ -47,19 +47,35 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
 // midpoints of face edges k and k + 1. The winged-edge neighbourhood follows from the same numbering, without
 // lookups.
 enum class Refined {
-    Full,         // everything
-    ForStencils,  // no edge faces or vertex edges: a level whose vertices need no classification or further split
-    FacesOnly     // face_vertices only: the last level
+    Full,          // everything
+    Connectivity,  // no winged-edge neighbourhood (vertex_vertices, edge_opposite_c / _d): a level whose stencils are
+                   // derived from its parent (LevelStencils::derived_from)
+    ForStencils,   // no edge faces or vertex edges: a level whose vertices need no classification or further split
+    FacesOnly      // face_vertices only: the last level
 };
 // `threads` share the work (each writes its own slice of every array).
 Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
 
-// The connectivity around single vertices of a level, whether the level holds it (Refined::Full and the base) or
-// was refined ForStencils: then it is derived from the parent level through the numbering, as refine_topology
-// would have written it. Classifying the few vertices next to a crease needs no more.
+// The connectivity around single vertices and edges of a level, whether the level holds it (Refined::Full and the
+// base) or not (refined ForStencils, or not stored at all): then it is derived from the parent level through the
+// numbering, as refine_topology would have written it. Classifying the few vertices next to a crease needs no more.
 class VertexNeighbourhood {
 public:
     VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived);
+    int num_edges() const;
+    int max_valence() const;
+    void edge_ends(Index e, Index ends[2]) const;
+    Index other_end(Index e, Index v) const {
+        Index ends[2];
+        edge_ends(e, ends);
+        return ends[0] == v ? ends[1] : ends[0];
+    }
+    // The child edge of edge e at its end vertex v (child_edge_at, below).
+    Index child_edge_at(Index e, Index v) const {
+        Index ends[2];
+        edge_ends(e, ends);
+        return 2 * e + (ends[0] == v ? 0 : 1);
+    }
     // The edges of v, in the order of its vertex_vertices.
     void edges(Index v, std::vector<Index>& out) const;
     int edge_face_count(Index e) const;
@@ -71,6 +87,22 @@ private:
     const Topology& level_;
     const Topology* parent_;
 };
+
+// A child level known through its parent's numbering instead of stored: the level before the last, when nothing but
+// vertex values are refined (LevelStencils::derived_from). Its rings and edges are derived a chunk at a time as the
+// kernels run, exactly as refine_topology would have written them. The parent must hold its edge faces and vertex
+// edges (Refined::Full, or the base).
+// The one-rings of child vertices [begin, end), in refine_topology's vertex_vertices order: ring k is
+// ring[offsets[k] .. offsets[k + 1]) (offsets: end - begin + 1 entries, from 0; `ring` is resized to fit).
+void child_rings(const Topology& parent, int begin, int end, Index* offsets, std::vector<Index>& ring);
+// Ends (A, B) and the vertices opposite (C, D) of child edges [begin, end), as refine_topology's edge_vertices (2 per
+// edge) and edge_opposite_c / _d give them; written from index 0 of each array.
+void child_edges(const Topology& parent, int begin, int end, Index* ends, Index* c, Index* d);
+// The ends of child edge e, from the parent alone.
+void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
+// The faces of the grandchild level (refine_topology twice, the second time FacesOnly) of parent faces [f0, f1):
+// 48 indices per parent face, written from out[48 * f0].
+void write_grandchild_faces(const Topology& parent, int f0, int f1, Index* out);
 
 // Child edge of parent edge e at its end vertex v.
 inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }

@@ -65,6 +65,9 @@ std::vector<PathCase> path_cases() {
          },
          Rules::Hoppe94, 3},
         {"opensubdiv_bipyramid64_L3", [] { return bipyramid(64); }, Rules::OpenSubdiv, 3},
+        // A fin (an edge of three faces) and boundaries: rings and wings of every kind of edge.
+        {"opensubdiv_fin_on_grid_L3", [] { return fin_on_grid(); }, Rules::OpenSubdiv, 3},
+        {"hoppe94_open_cylinder_L2", [] { return open_cylinder(12, 5); }, Rules::Hoppe94, 2},
         // The limit is one more pass of the same kernels.
         {"opensubdiv_semisharp_icosphere1280_L2_limit",
          [] {
@@ -165,6 +168,37 @@ TEST_P(PathsAgree, TwoThreadsEqualOneBitForBit) {
         ASSERT_EQ(one.num_output_triangles(), two.num_output_triangles());
         EXPECT_TRUE(std::equal(one.output_triangles(), one.output_triangles() + 3 * one.num_output_triangles(),
                                two.output_triangles()));
+    }
+}
+
+// Tables derived as each evaluation runs (Options::level_tables) give the stored tables' result bit for bit: the same
+// rings in the same order, the same edges, the same triangles and tags.
+TEST_P(PathsAgree, DerivedTablesEqualStoredBitForBit) {
+    const TestMesh mesh = GetParam().make();
+    const std::vector<float> channels = five_channels(mesh);
+    for (Kernel kernel : {Kernel::Scalar, Kernel::SSE41, Kernel::AVX2}) {
+        for (int threads : {1, 2}) {
+            if (!cpu_runs(kernel)) continue;
+            SCOPED_TRACE(std::string(kernel_name(kernel)) + ", threads " + std::to_string(threads));
+            Options stored_options = options_for(GetParam(), mesh, kernel, threads), derived_options = stored_options;
+            stored_options.level_tables = LevelTables::Stored;
+            derived_options.level_tables = LevelTables::Derived;
+            Plan stored(mesh.view(), stored_options), derived(mesh.view(), derived_options);
+            EXPECT_TRUE(bitwise_equal(evaluate_positions(stored, mesh), evaluate_positions(derived, mesh))) << "3 channels";
+            std::vector<float> out_stored(5 * std::size_t(stored.num_output_vertices())), out_derived(out_stored.size());
+            stored.evaluate(interleaved(channels.data(), 5), interleaved(out_stored.data(), 5));
+            derived.evaluate(interleaved(channels.data(), 5), interleaved(out_derived.data(), 5));
+            EXPECT_TRUE(bitwise_equal(out_stored, out_derived)) << "5 channels";
+            ASSERT_EQ(stored.num_output_triangles(), derived.num_output_triangles());
+            EXPECT_TRUE(std::equal(stored.output_triangles(), stored.output_triangles() + 3 * stored.num_output_triangles(),
+                                   derived.output_triangles()));
+            for (int level = 0; level < stored.levels(); ++level) EXPECT_EQ(stored.level_edges(level), derived.level_edges(level));
+            for (int level = 0; level <= stored.levels(); ++level)
+                EXPECT_EQ(stored.level_vertex_types(level), derived.level_vertex_types(level));
+            EXPECT_EQ(stored.output_sharp_edges(), derived.output_sharp_edges());
+            EXPECT_EQ(stored.output_crease_edges(), derived.output_crease_edges());
+            EXPECT_EQ(stored.output_corner_vertices(), derived.output_corner_vertices());
+        }
     }
 }
 

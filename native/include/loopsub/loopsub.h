@@ -68,6 +68,17 @@ enum class FaceVaryingInterpolation {
 // Which evaluation kernels run. Auto picks the widest the CPU supports; Scalar is the reference path.
 enum class Kernel { Auto, Scalar, SSE41, AVX2 };
 
+// The stencil tables of the refined levels (docs/benchmark.md, "Stored or derived tables"). Stored, an evaluation
+// reads them. Derived, the plan holds the levels' connectivity only and an evaluation works the tables out from it,
+// chunk by chunk: a plan then builds in about half the time and holds about a third less besides its output, an
+// evaluation takes about 1.5-2x as long. Derived applies only where nothing but vertex values is refined (no limit
+// surface, no face-varying layers) over two levels or more; elsewhere the tables are stored.
+enum class LevelTables {
+    Auto,    // derived past 128 MiB of tables of the level before the last (a level-6 result of 20 M triangles)
+    Stored,  // for a plan evaluated again and again (playback)
+    Derived  // for a plan evaluated once (a command-line run)
+};
+
 inline constexpr float kInfiniteSharpness = 10.0f;  // Sdc::Crease::SHARPNESS_INFINITE
 
 struct Options {
@@ -84,6 +95,7 @@ struct Options {
     // masks (docs/python.md, "The limit surface").
     bool limit_surface = false;
     int threads = 1;  // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores)
+    LevelTables level_tables = LevelTables::Auto;
     // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
     std::uint64_t memory_limit_bytes = std::uint64_t(4) << 30;
 };
