@@ -18,14 +18,20 @@
 //   loopsub_full                  Plan construction + evaluate
 //   loopsub_topology              Plan construction
 //   loopsub_evaluate              Plan::evaluate (per frame)
+//   loopsub_*_derived             the same with Options::level_tables = Derived (best kernel only); the rows above
+//                                 use Auto, which stores the tables at this size
 //   loopsub_limit                 Plan::evaluate with the limit surface and its normals (per frame)
 //   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
 //
 // --memory [LEVELS] instead measures peak resident memory, each side in a process of its own: the icosphere to
-// level 6 (21M triangles) by default, Plan + evaluate against TopologyRefiner + PrimvarRefiner, beside the bytes of
-// the output arrays (positions and triangles).
+// level 6 (21M triangles) by default, Plan + evaluate (tables Auto, then Stored) against TopologyRefiner +
+// PrimvarRefiner, beside the bytes of the output arrays (positions and triangles).
+//
+// --malloc-keeps-memory (first argument) makes glibc's malloc keep freed memory for reuse (mmap threshold 32 MiB,
+// no trimming): OpenSubdiv then reuses its arrays from one run to the next as loopsub's plans reuse theirs (its
+// block pool), instead of paying the kernel for fresh pages each time (docs/benchmark.md).
 #include <benchmark/benchmark.h>
 
 #include <opensubdiv/far/primvarRefiner.h>
@@ -36,6 +42,7 @@
 #include <opensubdiv/osd/cpuEvaluator.h>
 #include <opensubdiv/osd/ompEvaluator.h>
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -329,8 +336,9 @@ loopsub::MeshView view(const Mesh& m, bool with_uvs = false) {
     return v;
 }
 
-loopsub::Options options(loopsub::Kernel kernel, int threads) {
+loopsub::Options options(loopsub::Kernel kernel, int threads, loopsub::LevelTables tables = loopsub::LevelTables::Auto) {
     loopsub::Options o;
+    o.level_tables = tables;
     o.rules = loopsub::Rules::OpenSubdiv;
     o.levels = kLevels;
     o.boundary = loopsub::Boundary::EdgesOnly;
@@ -340,10 +348,10 @@ loopsub::Options options(loopsub::Kernel kernel, int threads) {
     return o;
 }
 
-void ours_full(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads) {
+void ours_full(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads, loopsub::LevelTables tables) {
     int vertices = 0;
     for (auto _ : state) {
-        loopsub::Plan plan(view(*m), options(kernel, threads));
+        loopsub::Plan plan(view(*m), options(kernel, threads, tables));
         vertices = plan.num_output_vertices();
         const std::unique_ptr<float[]> out(new float[std::size_t(vertices) * 3]);
         plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.get(), 3));
@@ -352,18 +360,18 @@ void ours_full(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, i
     set_rate(state, vertices);
 }
 
-void ours_topology(benchmark::State& state, const Mesh* m, int threads) {
+void ours_topology(benchmark::State& state, const Mesh* m, int threads, loopsub::LevelTables tables) {
     int vertices = 0;
     for (auto _ : state) {
-        loopsub::Plan plan(view(*m), options(loopsub::Kernel::Auto, threads));
+        loopsub::Plan plan(view(*m), options(loopsub::Kernel::Auto, threads, tables));
         vertices = plan.num_output_vertices();
         benchmark::DoNotOptimize(plan.output_triangles());
     }
     set_rate(state, vertices);
 }
 
-void ours_evaluate(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads) {
-    loopsub::Plan plan(view(*m), options(kernel, threads));
+void ours_evaluate(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads, loopsub::LevelTables tables) {
+    loopsub::Plan plan(view(*m), options(kernel, threads, tables));
     std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
     for (auto _ : state) {
         plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3));
@@ -418,11 +426,16 @@ void register_all() {
         for (int threads : {1, 2}) {
             add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
             add("loopsub_face_varying/" + m.name + "/threads:" + std::to_string(threads), ours_face_varying, &m, threads);
-            add("loopsub_topology/" + m.name + "/threads:" + std::to_string(threads), ours_topology, &m, threads);
+            const std::string suffix = m.name + "/threads:" + std::to_string(threads);
+            add("loopsub_topology/" + suffix, ours_topology, &m, threads, loopsub::LevelTables::Auto);
+            add("loopsub_topology_derived/" + suffix, ours_topology, &m, threads, loopsub::LevelTables::Derived);
             for (loopsub::Kernel kernel : kKernels) {
-                add(ours_name("full", m, kernel, threads), ours_full, &m, kernel, threads);
-                add(ours_name("evaluate", m, kernel, threads), ours_evaluate, &m, kernel, threads);
+                add(ours_name("full", m, kernel, threads), ours_full, &m, kernel, threads, loopsub::LevelTables::Auto);
+                add(ours_name("evaluate", m, kernel, threads), ours_evaluate, &m, kernel, threads, loopsub::LevelTables::Auto);
             }
+            const loopsub::Kernel best = loopsub::best_kernel();
+            add(ours_name("full_derived", m, best, threads), ours_full, &m, best, threads, loopsub::LevelTables::Derived);
+            add(ours_name("evaluate_derived", m, best, threads), ours_evaluate, &m, best, threads, loopsub::LevelTables::Derived);
         }
     }
 }
@@ -454,9 +467,14 @@ private:
 };
 
 void print_speedups(const RecordingReporter& r) {
-    std::printf("\nSpeedups, OpenSubdiv time / loopsub time (targets, one thread: full >= 5x Far, evaluate >= 2x "
+    auto ratio = [](double theirs, double ours) {
+        char text[32] = "-";
+        if (theirs > 0 && ours > 0) std::snprintf(text, sizeof text, "%.1fx", theirs / ours);
+        return std::string(text);
+    };
+    std::printf("\nSpeedups, OpenSubdiv time / loopsub time (issue 8's targets, one thread: full >= 10x Far, evaluate >= 8x "
                 "PrimvarRefiner):\n");
-    std::printf("%-10s %-7s %-8s %16s %22s %21s\n", "mesh", "kernel", "threads", "full vs Far", "evaluate vs Primvar",
+    std::printf("%-10s %-15s %-8s %16s %22s %21s\n", "mesh", "kernel", "threads", "full vs Far", "evaluate vs Primvar",
                 "evaluate vs stencils");
     for (const Mesh& m : meshes()) {
         const double far = r.ms("opensubdiv_far_full/" + m.name), primvar = r.ms("opensubdiv_primvar_refiner/" + m.name);
@@ -464,17 +482,32 @@ void print_speedups(const RecordingReporter& r) {
             // The stencil evaluator with the same thread count: CpuEvaluator for one, OmpEvaluator for two.
             const double stencils = r.ms(threads == 1 ? "opensubdiv_cpu_evaluator/" + m.name
                                                       : "opensubdiv_omp_evaluator/" + m.name + "/threads:2");
+            for (const char* tables : {"", "_derived"}) {
+                for (loopsub::Kernel kernel : kKernels) {
+                    const double full = r.ms(ours_name((std::string("full") + tables).c_str(), m, kernel, threads));
+                    const double evaluate = r.ms(ours_name((std::string("evaluate") + tables).c_str(), m, kernel, threads));
+                    if (full < 0 && evaluate < 0) continue;
+                    const std::string label = std::string(loopsub::kernel_name(kernel)) + (*tables ? " derived" : "");
+                    std::printf("%-10s %-15s %-8d %16s %22s %21s\n", m.name.c_str(), label.c_str(), threads,
+                                ratio(far, full).c_str(), ratio(primvar, evaluate).c_str(), ratio(stencils, evaluate).c_str());
+                }
+            }
+        }
+    }
+    std::printf("\nTwo threads against one, loopsub time with 1 / with 2 (issue 8's targets: full >= 1.6x, evaluate >= 1.7x):\n");
+    std::printf("%-10s %-15s %10s %10s %10s\n", "mesh", "kernel", "topology", "full", "evaluate");
+    for (const Mesh& m : meshes()) {
+        for (const char* tables : {"", "_derived"}) {
             for (loopsub::Kernel kernel : kKernels) {
-                const double full = r.ms(ours_name("full", m, kernel, threads));
-                const double evaluate = r.ms(ours_name("evaluate", m, kernel, threads));
-                auto ratio = [](double theirs, double ours) {
-                    char text[32] = "-";
-                    if (theirs > 0 && ours > 0) std::snprintf(text, sizeof text, "%.1fx", theirs / ours);
-                    return std::string(text);
+                auto two_vs_one = [&](const std::string& what) {
+                    return ratio(r.ms(ours_name((what + tables).c_str(), m, kernel, 1)), r.ms(ours_name((what + tables).c_str(), m, kernel, 2)));
                 };
-                if (full < 0 && evaluate < 0) continue;
-                std::printf("%-10s %-7s %-8d %16s %22s %21s\n", m.name.c_str(), loopsub::kernel_name(kernel), threads,
-                            ratio(far, full).c_str(), ratio(primvar, evaluate).c_str(), ratio(stencils, evaluate).c_str());
+                const std::string topology = ratio(r.ms("loopsub_topology" + std::string(tables) + "/" + m.name + "/threads:1"),
+                                                   r.ms("loopsub_topology" + std::string(tables) + "/" + m.name + "/threads:2"));
+                const std::string full = two_vs_one("full"), evaluate = two_vs_one("evaluate");
+                if (full == "-" && evaluate == "-") continue;
+                const std::string label = std::string(loopsub::kernel_name(kernel)) + (*tables ? " derived" : "");
+                std::printf("%-10s %-15s %10s %10s %10s\n", m.name.c_str(), label.c_str(), topology.c_str(), full.c_str(), evaluate.c_str());
             }
         }
     }
@@ -531,14 +564,18 @@ int measure_memory(int levels) {
         return peak < 0 ? -1L : peak - before;
     };
     const std::size_t triangles = std::size_t(m.num_triangles()) << (2 * levels);
-    const long ours = run("loopsub", [&] {
-        loopsub::Options o = options(loopsub::Kernel::Auto, 1);
-        o.levels = levels;
-        loopsub::Plan plan(view(m), o);
-        std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
-        plan.evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3));
-        benchmark::DoNotOptimize(out.data());
-    });
+    auto ours = [&](loopsub::LevelTables tables) {
+        return [&m, levels, tables] {
+            loopsub::Options o = options(loopsub::Kernel::Auto, 1, tables);
+            o.levels = levels;
+            loopsub::Plan plan(view(m), o);
+            std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
+            plan.evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3));
+            benchmark::DoNotOptimize(out.data());
+        };
+    };
+    const long auto_tables = run("loopsub", ours(loopsub::LevelTables::Auto));
+    const long stored_tables = run("loopsub, tables stored", ours(loopsub::LevelTables::Stored));
     const long theirs = run("opensubdiv", [&] {
         const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(m, false, false, levels);
         std::vector<Vertex> all(refiner->GetNumVerticesTotal());
@@ -550,18 +587,26 @@ int measure_memory(int levels) {
     const double output_mib = double(vertices * 12 + triangles * 12) / (1 << 20);
     std::printf("peak resident memory, %s to level %d: %zu triangles, %zu vertices; output arrays (positions + "
                 "triangles) %.1f MiB\n", m.name.c_str(), levels, triangles, vertices, output_mib);
-    for (const auto& [name, kib] : {std::pair<const char*, long>{"loopsub", ours}, {"opensubdiv", theirs}}) {
+    for (const auto& [name, kib] : {std::pair<const char*, long>{"loopsub (tables Auto)", auto_tables},
+                                    {"loopsub (tables Stored)", stored_tables}, {"opensubdiv", theirs}}) {
         if (kib < 0) continue;
         const double mib = double(kib) / 1024.0;
-        std::printf("  %-10s %8.1f MiB above the process's start = %.2fx the output arrays, %.1f bytes per output "
+        std::printf("  %-24s %8.1f MiB above the process's start = %.2fx the output arrays, %.1f bytes per output "
                     "triangle\n", name, mib, mib / output_mib, double(kib) * 1024.0 / double(triangles));
     }
-    return ours < 0 || theirs < 0;
+    return auto_tables < 0 || stored_tables < 0 || theirs < 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc >= 2 && std::string(argv[1]) == "--malloc-keeps-memory") {
+        mallopt(M_MMAP_THRESHOLD, 32 << 20);
+        mallopt(M_TRIM_THRESHOLD, 1 << 30);
+        std::printf("malloc keeps freed memory (mmap threshold 32 MiB, trim threshold 1 GiB)\n");
+        for (int i = 1; i + 1 < argc; ++i) argv[i] = argv[i + 1];
+        --argc;
+    }
     if (argc >= 2 && std::string(argv[1]) == "--memory") return measure_memory(argc >= 3 ? std::atoi(argv[2]) : 6);
     Osd::OmpEvaluator::SetNumThreads(2);
     register_all();
