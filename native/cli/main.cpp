@@ -100,7 +100,7 @@ int run(const Command& command) {
     out.boundary = command.boundary ? command.boundary : in.boundary;
     out.crease_method = command.crease_method ? command.crease_method : in.crease_method;
     out.face_varying = command.face_varying ? command.face_varying : in.face_varying;
-    loopsub::obj::write_obj(command.output, out);
+    loopsub::obj::write_obj(command.output, out, options.threads);
 
     if (command.stats) {
         std::printf("topology_ms=%.3f evaluate_ms=%.3f levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "

@@ -1,7 +1,7 @@
 // Wavefront OBJ with OpenSubdiv's tags. The reader scans the text in place, with one pass over the common "v x y z"
-// and "f a b c" lines and the general per-token reader for everything else; the writer formats into a block with
+// and "f a b c" lines and the general per-token reader for everything else; the writer formats into blocks with
 // a shortest round-trip float formatter (what std::to_chars writes, at a fraction of its cost), so write -> read is
-// exact.
+// exact, and can format its v, vt, vn and f lines on several threads (the same bytes for any number).
 #include "obj_io.h"
 
 #include <map>
@@ -9,6 +9,7 @@
 #include "triangulate.h"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cfloat>
 #include <cmath>
@@ -18,6 +19,8 @@
 #include <limits>
 #include <memory>
 #include <string_view>
+#include <system_error>
+#include <thread>
 #include <unordered_set>
 
 namespace loopsub::obj {
@@ -878,12 +881,19 @@ public:
 
     Writer(std::FILE* file, const std::string& path) : file_(file), path_(path), block_(new char[kBlock]) {}
 
-    // Where the next line goes; at least kLongestLine bytes are free there. `done` takes the line's end.
-    char* line() {
-        if (used_ + kLongestLine > kBlock) flush();
+    // Where the next `count` lines go (at most kBlock / kLongestLine); at least count * kLongestLine bytes are free
+    // there. `done` takes the lines' end.
+    char* line(std::size_t count = 1) {
+        if (used_ + count * kLongestLine > kBlock) flush();
         return block_.get() + used_;
     }
     void done(char* end) { used_ = std::size_t(end - block_.get()); }
+
+    // Text formatted elsewhere, after the lines before it.
+    void write(const char* text, std::size_t size) {
+        flush();
+        if (size > 0 && std::fwrite(text, 1, size, file_) != size) throw std::runtime_error("cannot write " + path_);
+    }
 
     void finish() {
         flush();
@@ -903,6 +913,112 @@ private:
     std::unique_ptr<char[]> block_;
     std::size_t used_ = 0;
 };
+
+// The v, vt, vn and f lines, numbered from 0 in the order they are written: first to last - 1 formatted at out.
+char* format_lines(char* out, const ObjMesh& mesh, std::size_t first, std::size_t last) {
+    std::size_t start = 0;  // of the current kind of line
+    // The lines of this kind in [first, last), each by line(out, k) with k counted within the kind.
+    auto lines = [&](std::size_t count, const auto& line) {
+        for (std::size_t k = std::max(first, start); k < std::min(last, start + count); ++k) out = line(out, k - start);
+        start += count;
+    };
+    lines(mesh.positions.size() / 3, [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "v "), &mesh.positions[3 * k]); });
+    lines(mesh.uvs.size() / 2, [&](char* p, std::size_t k) { return put_floats<2>(put_text(p, "vt "), &mesh.uvs[2 * k]); });
+    lines(mesh.normals.size() / 3, [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "vn "), &mesh.normals[3 * k]); });
+    const bool with_uvs = !mesh.triangle_uvs.empty(), with_normals = !mesh.triangle_normals.empty();
+    lines(mesh.triangles.size() / 3, [&](char* p, std::size_t k) {
+        p = put_text(p, "f");
+        for (std::size_t c = 3 * k; c < 3 * k + 3; ++c) {
+            *p++ = ' ';
+            p = put_index(p, mesh.triangles[c]);
+            if (with_uvs || with_normals) *p++ = '/';
+            if (with_uvs) p = put_index(p, mesh.triangle_uvs[c]);
+            if (with_normals) {
+                *p++ = '/';
+                p = put_index(p, mesh.triangle_normals[c]);
+            }
+        }
+        *p++ = '\n';
+        return p;
+    });
+    return out;
+}
+
+// Runs before() on the calling thread, then work(part) for parts 0 to parts - 1, each taken by the next of the
+// `threads` threads (the caller and threads - 1 others) to be free, and returns when all are done. A thread the
+// system refuses to start costs parallelism only. work must not throw; if before() throws, no part is started after.
+template <typename Before, typename Work>
+void run_parts(int threads, std::size_t parts, const Before& before, const Work& work) {
+    std::atomic<std::size_t> next{0};
+    auto take_parts = [&] {
+        for (std::size_t part; (part = next++) < parts;) work(part);
+    };
+    std::vector<std::thread> others;
+    for (int t = 1; t < threads; ++t) {
+        try {
+            others.emplace_back(take_parts);
+        } catch (const std::system_error&) {
+            break;
+        }
+    }
+    try {
+        before();
+    } catch (...) {
+        next = parts;
+        for (std::thread& thread : others) thread.join();
+        throw;
+    }
+    take_parts();
+    for (std::thread& thread : others) thread.join();
+}
+
+// The v, vt, vn and f lines. One thread formats them into the writer's block, which is written whenever full. More
+// format chunks of consecutive lines in rounds, eight chunks per thread: the caller first writes the previous
+// round's chunks, in order, while the other threads start on this round's, then helps them. Two rounds of chunks
+// are in memory at a time, each chunk a 1 MiB buffer holding about 0.25 MB of text.
+void write_lines(Writer& out, const ObjMesh& mesh, int threads) {
+    constexpr std::size_t kChunkLines = 1 << 13;  // times kLongestLine: 1 MiB
+    struct Chunk {
+        std::unique_ptr<char[]> text;  // room for kChunkLines lines, made by the caller when first needed
+        std::size_t size = 0;
+    };
+    const std::size_t lines = mesh.positions.size() / 3 + mesh.uvs.size() / 2 + mesh.normals.size() / 3 + mesh.triangles.size() / 3;
+    const std::size_t chunks = (lines + kChunkLines - 1) / kChunkLines;
+    threads = int(std::clamp<std::size_t>(chunks, 1, std::size_t(std::max(threads, 1))));  // a small file: the caller alone
+    if (threads == 1) {
+        // A thousand lines at a time: the block is written in pieces of about 1 MiB (smaller pieces cost more in
+        // the kernel), each while it is still in the cache.
+        constexpr std::size_t kLinesAtATime = 1024;
+        for (std::size_t first = 0; first < lines; first += kLinesAtATime)
+            out.done(format_lines(out.line(kLinesAtATime), mesh, first, std::min(lines, first + kLinesAtATime)));
+        return;
+    }
+    // Eight chunks per thread and round, taken as threads come free: the threads finish a round at about the same
+    // time (the last chunk taken is an eighth of a thread's share).
+    const std::size_t per_round = 8 * std::size_t(threads);
+    const std::size_t num_rounds = (chunks + per_round - 1) / per_round;
+    std::vector<Chunk> rounds[2];
+    auto write_round = [&](const std::vector<Chunk>& round) {
+        for (const Chunk& chunk : round) out.write(chunk.text.get(), chunk.size);
+    };
+    for (std::size_t round = 0; round < num_rounds; ++round) {
+        const std::size_t first_chunk = round * per_round;
+        std::vector<Chunk>& now = rounds[round % 2];
+        now.resize(std::min(per_round, chunks - first_chunk));  // the last round may have fewer
+        for (Chunk& chunk : now)
+            if (!chunk.text) chunk.text.reset(new char[kChunkLines * Writer::kLongestLine]);
+        run_parts(
+            threads, now.size(),
+            [&] {
+                if (round > 0) write_round(rounds[(round - 1) % 2]);
+            },
+            [&](std::size_t part) {
+                const std::size_t first = (first_chunk + part) * kChunkLines, last = std::min(lines, first + kChunkLines);
+                now[part].size = std::size_t(format_lines(now[part].text.get(), mesh, first, last) - now[part].text.get());
+            });
+    }
+    if (num_rounds > 0) write_round(rounds[(num_rounds - 1) % 2]);
+}
 
 }  // namespace
 
@@ -981,30 +1097,12 @@ ObjMesh read_obj(const std::string& path) {
     return reader.finish();
 }
 
-void write_obj(const std::string& path, const ObjMesh& mesh) {
+void write_obj(const std::string& path, const ObjMesh& mesh, int threads) {
     File file(std::fopen(path.c_str(), "wb"));
     if (!file) throw std::runtime_error(path + ": cannot open for writing");
     Writer out(file.get(), path);
 
-    for (std::size_t k = 0; k < mesh.positions.size(); k += 3) out.done(put_floats<3>(put_text(out.line(), "v "), &mesh.positions[k]));
-    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) out.done(put_floats<2>(put_text(out.line(), "vt "), &mesh.uvs[k]));
-    for (std::size_t k = 0; k < mesh.normals.size(); k += 3) out.done(put_floats<3>(put_text(out.line(), "vn "), &mesh.normals[k]));
-    const bool with_uvs = !mesh.triangle_uvs.empty(), with_normals = !mesh.triangle_normals.empty();
-    for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
-        char* p = put_text(out.line(), "f");
-        for (std::size_t c = k; c < k + 3; ++c) {
-            *p++ = ' ';
-            p = put_index(p, mesh.triangles[c]);
-            if (with_uvs || with_normals) *p++ = '/';
-            if (with_uvs) p = put_index(p, mesh.triangle_uvs[c]);
-            if (with_normals) {
-                *p++ = '/';
-                p = put_index(p, mesh.triangle_normals[c]);
-            }
-        }
-        *p++ = '\n';
-        out.done(p);
-    }
+    write_lines(out, mesh, threads);
     for (std::size_t e = 0; e < mesh.crease_sharpness.size(); ++e) {
         char* p = put_text(out.line(), "t crease 2/1/0 ");
         p = put_int(p, mesh.crease_edges[2 * e]);

@@ -2,7 +2,12 @@
 // the file and line, and an exact write -> read round trip.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -373,6 +378,84 @@ TEST(ObjWrite, FacesWithUvsUseVertexSlashTexture) {
     EXPECT_NE(text.find("vt 0.5 0.25\n"), std::string::npos) << text;
     EXPECT_NE(text.find("f 1/1 2/1 3/1\n"), std::string::npos) << text;
     std::remove(path.c_str());
+}
+
+// The text of a float as the writer must write it (what std::to_chars writes).
+std::string float_text(float value) {
+    char buffer[64];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+}
+
+std::string read_file_text(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
+
+// Formatting on several threads: chunks of 8,192 lines, eight per thread and round, written in order. The mesh (not
+// a surface, only lines to write) has 210,000 v, vt, vn and f lines in 26 chunks: chunks start inside each kind of
+// line, 1, 2 and 3 threads take several rounds (the last one short), 8 threads one, and 64 more threads than there
+// are chunks. Every thread count must write the text a plain loop writes.
+TEST(ObjWrite, ThreadsWriteTheSameBytes) {
+    ObjMesh mesh;
+    std::uint32_t state = 12345;
+    auto next = [&] { return state = state * 1664525u + 1013904223u; };
+    // Floats of every size and sign (no NaN or infinity), and small whole numbers.
+    auto any_float = [&] {
+        const std::uint32_t bits = next();
+        float value;
+        if (bits % 8 == 0) return float(int(next() % 2001) - 1000);
+        const std::uint32_t finite = (bits & 0x807fffffu) | ((bits >> 23) % 255) << 23;
+        std::memcpy(&value, &finite, sizeof value);
+        return value;
+    };
+    for (int k = 0; k < 3 * 60000; ++k) mesh.positions.push_back(any_float());
+    for (int k = 0; k < 2 * 30000; ++k) mesh.uvs.push_back(any_float());
+    for (int k = 0; k < 3 * 20000; ++k) mesh.normals.push_back(any_float());
+    for (int k = 0; k < 3 * 100000; ++k) {
+        mesh.triangles.push_back(std::int32_t(next() % 60000));
+        mesh.triangle_uvs.push_back(std::int32_t(next() % 30000));
+        mesh.triangle_normals.push_back(std::int32_t(next() % 20000));
+    }
+    mesh.crease_edges = {0, 1};
+    mesh.crease_sharpness = {2.5f};
+    mesh.boundary = loopsub::Boundary::EdgesOnly;
+
+    std::string expected;
+    for (std::size_t k = 0; k < mesh.positions.size(); k += 3) {
+        expected += "v " + float_text(mesh.positions[k]) + " " + float_text(mesh.positions[k + 1]) + " " +
+                    float_text(mesh.positions[k + 2]) + "\n";
+    }
+    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) expected += "vt " + float_text(mesh.uvs[k]) + " " + float_text(mesh.uvs[k + 1]) + "\n";
+    for (std::size_t k = 0; k < mesh.normals.size(); k += 3) {
+        expected += "vn " + float_text(mesh.normals[k]) + " " + float_text(mesh.normals[k + 1]) + " " +
+                    float_text(mesh.normals[k + 2]) + "\n";
+    }
+    for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
+        expected += "f";
+        for (std::size_t c = k; c < k + 3; ++c) {
+            expected += " " + std::to_string(mesh.triangles[c] + 1) + "/" + std::to_string(mesh.triangle_uvs[c] + 1) + "/" +
+                        std::to_string(mesh.triangle_normals[c] + 1);
+        }
+        expected += "\n";
+    }
+    expected += "t crease 2/1/0 0 1 2.5\nt interpolateboundary 1/0/0 2\n";
+
+    // Named per process: another run of the tests at the same time must not write the same files.
+    const std::string run = std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+    for (int threads : {1, 2, 3, 8, 64}) {
+        SCOPED_TRACE(threads);
+        const std::string path = temp_path("ThreadsWriteTheSameBytes_" + run + "_" + std::to_string(threads) + ".obj");
+        loopsub::obj::write_obj(path, mesh, threads);
+        const std::string text = read_file_text(path);
+        std::remove(path.c_str());
+        EXPECT_EQ(text.size(), expected.size());
+        EXPECT_TRUE(text == expected) << "the text differs first at byte "
+                                      << std::mismatch(text.begin(), text.end(), expected.begin(), expected.end()).first - text.begin();
+    }
+    const std::string empty = temp_path("ThreadsWriteTheSameBytes_" + run + "_empty.obj");
+    loopsub::obj::write_obj(empty, ObjMesh{}, 3);
+    EXPECT_EQ(read_file_text(empty), "");
+    std::remove(empty.c_str());
 }
 
 TEST(ObjWrite, UnwritablePathThrows) {
