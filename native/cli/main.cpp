@@ -57,6 +57,9 @@ int run(const Command& command) {
     for (const std::string& note : in.notes) std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
 
     loopsub::Options options = command.options;
+    // One evaluation follows: derived tables make the plan quicker and smaller, and cost that evaluation less than
+    // they save (docs/benchmark.md, "Stored or derived tables").
+    options.level_tables = loopsub::LevelTables::Derived;
     options.boundary = command.boundary.value_or(in.boundary.value_or(loopsub::Boundary::EdgesOnly));
     options.crease_method = command.crease_method.value_or(in.crease_method.value_or(loopsub::CreaseMethod::Uniform));
     options.face_varying = command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
