@@ -206,3 +206,19 @@ def test_module_docstring_example_runs():
     import doctest
     result = doctest.testmod(_loopsub)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_derived_level_tables_give_the_stored_result():
+    # Pipelines choose how a plan keeps its tables; the result must not depend on it.
+    positions, triangles = grid(12, seed=3, height=0.2)
+    creases = np.array(sorted(edges_of(triangles))[:20], np.int32)
+    results = {}
+    for tables in ("stored", "derived", "auto"):
+        plan = _loopsub.Plan(triangles, len(positions), levels=3, rules="opensubdiv", crease_edges=creases,
+                             crease_sharpness=np.full(len(creases), 1.5, np.float32), level_tables=tables, threads=2)
+        assert plan.level_tables == tables
+        results[tables] = (plan.evaluate(positions), np.array(plan.triangles), np.array(plan.level_edges(2)))
+    for stored, derived in zip(results["stored"], results["derived"]):
+        np.testing.assert_array_equal(stored, derived)
+    with pytest.raises(ValueError, match="level_tables must be 'auto', 'stored' or 'derived'"):
+        _loopsub.Plan(triangles, len(positions), levels=2, level_tables="lean")
