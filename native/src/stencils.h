@@ -1,4 +1,5 @@
-// The per-level stencil tables: the only thing the per-frame kernels read besides the vertex data.
+// The per-level stencil tables: what the per-frame kernels read besides the vertex data (stored, or derived from the
+// parent level as they run).
 //
 // Every Loop mask in both rule sets has the same shape, which keeps the kernels branch-free:
 //   vertex point  v' = w_self * v + w_ring * (sum of the one-ring) + w_crease_a * p + w_crease_b * q
@@ -50,10 +51,10 @@ struct LevelStencils {
     LargeVector<std::int32_t> edge_c, edge_d;
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 
-    // Set for a level whose tables above are not stored (the level before the last, when nothing but positions is
-    // refined): its rings and edges are derived from its parent level's connectivity through the numbering, a chunk
-    // at a time as the kernels run (child_rings, child_edges). That level is the biggest one refined from: writing
-    // and holding its tables cost more than deriving them.
+    // Set for a level whose tables above are not stored (Options::level_tables = Derived: every level past the base):
+    // its rings and edges are derived from its parent level's connectivity through the numbering, a chunk at a time
+    // as the kernels run (child_rings, child_edges, in refine_ranges). The plan then holds connectivity only, and
+    // never builds the level before the last.
     std::unique_ptr<Topology> derived_from;
 };
 
