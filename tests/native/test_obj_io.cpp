@@ -3,22 +3,23 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <charconv>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
 #include "obj_io.h"
+#include "test_files.h"
 
 namespace {
 
 using loopsub::obj::ObjMesh;
 using loopsub::obj::parse_obj;
+using loopsub::testing::read_text;
+using loopsub::testing::temp_path;
+using loopsub::testing::to_chars_text;
 using Indices = std::vector<std::int32_t>;
 using Floats = std::vector<float>;
 
@@ -46,7 +47,6 @@ void expect_error(const std::string& text, int line, const std::string& fragment
     EXPECT_NE(message.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << message;
 }
 
-std::string temp_path(const std::string& name) { return ::testing::TempDir() + "loopsub_test_obj_io_" + name; }
 
 TEST(ObjRead, VerticesUvsAndEveryFaceForm) {
     ObjMesh mesh = parse_obj(std::string(kFourVertices) +
@@ -373,23 +373,12 @@ TEST(ObjWrite, FacesWithUvsUseVertexSlashTexture) {
     mesh.triangle_uvs = {0, 0, 0};
     std::string path = temp_path("uvs.obj");
     loopsub::obj::write_obj(path, mesh);
-    std::ifstream file(path);
-    std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const std::string text = read_text(path);
     EXPECT_NE(text.find("vt 0.5 0.25\n"), std::string::npos) << text;
     EXPECT_NE(text.find("f 1/1 2/1 3/1\n"), std::string::npos) << text;
     std::remove(path.c_str());
 }
 
-// The text of a float as the writer must write it (what std::to_chars writes).
-std::string float_text(float value) {
-    char buffer[64];
-    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
-}
-
-std::string read_file_text(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-}
 
 // Formatting on several threads: chunks of 8,192 lines, eight per thread and round, written in order. The mesh (not
 // a surface, only lines to write) has 210,000 v, vt, vn and f lines in 26 chunks: chunks start inside each kind of
@@ -422,13 +411,13 @@ TEST(ObjWrite, ThreadsWriteTheSameBytes) {
 
     std::string expected;
     for (std::size_t k = 0; k < mesh.positions.size(); k += 3) {
-        expected += "v " + float_text(mesh.positions[k]) + " " + float_text(mesh.positions[k + 1]) + " " +
-                    float_text(mesh.positions[k + 2]) + "\n";
+        expected += "v " + to_chars_text(mesh.positions[k]) + " " + to_chars_text(mesh.positions[k + 1]) + " " +
+                    to_chars_text(mesh.positions[k + 2]) + "\n";
     }
-    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) expected += "vt " + float_text(mesh.uvs[k]) + " " + float_text(mesh.uvs[k + 1]) + "\n";
+    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) expected += "vt " + to_chars_text(mesh.uvs[k]) + " " + to_chars_text(mesh.uvs[k + 1]) + "\n";
     for (std::size_t k = 0; k < mesh.normals.size(); k += 3) {
-        expected += "vn " + float_text(mesh.normals[k]) + " " + float_text(mesh.normals[k + 1]) + " " +
-                    float_text(mesh.normals[k + 2]) + "\n";
+        expected += "vn " + to_chars_text(mesh.normals[k]) + " " + to_chars_text(mesh.normals[k + 1]) + " " +
+                    to_chars_text(mesh.normals[k + 2]) + "\n";
     }
     for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
         expected += "f";
@@ -440,21 +429,19 @@ TEST(ObjWrite, ThreadsWriteTheSameBytes) {
     }
     expected += "t crease 2/1/0 0 1 2.5\nt interpolateboundary 1/0/0 2\n";
 
-    // Named per process: another run of the tests at the same time must not write the same files.
-    const std::string run = std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
     for (int threads : {1, 2, 3, 8, 64}) {
         SCOPED_TRACE(threads);
-        const std::string path = temp_path("ThreadsWriteTheSameBytes_" + run + "_" + std::to_string(threads) + ".obj");
+        const std::string path = temp_path("ThreadsWriteTheSameBytes_" + std::to_string(threads) + ".obj");
         loopsub::obj::write_obj(path, mesh, threads);
-        const std::string text = read_file_text(path);
+        const std::string text = read_text(path);
         std::remove(path.c_str());
         EXPECT_EQ(text.size(), expected.size());
         EXPECT_TRUE(text == expected) << "the text differs first at byte "
                                       << std::mismatch(text.begin(), text.end(), expected.begin(), expected.end()).first - text.begin();
     }
-    const std::string empty = temp_path("ThreadsWriteTheSameBytes_" + run + "_empty.obj");
+    const std::string empty = temp_path("ThreadsWriteTheSameBytes_empty.obj");
     loopsub::obj::write_obj(empty, ObjMesh{}, 3);
-    EXPECT_EQ(read_file_text(empty), "");
+    EXPECT_EQ(read_text(empty), "");
     std::remove(empty.c_str());
 }
 

@@ -6,42 +6,26 @@
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "obj_io.h"
+#include "test_files.h"
 
 namespace {
 
 using loopsub::obj::ObjMesh;
 using loopsub::obj::parse_obj;
-
-// Named per process: another run of the tests at the same time (a second build tree, a second ctest) must not
-// write the same files.
-std::string temp_path(const std::string& name) {
-    static const std::string run = std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
-    return ::testing::TempDir() + "loopsub_test_obj_io_fast_" + run + "_" + name;
-}
-
-std::string to_chars_text(float value) {
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
-
-std::string read_text(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-}
+using loopsub::testing::read_text;
+using loopsub::testing::temp_path;
+using loopsub::testing::to_chars_text;
+using loopsub::testing::write_text;
 
 float from_bits(std::uint32_t bits) {
     float value;
@@ -233,11 +217,6 @@ TEST(ObjFast, FastAndGeneralPathsReadFacesAlike) {
             EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
         }
     }
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream file(path, std::ios::binary);
-    file << text;
 }
 
 // read_obj's result, or its error message.
