@@ -390,4 +390,11 @@ std::vector<float> evaluate_positions(Plan& plan, const TestMesh& mesh) {
     return out;
 }
 
+LimitEvaluation evaluate_limit(Plan& plan, const TestMesh& mesh) {
+    LimitEvaluation result{std::vector<float>(3 * std::size_t(plan.num_output_vertices())),
+                           std::vector<float>(9 * std::size_t(plan.num_output_triangles()))};
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(result.positions.data(), 3), result.normals.data());
+    return result;
+}
+
 }  // namespace loopsub::testing

@@ -81,5 +81,11 @@ TestMesh peer_shape(const std::string& file_name, bool drop_degenerate_faces = f
 
 // Refines the mesh's positions with a plan built for it: 3 floats per output vertex.
 std::vector<float> evaluate_positions(Plan& plan, const TestMesh& mesh);
+// The same with a plan built with the limit surface: the limit positions, and the normals of every output corner
+// (9 floats per output triangle).
+struct LimitEvaluation {
+    std::vector<float> positions, normals;
+};
+LimitEvaluation evaluate_limit(Plan& plan, const TestMesh& mesh);
 
 }  // namespace loopsub::testing

@@ -52,9 +52,7 @@ TEST_P(FoldedSheet, EachSideOfTheFoldHasItsPlanesNormal) {
         options.levels = levels;
         options.limit_surface = true;
         Plan plan(mesh.view(), options);
-        std::vector<float> limit(3 * std::size_t(plan.num_output_vertices()));
-        std::vector<float> normals(9 * std::size_t(plan.num_output_triangles()));
-        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3), normals.data());
+        const auto [limit, normals] = evaluate_limit(plan, mesh);
 
         // The folded half's input points are rounded to floats off its exact plane, which tilts normals computed
         // from differences of nearby points by up to ~1e-6 at level 3.
@@ -114,8 +112,7 @@ TEST(HoppeLimit, IsWhereItsOwnRefinementConverges) {
     options.levels = 1;
     options.limit_surface = true;
     Plan limit_plan(mesh.view(), options);
-    std::vector<float> limit(3 * std::size_t(limit_plan.num_output_vertices()));
-    limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3));
+    const std::vector<float> limit = evaluate_positions(limit_plan, mesh);
     const std::vector<VertexType>& types = limit_plan.level_vertex_types(1);
 
     options.limit_surface = false;
@@ -157,8 +154,7 @@ TEST(LimitSurface, LevelZeroPutsTheInputOnTheLimit) {
     options.levels = 0;
     options.limit_surface = true;
     Plan plan(mesh.view(), options);
-    std::vector<float> limit(3 * std::size_t(plan.num_output_vertices()));
-    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3));
+    const std::vector<float> limit = evaluate_positions(plan, mesh);
     // Apex 0 has the six ring vertices 2..7 around it, valence 6: 1/2 itself, 1/12 each neighbour.
     for (int k = 0; k < 3; ++k) {
         double expected = 0.5 * mesh.positions[k];
@@ -181,9 +177,7 @@ TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {
         options.threads = threads;
         options.kernel = kernel;
         Plan plan(mesh.view(), options);
-        std::vector<float> limit(3 * std::size_t(plan.num_output_vertices())), normals(9 * std::size_t(plan.num_output_triangles()));
-        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3), normals.data());
-        return normals;
+        return evaluate_limit(plan, mesh).normals;
     };
     const std::vector<float> one = normals_for(1, Kernel::Auto);
     EXPECT_EQ(one, normals_for(2, Kernel::Auto));

@@ -145,9 +145,7 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
         Options limit_options = options;
         limit_options.limit_surface = true;
         Plan limit_plan(mesh.view(), limit_options);
-        std::vector<float> limit(3 * std::size_t(limit_plan.num_output_vertices()));
-        std::vector<float> normals(9 * std::size_t(limit_plan.num_output_triangles()));
-        limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(limit.data(), 3), normals.data());
+        const auto [limit, normals] = evaluate_limit(limit_plan, mesh);
         int bad_positions = 0, bad_normals = 0, smooth_corners = 0;
         std::ostringstream limit_report;
         for (int v = 0; v < limit_plan.num_output_vertices(); ++v) {

@@ -125,6 +125,17 @@ bool bitwise_equal(const std::vector<float>& a, const std::vector<float>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
+// Two plans of one mesh give the same positions and five channels bit for bit, and the same triangles.
+void expect_same_results_bit_for_bit(Plan& a, Plan& b, const TestMesh& mesh, const std::vector<float>& channels) {
+    EXPECT_TRUE(bitwise_equal(evaluate_positions(a, mesh), evaluate_positions(b, mesh))) << "3 channels";
+    std::vector<float> out_a(5 * std::size_t(a.num_output_vertices())), out_b(out_a.size());
+    a.evaluate(interleaved(channels.data(), 5), interleaved(out_a.data(), 5));
+    b.evaluate(interleaved(channels.data(), 5), interleaved(out_b.data(), 5));
+    EXPECT_TRUE(bitwise_equal(out_a, out_b)) << "5 channels";
+    ASSERT_EQ(a.num_output_triangles(), b.num_output_triangles());
+    EXPECT_TRUE(std::equal(a.output_triangles(), a.output_triangles() + 3 * a.num_output_triangles(), b.output_triangles()));
+}
+
 class PathsAgree : public ::testing::TestWithParam<PathCase> {};
 
 // Each SIMD kernel the CPU has is used when asked for, and agrees with the scalar reference within 1e-6 of the
@@ -159,15 +170,9 @@ TEST_P(PathsAgree, TwoThreadsEqualOneBitForBit) {
         SCOPED_TRACE(kernel_name(kernel));
         Plan one(mesh.view(), options_for(GetParam(), mesh, kernel, 1));
         Plan two(mesh.view(), options_for(GetParam(), mesh, kernel, 2));
-        EXPECT_TRUE(bitwise_equal(evaluate_positions(one, mesh), evaluate_positions(two, mesh))) << "3 channels";
-        std::vector<float> out_one(5 * std::size_t(one.num_output_vertices())), out_two(out_one.size());
-        one.evaluate(interleaved(channels.data(), 5), interleaved(out_one.data(), 5));
-        two.evaluate(interleaved(channels.data(), 5), interleaved(out_two.data(), 5));
-        EXPECT_TRUE(bitwise_equal(out_one, out_two)) << "5 channels";
         // The topology does not depend on the thread count either.
-        ASSERT_EQ(one.num_output_triangles(), two.num_output_triangles());
-        EXPECT_TRUE(std::equal(one.output_triangles(), one.output_triangles() + 3 * one.num_output_triangles(),
-                               two.output_triangles()));
+        expect_same_results_bit_for_bit(one, two, mesh, channels);
+        if (HasFatalFailure()) return;
     }
 }
 
@@ -184,14 +189,8 @@ TEST_P(PathsAgree, DerivedTablesEqualStoredBitForBit) {
             stored_options.level_tables = LevelTables::Stored;
             derived_options.level_tables = LevelTables::Derived;
             Plan stored(mesh.view(), stored_options), derived(mesh.view(), derived_options);
-            EXPECT_TRUE(bitwise_equal(evaluate_positions(stored, mesh), evaluate_positions(derived, mesh))) << "3 channels";
-            std::vector<float> out_stored(5 * std::size_t(stored.num_output_vertices())), out_derived(out_stored.size());
-            stored.evaluate(interleaved(channels.data(), 5), interleaved(out_stored.data(), 5));
-            derived.evaluate(interleaved(channels.data(), 5), interleaved(out_derived.data(), 5));
-            EXPECT_TRUE(bitwise_equal(out_stored, out_derived)) << "5 channels";
-            ASSERT_EQ(stored.num_output_triangles(), derived.num_output_triangles());
-            EXPECT_TRUE(std::equal(stored.output_triangles(), stored.output_triangles() + 3 * stored.num_output_triangles(),
-                                   derived.output_triangles()));
+            expect_same_results_bit_for_bit(stored, derived, mesh, channels);
+            if (HasFatalFailure()) return;
             for (int level = 0; level < stored.levels(); ++level) EXPECT_EQ(stored.level_edges(level), derived.level_edges(level));
             for (int level = 0; level <= stored.levels(); ++level)
                 EXPECT_EQ(stored.level_vertex_types(level), derived.level_vertex_types(level));
