@@ -22,6 +22,9 @@ using Clock = detail::Clock;
 
 namespace {
 
+// Floats per element in the scratch levels (see run_passes).
+std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : (std::size_t(channels) + 3) / 4 * 4; }
+
 // Runs stencil passes (refinement levels, then the limit) over data of `channels` channels: pass i reads counts[i]
 // elements and writes counts[i + 1]; the first reads load(element, channel), the last writes `out`.
 //
@@ -32,9 +35,6 @@ namespace {
 // element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a quad
 // of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the last
 // pass's source stays there for the limit normals.
-// Floats per element in the scratch levels (see run_passes).
-std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : (std::size_t(channels) + 3) / 4 * 4; }
-
 template <typename Load>
 void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
                 int channels, Load load, ChannelsView<float> out) {
