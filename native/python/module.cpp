@@ -147,23 +147,32 @@ loopsub::Boundary parse_boundary(const std::string& s) {
     throw py::value_error("boundary must be 'edges', 'edges-and-corners' or 'none', got '" + s + "'");
 }
 
+// The position of `s` among an enum's names (listed in its order), or -1.
+template <std::size_t N>
+int name_index(const char* const (&names)[N], const std::string& s) {
+    for (std::size_t m = 0; m < N; ++m)
+        if (s == names[m]) return int(m);
+    return -1;
+}
+
 // The names of the CLI's --uv-interpolation, in OpenSubdiv's order (loopsub::FaceVaryingInterpolation).
 const char* const kUvInterpolations[] = {"none", "corners", "corners-plus1", "corners-plus2", "boundaries", "all"};
 
 loopsub::FaceVaryingInterpolation parse_uv_interpolation(const std::string& s) {
-    for (int m = 0; m < 6; ++m)
-        if (s == kUvInterpolations[m]) return loopsub::FaceVaryingInterpolation(m);
-    throw py::value_error("uv_interpolation must be one of 'none', 'corners', 'corners-plus1', 'corners-plus2', "
-                          "'boundaries', 'all', got '" + s + "'");
+    const int m = name_index(kUvInterpolations, s);
+    if (m < 0)
+        throw py::value_error("uv_interpolation must be one of 'none', 'corners', 'corners-plus1', 'corners-plus2', "
+                              "'boundaries', 'all', got '" + s + "'");
+    return loopsub::FaceVaryingInterpolation(m);
 }
 
 // loopsub::LevelTables, in its order.
 const char* const kLevelTables[] = {"auto", "stored", "derived"};
 
 loopsub::LevelTables parse_level_tables(const std::string& s) {
-    for (int m = 0; m < 3; ++m)
-        if (s == kLevelTables[m]) return loopsub::LevelTables(m);
-    throw py::value_error("level_tables must be 'auto', 'stored' or 'derived', got '" + s + "'");
+    const int m = name_index(kLevelTables, s);
+    if (m < 0) throw py::value_error("level_tables must be 'auto', 'stored' or 'derived', got '" + s + "'");
+    return loopsub::LevelTables(m);
 }
 
 loopsub::CreaseMethod parse_crease_method(const std::string& s) {
