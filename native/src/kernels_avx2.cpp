@@ -34,6 +34,13 @@ inline void store_pair(const PackedQuads& out, std::size_t element, __m256 v, bo
     else out.store(element, _mm256_castps256_ps128(v));
 }
 
+// Both: the low half's four lanes, whose last lands on element + 1's first channel, then the high half's three over it.
+inline void store_pair(const PackedRows3& out, std::size_t element, __m256 v, bool both) {
+    if (!both) return out.store(element, _mm256_castps256_ps128(v));
+    _mm_storeu_ps(out.data + element * 3, _mm256_castps256_ps128(v));
+    out.store(element + 1, _mm256_extractf128_ps(v, 1));
+}
+
 inline void store_pair(const QuadTarget& out, std::size_t element, __m256 v, bool both) {
     out.store(element, _mm256_castps256_ps128(v));
     if (both) out.store(element + 1, _mm256_extractf128_ps(v, 1));
@@ -69,7 +76,7 @@ inline void edge_pair(const Tables& t, const QuadSource<Step>& in, const Out& ou
     store_pair(out, t.first_edge_point + e, point, f != e);
 }
 
-// One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads or QuadTarget.
+// One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget.
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     int i = vertices.begin;

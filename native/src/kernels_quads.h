@@ -74,6 +74,18 @@ struct PackedQuads {
     void store(std::size_t element, __m128 v) const { _mm_storeu_ps(data + element * kQuad, v); }
 };
 
+// Three channels, three floats apart: a user's n x 3 array of positions, what the last level usually writes. Known at
+// compile time, like PackedQuads, so that each store is two moves rather than a test of the layout first.
+struct PackedRows3 {
+    float* data;
+
+    void store(std::size_t element, __m128 v) const {
+        float* q = data + element * 3;
+        _mm_storel_pi(reinterpret_cast<__m64*>(q), v);
+        _mm_store_ss(q + 2, _mm_movehl_ps(v, v));
+    }
+};
+
 inline QuadTarget quad_target(const ChannelsView<float>& out, int quad) {
     const int lanes = out.num_channels - quad * kQuad < kQuad ? out.num_channels - quad * kQuad : kQuad;
     return {out.data + std::size_t(quad) * kQuad * out.channel_stride, out.element_stride, out.channel_stride, lanes};
@@ -99,11 +111,14 @@ void for_each_quad(const LevelStencils& s, const StencilView& view, ChannelsView
     for (int quad = 0; quad * kQuad < in.num_channels; ++quad) {
         const float* first_channel = in.data + quad * kQuad;
         const QuadTarget target = quad_target(out, quad);
+        const bool rows3 = target.channel_stride == 1 && target.element_stride == 3 && target.lanes == 3;
         if (in.element_stride == kQuad && target.packed())
             smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, PackedQuads{target.data});
         else if (in.element_stride == kQuad)
             smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, target);
-        else if (in.element_stride == 3)  // positions in the evaluation's scratch
+        else if (in.element_stride == 3 && rows3)  // positions, from the evaluation's scratch into an n x 3 array
+            smooth(tables, QuadSource<3>{first_channel, 3}, PackedRows3{target.data});
+        else if (in.element_stride == 3)
             smooth(tables, QuadSource<3>{first_channel, 3}, target);
         else
             smooth(tables, QuadSource<0>{first_channel, in.element_stride}, target);

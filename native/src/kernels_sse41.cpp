@@ -16,7 +16,7 @@ namespace loopsub::detail {
 
 namespace {
 
-// One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads or QuadTarget.
+// One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget.
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     for (int i = vertices.begin; i < vertices.end; ++i) {
