@@ -17,7 +17,10 @@ void refine_ranges(RefineFn refine, const LevelStencils& s, ChannelsView<const f
     std::vector<std::int32_t> offsets(kChunk + 1), ring, ends(2 * kChunk), c(kChunk), d(kChunk);
     for (int first = vertices.begin; first < vertices.end; first += kChunk) {
         const int last = std::min(vertices.end, first + kChunk);
-        child_rings(parent, first, last, offsets.data(), ring);
+        const Index base = child_ring_offset(parent, first);
+        for (int v = first; v <= last; ++v) offsets[v - first] = child_ring_offset(parent, v) - base;
+        ring.resize(std::size_t(offsets[last - first]));
+        write_child_rings(parent, first, last, ring.data());
         refine(s, {offsets.data(), ring.data(), nullptr, nullptr, nullptr, first, 0}, in, out, {first, last}, {0, 0});
     }
     for (int first = edges.begin; first < edges.end; first += kChunk) {

@@ -94,26 +94,6 @@ void fill_neighbourhood(Topology& t) {
     }
 }
 
-// The one-ring of child vertex v, in refine_topology's order; returns the end of what it wrote.
-inline Index* write_child_ring(const Topology& p, Index v, Index* out) {
-    const Index nv = p.num_vertices;
-    if (v < nv) {  // an old vertex: the midpoints of its edges, in order
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *out++ = nv + p.vertex_edges[k];
-        return out;
-    }
-    // The midpoint of edge e: its ends, then per face of e the two midpoints it is joined to.
-    const Index e = v - nv;
-    *out++ = p.edge_vertices[2 * e];
-    *out++ = p.edge_vertices[2 * e + 1];
-    for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
-        const Index* fe = &p.face_edges[3 * p.edge_faces[k]];
-        const int local = local_edge(fe, e);
-        *out++ = nv + fe[next_corner(local)];
-        *out++ = nv + fe[prev_corner(local)];
-    }
-    return out;
-}
-
 inline int child_valence(const Topology& p, Index v) {
     return v < p.num_vertices ? p.valence(v) : 2 + 2 * p.edge_face_count(v - p.num_vertices);
 }
@@ -227,7 +207,6 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
         }
     }
     const Index faces_of_halves = faces_only ? 0 : 2 * p.edge_face_offsets[ne];
-    const Index edges_of_old = faces_only ? 0 : p.vertex_edge_offsets[nv];
 
     run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
         auto slice = [part, parts](int n) {
@@ -310,19 +289,21 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
         }
         if (full && part + 1 == parts) c.edge_face_offsets[child_edges] = faces_of_halves + 6 * nf;
 
+        // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end (or the
+        // arrays empty, when no vertex has an edge).
+        if (neighbourhood) {
+            write_child_rings(p, v0, v1, c.vertex_vertices.data() + p.vertex_edge_offsets[v0]);
+            write_child_rings(p, nv + e0, nv + e1, c.vertex_vertices.data() + child_ring_offset(p, nv + e0));
+        }
         for (int v = v0; v < v1; ++v) {
             c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
-            // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end
-            // (or the arrays empty, when no vertex has an edge).
-            if (neighbourhood) write_child_ring(p, v, c.vertex_vertices.data() + p.vertex_edge_offsets[v]);
             if (!full) continue;
             Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
             for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
         }
         for (int e = e0; e < e1; ++e) {
-            const Index first = edges_of_old + 2 * e + 2 * p.edge_face_offsets[e];
+            const Index first = child_ring_offset(p, nv + e);
             c.vertex_edge_offsets[nv + e] = first;
-            if (neighbourhood) write_child_ring(p, nv + e, c.vertex_vertices.data() + first);
             if (!full) continue;
             Index* edges = c.vertex_edges.data() + first;
             *edges++ = 2 * e, *edges++ = 2 * e + 1;
@@ -338,12 +319,23 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     return c;
 }
 
-void child_rings(const Topology& p, int begin, int end, Index* offsets, std::vector<Index>& ring) {
-    offsets[0] = 0;
-    for (int v = begin; v < end; ++v) offsets[v - begin + 1] = offsets[v - begin] + child_valence(p, v);
-    ring.resize(std::size_t(offsets[end - begin]));
-    Index* out = ring.data();
-    for (int v = begin; v < end; ++v) out = write_child_ring(p, v, out);
+void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
+    const Index nv = p.num_vertices;
+    const int split = std::clamp(int(nv), begin, end);  // old vertices [begin, split), midpoints [split, end)
+    // An old vertex's ring is the midpoints of its edges, in order; consecutive vertices' edges are consecutive.
+    if (begin < split)
+        for (Index k = p.vertex_edge_offsets[begin]; k < p.vertex_edge_offsets[split]; ++k) *ring++ = nv + p.vertex_edges[k];
+    // The midpoint of edge e: its ends, then per face of e the two midpoints it is joined to.
+    for (Index e = split - nv; e < end - nv; ++e) {
+        *ring++ = p.edge_vertices[2 * e];
+        *ring++ = p.edge_vertices[2 * e + 1];
+        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+            const Index* fe = &p.face_edges[3 * p.edge_faces[k]];
+            const int local = local_edge(fe, e);
+            *ring++ = nv + fe[next_corner(local)];
+            *ring++ = nv + fe[prev_corner(local)];
+        }
+    }
 }
 
 void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, Index* d) {

@@ -92,9 +92,17 @@ private:
 // vertex values are refined (LevelStencils::derived_from). Its rings and edges are derived a chunk at a time as the
 // kernels run, exactly as refine_topology would have written them. The parent must hold its edge faces and vertex
 // edges (Refined::Full, or the base).
-// The one-rings of child vertices [begin, end), in refine_topology's vertex_vertices order: ring k is
-// ring[offsets[k] .. offsets[k + 1]) (offsets: end - begin + 1 entries, from 0; `ring` is resized to fit).
-void child_rings(const Topology& parent, int begin, int end, Index* offsets, std::vector<Index>& ring);
+// Where child vertex v's one-ring starts in refine_topology's vertex_vertices, for v from 0 to the number of child
+// vertices: an old vertex keeps its parent's offset, after them each midpoint has its ends and two per face.
+inline Index child_ring_offset(const Topology& parent, Index v) {
+    const Index nv = parent.num_vertices;
+    if (v <= nv) return parent.vertex_edge_offsets[v];
+    const Index e = v - nv;
+    return parent.vertex_edge_offsets[nv] + 2 * e + 2 * parent.edge_face_offsets[e];
+}
+// The one-rings of child vertices [begin, end), in refine_topology's vertex_vertices order, written from ring[0]:
+// vertex v's at child_ring_offset(v) - child_ring_offset(begin).
+void write_child_rings(const Topology& parent, int begin, int end, Index* ring);
 // Ends (A, B) and the vertices opposite (C, D) of child edges [begin, end), as refine_topology's edge_vertices (2 per
 // edge) and edge_opposite_c / _d give them; written from index 0 of each array.
 void child_edges(const Topology& parent, int begin, int end, Index* ends, Index* c, Index* d);
