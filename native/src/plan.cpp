@@ -226,12 +226,13 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     }
 
     // The last level needs only its triangles. The one before it needs its stencils, but not its edge faces and
-    // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level. With
-    // derived tables (Options::level_tables) a level keeps its connectivity only, and the one before the last is not
-    // stored at all: its child's triangles come from this level through the numbering, as its stencils will.
-    if (derive_tables && grandchild_last) {
+    // vertex edges (a third of its memory traffic): the few vertices it classifies take them from this level. Where
+    // nothing else is refined (skip_level_before_last), the level before the last is not built at all: its child's
+    // triangles come from this level through the numbering, as its stencils do. With derived tables
+    // (Options::level_tables) the other levels keep their connectivity only.
+    if (skip_level_before_last && grandchild_last) {
         child.topology.num_vertices = nv + ne;
-    } else if (derive_tables && last_child) {
+    } else if (skip_level_before_last && last_child) {
         child.topology.num_vertices = nv + ne;
         child.topology.face_vertices.resize(48 * std::size_t(parent.num_faces()));
         detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
@@ -264,8 +265,11 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     }
 
     // Hand over what the stencils keep rather than copy it; the offsets stay where the next level may still derive
-    // its neighbourhoods from this one. Derived tables (levels past the base) are not stored.
-    if (!derive_tables || child_level == 1) {
+    // its neighbourhoods from this one. Derived tables (levels past the base) are not stored; those of a level not
+    // built are filled from its parent.
+    if (skip_level_before_last && last_child && !derive_tables) {
+        fill_tables_from_parent(parent, s);
+    } else if (!derive_tables || child_level == 1) {
         if (last_child) s.ring_offsets = std::move(t.vertex_edge_offsets);
         else s.ring_offsets = t.vertex_edge_offsets;
         s.ring = std::move(t.vertex_vertices);
@@ -273,6 +277,24 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         s.edge_d = std::move(t.edge_opposite_d);
     }
     if (last_child) level_vertex_types.push_back(std::move(last_types));  // last: it moves `types`
+}
+
+void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelStencils& s) const {
+    // What refine_topology would have written (Refined::ForStencils), without the level's faces and in one pass.
+    s.ring_offsets.resize(std::size_t(s.num_vertices) + 1);
+    s.ring.resize(std::size_t(detail::child_ring_offset(parent, s.num_vertices)));
+    s.edge_ends.resize(2 * std::size_t(s.num_edges));
+    s.edge_c.resize(std::size_t(s.num_edges));
+    s.edge_d.resize(std::size_t(s.num_edges));
+    detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
+        auto slice = [part, parts](int n, int which) { return int(std::int64_t(n) * (part + which) / parts); };
+        const int v0 = slice(s.num_vertices, 0), v1 = slice(s.num_vertices, 1), e0 = slice(s.num_edges, 0), e1 = slice(s.num_edges, 1);
+        for (int v = v0; v < v1; ++v) s.ring_offsets[v] = detail::child_ring_offset(parent, v);
+        if (part + 1 == parts) s.ring_offsets[s.num_vertices] = Index(s.ring.size());
+        // Pointer arithmetic, not &vector[i]: the offset may be the ring's end.
+        detail::write_child_rings(parent, v0, v1, s.ring.data() + detail::child_ring_offset(parent, v0));
+        detail::child_edges(parent, e0, e1, s.edge_ends.data() + 2 * std::size_t(e0), s.edge_c.data() + e0, s.edge_d.data() + e0);
+    });
 }
 
 void PlanImpl::drop_holes() {
@@ -367,9 +389,9 @@ void PlanImpl::build(const MeshView& mesh) {
     LevelCounts last_but_one = counts;
     for (int l = 1; l < options.levels; ++l) last_but_one = last_but_one.child();
     const std::uint64_t stored_tables = mul(24, add(last_but_one.edges, last_but_one.faces));  // ring, edges, faces
-    const bool derivable = options.levels >= 2 && !options.limit_surface && layers.empty();
-    derive_tables = derivable && (options.level_tables == LevelTables::Derived ||
-                                  (options.level_tables == LevelTables::Auto && stored_tables > kDeriveAboveBytes));
+    skip_level_before_last = options.levels >= 2 && !options.limit_surface && layers.empty();
+    derive_tables = skip_level_before_last && (options.level_tables == LevelTables::Derived ||
+                                               (options.level_tables == LevelTables::Auto && stored_tables > kDeriveAboveBytes));
     Topology parent;  // the level before `level`: the next-to-last level derives its neighbourhoods from it
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
@@ -391,7 +413,7 @@ void PlanImpl::build(const MeshView& mesh) {
         if (options.limit_surface) layer.plan_limit(level, limit->positions);
         face_varying.push_back(layer.finish());
     }
-    if (options.levels > 0 && !stencils.back().derived_from) stencils.back().edge_ends = std::move(parent.edge_vertices);
+    if (options.levels > 0 && !skip_level_before_last) stencils.back().edge_ends = std::move(parent.edge_vertices);
     output_triangles = std::move(level.topology.face_vertices);
     if (!holes.empty()) drop_holes();
     level_edges.resize(options.levels);

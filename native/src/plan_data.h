@@ -72,6 +72,10 @@ struct PlanImpl {
     // A kernel sums up to this many input values before it weights them (a vertex's ring): inputs must stay below
     // the float maximum divided by it, or the sums overflow to infinity and give NaN (checked by evaluate).
     int max_summed_terms = 1;
+    // The level before the last is never built where nothing but vertex values are refined over two levels or more:
+    // its stencil tables come from its parent's connectivity (filled here, or derived as an evaluation runs), and
+    // the last level's triangles straight from its parent too (write_grandchild_faces).
+    bool skip_level_before_last = false;
     // Options::level_tables, resolved: the stencils of levels 1 .. levels - 1 are derived (LevelStencils::derived_from).
     bool derive_tables = false;
     double topology_ms = 0.0, evaluate_ms = 0.0;
@@ -81,6 +85,8 @@ struct PlanImpl {
     detail::LevelState base_level(const MeshView& mesh);
     // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
     void plan_level(detail::LevelState& level, const detail::Topology& parent, detail::LevelState& child, int child_level);
+    // The stencil tables of a level that is not built (skip_level_before_last), from its parent's connectivity.
+    void fill_tables_from_parent(const detail::Topology& parent, detail::LevelStencils& s) const;
     void collect_output_tags(const detail::LevelState& last);
     // Leaves the descendants of hole triangles out of everything indexed by output triangle.
     void drop_holes();
