@@ -1,0 +1,81 @@
+// The core's one thread runner (run_levels) and the allocator the plan's arrays come from: what the kernels and the
+// plan rely on when they split a level among threads and reuse memory from one plan to the next.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "large_allocator.h"
+#include "parallel.h"
+
+namespace {
+
+using loopsub::detail::LargeVector;
+using loopsub::detail::run_levels;
+
+// Every part of every level runs exactly once, with the part count asked for, whatever the thread count.
+TEST(RunLevels, RunsEveryPartOfEveryLevelOnce) {
+    for (int threads : {1, 2, 3, 8}) {
+        const int levels = 7;
+        std::vector<int> runs(std::size_t(levels * threads), 0);
+        std::vector<int> parts_seen(runs.size(), 0);
+        run_levels(threads, levels, [&](int level, int part, int parts) {
+            ++runs[std::size_t(level * threads + part)];  // each slot has one writer
+            parts_seen[std::size_t(level * threads + part)] = parts;
+        });
+        for (std::size_t k = 0; k < runs.size(); ++k) {
+            EXPECT_EQ(runs[k], 1) << threads << " threads, level " << k / threads << ", part " << k % threads;
+            EXPECT_EQ(parts_seen[k], threads);
+        }
+    }
+}
+
+// A level reads what every part wrote in the level before (as a refinement level reads its parent): the barrier
+// between levels must order them. Each part adds its neighbour part's previous value; the same recurrence written
+// out serially gives the expected values.
+TEST(RunLevels, EachLevelSeesThePreviousLevelsWrites) {
+    for (int threads : {2, 3, 8}) {
+        const int levels = 40;
+        std::vector<std::int64_t> buffers[2] = {std::vector<std::int64_t>(threads, 1), std::vector<std::int64_t>(threads, 1)};
+        for (int round = 0; round < 50; ++round) {
+            buffers[0].assign(threads, 1);
+            buffers[1].assign(threads, 1);
+            run_levels(threads, levels, [&](int level, int part, int parts) {
+                const std::vector<std::int64_t>& before = buffers[(level + 1) % 2];
+                buffers[level % 2][part] = before[part] + before[(part + 1) % parts] + level;
+            });
+            std::vector<std::int64_t> expected(threads, 1), next(threads);
+            for (int level = 0; level < levels; ++level) {
+                for (int part = 0; part < threads; ++part) next[part] = expected[part] + expected[(part + 1) % threads] + level;
+                expected.swap(next);
+            }
+            ASSERT_EQ(buffers[(levels - 1) % 2], expected) << threads << " threads, round " << round;
+        }
+    }
+}
+
+// Large arrays start a few cache lines into their blocks, a different number each time (so that arrays passed over
+// side by side do not share their offset); freeing one must hand its whole block back to the pool, where the next
+// array of the same size finds it.
+TEST(LargeAllocator, ArraysStartAtDifferentOffsetsInPooledBlocks) {
+    using Allocator = loopsub::detail::LargeAllocator<std::int32_t>;
+    const std::size_t count = (std::size_t(3) << 20) / sizeof(std::int32_t);  // 3 MiB: two huge pages' block
+    const std::uintptr_t block_mask = ~std::uintptr_t(Allocator::kHugePage - 1);
+    loopsub::detail::BlockPool::instance().release_all(Allocator::free_large);  // no block of this size from earlier tests
+    std::uintptr_t block = 0, offset = 0;
+    for (int round = 0; round < 200; ++round) {
+        LargeVector<std::int32_t> array(count, round);
+        EXPECT_EQ(array.back(), round);
+        const std::uintptr_t start = reinterpret_cast<std::uintptr_t>(array.data());
+        if (round > 0) {
+            EXPECT_EQ(start & block_mask, block) << "round " << round << ": the freed block is reused";
+            EXPECT_NE(start - block, offset) << "round " << round;
+        }
+        block = start & block_mask;
+        offset = start - block;
+        ASSERT_LT(offset, Allocator::kColourRoom) << "round " << round;
+        EXPECT_EQ(offset % 64, 0u) << "round " << round << ": whole cache lines";
+    }
+}
+
+}  // namespace
