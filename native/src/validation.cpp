@@ -38,32 +38,33 @@ void validate_mesh(const MeshView& mesh, const Options& options) {
             fail("hole " + std::to_string(k) + " refers to triangle " + std::to_string(mesh.hole_triangles[k]) + ", outside 0.." +
                  std::to_string(mesh.num_triangles - 1));
 
-    auto check_index = [&](Index v, const std::string& where) {
+    // `what` and `which` name the element only once it fails: building the name for every triangle cost more than the
+    // checks.
+    auto check_index = [&](Index v, const char* what, int which) {
         if (v < 0 || v >= mesh.num_vertices)
-            fail(where + " refers to vertex " + std::to_string(v) + ", outside 0.." + std::to_string(mesh.num_vertices - 1) +
-                 " (the mesh has " + std::to_string(mesh.num_vertices) + " vertices)");
+            fail(std::string(what) + " " + std::to_string(which) + " refers to vertex " + std::to_string(v) + ", outside 0.." +
+                 std::to_string(mesh.num_vertices - 1) + " (the mesh has " + std::to_string(mesh.num_vertices) + " vertices)");
     };
     for (int f = 0; f < mesh.num_triangles; ++f) {
         const Index* v = mesh.triangles + 3 * std::size_t(f);
-        for (int k = 0; k < 3; ++k) check_index(v[k], "triangle " + std::to_string(f));
+        for (int k = 0; k < 3; ++k) check_index(v[k], "triangle", f);
         if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
             fail("triangle " + std::to_string(f) + " is degenerate: it repeats a vertex (" + std::to_string(v[0]) + ", " +
                  std::to_string(v[1]) + ", " + std::to_string(v[2]) + ")");
     }
     for (int k = 0; k < mesh.num_crease_edges; ++k) {
-        const std::string where = "crease edge " + std::to_string(k);
-        check_index(mesh.crease_edges[2 * k], where);
-        check_index(mesh.crease_edges[2 * k + 1], where);
+        check_index(mesh.crease_edges[2 * k], "crease edge", k);
+        check_index(mesh.crease_edges[2 * k + 1], "crease edge", k);
         if (!finite_non_negative(mesh.crease_sharpness[k]))
-            fail(where + " has sharpness " + std::to_string(mesh.crease_sharpness[k]) + "; it must be a finite number >= 0");
+            fail("crease edge " + std::to_string(k) + " has sharpness " + std::to_string(mesh.crease_sharpness[k]) + "; it must be a finite number >= 0");
     }
     for (int k = 0; k < mesh.num_corners; ++k) {
-        check_index(mesh.corner_vertices[k], "corner " + std::to_string(k));
+        check_index(mesh.corner_vertices[k], "corner", k);
         if (!finite_non_negative(mesh.corner_sharpness[k]))
             fail("corner " + std::to_string(k) + " has sharpness " + std::to_string(mesh.corner_sharpness[k]) +
                  "; it must be a finite number >= 0");
     }
-    for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone " + std::to_string(k));
+    for (int k = 0; k < mesh.num_cones; ++k) check_index(mesh.cone_vertices[k], "cone", k);
 }
 
 void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms, const char* element) {
