@@ -286,14 +286,26 @@ void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelSten
     s.edge_ends.resize(2 * std::size_t(s.num_edges));
     s.edge_c.resize(std::size_t(s.num_edges));
     s.edge_d.resize(std::size_t(s.num_edges));
+    // Each part takes its share of each kind of vertex and edge: old vertices' rings cost less than midpoints', and
+    // interior edges less than halves.
+    const int nv = parent.num_vertices, halves = 2 * parent.num_edges();
     detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
-        auto slice = [part, parts](int n, int which) { return int(std::int64_t(n) * (part + which) / parts); };
-        const int v0 = slice(s.num_vertices, 0), v1 = slice(s.num_vertices, 1), e0 = slice(s.num_edges, 0), e1 = slice(s.num_edges, 1);
-        for (int v = v0; v < v1; ++v) s.ring_offsets[v] = detail::child_ring_offset(parent, v);
+        auto share = [part, parts](int begin, int end, int which, int step) {
+            return begin + int(std::int64_t((end - begin) / step) * (part + which) / parts) * step;
+        };
+        auto fill_vertices = [&](int v0, int v1) {
+            for (int v = v0; v < v1; ++v) s.ring_offsets[v] = detail::child_ring_offset(parent, v);
+            // Pointer arithmetic, not &vector[i]: the offset may be the ring's end.
+            detail::write_child_rings(parent, v0, v1, s.ring.data() + detail::child_ring_offset(parent, v0));
+        };
+        auto fill_edges = [&](int e0, int e1) {
+            detail::child_edges(parent, e0, e1, s.edge_ends.data() + 2 * std::size_t(e0), s.edge_c.data() + e0, s.edge_d.data() + e0);
+        };
+        fill_vertices(share(0, nv, 0, 1), share(0, nv, 1, 1));
+        fill_vertices(share(nv, s.num_vertices, 0, 1), share(nv, s.num_vertices, 1, 1));
+        fill_edges(share(0, halves, 0, 2), share(0, halves, 1, 2));  // a parent edge's two halves together
+        fill_edges(share(halves, s.num_edges, 0, 3), share(halves, s.num_edges, 1, 3));  // a face's three
         if (part + 1 == parts) s.ring_offsets[s.num_vertices] = Index(s.ring.size());
-        // Pointer arithmetic, not &vector[i]: the offset may be the ring's end.
-        detail::write_child_rings(parent, v0, v1, s.ring.data() + detail::child_ring_offset(parent, v0));
-        detail::child_edges(parent, e0, e1, s.edge_ends.data() + 2 * std::size_t(e0), s.edge_c.data() + e0, s.edge_d.data() + e0);
     });
 }
 
