@@ -97,12 +97,13 @@ struct LargeAllocator {
     // Large blocks are whole huge pages; middling ones (64 KiB up) whole multiples of 64 KiB, so that plans of one
     // mesh ask for the same sizes again.
     static std::size_t block_size(std::size_t bytes) {
-        const std::size_t unit = bytes + kColourRoom >= kHugePage ? kHugePage : kPooled;
-        return (bytes + kColourRoom + unit - 1) / unit * unit;
+        const std::size_t unit = bytes >= kHugePage ? kHugePage : kPooled;
+        return (bytes + unit - 1) / unit * unit;
     }
     static std::size_t block_alignment(std::size_t rounded) { return rounded >= kHugePage ? kHugePage : kPooled; }
 
-    // Arrays do not start at their block's start but a different number of cache lines past it, one of 64 in turn:
+    // Arrays do not start at their block's start but a different number of cache lines past it, one of 64 in turn,
+    // where the block has that much room to spare (almost always: the last huge page or 64 KiB is rarely full):
     // arrays read and written side by side (a level's edge ends and wings) then do not start at the same offset
     // within 64 KiB, a placement measured to make a pass over them up to 2.3x slower (docs/benchmark.md).
     static constexpr std::size_t kColourRoom = 4096;
@@ -134,7 +135,7 @@ struct LargeAllocator {
             if (rounded >= kHugePage) madvise(block, rounded, MADV_HUGEPAGE);  // advisory: else it is ordinary memory
 #endif
         }
-        return reinterpret_cast<T*>(static_cast<char*>(block) + next_colour());
+        return reinterpret_cast<T*>(static_cast<char*>(block) + (rounded - bytes >= kColourRoom ? next_colour() : 0));
     }
     void deallocate(T* p, std::size_t n) noexcept {
         const std::size_t bytes = n * sizeof(T);
