@@ -398,12 +398,11 @@ void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
             corners[3][k] = m[k];
             edges[3][k] = interior + k;
         }
-        for (int child = 0; child < 4; ++child) {
+        for (int child = 0; child < 4; ++child, out += 12) {
             const Index a = corners[child][0], b = corners[child][1], c = corners[child][2];
             const Index m0 = child_vertices + edges[child][0], m1 = child_vertices + edges[child][1], m2 = child_vertices + edges[child][2];
-            const Index twelve[12] = {a, m0, m2, b, m1, m0, c, m2, m1, m0, m1, m2};
-            std::copy(twelve, twelve + 12, out);
-            out += 12;
+            out[0] = a, out[1] = m0, out[2] = m2, out[3] = b, out[4] = m1, out[5] = m0;
+            out[6] = c, out[7] = m2, out[8] = m1, out[9] = m0, out[10] = m1, out[11] = m2;
         }
     }
 }
