@@ -127,42 +127,45 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     t.face_vertices.assign(triangles, triangles + 3 * std::size_t(num_triangles));
     const int num_corners = 3 * num_triangles;
 
-    // Bucket the corners' edges by their lower vertex, in corner order, so that finding an edge's first
-    // corner is a scan of a bucket of about half a valence: no hashing, no sort.
+    // Corner k of a face starts the face's edge k: its ends, lower and higher.
+    LargeVector<Index> low(num_corners), high(num_corners);
+    for (int f = 0; f < num_triangles; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const Index a = t.face_vertices[3 * f + k], b = t.face_vertices[3 * f + next_corner(k)];
+            low[3 * f + k] = std::min(a, b), high[3 * f + k] = std::max(a, b);
+        }
+    // Bucket the corners' edges by their lower vertex, in corner order, so that finding an edge's first corner is a
+    // scan of a bucket of about half a valence: no hashing, no sort. The bucket keeps each corner's higher end beside
+    // it, so that the scan reads one array in order.
     LargeVector<Index> bucket_counts(num_vertices, 0);
-    auto low_end = [&](int c) {
-        const Index a = t.face_vertices[c], b = t.face_vertices[c - c % 3 + next_corner(c % 3)];
-        return a < b ? a : b;
-    };
-    auto high_end = [&](int c) {
-        const Index a = t.face_vertices[c], b = t.face_vertices[c - c % 3 + next_corner(c % 3)];
-        return a < b ? b : a;
-    };
-    for (int c = 0; c < num_corners; ++c) ++bucket_counts[low_end(c)];
+    for (int c = 0; c < num_corners; ++c) ++bucket_counts[low[c]];
     const LargeVector<Index> bucket_offsets = offsets_from_counts(bucket_counts);
-    LargeVector<Index> bucket(num_corners);
+    LargeVector<Index> bucket(num_corners), bucket_high(num_corners);
     {
         LargeVector<Index> cursor(bucket_offsets.begin(), bucket_offsets.end() - 1);
-        for (int c = 0; c < num_corners; ++c) bucket[cursor[low_end(c)]++] = c;
+        for (int c = 0; c < num_corners; ++c) {
+            const Index slot = cursor[low[c]]++;
+            bucket[slot] = c;
+            bucket_high[slot] = high[c];
+        }
     }
 
     t.face_edges.resize(num_corners);
     t.edge_vertices.reserve(num_corners);  // at most one edge per corner
-    for (int c = 0; c < num_corners; ++c) {
-        const Index lo = low_end(c), hi = high_end(c);
-        int first = c;
-        for (Index k = bucket_offsets[lo]; k < bucket_offsets[lo + 1]; ++k) {
-            if (high_end(bucket[k]) == hi) {
-                first = bucket[k];
-                break;
+    for (int f = 0; f < num_triangles; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const int c = 3 * f + k;
+            const Index lo = low[c], hi = high[c];
+            Index k_first = bucket_offsets[lo];
+            while (bucket_high[k_first] != hi) ++k_first;  // c itself is in the bucket
+            const int first = bucket[k_first];
+            if (first == c) {
+                t.face_edges[c] = t.num_edges();
+                t.edge_vertices.push_back(t.face_vertices[c]);
+                t.edge_vertices.push_back(t.face_vertices[3 * f + next_corner(k)]);
+            } else {
+                t.face_edges[c] = t.face_edges[first];
             }
-        }
-        if (first == c) {
-            t.face_edges[c] = t.num_edges();
-            t.edge_vertices.push_back(t.face_vertices[c]);
-            t.edge_vertices.push_back(t.face_vertices[c - c % 3 + next_corner(c % 3)]);
-        } else {
-            t.face_edges[c] = t.face_edges[first];
         }
     }
     fill_edge_faces(t);
