@@ -1,7 +1,9 @@
 // Allocator for the plan's big arrays (megabytes per level). Fresh memory costs a page fault per 4 KiB on first
 // touch, which measured as more time than the topology work itself; asking the kernel for transparent huge
 // pages (2 MiB) on large blocks cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode).
-// Elsewhere large blocks are just aligned to 2 MiB.
+// Huge pages also make a plan's speed steady: with 4 KiB pages the physical placement of the arrays the passes read
+// side by side changes from process to process, and the plan's time with it (4.5 to 7.4 ms for the same plan,
+// docs/benchmark.md); so arrays from 1 MiB up get whole huge pages. Elsewhere large blocks are just aligned to 2 MiB.
 //
 // Freed blocks of 64 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built
 // again (the modifier after an edit that changes the topology, a benchmark loop) then finds its arrays already
@@ -94,10 +96,10 @@ struct LargeAllocator {
     static constexpr std::size_t kHugePage = std::size_t(2) << 20;
     static constexpr std::size_t kPooled = std::size_t(64) << 10;  // smaller blocks are malloc's business
 
-    // Large blocks are whole huge pages; middling ones (64 KiB up) whole multiples of 64 KiB, so that plans of one
-    // mesh ask for the same sizes again.
+    // Large blocks (1 MiB up) are whole huge pages; middling ones (64 KiB up) whole multiples of 64 KiB, so that
+    // plans of one mesh ask for the same sizes again.
     static std::size_t block_size(std::size_t bytes) {
-        const std::size_t unit = bytes >= kHugePage ? kHugePage : kPooled;
+        const std::size_t unit = bytes >= kHugePage / 2 ? kHugePage : kPooled;
         return (bytes + unit - 1) / unit * unit;
     }
     static std::size_t block_alignment(std::size_t rounded) { return rounded >= kHugePage ? kHugePage : kPooled; }
