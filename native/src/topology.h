@@ -89,9 +89,10 @@ private:
 };
 
 // A child level known through its parent's numbering instead of stored: the level before the last, when nothing but
-// vertex values are refined (LevelStencils::derived_from). Its rings and edges are derived a chunk at a time as the
-// kernels run, exactly as refine_topology would have written them. The parent must hold its edge faces and vertex
-// edges (Refined::Full, or the base).
+// vertex values are refined, whose tables are filled from its parent (PlanImpl::fill_tables_from_parent), and with
+// derived tables every level past the base (LevelStencils::derived_from), whose tables are derived a chunk at a time
+// as the kernels run; exactly as refine_topology would have written them. The parent must hold its edge faces and
+// vertex edges (Refined::Full, or the base).
 // Where child vertex v's one-ring starts in refine_topology's vertex_vertices, for v from 0 to the number of child
 // vertices: an old vertex keeps its parent's offset, after them each midpoint has its ends and two per face.
 inline Index child_ring_offset(const Topology& parent, Index v) {
