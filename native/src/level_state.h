@@ -26,6 +26,19 @@ inline const Feature* find_feature(const std::vector<Feature>& features, Index i
     return found != features.end() && found->index == index ? &*found : nullptr;
 }
 
+// Looks features up by index in ascending order, walking the sorted list once rather than searching it each time.
+class FeatureWalk {
+public:
+    explicit FeatureWalk(const std::vector<Feature>& features) : next_(features.data()), end_(features.data() + features.size()) {}
+    float sharpness(Index index) {
+        while (next_ != end_ && next_->index < index) ++next_;
+        return next_ != end_ && next_->index == index ? next_->sharpness : 0.0f;
+    }
+
+private:
+    const Feature *next_, *end_;
+};
+
 struct LevelState {
     Topology topology;
     bool own_neighbourhood = true;  // false: refined ForStencils, its vertex neighbourhoods come from its parent
@@ -45,6 +58,10 @@ struct FeatureVertex {
     int sharp_edges;   // how many of its edges are sharp
     Index crease[2];   // the first two sharp edges (-1: none)
     bool tagged_cone;  // Hoppe94
+    const Feature* own = nullptr;  // the vertex's own sharpness and tag, where it is a feature itself
+
+    float own_sharpness() const { return own ? own->sharpness : 0.0f; }
+    float own_tag() const { return own ? own->tag : 0.0f; }
 };
 
 // Visits, in vertex order, every vertex that touches a sharp or tagged edge, is tagged itself, or is a cone.
@@ -55,7 +72,8 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     // no search per incident edge.
     struct Touch {
         Index vertex;
-        const Feature* edge;  // null: the vertex is a feature itself, or a cone
+        const Feature* edge;  // null: the vertex is a feature itself (`own`), or a cone
+        const Feature* own;
         bool operator<(const Touch& other) const { return vertex < other.vertex; }
     };
     std::vector<Touch> touches;
@@ -63,11 +81,11 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     for (const Feature& f : level.edges) {
         Index ends[2];
         around.edge_ends(f.index, ends);
-        touches.push_back({ends[0], &f});
-        touches.push_back({ends[1], &f});
+        touches.push_back({ends[0], &f, nullptr});
+        touches.push_back({ends[1], &f, nullptr});
     }
-    for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr});
-    for (Index v : cones) if (v < level.topology.num_vertices) touches.push_back({v, nullptr});
+    for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr, &f});
+    for (Index v : cones) if (v < level.topology.num_vertices) touches.push_back({v, nullptr, nullptr});
     std::sort(touches.begin(), touches.end());
 
     std::vector<Index> edges;
@@ -78,7 +96,9 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         around.edges(v, edges);
         sharpness.assign(edges.size(), 0.0f);
         tags.assign(edges.size(), 0.0f);
+        const Feature* own = nullptr;
         for (auto touch = run; touch != run_end; ++touch) {
+            if (touch->own) own = touch->own;
             if (!touch->edge) continue;
             const std::size_t k = std::size_t(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
             sharpness[k] = touch->edge->sharpness;
@@ -90,7 +110,7 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         for (std::size_t k = 0; k < edges.size(); ++k)
             if (is_sharp(sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
         visit(FeatureVertex{v, edges, sharpness, tags, sharp_edges, {crease[0], crease[1]},
-                            std::binary_search(cones.begin(), cones.end(), v)});
+                            std::binary_search(cones.begin(), cones.end(), v), own});
     }
 }
 

@@ -189,9 +189,9 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             const float child_tag = rules->child_tag(vertex.tags[k], decayed);
             if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({around.child_edge_at(e, v), decayed, child_tag});
         }
-        const float vertex_sharpness = level.vertex_sharpness(v);
+        const float vertex_sharpness = vertex.own_sharpness();
         const float child_vertex_sharpness = rules->child_vertex_sharpness(vertex_sharpness);
-        const float child_vertex_tag = rules->child_tag(level.vertex_tag(v), child_vertex_sharpness);
+        const float child_vertex_tag = rules->child_tag(vertex.own_tag(), child_vertex_sharpness);
         if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) child.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
 
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, vertex.sharp_edges);
@@ -217,8 +217,9 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     if (last_child) {
         // A midpoint's only edges that can be sharp are its two halves; it is regular where its edge has at most
         // two faces (valence 6 with three faces on each side, or a boundary of valence 4).
+        detail::FeatureWalk halves(child.edges);
         for (const Feature& f : level.edges) {
-            const int sharp_halves = detail::is_sharp(child.edge_sharpness(2 * f.index)) + detail::is_sharp(child.edge_sharpness(2 * f.index + 1));
+            const int sharp_halves = detail::is_sharp(halves.sharpness(2 * f.index)) + detail::is_sharp(halves.sharpness(2 * f.index + 1));
             VertexType& type = last_types[std::size_t(nv) + std::size_t(f.index)];
             if (sharp_halves == 1) type = VertexType::Dart;
             if (sharp_halves == 2) type = around.edge_face_count(f.index) <= 2 ? VertexType::RegularCrease : VertexType::IrregularCrease;
@@ -252,6 +253,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
 
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
     // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
+    detail::FeatureWalk halves(child.edges);
     for (const Feature& feature : level.edges) {
         const Index e = feature.index;
         const float sharpness = feature.sharpness;
@@ -259,7 +261,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         Index ends[2];
         around.edge_ends(e, ends);
         const Index a = ends[0], b = ends[1];
-        const bool halves_sharp = detail::is_sharp(child.edge_sharpness(2 * e)) && detail::is_sharp(child.edge_sharpness(2 * e + 1));
+        const bool halves_sharp = detail::is_sharp(halves.sharpness(2 * e)) && detail::is_sharp(halves.sharpness(2 * e + 1));
         const detail::EdgeMask mask = rules->edge_mask({sharpness, types[a], types[b], around.edge_face_count(e), halves_sharp});
         if (!(mask == detail::smooth_edge_mask())) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
