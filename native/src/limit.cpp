@@ -8,6 +8,7 @@
 // t1 x t2 of OpenSubdiv's smooth tangent masks. Elsewhere each corner takes the normal of its side: the faces
 // between two sharp edges, with the sharp edges as that side's boundary (OpenSubdiv's boundary tangent masks).
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "level_state.h"
@@ -190,16 +191,34 @@ struct Vec3 {
     float x = 0.0f, y = 0.0f, z = 0.0f;
 };
 
-// The unit normal t1 x t2, or zero where the tangents do not span a plane.
-Vec3 unit_normal(const Vec3& t1, const Vec3& t2) {
-    const double x = double(t1.y) * t2.z - double(t1.z) * t2.y;
-    const double y = double(t1.z) * t2.x - double(t1.x) * t2.z;
-    const double z = double(t1.x) * t2.y - double(t1.y) * t2.x;
-    const double length = std::sqrt(x * x + y * y + z * z);
-    if (!(length > 0.0) || !std::isfinite(length)) return {};
-    const double inverse = 1.0 / length;
-    return {float(x * inverse), float(y * inverse), float(z * inverse)};
-}
+// The unit normals t1 x t2 of a batch of tangent pairs, zero where the tangents do not span a plane. Over arrays and
+// without branches, the compiler takes two or four square roots and divisions at once, which one at a time cost more
+// than the tangents themselves.
+struct NormalBatch {
+    static constexpr int kSize = 64;
+    float t1[3][kSize], t2[3][kSize], normal[3][kSize];
+
+    void put(int i, const Vec3& tangent1, const Vec3& tangent2) {
+        t1[0][i] = tangent1.x, t1[1][i] = tangent1.y, t1[2][i] = tangent1.z;
+        t2[0][i] = tangent2.x, t2[1][i] = tangent2.y, t2[2][i] = tangent2.z;
+    }
+    void store(int i, float* to) const { to[0] = normal[0][i], to[1] = normal[1][i], to[2] = normal[2][i]; }
+
+    void unit_normals(int count) {
+        for (int i = 0; i < count; ++i) {
+            const double x = double(t1[1][i]) * t2[2][i] - double(t1[2][i]) * t2[1][i];
+            const double y = double(t1[2][i]) * t2[0][i] - double(t1[0][i]) * t2[2][i];
+            const double z = double(t1[0][i]) * t2[1][i] - double(t1[1][i]) * t2[0][i];
+            const double length = std::sqrt(x * x + y * y + z * z);
+            // The cross product of finite floats is finite in double: where the length is zero, so are x, y and z.
+            const double reciprocal = 1.0 / length;
+            const double inverse = (length > 0.0) & (length <= std::numeric_limits<double>::max()) ? reciprocal : 0.0;
+            normal[0][i] = float(x * inverse);
+            normal[1][i] = float(y * inverse);
+            normal[2][i] = float(z * inverse);
+        }
+    }
+};
 
 }  // namespace
 
@@ -225,31 +244,40 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
     lt.vertex_normals.resize(3 * std::size_t(s.num_vertices));
     lt.side_normals.resize(3 * lt.sides.size());
     const std::size_t corners = output_triangles.size();
-    auto store = [](float* to, const Vec3& n) { to[0] = n.x, to[1] = n.y, to[2] = n.z; };
     detail::run_levels(std::max(1, options.threads), 3, [&](int phase, int part, int parts) {
         auto range = [&](std::size_t n) {
             return std::pair<std::size_t, std::size_t>(n * std::size_t(part) / std::size_t(parts), n * std::size_t(part + 1) / std::size_t(parts));
         };
+        // Tangents a batch at a time, then their normals.
+        NormalBatch batch;
+        auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* normals) {
+            for (std::size_t first = begin; first < end; first += NormalBatch::kSize) {
+                const int count = int(std::min<std::size_t>(NormalBatch::kSize, end - first));
+                for (int i = 0; i < count; ++i) {
+                    Vec3 t1, t2;
+                    tangents_of(first + std::size_t(i), t1, t2);
+                    batch.put(i, t1, t2);
+                }
+                batch.unit_normals(count);
+                for (int i = 0; i < count; ++i) batch.store(i, normals + 3 * (first + std::size_t(i)));
+            }
+        };
         if (phase == 0) {
             const auto [begin, end] = range(std::size_t(s.num_vertices));
-            for (std::size_t v = begin; v < end; ++v) {
-                if (lt.by_side[v]) continue;
+            in_batches(begin, end, [&](std::size_t v, Vec3& t1, Vec3& t2) {
+                if (lt.by_side[v]) return;  // zero: its corners take their sides' normals
                 const Index first = s.ring_offsets[v];
                 const int valence = s.ring_offsets[v + 1] - first;
-                Vec3 t1, t2;
                 tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
-                store(&lt.vertex_normals[3 * v], unit_normal(t1, t2));
-            }
+            }, lt.vertex_normals.data());
         } else if (phase == 1) {
             const auto [begin, end] = range(lt.sides.size());
-            for (std::size_t i = begin; i < end; ++i) {
+            in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
                 const detail::LimitTables::Side& side = lt.sides[i];
                 const Index* points = lt.side_points.data() + side.first;
-                Vec3 t1, t2;
                 if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
                 else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
-                store(&lt.side_normals[3 * i], unit_normal(t1, t2));
-            }
+            }, lt.side_normals.data());
         } else {
             const auto [begin, end] = range(corners);
             for (std::size_t c = begin; c < end; ++c) {
