@@ -73,9 +73,9 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
             if (part == 0) detail::refine_ranges(refine, s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
             return;
         }
-        auto split = [parts](int count, int i) { return int(std::int64_t(count) * i / parts); };
-        detail::refine_ranges(refine, s, sources[pass], targets[pass], {split(s.num_vertices, part), split(s.num_vertices, part + 1)},
-               {split(s.num_edges, part), split(s.num_edges, part + 1)});
+        const auto [v0, v1] = detail::part_of(s.num_vertices, part, parts);
+        const auto [e0, e1] = detail::part_of(s.num_edges, part, parts);
+        detail::refine_ranges(refine, s, sources[pass], targets[pass], {v0, v1}, {e0, e1});
     });
 }
 

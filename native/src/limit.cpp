@@ -8,8 +8,8 @@
 // t1 x t2 of OpenSubdiv's smooth tangent masks. Elsewhere each corner takes the normal of its side: the faces
 // between two sharp edges, with the sharp edges as that side's boundary (OpenSubdiv's boundary tangent masks).
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 
 #include "level_state.h"
 #include "parallel.h"
@@ -245,9 +245,6 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
     lt.side_normals.resize(3 * lt.sides.size());
     const std::size_t corners = output_triangles.size();
     detail::run_levels(std::max(1, options.threads), 3, [&](int phase, int part, int parts) {
-        auto range = [&](std::size_t n) {
-            return std::pair<std::size_t, std::size_t>(n * std::size_t(part) / std::size_t(parts), n * std::size_t(part + 1) / std::size_t(parts));
-        };
         // Tangents a batch at a time, then their normals.
         NormalBatch batch;
         auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* normals) {
@@ -263,7 +260,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
             }
         };
         if (phase == 0) {
-            const auto [begin, end] = range(std::size_t(s.num_vertices));
+            const auto [begin, end] = detail::part_of(std::size_t(s.num_vertices), part, parts);
             in_batches(begin, end, [&](std::size_t v, Vec3& t1, Vec3& t2) {
                 if (lt.by_side[v]) return;  // zero: its corners take their sides' normals
                 const Index first = s.ring_offsets[v];
@@ -271,7 +268,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                 tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
             }, lt.vertex_normals.data());
         } else if (phase == 1) {
-            const auto [begin, end] = range(lt.sides.size());
+            const auto [begin, end] = detail::part_of(lt.sides.size(), part, parts);
             in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
                 const detail::LimitTables::Side& side = lt.sides[i];
                 const Index* points = lt.side_points.data() + side.first;
@@ -279,7 +276,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                 else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
             }, lt.side_normals.data());
         } else {
-            const auto [begin, end] = range(corners);
+            const auto [begin, end] = detail::part_of(corners, part, parts);
             for (std::size_t c = begin; c < end; ++c) {
                 const float* n = &lt.vertex_normals[3 * std::size_t(output_triangles[c])];
                 corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];

@@ -4,9 +4,11 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <mutex>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace loopsub::detail {
@@ -14,6 +16,12 @@ namespace loopsub::detail {
 // Runs work(level, part, parts) for every level in order and every part of a level at once: one thread per part
 // for the whole run (the caller being part 0), meeting at a barrier between levels. A thread the system refuses
 // to start costs parallelism, never the process: the parts are then shared among the threads that run.
+// Part `part` of `parts` of n items, [first, second): how a level's work is shared among run_levels' parts.
+template <typename Count>
+std::pair<Count, Count> part_of(Count n, int part, int parts) {
+    return {Count(std::int64_t(n) * part / parts), Count(std::int64_t(n) * (part + 1) / parts)};
+}
+
 template <typename Work>
 void run_levels(int threads, int levels, const Work& work) {
     if (threads == 1) {

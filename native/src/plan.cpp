@@ -237,9 +237,8 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         child.topology.num_vertices = nv + ne;
         child.topology.face_vertices.resize(48 * std::size_t(parent.num_faces()));
         detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
-            const int faces = parent.num_faces();
-            detail::write_grandchild_faces(parent, int(std::int64_t(faces) * part / parts), int(std::int64_t(faces) * (part + 1) / parts),
-                                           child.topology.face_vertices.data());
+            const auto [f0, f1] = detail::part_of(parent.num_faces(), part, parts);
+            detail::write_grandchild_faces(parent, f0, f1, child.topology.face_vertices.data());
         });
     } else {
         child.topology = detail::refine_topology(t, last_child        ? detail::Refined::FacesOnly
@@ -292,21 +291,25 @@ void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelSten
     // interior edges less than halves.
     const int nv = parent.num_vertices, halves = 2 * parent.num_edges();
     detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
-        auto share = [part, parts](int begin, int end, int which, int step) {
-            return begin + int(std::int64_t((end - begin) / step) * (part + which) / parts) * step;
+        // This part's share of [begin, end), in whole groups of `step`.
+        auto share = [part, parts](int begin, int end, int step) {
+            const auto [first, last] = detail::part_of((end - begin) / step, part, parts);
+            return std::pair<int, int>(begin + first * step, begin + last * step);
         };
-        auto fill_vertices = [&](int v0, int v1) {
+        auto fill_vertices = [&](std::pair<int, int> range) {
+            const auto [v0, v1] = range;
             for (int v = v0; v < v1; ++v) s.ring_offsets[v] = detail::child_ring_offset(parent, v);
             // Pointer arithmetic, not &vector[i]: the offset may be the ring's end.
             detail::write_child_rings(parent, v0, v1, s.ring.data() + detail::child_ring_offset(parent, v0));
         };
-        auto fill_edges = [&](int e0, int e1) {
+        auto fill_edges = [&](std::pair<int, int> range) {
+            const auto [e0, e1] = range;
             detail::child_edges(parent, e0, e1, s.edge_ends.data() + 2 * std::size_t(e0), s.edge_c.data() + e0, s.edge_d.data() + e0);
         };
-        fill_vertices(share(0, nv, 0, 1), share(0, nv, 1, 1));
-        fill_vertices(share(nv, s.num_vertices, 0, 1), share(nv, s.num_vertices, 1, 1));
-        fill_edges(share(0, halves, 0, 2), share(0, halves, 1, 2));  // a parent edge's two halves together
-        fill_edges(share(halves, s.num_edges, 0, 3), share(halves, s.num_edges, 1, 3));  // a face's three
+        fill_vertices(share(0, nv, 1));
+        fill_vertices(share(nv, s.num_vertices, 1));
+        fill_edges(share(0, halves, 2));  // a parent edge's two halves together
+        fill_edges(share(halves, s.num_edges, 3));  // a face's three
         if (part + 1 == parts) s.ring_offsets[s.num_vertices] = Index(s.ring.size());
     });
 }

@@ -94,10 +94,6 @@ void fill_neighbourhood(Topology& t) {
     }
 }
 
-inline int child_valence(const Topology& p, Index v) {
-    return v < p.num_vertices ? p.valence(v) : 2 + 2 * p.edge_face_count(v - p.num_vertices);
-}
-
 }  // namespace
 
 int Topology::max_valence() const {
@@ -212,12 +208,9 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     const Index faces_of_halves = faces_only ? 0 : 2 * p.edge_face_offsets[ne];
 
     run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
-        auto slice = [part, parts](int n) {
-            return std::pair<int, int>(int(std::int64_t(n) * part / parts), int(std::int64_t(n) * (part + 1) / parts));
-        };
-        const auto [f0, f1] = slice(nf);
-        const auto [e0, e1] = slice(ne);
-        const auto [v0, v1] = slice(nv);
+        const auto [f0, f1] = part_of(nf, part, parts);
+        const auto [e0, e1] = part_of(ne, part, parts);
+        const auto [v0, v1] = part_of(nv, part, parts);
 
         for (int f = f0; f < f1; ++f) {
             const Index* v = &p.face_vertices[3 * f];
@@ -493,7 +486,8 @@ int VertexNeighbourhood::num_edges() const {
 int VertexNeighbourhood::max_valence() const {
     if (!parent_) return level_.max_valence();
     int largest = parent_->max_valence();  // old vertices keep theirs
-    for (int e = 0; e < parent_->num_edges(); ++e) largest = std::max(largest, child_valence(*parent_, parent_->num_vertices + e));
+    for (Index m = parent_->num_vertices; m < parent_->num_vertices + parent_->num_edges(); ++m)  // midpoints
+        largest = std::max(largest, child_ring_offset(*parent_, m + 1) - child_ring_offset(*parent_, m));
     return largest;
 }
 
