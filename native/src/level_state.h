@@ -41,7 +41,7 @@ private:
 
 struct LevelState {
     Topology topology;
-    bool own_neighbourhood = true;  // false: refined ForStencils, its vertex neighbourhoods come from its parent
+    bool own_neighbourhood = true;  // false: refined ForStencils or not built; its vertex neighbourhoods come from its parent
     std::vector<Feature> edges, vertices;
 
     float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }

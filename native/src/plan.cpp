@@ -30,8 +30,9 @@ using detail::mul;
 
 namespace {
 
-// LevelTables::Auto: past this size of stored tables of the level before the last (its rings, edge ends and wings,
-// and its faces while the plan is built), tables are derived instead.
+// LevelTables::Auto: past this size of stored tables of the level before the last, tables are derived instead. The
+// size is counted as when that level's faces were built too (24 bytes per edge and face); a stored plan no longer
+// builds them, but the count is kept so that Auto switches where it is documented (a result of about 20 M triangles).
 constexpr std::uint64_t kDeriveAboveBytes = std::uint64_t(128) << 20;
 
 Index find_edge(const Topology& t, Index a, Index b) {
@@ -155,7 +156,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // With the limit surface, the last level is planned like the others, its limit pass standing in for a child.
     const int final_level = options.levels + (options.limit_surface ? 1 : 0);
     const bool last_child = child_level == final_level, grandchild_last = child_level + 1 == final_level;
-    Topology& t = level.topology;  // empty but for num_vertices where the level is derived
+    Topology& t = level.topology;  // empty but for num_vertices where the level is not built
     const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
     const int nv = t.num_vertices, ne = around.num_edges();
 
