@@ -9,7 +9,6 @@
 // between two sharp edges, with the sharp edges as that side's boundary (OpenSubdiv's boundary tangent masks).
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "level_state.h"
 #include "parallel.h"
@@ -30,6 +29,19 @@ Index slot_of(const detail::LargeVector<Index>& ring, Index first, Index last, I
     return -1;
 }
 
+// limit_normals sums a tangent over offsets between limit points, each up to 2/3 of the float maximum (evaluate
+// accepts values up to a third of it, and limit points are weighted means of them). Scaled by a power of two so that
+// its weights' magnitudes sum to at most one, a tangent never overflows; the normal is the same to the last bit, as
+// a power of two scales t1 x t2 and its length exactly.
+void scale_to_at_most_unit_sum(std::vector<float>& weights) {
+    double sum = 0.0;
+    for (float w : weights) sum += std::fabs(w);
+    int exponent = 0;
+    std::frexp(sum, &exponent);  // sum <= 2^exponent
+    if (exponent > 0)
+        for (float& w : weights) w = std::ldexp(w, -exponent);
+}
+
 }  // namespace
 
 void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& parent) {
@@ -45,7 +57,10 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
     detail::set_smooth_masks(s, max_valence, detail::smooth_limit_mask);
     lt.smooth_t1.resize(max_valence + 1);
     lt.smooth_t2.resize(max_valence + 1);
-    for (int n = 0; n <= max_valence; ++n) detail::smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
+    for (int n = 0; n <= max_valence; ++n) {
+        detail::smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
+        scale_to_at_most_unit_sum(lt.smooth_t1[n]), scale_to_at_most_unit_sum(lt.smooth_t2[n]);
+    }
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
     struct Classified {
@@ -182,7 +197,10 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
     for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
     lt.side_t1.resize(max_side_faces + 1);
     lt.side_t2.resize(max_side_faces + 1);
-    for (int faces = 1; faces <= max_side_faces; ++faces) detail::side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
+    for (int faces = 1; faces <= max_side_faces; ++faces) {
+        detail::side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
+        scale_to_at_most_unit_sum(lt.side_t1[faces]), scale_to_at_most_unit_sum(lt.side_t2[faces]);
+    }
 }
 
 namespace {
@@ -210,9 +228,10 @@ struct NormalBatch {
             const double y = double(t1[2][i]) * t2[0][i] - double(t1[0][i]) * t2[2][i];
             const double z = double(t1[0][i]) * t2[1][i] - double(t1[1][i]) * t2[0][i];
             const double length = std::sqrt(x * x + y * y + z * z);
-            // The cross product of finite floats is finite in double: where the length is zero, so are x, y and z.
+            // The tangents are finite (scale_to_at_most_unit_sum), so is their cross product in double: where the
+            // length is zero, so are x, y and z.
             const double reciprocal = 1.0 / length;
-            const double inverse = (length > 0.0) & (length <= std::numeric_limits<double>::max()) ? reciprocal : 0.0;
+            const double inverse = length > 0.0 ? reciprocal : 0.0;
             normal[0][i] = float(x * inverse);
             normal[1][i] = float(y * inverse);
             normal[2][i] = float(z * inverse);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -161,6 +162,42 @@ TEST(LimitSurface, LevelZeroPutsTheInputOnTheLimit) {
         for (int r = 2; r < 8; ++r) expected += mesh.positions[3 * r + k] / 12.0;
         EXPECT_NEAR(limit[k], expected, 1e-6);
     }
+}
+
+// Evaluate accepts values up to a bound that keeps refinement finite; the tangents of such a triangle's limit sum
+// offsets near the float maximum, which overflowed to NaN normals (found by fuzz_plan). At the largest scale
+// accepted, a flat triangle's normals are still its plane's.
+TEST(LimitSurface, HugeButAcceptedCoordinatesGiveUnitNormals) {
+    for (Rules rules : {Rules::Hoppe94, Rules::OpenSubdiv})
+        for (int levels = 0; levels <= 2; ++levels) {
+            SCOPED_TRACE("rules " + std::to_string(int(rules)) + ", levels " + std::to_string(levels));
+            Options options;
+            options.rules = rules;
+            options.levels = levels;
+            options.limit_surface = true;
+            bool accepted = false;
+            for (float scale = std::numeric_limits<float>::max() / 2; !accepted && scale > 1.0f; scale /= 2) {
+                TestMesh mesh;
+                mesh.positions = {0, 0, 0, scale, 0, 0, 0, scale, 0};
+                mesh.triangles = {0, 1, 2};
+                Plan plan(mesh.view(), options);
+                LimitEvaluation limit;
+                try {
+                    limit = evaluate_limit(plan, mesh);
+                } catch (const InputError&) {
+                    continue;
+                }
+                accepted = true;
+                for (float value : limit.positions) EXPECT_TRUE(std::isfinite(value)) << value << " at scale " << scale;
+                ASSERT_EQ(limit.normals.size(), 9 * std::size_t(plan.num_output_triangles()));
+                for (std::size_t c = 0; c < limit.normals.size(); c += 3) {
+                    EXPECT_NEAR(limit.normals[c], 0.0f, 1e-6) << "corner " << c / 3 << " at scale " << scale;
+                    EXPECT_NEAR(limit.normals[c + 1], 0.0f, 1e-6) << "corner " << c / 3 << " at scale " << scale;
+                    EXPECT_NEAR(limit.normals[c + 2], 1.0f, 1e-6) << "corner " << c / 3 << " at scale " << scale;
+                }
+            }
+            EXPECT_TRUE(accepted);
+        }
 }
 
 // Two threads split the normals pass, never its arithmetic; the scalar kernel's limit gives the same normals to
