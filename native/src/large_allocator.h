@@ -5,7 +5,7 @@
 // side by side changes from process to process, and the plan's time with it (4.5 to 7.4 ms for the same plan,
 // docs/benchmark.md); so arrays from 1 MiB up get whole huge pages. Elsewhere large blocks are just aligned to 2 MiB.
 //
-// Freed blocks of 64 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built
+// Freed blocks of 16 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built
 // again (the modifier after an edit that changes the topology, a benchmark loop) then finds its arrays already
 // faulted in, instead of paying the kernel again to map and zero them, which is most of what a fresh plan's memory
 // costs. The budget bounds what stays mapped once plans are gone, and what a large refinement holds on top of its
@@ -94,7 +94,11 @@ template <typename T>
 struct LargeAllocator {
     using value_type = T;
     static constexpr std::size_t kHugePage = std::size_t(2) << 20;
-    static constexpr std::size_t kPooled = std::size_t(64) << 10;  // smaller blocks are malloc's business
+    static constexpr std::size_t kPooled = std::size_t(64) << 10;  // the unit of middling blocks
+    // Smaller arrays are malloc's business. Not from 64 KiB: a base level's arrays of a few thousand triangles
+    // (just under 64 KiB each) came from the top of malloc's heap, which it gives back to the system when they are
+    // freed, and were faulted in again by the next plan.
+    static constexpr std::size_t kPooledFrom = std::size_t(16) << 10;
 
     // Large blocks (1 MiB up) are whole huge pages; middling ones (64 KiB up) whole multiples of 64 KiB, so that
     // plans of one mesh ask for the same sizes again.
@@ -120,7 +124,7 @@ struct LargeAllocator {
 
     T* allocate(std::size_t n) {
         const std::size_t bytes = n * sizeof(T);
-        if (bytes < kPooled) {
+        if (bytes < kPooledFrom) {
             if (void* p = std::malloc(bytes ? bytes : 1)) return static_cast<T*>(p);
             throw std::bad_alloc();
         }
@@ -141,7 +145,7 @@ struct LargeAllocator {
     }
     void deallocate(T* p, std::size_t n) noexcept {
         const std::size_t bytes = n * sizeof(T);
-        if (bytes < kPooled) return std::free(p);
+        if (bytes < kPooledFrom) return std::free(p);
         const std::size_t rounded = block_size(bytes);
         // The block starts at the alignment below the array (its colour is less than that).
         void* block = reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) & ~std::uintptr_t(block_alignment(rounded) - 1));

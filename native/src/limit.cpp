@@ -70,7 +70,7 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
         Index crease[2];
     };
     std::vector<Classified> classified;
-    std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
+    detail::LargeVector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
     const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
     detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {

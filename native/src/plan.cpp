@@ -170,10 +170,10 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // Only vertices next to a feature (or cones) can differ from the smooth pass. Child features: the halves of
     // each edge get their sharpness at their own end vertex (Chaikin looks at the other edges there), old vertices
     // decay; edges inside faces and vertices on edges start smooth.
-    std::vector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
+    detail::LargeVector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     // The last level is refined no further, but its classes are reported too (what the result is tagged with): an
     // old vertex's from its child sharpness, a midpoint's from its two halves, over this level's neighbourhoods.
-    std::vector<VertexType> last_types;
+    detail::LargeVector<VertexType> last_types;
     if (last_child) last_types.assign(std::size_t(nv) + std::size_t(ne), VertexType::Smooth);
     std::vector<float> child_sharpness;
     detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {
@@ -436,6 +436,8 @@ void PlanImpl::build(const MeshView& mesh) {
     if (!holes.empty()) drop_holes();
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
+    level_vertex_types_copies.resize(level_vertex_types.size());
+    level_vertex_types_ready = std::vector<std::once_flag>(level_vertex_types.size());
     collect_output_tags(level);
     rules.reset();
     if (needed > 4 * detail::BlockPool::kPoolBytes) detail::BlockPool::instance().release_all(detail::LargeAllocator<char>::free_large);
@@ -499,7 +501,11 @@ int Plan::level_num_vertices(int level) const {
 const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
     const int last = int(impl_->level_vertex_types.size()) - 1;  // levels()
     if (level < 0 || level > last) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(last));
-    return impl_->level_vertex_types[level];
+    const PlanImpl& p = *impl_;
+    std::call_once(p.level_vertex_types_ready[level], [&p, level] {
+        p.level_vertex_types_copies[level].assign(p.level_vertex_types[level].begin(), p.level_vertex_types[level].end());
+    });
+    return p.level_vertex_types_copies[level];
 }
 
 std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels) {

@@ -55,7 +55,12 @@ struct PlanImpl {
     // Computed on first request: only tests and tools that map vertices across levels ask for them.
     mutable std::vector<std::vector<Index>> level_edges;
     mutable std::vector<std::once_flag> level_edges_ready;
-    std::vector<std::vector<VertexType>> level_vertex_types;
+    // Each level's vertex classes, in pooled arrays (the last level's has an entry per output vertex: from the system
+    // afresh, its pages cost more to fault in than to fill); the copies Plan::level_vertex_types returns are made on
+    // first request.
+    std::vector<detail::LargeVector<VertexType>> level_vertex_types;
+    mutable std::vector<std::vector<VertexType>> level_vertex_types_copies;
+    mutable std::vector<std::once_flag> level_vertex_types_ready;
     std::vector<detail::LevelStencils> stencils;
     std::unique_ptr<detail::LimitTables> limit;  // with Options::limit_surface
     std::vector<detail::FaceVaryingPlan> face_varying;  // per MeshView::face_varying layer
