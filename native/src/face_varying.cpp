@@ -197,7 +197,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
     s.num_edges = ne;
-    set_smooth_masks(s, values_.max_valence(), smooth_vertex_mask);
+    set_smooth_masks(s, values_.max_valence, smooth_vertex_mask);
 
     // The children's tags: a vertex's child keeps its parent's, except that semi-sharp values turn into creases as
     // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
@@ -316,7 +316,7 @@ void FaceVaryingBuilder::plan_limit(const LevelState& last, const LevelStencils&
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
     s.num_edges = 0;
-    set_smooth_masks(s, values_.max_valence(), smooth_limit_mask);
+    set_smooth_masks(s, values_.max_valence, smooth_limit_mask);
     // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
     // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
     const LimitMask crease = crease_limit_mask();

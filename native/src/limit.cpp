@@ -52,7 +52,7 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
     detail::LevelStencils& s = lt.positions;
     s.num_vertices = nv;
     s.num_edges = 0;
-    const int max_valence = t.max_valence();
+    const int max_valence = t.max_valence;
     max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));
     detail::set_smooth_masks(s, max_valence, detail::smooth_limit_mask);
     lt.smooth_t1.resize(max_valence + 1);

@@ -96,12 +96,6 @@ void fill_neighbourhood(Topology& t) {
 
 }  // namespace
 
-int Topology::max_valence() const {
-    int largest = 0;
-    for (int v = 0; v < num_vertices; ++v) largest = std::max(largest, valence(v));
-    return largest;
-}
-
 Index Topology::opposite_vertex(Index f, Index e) const {
     for (int k = 0; k < 3; ++k)
         if (face_edges[3 * f + k] == e) return face_vertices[3 * f + prev_corner(k)];
@@ -166,6 +160,8 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     }
     fill_edge_faces(t);
     fill_vertex_edges(t);
+    for (int v = 0; v < num_vertices; ++v) t.max_valence = std::max(t.max_valence, t.valence(v));
+    for (int e = 0; e < t.num_edges(); ++e) t.max_edge_face_count = std::max(t.max_edge_face_count, t.edge_face_count(e));
     fill_neighbourhood(t);
     return t;
 }
@@ -177,6 +173,8 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     const bool neighbourhood = what == Refined::Full || what == Refined::ForStencils;
     Topology c;
     c.num_vertices = nv + ne;
+    c.max_valence = child_max_valence(p);
+    c.max_edge_face_count = child_max_edge_face_count(p);
     const Index interior_base = 2 * ne;
     const std::size_t child_edges = 2 * std::size_t(ne) + 3 * std::size_t(nf);
 
@@ -484,11 +482,7 @@ int VertexNeighbourhood::num_edges() const {
 }
 
 int VertexNeighbourhood::max_valence() const {
-    if (!parent_) return level_.max_valence();
-    int largest = parent_->max_valence();  // old vertices keep theirs
-    for (Index m = parent_->num_vertices; m < parent_->num_vertices + parent_->num_edges(); ++m)  // midpoints
-        largest = std::max(largest, child_ring_offset(*parent_, m + 1) - child_ring_offset(*parent_, m));
-    return largest;
+    return parent_ ? child_max_valence(*parent_) : level_.max_valence;
 }
 
 void VertexNeighbourhood::edge_ends(Index e, Index ends[2]) const {

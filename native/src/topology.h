@@ -2,6 +2,7 @@
 // information (slides 18-19) — per edge its vertices and faces, per vertex its edges — and no more.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -24,12 +25,16 @@ struct Topology {
     // vertex_edges[k]; edge_opposite_c / _d[e] are the vertices opposite edge e in its first and second face
     // (its own first / second vertex where the face is missing).
     LargeVector<Index> vertex_vertices, edge_opposite_c, edge_opposite_d;
+    // Counted at the base and carried through each split in closed form (no pass over a level): an old vertex keeps
+    // its valence, a midpoint has two more than twice its edge's face count, and a child edge has its parent edge's
+    // face count or, inside a face, two.
+    int max_valence = 0;  // 0 for a mesh without edges
+    int max_edge_face_count = 0;
 
     int num_faces() const { return int(face_vertices.size() / 3); }
     int num_edges() const { return int(edge_vertices.size() / 2); }
     int edge_face_count(Index e) const { return edge_face_offsets[e + 1] - edge_face_offsets[e]; }
     int valence(Index v) const { return vertex_edge_offsets[v + 1] - vertex_edge_offsets[v]; }
-    int max_valence() const;  // 0 for a mesh without edges
     Index other_end(Index e, Index v) const { return edge_vertices[2 * e] == v ? edge_vertices[2 * e + 1] : edge_vertices[2 * e]; }
     // The vertex of face f that is not on edge e.
     Index opposite_vertex(Index f, Index e) const;
@@ -113,6 +118,13 @@ void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 // 48 indices per parent face, written from out[48 * f0].
 void write_grandchild_faces(const Topology& parent, int f0, int f1, Index* out);
 
+// A child level's Topology::max_valence and max_edge_face_count, from its parent's.
+inline int child_max_valence(const Topology& parent) {
+    return parent.num_edges() > 0 ? std::max(parent.max_valence, 2 + 2 * parent.max_edge_face_count) : parent.max_valence;
+}
+inline int child_max_edge_face_count(const Topology& parent) {
+    return parent.num_faces() > 0 ? std::max(parent.max_edge_face_count, 2) : parent.max_edge_face_count;
+}
 // Child edge of parent edge e at its end vertex v.
 inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }
 

@@ -87,8 +87,8 @@ TEST(LargeAllocator, ArraysStartAtDifferentOffsetsInPooledBlocks) {
 // A plan built again (the modifier after a topology edit, a benchmark loop) finds its memory already mapped: the
 // second build of the same plan faults in (almost) no pages. The base level's arrays of a 5,120-triangle mesh are
 // just under 64 KiB; from malloc, they went back to the system with each plan and were faulted in again, as were
-// the vertex classes (a byte per output vertex). Not under AddressSanitizer, whose allocator keeps freed memory
-// aside.
+// the vertex classes (a byte per output vertex): 95-140 pages where ctest runs the test in its own process. Not
+// under AddressSanitizer, whose allocator keeps freed memory aside.
 #if defined(__linux__) && !defined(__SANITIZE_ADDRESS__)
 TEST(LargeAllocator, APlanBuiltAgainFaultsInNoNewPages) {
     const loopsub::testing::TestMesh mesh = loopsub::testing::icosphere(4);
@@ -99,12 +99,11 @@ TEST(LargeAllocator, APlanBuiltAgainFaultsInNoNewPages) {
         getrusage(RUSAGE_SELF, &usage);
         return usage.ru_minflt;
     };
-    const long start = minor_faults();
     { loopsub::Plan first(mesh.view(), options); }
-    const long first = minor_faults() - start, before = minor_faults();
+    const long before = minor_faults();
     { loopsub::Plan again(mesh.view(), options); }
-    const long again = minor_faults() - before;
-    EXPECT_LT(again, first / 20) << "pages faulted in by the first build: " << first;
+    // Its arrays span about 1,500 pages; malloc's own small blocks may take a few.
+    EXPECT_LT(minor_faults() - before, 32);
 }
 #endif
 
