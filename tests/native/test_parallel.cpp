@@ -36,6 +36,45 @@ TEST(RunLevels, RunsEveryPartOfEveryLevelOnce) {
     }
 }
 
+// Within a team's scope run_levels runs on the team's threads: every part of every level once, and the same worker
+// thread for part 1 of every call (a thread of its own per call would count one call each).
+TEST(Team, RunLevelsRunsEveryPartOnTheTeamsThreads) {
+    for (int threads : {2, 3}) {
+        const loopsub::detail::Team team(threads);
+        ASSERT_EQ(loopsub::detail::Team::current(), &team);
+        static thread_local int calls_on_this_thread = 0;
+        const int calls = 10, levels = 3;
+        std::vector<int> runs(std::size_t(calls * levels * threads), 0), part1_calls(calls, 0);
+        for (int call = 0; call < calls; ++call) {
+            run_levels(threads, levels, [&](int level, int part, int parts) {
+                EXPECT_EQ(parts, threads);
+                ++runs[std::size_t((call * levels + level) * threads + part)];
+                if (part == 1 && level == 0) part1_calls[call] = ++calls_on_this_thread;
+            });
+        }
+        for (int run : runs) EXPECT_EQ(run, 1);
+        EXPECT_EQ(part1_calls.back() - part1_calls.front(), calls - 1) << threads << " threads";
+    }
+    EXPECT_EQ(loopsub::detail::Team::current(), nullptr);
+}
+
+// The barrier between a team's steps orders them as run_levels' own does.
+TEST(Team, EachStepSeesThePreviousStepsWrites) {
+    const int threads = 2, steps = 200;
+    const loopsub::detail::Team team(threads);
+    std::vector<std::int64_t> values(threads, 1);
+    std::int64_t expected = 1;
+    for (int step = 0; step < steps; ++step) {
+        std::vector<std::int64_t> next(threads);
+        run_levels(threads, 1, [&](int, int part, int parts) { next[part] = values[part] + values[(part + 1) % parts]; });
+        values.swap(next);
+        expected *= 2;
+        expected %= 1000003;
+        for (std::int64_t& value : values) value %= 1000003;
+        ASSERT_EQ(values, std::vector<std::int64_t>(threads, expected)) << "step " << step;
+    }
+}
+
 // A level reads what every part wrote in the level before (as a refinement level reads its parent): the barrier
 // between levels must order them. Each part adds its neighbour part's previous value; the same recurrence written
 // out serially gives the expected values.
