@@ -91,7 +91,7 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     // that are non-manifold by their winding alone) and, when corners are kept, boundary vertices with a single
     // face. Both rule sets share this (Far's prepareComponentTagsAndSharpness for OpenSubdiv).
     const std::vector<std::uint8_t> non_manifold_edge = detail::non_manifold_edges(t);
-    const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge);
+    const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge, options.threads);
     for (int e = 0; e < t.num_edges(); ++e) {
         const float tag = edge_tag[e];
         float sharpness = rules->edge_sharpness_from_tag(tag);

@@ -402,58 +402,58 @@ void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
 }
 
 std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
+    // Consistently wound neighbours run along a shared edge in opposite directions: counting +1 for each corner that
+    // starts the edge at its first vertex and -1 for each that starts it at its second, an edge of two faces sums
+    // to zero. One pass over the corners, no search of a face for its edge.
+    LargeVector<Index> direction(t.num_edges(), 0);
+    for (std::size_t c = 0; c < t.face_edges.size(); ++c) {
+        const Index e = t.face_edges[c];
+        direction[e] += t.face_vertices[c] == t.edge_vertices[2 * std::size_t(e)] ? 1 : -1;
+    }
     std::vector<std::uint8_t> flags(t.num_edges(), 0);
     for (int e = 0; e < t.num_edges(); ++e) {
         const int count = t.edge_face_count(e);
-        if (count > 2) {
-            flags[e] = 1;
-        } else if (count == 2) {
-            // Consistently wound neighbours run along a shared edge in opposite directions.
-            int direction = 0;
-            for (Index k = t.edge_face_offsets[e]; k < t.edge_face_offsets[e + 1]; ++k) {
-                const Index f = t.edge_faces[k];
-                for (int corner = 0; corner < 3; ++corner)
-                    if (t.face_edges[3 * f + corner] == e) direction += t.face_vertices[3 * f + corner] == t.edge_vertices[2 * e] ? 1 : -1;
-            }
-            flags[e] = direction != 0;
-        }
+        flags[e] = count > 2 || (count == 2 && direction[e] != 0);
     }
     return flags;
 }
 
-std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::vector<std::uint8_t>& non_manifold_edge) {
+std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::vector<std::uint8_t>& non_manifold_edge, int threads) {
     std::vector<std::uint8_t> flags(t.num_vertices, 0);
-    for (int v = 0; v < t.num_vertices; ++v) {
-        const Index first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
-        if (first == last) continue;
-        int face_corners = 0;  // each face at v has two edges at v
-        Index boundary_edge = -1;
-        bool bad = false;
-        for (Index k = first; k < last; ++k) {
-            const Index e = t.vertex_edges[k];
-            bad |= non_manifold_edge[e] != 0;
-            face_corners += t.edge_face_count(e);
-            if (t.edge_face_count(e) == 1) boundary_edge = e;
+    run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
+        const auto [v0, v1] = part_of(t.num_vertices, part, parts);
+        for (int v = v0; v < v1; ++v) {
+            const Index first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
+            if (first == last) continue;
+            int face_corners = 0;  // each face at v has two edges at v
+            Index boundary_edge = -1;
+            bool bad = false;
+            for (Index k = first; k < last; ++k) {
+                const Index e = t.vertex_edges[k];
+                bad |= non_manifold_edge[e] != 0;
+                face_corners += t.edge_face_count(e);
+                if (t.edge_face_count(e) == 1) boundary_edge = e;
+            }
+            if (bad) {
+                flags[v] = 1;
+                continue;
+            }
+            const int num_faces = face_corners / 2;
+            // Walk the fan from a boundary edge (or any edge) and count the faces reached.
+            Index e = boundary_edge >= 0 ? boundary_edge : t.vertex_edges[first];
+            const Index start = e;
+            Index f = t.edge_faces[t.edge_face_offsets[e]];
+            int reached = 0;
+            while (true) {
+                ++reached;
+                e = t.other_edge_at_vertex(f, v, e);
+                if (e == start || t.edge_face_count(e) != 2 || reached > num_faces) break;
+                const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
+                f = faces[0] == f ? faces[1] : faces[0];
+            }
+            flags[v] = reached != num_faces;
         }
-        if (bad) {
-            flags[v] = 1;
-            continue;
-        }
-        const int num_faces = face_corners / 2;
-        // Walk the fan from a boundary edge (or any edge) and count the faces reached.
-        Index e = boundary_edge >= 0 ? boundary_edge : t.vertex_edges[first];
-        const Index start = e;
-        Index f = t.edge_faces[t.edge_face_offsets[e]];
-        int reached = 0;
-        while (true) {
-            ++reached;
-            e = t.other_edge_at_vertex(f, v, e);
-            if (e == start || t.edge_face_count(e) != 2 || reached > num_faces) break;
-            const Index* faces = &t.edge_faces[t.edge_face_offsets[e]];
-            f = faces[0] == f ? faces[1] : faces[0];
-        }
-        flags[v] = reached != num_faces;
-    }
+    });
     return flags;
 }
 

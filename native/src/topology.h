@@ -131,7 +131,8 @@ inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 
 // An edge is non-manifold when it has more than two faces, or two faces that run along it the same way.
 std::vector<std::uint8_t> non_manifold_edges(const Topology& topology);
 // A vertex is non-manifold when one of its edges is, or its faces do not form a single fan.
-std::vector<std::uint8_t> non_manifold_vertices(const Topology& topology, const std::vector<std::uint8_t>& non_manifold_edge);
+std::vector<std::uint8_t> non_manifold_vertices(const Topology& topology, const std::vector<std::uint8_t>& non_manifold_edge,
+                                                int threads = 1);  // threads share the vertices
 
 // Number of faces met walking around vertex v from edge `from` until edge `to` (both with two faces), through
 // the first face of `from`. Manifold neighbourhood required.
