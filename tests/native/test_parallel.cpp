@@ -127,8 +127,8 @@ TEST(LargeAllocator, ArraysStartAtDifferentOffsetsInPooledBlocks) {
 // second build of the same plan faults in (almost) no pages. The base level's arrays of a 5,120-triangle mesh are
 // just under 64 KiB; from malloc, they went back to the system with each plan and were faulted in again, as were
 // the vertex classes (a byte per output vertex): 95-140 pages where ctest runs the test in its own process. Not
-// under AddressSanitizer, whose allocator keeps freed memory aside.
-#if defined(__linux__) && !defined(__SANITIZE_ADDRESS__)
+// under AddressSanitizer or ThreadSanitizer, whose allocators keep freed memory aside.
+#if defined(__linux__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 TEST(LargeAllocator, APlanBuiltAgainFaultsInNoNewPages) {
     const loopsub::testing::TestMesh mesh = loopsub::testing::icosphere(4);
     loopsub::Options options;
