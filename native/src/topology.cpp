@@ -78,6 +78,20 @@ void fill_vertex_edges(Topology& t) {
     }
 }
 
+// Topology::face_edge_places by lookup, for the base level (refine_topology derives its levels' from it).
+void fill_face_edge_places(Topology& t) {
+    t.face_edge_places.resize(t.face_edges.size());
+    for (int e = 0; e < t.num_edges(); ++e) {
+        int place = 0;
+        for (Index k = t.edge_face_offsets[e]; k < t.edge_face_offsets[e + 1]; ++k, place = std::min(place + 1, 2)) {
+            const Index f = t.edge_faces[k];
+            const int local = local_edge(&t.face_edges[3 * f], e);
+            const bool first = t.face_vertices[3 * f + local] == t.edge_vertices[2 * e];
+            t.face_edge_places[3 * std::size_t(f) + local] = std::uint8_t(place << 1 | int(first));
+        }
+    }
+}
+
 // The winged-edge neighbourhood by lookup, for the base level (refined levels derive it).
 void fill_neighbourhood(Topology& t) {
     t.vertex_vertices.resize(t.vertex_edges.size());
@@ -160,6 +174,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     }
     fill_edge_faces(t);
     fill_vertex_edges(t);
+    fill_face_edge_places(t);
     for (int v = 0; v < num_vertices; ++v) t.max_valence = std::max(t.max_valence, t.valence(v));
     for (int e = 0; e < t.num_edges(); ++e) t.max_edge_face_count = std::max(t.max_edge_face_count, t.edge_face_count(e));
     fill_neighbourhood(t);
@@ -171,6 +186,7 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     const bool faces_only = what == Refined::FacesOnly;
     const bool full = what == Refined::Full || what == Refined::Connectivity;  // edge faces and vertex edges
     const bool neighbourhood = what == Refined::Full || what == Refined::ForStencils;
+    const bool places = what == Refined::Full;
     Topology c;
     c.num_vertices = nv + ne;
     c.max_valence = child_max_valence(p);
@@ -188,6 +204,7 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     if (!faces_only) {
         c.edge_vertices.resize(2 * child_edges);
         c.face_edges.resize(12 * std::size_t(nf));
+        if (places) c.face_edge_places.resize(12 * std::size_t(nf));
         // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two
         // halves and, per face of e, the two interior edges that meet it.
         c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
@@ -247,18 +264,25 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
                 out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
             }
             out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
+            if (!places) continue;
+            // Corner child k: its half of edge k has the parent face's place and direction there, its interior edge
+            // (from m_k - 1 to m_k) has the corner child first, its half of edge k - 1 has the parent's place there and
+            // runs from the midpoint where the parent edge ran into v_k. The middle child is the second face of each
+            // interior edge, and each starts at its corner.
+            const std::uint8_t* parent_places = &p.face_edge_places[3 * std::size_t(f)];
+            std::uint8_t* child_places = &c.face_edge_places[12 * std::size_t(f)];
+            for (int k = 0; k < 3; ++k) {
+                child_places[3 * k + 0] = parent_places[k];
+                child_places[3 * k + 1] = 0;
+                child_places[3 * k + 2] = parent_places[prev_corner(k)];
+            }
+            child_places[9] = child_places[10] = child_places[11] = 1 << 1 | 1;
         }
 
         // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
         // edge k of face f lies in the corner child k + 1 and the middle child.
-        for (int e = e0; e < e1; ++e) {
-            if (neighbourhood) {
-                Index wings[4];
-                half_edge_wings(p, e, wings);
-                c.edge_opposite_c[2 * e] = wings[0], c.edge_opposite_d[2 * e] = wings[1];
-                c.edge_opposite_c[2 * e + 1] = wings[2], c.edge_opposite_d[2 * e + 1] = wings[3];
-            }
-            if (!full) continue;
+        if (neighbourhood) write_half_wings(p, f0, f1, e0, e1, c.edge_opposite_c.data(), c.edge_opposite_d.data());
+        for (int e = e0; e < e1 && full; ++e) {
             const Index count = p.edge_face_count(e);
             c.edge_face_offsets[2 * e] = 2 * p.edge_face_offsets[e];
             c.edge_face_offsets[2 * e + 1] = 2 * p.edge_face_offsets[e] + count;
@@ -354,6 +378,36 @@ void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, I
             Index abcd[4];
             interior_edge(p, f, k, abcd);
             put(e, abcd[0], abcd[1], abcd[2], abcd[3]);
+        }
+    }
+}
+
+void write_half_ends(const Topology& p, int e0, int e1, Index* ends) {
+    const Index nv = p.num_vertices;
+    for (int e = e0; e < e1; ++e, ends += 4) {  // half 2e = (a, m), 2e + 1 = (m, b)
+        ends[0] = p.edge_vertices[2 * e], ends[1] = ends[2] = nv + e, ends[3] = p.edge_vertices[2 * e + 1];
+    }
+}
+
+void write_half_wings(const Topology& p, int f0, int f1, int e0, int e1, Index* c, Index* d) {
+    const Index nv = p.num_vertices;
+    // Every edge has a face; where it has no second, its halves' D wings are their own ends (as half_edge_wings).
+    for (int e = e0; e < e1; ++e) {
+        if (p.edge_face_count(e) >= 2) continue;
+        d[2 * e] = nv + e;
+        d[2 * e + 1] = p.edge_vertices[2 * e + 1];
+    }
+    for (int f = f0; f < f1; ++f) {
+        const Index* fe = &p.face_edges[3 * f];
+        const std::uint8_t* places = &p.face_edge_places[3 * std::size_t(f)];
+        for (int k = 0; k < 3; ++k) {
+            const int place = places[k] >> 1;
+            if (place > 1) continue;
+            const bool first = places[k] & 1;
+            const Index e = fe[k], before = nv + fe[prev_corner(k)], after = nv + fe[next_corner(k)];
+            Index* wing = place == 0 ? c : d;
+            wing[2 * e] = first ? before : after;
+            wing[2 * e + 1] = first ? after : before;
         }
     }
 }
