@@ -78,20 +78,6 @@ void fill_vertex_edges(Topology& t) {
     }
 }
 
-// Topology::face_edge_places by lookup, for the base level (refine_topology derives its levels' from it).
-void fill_face_edge_places(Topology& t) {
-    t.face_edge_places.resize(t.face_edges.size());
-    for (int e = 0; e < t.num_edges(); ++e) {
-        int place = 0;
-        for (Index k = t.edge_face_offsets[e]; k < t.edge_face_offsets[e + 1]; ++k, place = std::min(place + 1, 2)) {
-            const Index f = t.edge_faces[k];
-            const int local = local_edge(&t.face_edges[3 * f], e);
-            const bool first = t.face_vertices[3 * f + local] == t.edge_vertices[2 * e];
-            t.face_edge_places[3 * std::size_t(f) + local] = std::uint8_t(place << 1 | int(first));
-        }
-    }
-}
-
 // The winged-edge neighbourhood by lookup, for the base level (refined levels derive it).
 void fill_neighbourhood(Topology& t) {
     t.vertex_vertices.resize(t.vertex_edges.size());
@@ -155,7 +141,12 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     }
 
     t.face_edges.resize(num_corners);
+    t.face_edge_places.resize(num_corners);
     t.edge_vertices.reserve(num_corners);  // at most one edge per corner
+    // Faces come to each edge in face order, the order fill_edge_faces lists them in: an edge's faces so far give
+    // the place of the next (Topology::face_edge_places).
+    LargeVector<std::uint8_t> faces_so_far;
+    faces_so_far.reserve(num_corners);
     for (int f = 0; f < num_triangles; ++f) {
         for (int k = 0; k < 3; ++k) {
             const int c = 3 * f + k;
@@ -167,14 +158,19 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
                 t.face_edges[c] = t.num_edges();
                 t.edge_vertices.push_back(t.face_vertices[c]);
                 t.edge_vertices.push_back(t.face_vertices[3 * f + next_corner(k)]);
+                t.face_edge_places[c] = 0 << 1 | 1;  // the first face, where the edge starts
+                faces_so_far.push_back(1);
             } else {
-                t.face_edges[c] = t.face_edges[first];
+                const Index e = t.face_edges[first];
+                t.face_edges[c] = e;
+                std::uint8_t& seen = faces_so_far[e];
+                t.face_edge_places[c] = std::uint8_t(seen << 1 | int(t.face_vertices[c] == t.edge_vertices[2 * std::size_t(e)]));
+                seen = std::uint8_t(std::min(seen + 1, 2));
             }
         }
     }
     fill_edge_faces(t);
     fill_vertex_edges(t);
-    fill_face_edge_places(t);
     for (int v = 0; v < num_vertices; ++v) t.max_valence = std::max(t.max_valence, t.valence(v));
     for (int e = 0; e < t.num_edges(); ++e) t.max_edge_face_count = std::max(t.max_edge_face_count, t.edge_face_count(e));
     fill_neighbourhood(t);
