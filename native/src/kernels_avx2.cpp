@@ -47,16 +47,10 @@ inline void store_pair(const QuadTarget& out, std::size_t element, __m256 v, boo
     if (both) out.store(element + 1, _mm256_extractf128_ps(v, 1));
 }
 
-// Four rows of three from two pairs (points 0, 1 in `first`, 2, 3 in `second`, each point in a quad whose last lane
-// is unused): three 16-byte stores where storing pair by pair takes six.
+// Four rows of three from two pairs (points 0, 1 in `first`, 2, 3 in `second`).
 inline void store_two_pairs(const PackedRows3& out, std::size_t element, __m256 first, __m256 second) {
-    const __m128 p0 = _mm256_castps256_ps128(first), p1 = _mm256_extractf128_ps(first, 1);
-    const __m128 p2 = _mm256_castps256_ps128(second), p3 = _mm256_extractf128_ps(second, 1);
-    float* q = out.data + element * 3;
-    _mm_storeu_ps(q, _mm_blend_ps(p0, _mm_shuffle_ps(p1, p1, _MM_SHUFFLE(0, 0, 0, 0)), 0x8));  // x0 y0 z0 x1
-    _mm_storeu_ps(q + 4, _mm_shuffle_ps(p1, p2, _MM_SHUFFLE(1, 0, 2, 1)));                    // y1 z1 x2 y2
-    const __m128 z2_x3 = _mm_shuffle_ps(p2, p3, _MM_SHUFFLE(0, 0, 2, 2));                     // z2 z2 x3 x3
-    _mm_storeu_ps(q + 8, _mm_shuffle_ps(z2_x3, p3, _MM_SHUFFLE(2, 1, 2, 0)));                 // z2 x3 y3 z3
+    out.store_four(element, _mm256_castps256_ps128(first), _mm256_extractf128_ps(first, 1), _mm256_castps256_ps128(second),
+                   _mm256_extractf128_ps(second, 1));
 }
 
 // Smooth vertex points i and j (j = i + 1, or j = i for an odd last vertex).
@@ -88,8 +82,7 @@ inline __m256 edge_pair(const Tables& t, const QuadSource<Step>& in, int e, int 
 }
 
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
-// of three (the last level's positions) go four points at a time: evaluation 1.84-1.91 -> 1.76-1.82 ms (icosphere to
-// level 4, fastest of 401), the same bits.
+// of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     int i = vertices.begin, e = edges.begin;

@@ -8,6 +8,8 @@
 // Special vertices and edges (creases, corners, boundaries) are recomputed afterwards (kernels_specials.h).
 #include <smmintrin.h>
 
+#include <type_traits>
+
 #include "kernels.h"
 #include "kernels_quads.h"
 #include "kernels_specials.h"
@@ -17,22 +19,35 @@ namespace loopsub::detail {
 namespace {
 
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget.
+template <std::size_t Step>
+inline __m128 vertex_point(const Tables& t, const QuadSource<Step>& in, int i) {
+    const int first = t.ring_first(i), valence = t.valence(i), last = first + valence;
+    __m128 ring_sum = _mm_setzero_ps();
+    for (int k = first; k < last; ++k) ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(t.ring[k])));
+    return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(t.smooth_self[valence]), _mm_loadu_ps(in.at(i))),
+                      _mm_mul_ps(_mm_set1_ps(t.smooth_ring[valence]), ring_sum));
+}
+
+template <std::size_t Step>
+inline __m128 edge_point(const Tables& t, const QuadSource<Step>& in, int e) {
+    const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))));
+    const __m128 wings = _mm_add_ps(_mm_loadu_ps(in.at(t.wing_c(e))), _mm_loadu_ps(in.at(t.wing_d(e))));
+    return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(kSmoothEdgeEndWeight), ends), _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), wings));
+}
+
+// Rows of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
-    for (int i = vertices.begin; i < vertices.end; ++i) {
-        const int first = t.ring_first(i), valence = t.valence(i), last = first + valence;
-        __m128 ring_sum = _mm_setzero_ps();
-        for (int k = first; k < last; ++k) ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(t.ring[k])));
-        out.store(i, _mm_add_ps(_mm_mul_ps(_mm_set1_ps(t.smooth_self[valence]), _mm_loadu_ps(in.at(i))),
-                                _mm_mul_ps(_mm_set1_ps(t.smooth_ring[valence]), ring_sum)));
+    int i = vertices.begin, e = edges.begin;
+    if constexpr (std::is_same_v<Out, PackedRows3>) {
+        for (; i + 3 < vertices.end; i += 4)
+            out.store_four(i, vertex_point(t, in, i), vertex_point(t, in, i + 1), vertex_point(t, in, i + 2), vertex_point(t, in, i + 3));
+        for (; e + 3 < edges.end; e += 4)
+            out.store_four(t.first_edge_point + e, edge_point(t, in, e), edge_point(t, in, e + 1), edge_point(t, in, e + 2),
+                           edge_point(t, in, e + 3));
     }
-    const __m128 end_weight = _mm_set1_ps(kSmoothEdgeEndWeight);
-    const __m128 wing_weight = _mm_set1_ps(kSmoothEdgeWingWeight);
-    for (int e = edges.begin; e < edges.end; ++e) {
-        const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))));
-        const __m128 wings = _mm_add_ps(_mm_loadu_ps(in.at(t.wing_c(e))), _mm_loadu_ps(in.at(t.wing_d(e))));
-        out.store(t.first_edge_point + e, _mm_add_ps(_mm_mul_ps(end_weight, ends), _mm_mul_ps(wing_weight, wings)));
-    }
+    for (; i < vertices.end; ++i) out.store(i, vertex_point(t, in, i));
+    for (; e < edges.end; ++e) out.store(t.first_edge_point + e, edge_point(t, in, e));
 }
 
 }  // namespace
