@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "loopsub/loopsub.h"
+#include "parallel.h"
 #include "rules.h"
 #include "topology.h"
 
@@ -64,10 +65,12 @@ struct FeatureVertex {
     float own_tag() const { return own ? own->tag : 0.0f; }
 };
 
-// Visits, in vertex order, every vertex that touches a sharp or tagged edge, is tagged itself, or is a cone.
+// Visits every vertex that touches a sharp or tagged edge, is tagged itself, or is a cone: visit(vertex, part), in
+// vertex order within each of `parts` parts, which run at once on threads and take consecutive ranges of vertices
+// (a caller that collects per part and joins the parts in order keeps vertex order).
 template <typename Visit>
 void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& cones, const VertexNeighbourhood& around,
-                             Visit visit) {
+                             Visit visit, int parts = 1) {
     // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that gathering them needs
     // no search per incident edge.
     struct Touch {
@@ -88,30 +91,40 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     for (Index v : cones) if (v < level.topology.num_vertices) touches.push_back({v, nullptr, nullptr});
     std::sort(touches.begin(), touches.end());
 
-    std::vector<Index> edges;
-    std::vector<float> sharpness, tags;
-    for (auto run = touches.begin(); run != touches.end();) {
-        const Index v = run->vertex;
-        const auto run_end = std::find_if(run, touches.end(), [v](const Touch& touch) { return touch.vertex != v; });
-        around.edges(v, edges);
-        sharpness.assign(edges.size(), 0.0f);
-        tags.assign(edges.size(), 0.0f);
-        const Feature* own = nullptr;
-        for (auto touch = run; touch != run_end; ++touch) {
-            if (touch->own) own = touch->own;
-            if (!touch->edge) continue;
-            const std::size_t k = std::size_t(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
-            sharpness[k] = touch->edge->sharpness;
-            tags[k] = touch->edge->tag;
+    run_levels(parts, 1, [&](int, int part, int part_count) {
+        // A part starts where a vertex's run starts.
+        auto run_start = [&touches](std::size_t i) {
+            while (i > 0 && i < touches.size() && touches[i].vertex == touches[i - 1].vertex) ++i;
+            return touches.begin() + std::ptrdiff_t(i);
+        };
+        const auto [first, last] = part_of(touches.size(), part, part_count);
+        const auto end = run_start(last);
+        std::vector<Index> edges;
+        std::vector<float> sharpness, tags;
+        for (auto run = run_start(first); run != end;) {
+            const Index v = run->vertex;
+            const auto run_end = std::find_if(run, end, [v](const Touch& touch) { return touch.vertex != v; });
+            around.edges(v, edges);
+            sharpness.assign(edges.size(), 0.0f);
+            tags.assign(edges.size(), 0.0f);
+            const Feature* own = nullptr;
+            for (auto touch = run; touch != run_end; ++touch) {
+                if (touch->own) own = touch->own;
+                if (!touch->edge) continue;
+                const std::size_t k = std::size_t(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
+                sharpness[k] = touch->edge->sharpness;
+                tags[k] = touch->edge->tag;
+            }
+            run = run_end;
+            int sharp_edges = 0;
+            Index crease[2] = {-1, -1};
+            for (std::size_t k = 0; k < edges.size(); ++k)
+                if (is_sharp(sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
+            visit(FeatureVertex{v, edges, sharpness, tags, sharp_edges, {crease[0], crease[1]},
+                                std::binary_search(cones.begin(), cones.end(), v), own},
+                  part);
         }
-        run = run_end;
-        int sharp_edges = 0;
-        Index crease[2] = {-1, -1};
-        for (std::size_t k = 0; k < edges.size(); ++k)
-            if (is_sharp(sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
-        visit(FeatureVertex{v, edges, sharpness, tags, sharp_edges, {crease[0], crease[1]},
-                            std::binary_search(cones.begin(), cones.end(), v), own});
-    }
+    });
 }
 
 // Hoppe94's class of a vertex (RULES.md section 1) from OpenSubdiv's rule and the cone tag.

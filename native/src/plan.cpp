@@ -175,8 +175,17 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // old vertex's from its child sharpness, a midpoint's from its two halves, over this level's neighbourhoods.
     detail::LargeVector<VertexType> last_types;
     if (last_child) last_types.assign(std::size_t(nv) + std::size_t(ne), VertexType::Smooth);
-    std::vector<float> child_sharpness;
-    detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex) {
+    // Each thread collects its share of the vertices' child features and special masks; joined in order after.
+    struct PartFeatures {
+        std::vector<Feature> edges, vertices;
+        std::vector<detail::SpecialVertex> specials;
+        std::vector<float> child_sharpness;  // scratch
+    };
+    const int parts = std::max(1, options.threads);
+    std::vector<PartFeatures> by_part(parts);
+    detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex, int part) {
+        PartFeatures& out = by_part[part];
+        std::vector<float>& child_sharpness = out.child_sharpness;
         const Index v = vertex.vertex;
         const int valence = int(vertex.edges.size());
         child_sharpness.resize(valence);
@@ -188,12 +197,12 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
             const float child_tag = rules->child_tag(vertex.tags[k], decayed);
-            if (decayed > 0.0f || child_tag != 0.0f) child.edges.push_back({around.child_edge_at(e, v), decayed, child_tag});
+            if (decayed > 0.0f || child_tag != 0.0f) out.edges.push_back({around.child_edge_at(e, v), decayed, child_tag});
         }
         const float vertex_sharpness = vertex.own_sharpness();
         const float child_vertex_sharpness = rules->child_vertex_sharpness(vertex_sharpness);
         const float child_vertex_tag = rules->child_tag(vertex.own_tag(), child_vertex_sharpness);
-        if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) child.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
+        if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) out.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
 
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex_sharpness, vertex.sharp_edges);
         types[v] = detail::classify_vertex(rule, vertex, around);
@@ -210,10 +219,15 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             ends);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
             const bool has_ends = mask.crease != 0.0;
-            s.special_vertices.push_back({v, has_ends ? around.other_end(ends[0], v) : v, has_ends ? around.other_end(ends[1], v) : v,
-                                          float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
+            out.specials.push_back({v, has_ends ? around.other_end(ends[0], v) : v, has_ends ? around.other_end(ends[1], v) : v,
+                                    float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
         }
-    });
+    }, parts);
+    for (const PartFeatures& out : by_part) {
+        child.edges.insert(child.edges.end(), out.edges.begin(), out.edges.end());
+        child.vertices.insert(child.vertices.end(), out.vertices.begin(), out.vertices.end());
+        s.special_vertices.insert(s.special_vertices.end(), out.specials.begin(), out.specials.end());
+    }
     std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
     if (last_child) {
         // A midpoint's only edges that can be sharp are its two halves; it is regular where its edge has at most
