@@ -223,7 +223,8 @@ public:
     // Class of each vertex of level L (0 <= L <= levels()) under the chosen rules: what the repositioning at level L
     // used; for the last level, the class its vertices would take at the next level (with the limit surface: what
     // the limit used). The one classification an application needs to tag the output. (With no levels and no limit
-    // surface there is none: out_of_range.)
+    // surface there is none: out_of_range.) Copied out on a level's first request (safe from several threads), and
+    // kept with the plan.
     const std::vector<VertexType>& level_vertex_types(int level) const;
 
     // Refines per-vertex data: in has num_input_vertices() elements, out num_output_vertices(), both with the same
