@@ -69,9 +69,15 @@ public:
     static Team* current() { return current_; }
     int parts() const { return parts_; }
 
-    // Runs work(part, parts) for every part at once and returns when all have ended (their writes visible).
+    // Runs work(part, parts) for every part at once and returns when all have ended (their writes visible). Called
+    // again from within the caller's own part, it runs every part there, one after the other: the workers are busy.
     template <typename Work>
     void run(const Work& work) {
+        if (running_) {
+            for (int part = 0; part < parts_; ++part) work(part, parts_);
+            return;
+        }
+        running_ = true;
         job_ = [](const void* context, int part, int parts) { (*static_cast<const Work*>(context))(part, parts); };
         context_ = &work;
         finished_.store(0, std::memory_order_relaxed);
@@ -83,6 +89,7 @@ public:
         for (int part : callers_parts_) work(part, parts_);
         const int workers = int(workers_.size());
         wait_awake_then_sleep(mutex_, ended_, [&] { return finished_.load(std::memory_order_acquire) == workers; });
+        running_ = false;
     }
 
 private:
@@ -109,6 +116,7 @@ private:
     std::condition_variable started_, ended_;
     std::atomic<int> generation_{0}, finished_{0};
     bool stopping_ = false;  // written under mutex_ before the generation that ends the workers
+    bool running_ = false;   // the caller's thread is inside run()
     void (*job_)(const void*, int, int) = nullptr;
     const void* context_ = nullptr;
     static inline thread_local Team* current_ = nullptr;

@@ -58,6 +58,23 @@ TEST(Team, RunLevelsRunsEveryPartOnTheTeamsThreads) {
     EXPECT_EQ(loopsub::detail::Team::current(), nullptr);
 }
 
+// run_levels from within a team's step (the caller's part) still runs every part of the inner run once, and the
+// outer step completes: the inner one runs on the caller while the workers finish their own parts.
+TEST(Team, RunLevelsInsideAStepRunsEveryPart) {
+    const int threads = 2;
+    const loopsub::detail::Team team(threads);
+    std::vector<int> outer(threads, 0), inner(threads, 0);
+    run_levels(threads, 1, [&](int, int part, int parts) {
+        ++outer[part];
+        if (part == 0) run_levels(threads, 1, [&](int, int inner_part, int inner_parts) {
+            EXPECT_EQ(inner_parts, parts);
+            ++inner[std::size_t(inner_part)];
+        });
+    });
+    EXPECT_EQ(outer, std::vector<int>(threads, 1));
+    EXPECT_EQ(inner, std::vector<int>(threads, 1));
+}
+
 // The barrier between a team's steps orders them as run_levels' own does.
 TEST(Team, EachStepSeesThePreviousStepsWrites) {
     const int threads = 2, steps = 200;
