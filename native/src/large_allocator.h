@@ -100,7 +100,7 @@ struct LargeAllocator {
     // freed, and were faulted in again by the next plan.
     static constexpr std::size_t kPooledFrom = std::size_t(16) << 10;
 
-    // Large blocks (1 MiB up) are whole huge pages; middling ones (64 KiB up) whole multiples of 64 KiB, so that
+    // Large blocks (1 MiB up) are whole huge pages; middling ones (kPooledFrom up) whole multiples of 64 KiB, so that
     // plans of one mesh ask for the same sizes again.
     static std::size_t block_size(std::size_t bytes) {
         const std::size_t unit = bytes >= kHugePage / 2 ? kHugePage : kPooled;

@@ -16,9 +16,17 @@ inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
 // Where edge e sits in face f's edges (edge k runs from corner k to corner k + 1).
 inline int local_edge(const Index* face_edges, Index e) { return face_edges[0] == e ? 0 : face_edges[1] == e ? 1 : 2; }
 
+// The vertices opposite the two halves of a face's edge `local` (fe: the face's edges) in that face: at_a opposite
+// the half at the edge's first vertex, at_b opposite the other. A half lies in a corner child (v_k, m_k, m_{k-1}),
+// opposite the other midpoint there; a_first: the face's corner `local` is the edge's first vertex.
+inline void face_wings(Index nv, const Index* fe, int local, bool a_first, Index& at_a, Index& at_b) {
+    const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
+    at_a = a_first ? before : after;
+    at_b = a_first ? after : before;
+}
+
 // The vertices opposite the two halves of parent edge e in their first two faces: (C, D) of half 2e, then of half
-// 2e + 1. A half lies in a corner child (v_k, m_k, m_{k-1}), opposite the other midpoint there; where a face is
-// missing, C / D repeat the half's ends.
+// 2e + 1; where a face is missing, C / D repeat the half's ends.
 inline void half_edge_wings(const Topology& p, Index e, Index wings[4]) {
     const Index nv = p.num_vertices, a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
     Index at_a[2] = {a, m}, at_b[2] = {m, b};
@@ -27,10 +35,7 @@ inline void half_edge_wings(const Topology& p, Index e, Index wings[4]) {
         const Index f = p.edge_faces[k];
         const Index* fe = &p.face_edges[3 * f];
         const int local = local_edge(fe, e);
-        const bool a_first = p.face_vertices[3 * f + local] == a;
-        const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
-        at_a[face] = a_first ? before : after;
-        at_b[face] = a_first ? after : before;
+        face_wings(nv, fe, local, p.face_vertices[3 * f + local] == a, at_a[face], at_b[face]);
     }
     wings[0] = at_a[0], wings[1] = at_a[1], wings[2] = at_b[0], wings[3] = at_b[1];
 }
@@ -399,11 +404,8 @@ void write_half_wings(const Topology& p, int f0, int f1, int e0, int e1, Index* 
         for (int k = 0; k < 3; ++k) {
             const int place = places[k] >> 1;
             if (place > 1) continue;
-            const bool first = places[k] & 1;
-            const Index e = fe[k], before = nv + fe[prev_corner(k)], after = nv + fe[next_corner(k)];
             Index* wing = place == 0 ? c : d;
-            wing[2 * e] = first ? before : after;
-            wing[2 * e + 1] = first ? after : before;
+            face_wings(nv, fe, k, places[k] & 1, wing[2 * fe[k]], wing[2 * fe[k] + 1]);
         }
     }
 }
