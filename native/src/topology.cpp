@@ -1,8 +1,13 @@
 #include "topology.h"
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 #include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "parallel.h"
 
@@ -465,12 +470,70 @@ void grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
     }
 }
 
+#if defined(__SSE2__)
+// grandchild_faces<true> with 16-byte stores: 12 per face rather than 48 one index at a time, which is what bounds
+// the scalar loop (the last level's 1.3M triangles are 3.9M stores). Lane k of each vector below belongs to corner
+// child k; a 4 x 4 transpose turns them into the children's rows. Reads four indices (and four places) from 3f, so
+// the face after f must exist.
+void grandchild_faces_sse2(const Topology& p, int f0, int f1, Index* out) {
+    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
+    const Index child_vertices = nv + p.num_edges();
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi32(1);
+    auto before = [](__m128i x) { return _mm_shuffle_epi32(x, _MM_SHUFFLE(3, 1, 0, 2)); };  // lane k: x[k - 1]
+    auto rows = [](__m128i a, __m128i b, __m128i c, __m128i d, __m128i row[3]) {       // row k: a_k, b_k, c_k, d_k
+        const __m128i ab_lo = _mm_unpacklo_epi32(a, b), cd_lo = _mm_unpacklo_epi32(c, d);
+        row[0] = _mm_unpacklo_epi64(ab_lo, cd_lo);
+        row[1] = _mm_unpackhi_epi64(ab_lo, cd_lo);
+        row[2] = _mm_unpacklo_epi64(_mm_unpackhi_epi32(a, b), _mm_unpackhi_epi32(c, d));
+    };
+    auto select = [](__m128i mask, __m128i if_set, __m128i otherwise) {
+        return _mm_or_si128(_mm_and_si128(mask, if_set), _mm_andnot_si128(mask, otherwise));
+    };
+    const __m128i lanes_0_3 = _mm_setr_epi32(-1, 0, 0, -1), lane_2 = _mm_setr_epi32(0, 0, -1, 0);
+    __m128i* o = reinterpret_cast<__m128i*>(out + 48 * std::size_t(f0));
+    for (int f = f0; f < f1; ++f, o += 12) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.face_vertices[3 * std::size_t(f)]));
+        const __m128i fe = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.face_edges[3 * std::size_t(f)]));
+        int places;
+        std::memcpy(&places, &p.face_edge_places[3 * std::size_t(f)], sizeof places);
+        const __m128i starts = _mm_and_si128(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(places), zero), zero), one);
+        const __m128i m = _mm_add_epi32(fe, _mm_set1_epi32(nv));
+        const __m128i twice = _mm_add_epi32(fe, fe);
+        // Grandchild midpoints of: the half of edge k at v_k, the half of edge k - 1 at v_k, interior edge k (and k - 1).
+        const __m128i half_k = _mm_sub_epi32(_mm_add_epi32(twice, _mm_set1_epi32(child_vertices + 1)), starts);
+        const __m128i half_before = _mm_add_epi32(before(_mm_add_epi32(twice, starts)), _mm_set1_epi32(child_vertices));
+        const __m128i interior = _mm_add_epi32(_mm_set1_epi32(child_vertices + interior_base + 3 * f), _mm_setr_epi32(0, 1, 2, 0));
+        const __m128i interior_before = before(interior);
+        // Corner child k: (v_k, m_k, m_{k-1}), its edges' midpoints half_k, interior_before_k, half_before_k.
+        __m128i first[3], second[3], third[3];
+        rows(v, half_k, half_before, m, first);
+        rows(interior_before, half_k, before(m), half_before, second);
+        rows(interior_before, half_k, interior_before, half_before, third);
+        for (int k = 0; k < 3; ++k) {
+            _mm_storeu_si128(o + 3 * k, first[k]);
+            _mm_storeu_si128(o + 3 * k + 1, second[k]);
+            _mm_storeu_si128(o + 3 * k + 2, third[k]);
+        }
+        // The middle child (m_0, m_1, m_2), its edges' midpoints the interior ones: (m0 i0 i2 m1) (i1 i0 m2 i2) (i1 i0 i1 i2).
+        const __m128i i0 = _mm_shuffle_epi32(interior, _MM_SHUFFLE(0, 2, 0, 0));
+        _mm_storeu_si128(o + 9, select(lanes_0_3, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 0, 0)), i0));
+        _mm_storeu_si128(o + 10, select(lane_2, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 2, 2, 2)), _mm_shuffle_epi32(interior, _MM_SHUFFLE(2, 0, 0, 1))));
+        _mm_storeu_si128(o + 11, _mm_shuffle_epi32(interior, _MM_SHUFFLE(2, 1, 0, 1)));
+    }
+}
+#endif
+
 }  // namespace
 
 void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
     // The places spare a read of each edge's ends from far away: 81,920 parent faces in 0.73-0.94 ms, not 1.15-1.35.
-    if (p.face_edge_places.empty()) grandchild_faces<false>(p, f0, f1, out);
-    else grandchild_faces<true>(p, f0, f1, out);
+    if (p.face_edge_places.empty()) return grandchild_faces<false>(p, f0, f1, out);
+#if defined(__SSE2__)
+    const int vector_end = std::clamp(p.num_faces() - 1, f0, f1);  // the vector loads read into the next face
+    grandchild_faces_sse2(p, f0, vector_end, out);
+    f0 = vector_end;
+#endif
+    grandchild_faces<true>(p, f0, f1, out);
 }
 
 std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
