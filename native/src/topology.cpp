@@ -56,6 +56,32 @@ inline void interior_edge(const Topology& p, Index f, int k, Index abcd[4]) {
     abcd[3] = nv + fe[prev_corner(k)];
 }
 
+#if defined(__SSE2__)
+// The SSE2 writers below (the loops that write a level's tables are bound by their count of stores, one a cycle here,
+// so they store 16 bytes at a time): lane k of a vector belongs to corner k of a face, lane 3 is unused.
+inline __m128i load_corners(const Index* face) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(face)); }
+inline __m128i corner_before(__m128i x) { return _mm_shuffle_epi32(x, _MM_SHUFFLE(3, 1, 0, 2)); }  // lane k: x[k - 1]
+
+// Row k = (a_k, b_k, c_k, d_k), for k < 3.
+inline void corner_rows(__m128i a, __m128i b, __m128i c, __m128i d, __m128i row[3]) {
+    const __m128i ab_lo = _mm_unpacklo_epi32(a, b), cd_lo = _mm_unpacklo_epi32(c, d);
+    row[0] = _mm_unpacklo_epi64(ab_lo, cd_lo);
+    row[1] = _mm_unpackhi_epi64(ab_lo, cd_lo);
+    row[2] = _mm_unpacklo_epi64(_mm_unpackhi_epi32(a, b), _mm_unpackhi_epi32(c, d));
+}
+
+// corner_halves for the three corners of face f at once: the child edges of edge k and of edge k - 1 at v_k.
+inline void corner_halves_sse2(const Topology& p, Index f, __m128i fe, __m128i& of_edge, __m128i& of_edge_before) {
+    int places;
+    std::memcpy(&places, &p.face_edge_places[3 * std::size_t(f)], sizeof places);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i starts = _mm_and_si128(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(places), zero), zero), _mm_set1_epi32(1));
+    const __m128i twice = _mm_add_epi32(fe, fe);
+    of_edge = _mm_sub_epi32(_mm_add_epi32(twice, _mm_set1_epi32(1)), starts);
+    of_edge_before = corner_before(_mm_add_epi32(twice, starts));
+}
+#endif
+
 // Prefix sums of per-item counts: offsets has one more entry than counts.
 LargeVector<Index> offsets_from_counts(const LargeVector<Index>& counts) {
     LargeVector<Index> offsets(counts.size() + 1);
@@ -187,6 +213,63 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     return t;
 }
 
+namespace {
+
+// The child faces' edges of parent faces [f0, f1) (12 per face, in refine_topology's numbering) and, where `places` is
+// given, their face_edge_places. Corner child k = (v_k, m_k, m_{k-1}) has the half of edge k at v_k, interior edge
+// k - 1 and the half of edge k - 1 at v_k; the middle child the three interior edges. The corner children's halves
+// keep the parent face's place and direction there; an interior edge has its corner child first (running from
+// m_{k-1} to m_k there) and the middle child second.
+void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std::uint8_t* places) {
+    const Index interior_base = 2 * p.num_edges();
+    auto write_places = [&](int f) {
+        const std::uint8_t* parent = &p.face_edge_places[3 * std::size_t(f)];
+        const std::uint8_t child[12] = {parent[0], 0, parent[2], parent[1], 0, parent[0], parent[2], 0, parent[1], 3, 3, 3};
+        std::memcpy(places + 12 * std::size_t(f), child, sizeof child);
+    };
+    int f = f0;
+#if defined(__SSE2__)
+    // Four stores a face instead of twelve, where the parent has places (the vector loads read into the next face).
+    const int vector_end = p.face_edge_places.empty() ? f0 : std::clamp(p.num_faces() - 1, f0, f1);
+    for (; f < vector_end; ++f) {
+        __m128i half_k, half_before;
+        corner_halves_sse2(p, f, load_corners(&p.face_edges[3 * std::size_t(f)]), half_k, half_before);
+        const Index interior = interior_base + 3 * f;
+        __m128i row[3];  // lanes 0-2 of row k: corner child k's edges; lane 3 is overwritten, but row 2's is interior edge 0
+        corner_rows(half_k, _mm_add_epi32(_mm_set1_epi32(interior), _mm_setr_epi32(2, 0, 1, 0)), half_before, _mm_set1_epi32(interior), row);
+        Index* out = edges + 12 * std::size_t(f);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), row[0]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 3), row[1]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 6), row[2]);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 10), _mm_setr_epi32(interior + 1, interior + 2, 0, 0));
+        if (!places) continue;
+        // write_places in two stores (x86 is little-endian): built byte by byte, the twelve bytes cost twice the rest.
+        std::uint32_t parent;
+        std::memcpy(&parent, &p.face_edge_places[3 * std::size_t(f)], sizeof parent);
+        const std::uint64_t p0 = parent & 0xff, p1 = parent >> 8 & 0xff, p2 = parent >> 16 & 0xff;
+        const std::uint64_t first = p0 | p2 << 16 | p1 << 24 | p0 << 40 | p2 << 48;
+        const std::uint32_t last = std::uint32_t(p1) | 0x03030300u;
+        std::memcpy(places + 12 * std::size_t(f), &first, sizeof first);
+        std::memcpy(places + 12 * std::size_t(f) + 8, &last, sizeof last);
+    }
+#endif
+    for (; f < f1; ++f) {
+        const Index* v = &p.face_vertices[3 * f];
+        const Index* fe = &p.face_edges[3 * f];
+        const Index interior = interior_base + 3 * f;
+        Index* out = edges + 12 * std::size_t(f);
+        for (int k = 0; k < 3; ++k) {
+            out[3 * k + 0] = child_edge_at(p, fe[k], v[k]);
+            out[3 * k + 1] = interior + prev_corner(k);
+            out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
+        }
+        out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
+        if (places) write_places(f);
+    }
+}
+
+}  // namespace
+
 Topology refine_topology(const Topology& p, Refined what, int threads) {
     const int nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
     const bool faces_only = what == Refined::FacesOnly;
@@ -249,41 +332,17 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
             c.edge_vertices[4 * e + 0] = a, c.edge_vertices[4 * e + 1] = m;
             c.edge_vertices[4 * e + 2] = m, c.edge_vertices[4 * e + 3] = b;
         }
-        for (int f = f0; f < f1; ++f) {
-            const Index* v = &p.face_vertices[3 * f];
-            const Index* fe = &p.face_edges[3 * f];
-            const Index interior = interior_base + 3 * f;
-            for (int k = 0; k < 3; ++k) {
-                Index abcd[4];
-                interior_edge(p, f, k, abcd);
-                c.edge_vertices[2 * std::size_t(interior + k)] = abcd[0];
-                c.edge_vertices[2 * std::size_t(interior + k) + 1] = abcd[1];
-                if (!neighbourhood) continue;
-                c.edge_opposite_c[interior + k] = abcd[2];
-                c.edge_opposite_d[interior + k] = abcd[3];
+        // Interior edges: child_edges stores them a face at a time; a level without wings needs their ends only.
+        const std::size_t first_interior = std::size_t(interior_base) + 3 * std::size_t(f0);
+        if (neighbourhood) {
+            detail::child_edges(p, int(first_interior), interior_base + 3 * f1, c.edge_vertices.data() + 2 * first_interior,
+                                c.edge_opposite_c.data() + first_interior, c.edge_opposite_d.data() + first_interior);
+        } else {
+            for (int f = f0; f < f1; ++f) {
+                for (int k = 0; k < 3; ++k) child_edge_ends(p, interior_base + 3 * f + k, &c.edge_vertices[2 * (std::size_t(interior_base) + 3 * f + k)]);
             }
-            Index* out = &c.face_edges[12 * std::size_t(f)];
-            for (int k = 0; k < 3; ++k) {
-                // Corner child k = (v_k, m_k, m_{k-1}): half of edge k at v_k, interior edge k-1, half of edge k-1 at v_k.
-                out[3 * k + 0] = child_edge_at(p, fe[k], v[k]);
-                out[3 * k + 1] = interior + prev_corner(k);
-                out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
-            }
-            out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
-            if (!places) continue;
-            // Corner child k: its half of edge k has the parent face's place and direction there, its interior edge
-            // (from m_k - 1 to m_k) has the corner child first, its half of edge k - 1 has the parent's place there and
-            // runs from the midpoint where the parent edge ran into v_k. The middle child is the second face of each
-            // interior edge, and each starts at its corner.
-            const std::uint8_t* parent_places = &p.face_edge_places[3 * std::size_t(f)];
-            std::uint8_t* child_places = &c.face_edge_places[12 * std::size_t(f)];
-            for (int k = 0; k < 3; ++k) {
-                child_places[3 * k + 0] = parent_places[k];
-                child_places[3 * k + 1] = 0;
-                child_places[3 * k + 2] = parent_places[prev_corner(k)];
-            }
-            child_places[9] = child_places[10] = child_places[11] = 1 << 1 | 1;
         }
+        write_child_face_edges(p, f0, f1, c.face_edges.data(), places ? c.face_edge_places.data() : nullptr);
 
         // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
         // edge k of face f lies in the corner child k + 1 and the middle child.
@@ -492,38 +551,28 @@ void grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
 // the face after f must exist.
 void grandchild_faces_sse2(const Topology& p, int f0, int f1, Index* out) {
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
-    const Index child_vertices = nv + p.num_edges();
-    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi32(1);
-    auto before = [](__m128i x) { return _mm_shuffle_epi32(x, _MM_SHUFFLE(3, 1, 0, 2)); };  // lane k: x[k - 1]
-    auto rows = [](__m128i a, __m128i b, __m128i c, __m128i d, __m128i row[3]) {       // row k: a_k, b_k, c_k, d_k
-        const __m128i ab_lo = _mm_unpacklo_epi32(a, b), cd_lo = _mm_unpacklo_epi32(c, d);
-        row[0] = _mm_unpacklo_epi64(ab_lo, cd_lo);
-        row[1] = _mm_unpackhi_epi64(ab_lo, cd_lo);
-        row[2] = _mm_unpacklo_epi64(_mm_unpackhi_epi32(a, b), _mm_unpackhi_epi32(c, d));
-    };
+    const __m128i child_vertices = _mm_set1_epi32(nv + p.num_edges());
     auto select = [](__m128i mask, __m128i if_set, __m128i otherwise) {
         return _mm_or_si128(_mm_and_si128(mask, if_set), _mm_andnot_si128(mask, otherwise));
     };
     const __m128i lanes_0_3 = _mm_setr_epi32(-1, 0, 0, -1), lane_2 = _mm_setr_epi32(0, 0, -1, 0);
     __m128i* o = reinterpret_cast<__m128i*>(out + 48 * std::size_t(f0));
     for (int f = f0; f < f1; ++f, o += 12) {
-        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.face_vertices[3 * std::size_t(f)]));
-        const __m128i fe = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.face_edges[3 * std::size_t(f)]));
-        int places;
-        std::memcpy(&places, &p.face_edge_places[3 * std::size_t(f)], sizeof places);
-        const __m128i starts = _mm_and_si128(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(places), zero), zero), one);
+        const __m128i v = load_corners(&p.face_vertices[3 * std::size_t(f)]);
+        const __m128i fe = load_corners(&p.face_edges[3 * std::size_t(f)]);
         const __m128i m = _mm_add_epi32(fe, _mm_set1_epi32(nv));
-        const __m128i twice = _mm_add_epi32(fe, fe);
         // Grandchild midpoints of: the half of edge k at v_k, the half of edge k - 1 at v_k, interior edge k (and k - 1).
-        const __m128i half_k = _mm_sub_epi32(_mm_add_epi32(twice, _mm_set1_epi32(child_vertices + 1)), starts);
-        const __m128i half_before = _mm_add_epi32(before(_mm_add_epi32(twice, starts)), _mm_set1_epi32(child_vertices));
-        const __m128i interior = _mm_add_epi32(_mm_set1_epi32(child_vertices + interior_base + 3 * f), _mm_setr_epi32(0, 1, 2, 0));
-        const __m128i interior_before = before(interior);
+        __m128i half_k, half_before;
+        corner_halves_sse2(p, f, fe, half_k, half_before);
+        half_k = _mm_add_epi32(half_k, child_vertices);
+        half_before = _mm_add_epi32(half_before, child_vertices);
+        const __m128i interior = _mm_add_epi32(_mm_add_epi32(child_vertices, _mm_set1_epi32(interior_base + 3 * f)), _mm_setr_epi32(0, 1, 2, 0));
+        const __m128i interior_before = corner_before(interior);
         // Corner child k: (v_k, m_k, m_{k-1}), its edges' midpoints half_k, interior_before_k, half_before_k.
         __m128i first[3], second[3], third[3];
-        rows(v, half_k, half_before, m, first);
-        rows(interior_before, half_k, before(m), half_before, second);
-        rows(interior_before, half_k, interior_before, half_before, third);
+        corner_rows(v, half_k, half_before, m, first);
+        corner_rows(interior_before, half_k, corner_before(m), half_before, second);
+        corner_rows(interior_before, half_k, interior_before, half_before, third);
         for (int k = 0; k < 3; ++k) {
             _mm_storeu_si128(o + 3 * k, first[k]);
             _mm_storeu_si128(o + 3 * k + 1, second[k]);
