@@ -60,7 +60,15 @@ inline __m256 vertex_pair(const Tables& t, const QuadSource<Step>& in, int i, in
     const int first_j = t.ring_first(j), valence_j = t.valence(j);
     const int common = std::min(valence_i, valence_j);
     __m256 ring_sum = _mm256_setzero_ps();
-    for (int k = 0; k < common; ++k) ring_sum = _mm256_add_ps(ring_sum, load_pair(in, t.ring[first_i + k], t.ring[first_j + k]));
+    int k = 0;
+    for (; k + 1 < common; k += 2) {
+        std::int32_t i0, i1, j0, j1;
+        load_index_pair(t.ring + first_i + k, i0, i1);
+        load_index_pair(t.ring + first_j + k, j0, j1);
+        ring_sum = _mm256_add_ps(ring_sum, load_pair(in, i0, j0));
+        ring_sum = _mm256_add_ps(ring_sum, load_pair(in, i1, j1));
+    }
+    if (k < common) ring_sum = _mm256_add_ps(ring_sum, load_pair(in, t.ring[first_i + k], t.ring[first_j + k]));
     // The longer ring's tail; the other half adds zeros.
     const __m128 zero = _mm_setzero_ps();
     for (int k = common; k < valence_i; ++k)
@@ -81,6 +89,20 @@ inline __m256 edge_pair(const Tables& t, const QuadSource<Step>& in, int e, int 
     return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), ends, _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
 }
 
+// edge_pair for edges e and e + 1, their indices read a pair at a time.
+template <std::size_t Step>
+inline __m256 next_edges_pair(const Tables& t, const QuadSource<Step>& in, int e) {
+    const std::int32_t* ends = t.edge_ends + 2 * (e - t.edge_base);
+    std::int32_t a_e, b_e, a_f, b_f, c_e, c_f, d_e, d_f;
+    load_index_pair(ends, a_e, b_e);
+    load_index_pair(ends + 2, a_f, b_f);
+    load_index_pair(t.edge_c + (e - t.edge_base), c_e, c_f);
+    load_index_pair(t.edge_d + (e - t.edge_base), d_e, d_f);
+    const __m256 sum_ends = _mm256_add_ps(load_pair(in, a_e, a_f), load_pair(in, b_e, b_f));
+    const __m256 wings = _mm256_add_ps(load_pair(in, c_e, c_f), load_pair(in, d_e, d_f));
+    return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), sum_ends, _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
+}
+
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
 // of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 template <std::size_t Step, typename Out>
@@ -89,11 +111,11 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
     if constexpr (std::is_same_v<Out, PackedRows3>) {
         for (; i + 3 < vertices.end; i += 4) store_two_pairs(out, i, vertex_pair(t, in, i, i + 1), vertex_pair(t, in, i + 2, i + 3));
         for (; e + 3 < edges.end; e += 4)
-            store_two_pairs(out, t.first_edge_point + e, edge_pair(t, in, e, e + 1), edge_pair(t, in, e + 2, e + 3));
+            store_two_pairs(out, t.first_edge_point + e, next_edges_pair(t, in, e), next_edges_pair(t, in, e + 2));
     }
     for (; i + 1 < vertices.end; i += 2) store_pair(out, i, vertex_pair(t, in, i, i + 1), true);
     if (i < vertices.end) store_pair(out, i, vertex_pair(t, in, i, i), false);
-    for (; e + 1 < edges.end; e += 2) store_pair(out, t.first_edge_point + e, edge_pair(t, in, e, e + 1), true);
+    for (; e + 1 < edges.end; e += 2) store_pair(out, t.first_edge_point + e, next_edges_pair(t, in, e), true);
     if (e < edges.end) store_pair(out, t.first_edge_point + e, edge_pair(t, in, e, e), false);
 }
 

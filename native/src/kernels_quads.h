@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "loopsub/loopsub.h"
 #include "stencils.h"
@@ -112,6 +113,15 @@ struct Tables : StencilView {
         : StencilView(view), smooth_self(s.smooth_self.data()), smooth_ring(s.smooth_ring.data()),
           first_edge_point(std::size_t(s.num_vertices)) {}
 };
+
+// Two neighbouring indices of a table in one 8-byte load: the kernels are bound by their loads, a quad per
+// neighbour and an index per quad, and splitting the pair costs a shift.
+inline void load_index_pair(const std::int32_t* at, std::int32_t& first, std::int32_t& second) {
+    std::uint64_t pair;
+    std::memcpy(&pair, at, sizeof pair);
+    first = std::int32_t(std::uint32_t(pair));
+    second = std::int32_t(std::uint32_t(pair >> 32));
+}
 
 // Runs an instruction set's smooth pass, smooth(tables, source, target), over every quad of channels, with the
 // source and target types that let it compile the common layouts to plain strided loads and stores.

@@ -23,16 +23,40 @@ template <std::size_t Step>
 inline __m128 vertex_point(const Tables& t, const QuadSource<Step>& in, int i) {
     const int first = t.ring_first(i), valence = t.valence(i), last = first + valence;
     __m128 ring_sum = _mm_setzero_ps();
-    for (int k = first; k < last; ++k) ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(t.ring[k])));
+    int k = first;
+    for (; k + 1 < last; k += 2) {
+        std::int32_t at_k, at_next;
+        load_index_pair(t.ring + k, at_k, at_next);
+        ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(at_k)));
+        ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(at_next)));
+    }
+    if (k < last) ring_sum = _mm_add_ps(ring_sum, _mm_loadu_ps(in.at(t.ring[k])));
     return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(t.smooth_self[valence]), _mm_loadu_ps(in.at(i))),
                       _mm_mul_ps(_mm_set1_ps(t.smooth_ring[valence]), ring_sum));
 }
 
+inline __m128 smooth_edge(__m128 a, __m128 b, __m128 c, __m128 d) {
+    return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(kSmoothEdgeEndWeight), _mm_add_ps(a, b)),
+                      _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), _mm_add_ps(c, d)));
+}
+
 template <std::size_t Step>
 inline __m128 edge_point(const Tables& t, const QuadSource<Step>& in, int e) {
-    const __m128 ends = _mm_add_ps(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))));
-    const __m128 wings = _mm_add_ps(_mm_loadu_ps(in.at(t.wing_c(e))), _mm_loadu_ps(in.at(t.wing_d(e))));
-    return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(kSmoothEdgeEndWeight), ends), _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), wings));
+    return smooth_edge(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))), _mm_loadu_ps(in.at(t.wing_c(e))),
+                       _mm_loadu_ps(in.at(t.wing_d(e))));
+}
+
+// Edge points e and e + 1, their indices read a pair at a time.
+template <std::size_t Step>
+inline void next_edge_points(const Tables& t, const QuadSource<Step>& in, int e, __m128& first, __m128& second) {
+    const std::int32_t* ends = t.edge_ends + 2 * (e - t.edge_base);
+    std::int32_t a_e, b_e, a_f, b_f, c_e, c_f, d_e, d_f;
+    load_index_pair(ends, a_e, b_e);
+    load_index_pair(ends + 2, a_f, b_f);
+    load_index_pair(t.edge_c + (e - t.edge_base), c_e, c_f);
+    load_index_pair(t.edge_d + (e - t.edge_base), d_e, d_f);
+    first = smooth_edge(_mm_loadu_ps(in.at(a_e)), _mm_loadu_ps(in.at(b_e)), _mm_loadu_ps(in.at(c_e)), _mm_loadu_ps(in.at(d_e)));
+    second = smooth_edge(_mm_loadu_ps(in.at(a_f)), _mm_loadu_ps(in.at(b_f)), _mm_loadu_ps(in.at(c_f)), _mm_loadu_ps(in.at(d_f)));
 }
 
 // Rows of three (the last level's positions) go four points at a time (PackedRows3::store_four).
@@ -42,9 +66,12 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
     if constexpr (std::is_same_v<Out, PackedRows3>) {
         for (; i + 3 < vertices.end; i += 4)
             out.store_four(i, vertex_point(t, in, i), vertex_point(t, in, i + 1), vertex_point(t, in, i + 2), vertex_point(t, in, i + 3));
-        for (; e + 3 < edges.end; e += 4)
-            out.store_four(t.first_edge_point + e, edge_point(t, in, e), edge_point(t, in, e + 1), edge_point(t, in, e + 2),
-                           edge_point(t, in, e + 3));
+        for (; e + 3 < edges.end; e += 4) {
+            __m128 p0, p1, p2, p3;
+            next_edge_points(t, in, e, p0, p1);
+            next_edge_points(t, in, e + 2, p2, p3);
+            out.store_four(t.first_edge_point + e, p0, p1, p2, p3);
+        }
     }
     for (; i < vertices.end; ++i) out.store(i, vertex_point(t, in, i));
     for (; e < edges.end; ++e) out.store(t.first_edge_point + e, edge_point(t, in, e));
