@@ -65,17 +65,17 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         if (p.kernel == Kernel::Scalar || i + 1 == n) sources[i].num_channels = channels;
         if (p.kernel == Kernel::Scalar) targets[i].num_channels = channels;
     }
-    const detail::RefineFn refine = detail::refine_function(p.kernel);
+    const detail::Kernels kernels = detail::kernel_functions(p.kernel);
     run_levels(std::max(1, p.options.threads), n, [&](int pass, int part, int parts) {
         const detail::LevelStencils& s = *passes[pass];
         // Small levels are not worth splitting.
         if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) detail::refine_ranges(refine, s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
+            if (part == 0) detail::refine_ranges(kernels, s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
             return;
         }
         const auto [v0, v1] = detail::part_of(s.num_vertices, part, parts);
         const auto [e0, e1] = detail::part_of(s.num_edges, part, parts);
-        detail::refine_ranges(refine, s, sources[pass], targets[pass], {v0, v1}, {e0, e1});
+        detail::refine_ranges(kernels, s, sources[pass], targets[pass], {v0, v1}, {e0, e1});
     });
 }
 

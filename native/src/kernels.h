@@ -24,13 +24,28 @@ void refine_scalar(const LevelStencils&, const StencilView&, ChannelsView<const 
 void refine_sse41(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
 void refine_avx2(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
 
-// Runs `refine` over the ranges of a level: a stored level in one call, a derived one (LevelStencils::derived_from) a
-// chunk at a time, each chunk's tables filled from the parent just before.
-void refine_ranges(RefineFn refine, const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
+// Computes, for every channel, the output edge points of the edges inside parent faces [faces.begin, faces.end) of a
+// level whose interior edges are read from its parent's faces (LevelStencils::interior), three per face.
+using InteriorFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out, Range faces);
+
+void refine_interior_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
+void refine_interior_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
+void refine_interior_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
+
+// One instruction set's kernels.
+struct Kernels {
+    RefineFn refine;
+    InteriorFn interior;
+};
+
+// Runs the kernels over the ranges of a level: a stored level in one call (its interior edges by face, where it reads
+// them from its parent's faces), a derived one (LevelStencils::derived_from) a chunk at a time, each chunk's tables
+// filled from the parent just before.
+void refine_ranges(const Kernels& kernels, const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
                    Range vertices, Range edges);
 
-// The function for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
+// The kernels for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
 Kernel resolve_kernel(Kernel requested);
-RefineFn refine_function(Kernel resolved);
+Kernels kernel_functions(Kernel resolved);
 
 }  // namespace loopsub::detail

@@ -130,4 +130,15 @@ void refine_avx2(const LevelStencils& s, const StencilView& view, ChannelsView<c
     apply_specials(s, view, in, out, vertices, edges);
 }
 
+void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {
+    if (!reads_as_quads(in)) return refine_interior_scalar(s, in, out, faces);
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
+        // edge_pair's arithmetic, one point at a time.
+        interior_quad(s, source, target, faces, [](__m128 a, __m128 b, __m128 c, __m128 d) {
+            return _mm_fmadd_ps(_mm_set1_ps(kSmoothEdgeEndWeight), _mm_add_ps(a, b),
+                                _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), _mm_add_ps(c, d)));
+        });
+    });
+}
+
 }  // namespace loopsub::detail

@@ -8,8 +8,41 @@
 
 namespace loopsub::detail {
 
-void refine_ranges(RefineFn refine, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+namespace {
+
+// The interior edges [edges.begin, edges.end) of a level that reads them from its parent's faces: whole faces by the
+// interior kernel, the edges of a face the range cuts through from a table of their own.
+void refine_interior(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                     Range edges) {
+    const LevelStencils::InteriorFaces& interior = *s.interior;
+    auto one_by_one = [&](int first, int last) {
+        std::int32_t ends[6], c[3], d[3];
+        for (int e = first; e < last; ++e) {
+            std::int32_t abcd[4];
+            interior.edge(e, abcd);
+            ends[2 * (e - first)] = abcd[0], ends[2 * (e - first) + 1] = abcd[1], c[e - first] = abcd[2], d[e - first] = abcd[3];
+        }
+        kernels.refine(s, {nullptr, nullptr, ends, c, d, 0, first}, in, out, {0, 0}, {first, last});
+    };
+    const int begin = edges.begin - interior.first_edge, end = edges.end - interior.first_edge;  // 3 per face
+    const int first_face = (begin + 2) / 3, end_face = end / 3;
+    if (first_face > end_face) return one_by_one(edges.begin, edges.end);  // within one face
+    one_by_one(edges.begin, interior.first_edge + 3 * first_face);
+    kernels.interior(s, in, out, {first_face, end_face});
+    one_by_one(interior.first_edge + 3 * end_face, edges.end);
+}
+
+}  // namespace
+
+void refine_ranges(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
                    Range vertices, Range edges) {
+    if (s.interior) {
+        const int first = s.interior->first_edge;
+        kernels.refine(s, stored_view(s), in, out, vertices, {edges.begin, std::min(edges.end, first)});
+        if (edges.end > first) refine_interior(kernels, s, in, out, {std::max(edges.begin, first), edges.end});
+        return;
+    }
+    const RefineFn refine = kernels.refine;
     if (!s.derived_from) return refine(s, stored_view(s), in, out, vertices, edges);
     // Chunks small enough that their tables stay in the first-level cache while the kernel reads them.
     constexpr int kChunk = 1024;
@@ -41,16 +74,16 @@ Kernel resolve_kernel(Kernel requested) {
     }
 }
 
-RefineFn refine_function(Kernel resolved) {
+Kernels kernel_functions(Kernel resolved) {
 #if defined(LOOPSUB_X86_SIMD)
     switch (resolved) {
-        case Kernel::AVX2: return refine_avx2;
-        case Kernel::SSE41: return refine_sse41;
-        default: return refine_scalar;
+        case Kernel::AVX2: return {refine_avx2, refine_interior_avx2};
+        case Kernel::SSE41: return {refine_sse41, refine_interior_sse41};
+        default: return {refine_scalar, refine_interior_scalar};
     }
 #else
     (void)resolved;  // resolve_kernel gives Scalar when the build has no SIMD kernel
-    return refine_scalar;
+    return {refine_scalar, refine_interior_scalar};
 #endif
 }
 

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "loopsub/loopsub.h"
 #include "stencils.h"
@@ -143,6 +144,42 @@ void for_each_quad(const LevelStencils& s, const StencilView& view, ChannelsView
             smooth(tables, QuadSource<3>{first_channel, 3}, target);
         else
             smooth(tables, QuadSource<0>{first_channel, in.element_stride}, target);
+    }
+}
+
+// One quad of the interior edge points of parent faces [faces.begin, faces.end) (LevelStencils::interior): per face,
+// its three corners and three midpoints give its three edges. smooth(a, b, c, d) is the instruction set's smooth edge
+// mask, the arithmetic of its edge points from tables (the same bits either way).
+template <std::size_t Step, typename Out, typename SmoothEdge>
+void interior_quad(const LevelStencils& s, const QuadSource<Step> in, const Out out, Range faces, SmoothEdge smooth) {
+    const LevelStencils::InteriorFaces& interior = *s.interior;
+    const std::int32_t* face_vertices = interior.face_vertices.data();
+    const std::int32_t* face_edges = interior.face_edges.data();
+    const std::int32_t nv = interior.parent_vertices;
+    const std::size_t first_output = std::size_t(s.num_vertices) + std::size_t(interior.first_edge);
+    auto face_points = [&](int f, __m128 points[3]) {
+        const std::int32_t* v = face_vertices + 3 * std::size_t(f);
+        const std::int32_t* fe = face_edges + 3 * std::size_t(f);
+        const __m128 m0 = _mm_loadu_ps(in.at(nv + fe[0])), m1 = _mm_loadu_ps(in.at(nv + fe[1])), m2 = _mm_loadu_ps(in.at(nv + fe[2]));
+        points[0] = smooth(m0, m1, _mm_loadu_ps(in.at(v[1])), m2);
+        points[1] = smooth(m1, m2, _mm_loadu_ps(in.at(v[2])), m0);
+        points[2] = smooth(m2, m0, _mm_loadu_ps(in.at(v[0])), m1);
+    };
+    int f = faces.begin;
+    if constexpr (std::is_same_v<Out, PackedRows3>) {
+        for (; f + 3 < faces.end; f += 4) {  // twelve points, three PackedRows3::store_four
+            __m128 p[12];
+            for (int k = 0; k < 4; ++k) face_points(f + k, p + 3 * k);
+            const std::size_t first = first_output + 3 * std::size_t(f);
+            out.store_four(first, p[0], p[1], p[2], p[3]);
+            out.store_four(first + 4, p[4], p[5], p[6], p[7]);
+            out.store_four(first + 8, p[8], p[9], p[10], p[11]);
+        }
+    }
+    for (; f < faces.end; ++f) {
+        __m128 p[3];
+        face_points(f, p);
+        for (int k = 0; k < 3; ++k) out.store(first_output + 3 * std::size_t(f) + k, p[k]);
     }
 }
 

@@ -26,4 +26,22 @@ void refine_scalar(const LevelStencils& s, const StencilView& t, ChannelsView<co
     apply_specials(s, t, in, out, vertices, edges);
 }
 
+void refine_interior_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {
+    const LevelStencils::InteriorFaces& interior = *s.interior;
+    const std::size_t ie = in.element_stride, oe = out.element_stride;
+    for (int c = 0; c < in.num_channels; ++c) {
+        const float* p = in.data + c * in.channel_stride;
+        float* edge_out = out.data + c * out.channel_stride + (std::size_t(s.num_vertices) + interior.first_edge) * oe;
+        for (int f = faces.begin; f < faces.end; ++f) {
+            for (int k = 0; k < 3; ++k) {
+                std::int32_t abcd[4];
+                face_interior_edge(interior.parent_vertices, &interior.face_vertices[3 * std::size_t(f)],
+                                   &interior.face_edges[3 * std::size_t(f)], k, abcd);
+                edge_out[(3 * std::size_t(f) + k) * oe] = kSmoothEdgeEndWeight * (p[abcd[0] * ie] + p[abcd[1] * ie]) +
+                                                          kSmoothEdgeWingWeight * (p[abcd[2] * ie] + p[abcd[3] * ie]);
+            }
+        }
+    }
+}
+
 }  // namespace loopsub::detail

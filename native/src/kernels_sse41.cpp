@@ -88,4 +88,11 @@ void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<
     apply_specials(s, view, in, out, vertices, edges);
 }
 
+void refine_interior_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {
+    if (!reads_as_quads(in)) return refine_interior_scalar(s, in, out, faces);
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
+        interior_quad(s, source, target, faces, [](__m128 a, __m128 b, __m128 c, __m128 d) { return smooth_edge(a, b, c, d); });
+    });
+}
+
 }  // namespace loopsub::detail

@@ -296,15 +296,18 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
 }
 
 void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelStencils& s) const {
-    // What refine_topology would have written (Refined::ForStencils), without the level's faces and in one pass.
+    // What refine_topology would have written (Refined::ForStencils), without the level's faces and in one pass; the
+    // edges inside the parent's faces are read from those faces (LevelStencils::interior: build hands them over).
+    const int nv = parent.num_vertices, halves = 2 * parent.num_edges();
     s.ring_offsets.resize(std::size_t(s.num_vertices) + 1);
     s.ring.resize(std::size_t(detail::child_ring_offset(parent, s.num_vertices)));
-    s.edge_ends.resize(2 * std::size_t(s.num_edges));
-    s.edge_c.resize(std::size_t(s.num_edges));
-    s.edge_d.resize(std::size_t(s.num_edges));
-    // Each part takes its share of each kind of vertex, edge and face: old vertices' rings cost less than midpoints',
-    // and interior edges less than halves.
-    const int nv = parent.num_vertices, halves = 2 * parent.num_edges();
+    s.edge_ends.resize(2 * std::size_t(halves));
+    s.edge_c.resize(std::size_t(halves));
+    s.edge_d.resize(std::size_t(halves));
+    s.interior = std::make_unique<detail::LevelStencils::InteriorFaces>();
+    s.interior->first_edge = halves;
+    s.interior->parent_vertices = nv;
+    // Each part takes its share of each kind of vertex, edge and face: old vertices' rings cost less than midpoints'.
     detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
         // This part's share of [begin, end), in whole groups of `step`.
         auto share = [part, parts](int begin, int end, int step) {
@@ -320,13 +323,11 @@ void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelSten
         fill_rings(share(0, nv, 1));
         fill_rings(share(nv, s.num_vertices, 1));
         // The halves (two per parent edge): ends in edge order, wings in face order (write_half_wings, twice as fast
-        // as in edge order). Interior edges by face.
+        // as in edge order).
         const auto [e0, e1] = share(0, parent.num_edges(), 1);
         const auto [f0, f1] = share(0, parent.num_faces(), 1);
         detail::write_half_ends(parent, e0, e1, s.edge_ends.data() + 4 * std::size_t(e0));
         detail::write_half_wings(parent, f0, f1, e0, e1, s.edge_c.data(), s.edge_d.data());
-        const auto [i0, i1] = share(halves, s.num_edges, 3);  // a face's three interior edges together
-        detail::child_edges(parent, i0, i1, s.edge_ends.data() + 2 * std::size_t(i0), s.edge_c.data() + i0, s.edge_d.data() + i0);
         if (part + 1 == parts) s.ring_offsets[s.num_vertices] = Index(s.ring.size());
     });
 }
@@ -364,8 +365,15 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
         if (parent) {
             const Index e = edge / 2, m = parent->num_vertices + e;
             Index ends[2];
-            if (parent->derived_from) detail::child_edge_ends(*parent->derived_from, e, ends);
-            else ends[0] = parent->edge_ends[2 * e], ends[1] = parent->edge_ends[2 * e + 1];
+            if (parent->derived_from) {
+                detail::child_edge_ends(*parent->derived_from, e, ends);
+            } else if (parent->interior && e >= parent->interior->first_edge) {
+                Index abcd[4];
+                parent->interior->edge(e, abcd);
+                ends[0] = abcd[0], ends[1] = abcd[1];
+            } else {
+                ends[0] = parent->edge_ends[2 * e], ends[1] = parent->edge_ends[2 * e + 1];
+            }
             to.push_back(edge % 2 == 0 ? ends[0] : m);
             to.push_back(edge % 2 == 0 ? m : ends[1]);
         } else {
@@ -440,6 +448,10 @@ void PlanImpl::build(const MeshView& mesh) {
         } else if (l > 0) {
             stencils[l - 1].edge_ends = std::move(parent.edge_vertices);
         }
+        if (stencils[l].interior) {  // the last level's stencils read the faces of the level before its parent
+            stencils[l].interior->face_vertices = std::move(parent.face_vertices);
+            stencils[l].interior->face_edges = std::move(parent.face_edges);
+        }
         parent = std::move(level.topology);
         level = std::move(child);
     }
@@ -504,6 +516,12 @@ const std::vector<std::int32_t>& Plan::level_edges(int level) const {
         std::vector<Index>& edges = p.level_edges[level];
         if (!s.derived_from) {
             edges.assign(s.edge_ends.begin(), s.edge_ends.end());
+            for (Index e = s.interior ? s.interior->first_edge : s.num_edges; e < s.num_edges; ++e) {
+                Index abcd[4];
+                s.interior->edge(e, abcd);
+                edges.push_back(abcd[0]);
+                edges.push_back(abcd[1]);
+            }
             return;
         }
         edges.resize(2 * std::size_t(s.num_edges));

@@ -51,6 +51,24 @@ struct LevelStencils {
     LargeVector<std::int32_t> edge_c, edge_d;
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 
+    // Edges inside the parent's faces, read from the faces (a level not built whose tables are stored: the level
+    // before the last, PlanImpl::skip_level_before_last). Edge first_edge + 3f + k joins the midpoints of parent face
+    // f's edges k and k + 1, opposite the face's corner k + 1 and the midpoint of its edge k - 1 (the vertex of parent
+    // edge e is parent_vertices + e). Then edge_ends, edge_c and edge_d hold the edges before first_edge only: a kernel
+    // reads three edges' ends and wings from six indices rather than twelve, and the plan writes none of them.
+    struct InteriorFaces {
+        int first_edge = 0;
+        std::int32_t parent_vertices = 0;
+        LargeVector<std::int32_t> face_vertices, face_edges;  // the parent's, 3 per face
+
+        // Ends and wings of edge e (first_edge or later).
+        void edge(int e, std::int32_t abcd[4]) const {
+            const std::size_t face = std::size_t(e - first_edge) / 3;
+            face_interior_edge(parent_vertices, &face_vertices[3 * face], &face_edges[3 * face], (e - first_edge) % 3, abcd);
+        }
+    };
+    std::unique_ptr<InteriorFaces> interior;
+
     // Set for a level whose tables above are not stored (Options::level_tables = Derived: every level past the base):
     // its rings and edges are derived from its parent level's connectivity through the numbering, a chunk at a time
     // as the kernels run (write_child_rings, child_edges, in refine_ranges). The plan then holds connectivity only.

@@ -45,15 +45,9 @@ inline void half_edge_wings(const Topology& p, Index e, Index wings[4]) {
     wings[0] = at_a[0], wings[1] = at_a[1], wings[2] = at_b[0], wings[3] = at_b[1];
 }
 
-// Ends and wings of interior edge k of face f, which joins midpoints k and k + 1: it lies opposite v_{k+1} in its
-// corner child and opposite m_{k-1} in the middle child.
+// Ends and wings of interior edge k of face f (face_interior_edge).
 inline void interior_edge(const Topology& p, Index f, int k, Index abcd[4]) {
-    const Index nv = p.num_vertices;
-    const Index* fe = &p.face_edges[3 * f];
-    abcd[0] = nv + fe[k];
-    abcd[1] = nv + fe[next_corner(k)];
-    abcd[2] = p.face_vertices[3 * f + next_corner(k)];
-    abcd[3] = nv + fe[prev_corner(k)];
+    face_interior_edge(p.num_vertices, &p.face_vertices[3 * f], &p.face_edges[3 * f], k, abcd);
 }
 
 #if defined(__SSE2__)

@@ -125,6 +125,16 @@ void write_half_ends(const Topology& parent, int e0, int e1, Index* ends);
 // two faces what a missing face leaves (its own ends). Needs the parent's face_edge_places; twice as fast as
 // child_edges' edge order at the level before the last (0.28 against 0.74 ms with the ends).
 void write_half_wings(const Topology& parent, int f0, int f1, int e0, int e1, Index* c, Index* d);
+// Ends (A, B) and wings (C, D) of the child edge inside a parent face that joins the midpoints of its edges k and
+// k + 1 (face: the parent face's corners and edges, 3 each; the midpoint of parent edge e is child vertex nv + e):
+// it lies opposite corner k + 1 in that corner's child and opposite the midpoint of edge k - 1 in the middle child.
+inline void face_interior_edge(Index nv, const Index* face_vertices, const Index* face_edges, int k, Index abcd[4]) {
+    const int next = k == 2 ? 0 : k + 1, before = k == 0 ? 2 : k - 1;
+    abcd[0] = nv + face_edges[k];
+    abcd[1] = nv + face_edges[next];
+    abcd[2] = face_vertices[next];
+    abcd[3] = nv + face_edges[before];
+}
 // The ends of child edge e, from the parent alone.
 void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 // The faces of the grandchild level (refine_topology twice, the second time FacesOnly) of parent faces [f0, f1):
