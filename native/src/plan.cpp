@@ -3,6 +3,7 @@
 // the child's connectivity and the stencil tables. (Checks of the input: validation.cpp; the per-frame work:
 // evaluate.cpp.)
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -307,27 +308,40 @@ void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelSten
     s.interior = std::make_unique<detail::LevelStencils::InteriorFaces>();
     s.interior->first_edge = halves;
     s.interior->parent_vertices = nv;
-    // Each part takes its share of each kind of vertex, edge and face: old vertices' rings cost less than midpoints'.
-    detail::run_levels(std::max(1, options.threads), 1, [&](int, int part, int parts) {
-        // This part's share of [begin, end), in whole groups of `step`.
-        auto share = [part, parts](int begin, int end, int step) {
-            const auto [first, last] = detail::part_of((end - begin) / step, part, parts);
-            return std::pair<int, int>(begin + first * step, begin + last * step);
+    // Each part takes its share of each kind of vertex, edge and face. Two steps: the halves' wings are scattered by
+    // face, and a midpoint's ring is read back from its edge's wings (midpoint_ring_face in topology.cpp: the ring is
+    // the edge's ends, then its halves' wings face by face), a stream rather than a search of each face (0.42 ms).
+    detail::run_levels(std::max(1, options.threads), 2, [&](int step, int part, int parts) {
+        // This part's share of [begin, end).
+        auto share = [part, parts](int begin, int end) {
+            const auto [first, last] = detail::part_of(end - begin, part, parts);
+            return std::pair<int, int>(begin + first, begin + last);
         };
-        auto fill_rings = [&](std::pair<int, int> range) {
-            const auto [v0, v1] = range;
-            for (int v = v0; v < v1; ++v) s.ring_offsets[v] = detail::child_ring_offset(parent, v);
+        const auto [e0, e1] = share(0, parent.num_edges());
+        if (step == 0) {
+            const auto [v0, v1] = share(0, nv);
+            for (int v = v0; v < v1; ++v) s.ring_offsets[v] = parent.vertex_edge_offsets[v];
             // Pointer arithmetic, not &vector[i]: the offset may be the ring's end.
-            detail::write_child_rings(parent, v0, v1, s.ring.data() + detail::child_ring_offset(parent, v0));
-        };
-        fill_rings(share(0, nv, 1));
-        fill_rings(share(nv, s.num_vertices, 1));
-        // The halves (two per parent edge): ends in edge order, wings in face order (write_half_wings, twice as fast
-        // as in edge order).
-        const auto [e0, e1] = share(0, parent.num_edges(), 1);
-        const auto [f0, f1] = share(0, parent.num_faces(), 1);
-        detail::write_half_ends(parent, e0, e1, s.edge_ends.data() + 4 * std::size_t(e0));
-        detail::write_half_wings(parent, f0, f1, e0, e1, s.edge_c.data(), s.edge_d.data());
+            detail::write_child_rings(parent, v0, v1, s.ring.data() + parent.vertex_edge_offsets[v0]);
+            // The halves (two per parent edge): ends in edge order, wings in face order (write_half_wings, twice as
+            // fast as in edge order).
+            const auto [f0, f1] = share(0, parent.num_faces());
+            detail::write_half_ends(parent, e0, e1, s.edge_ends.data() + 4 * std::size_t(e0));
+            detail::write_half_wings(parent, f0, f1, e0, e1, s.edge_c.data(), s.edge_d.data());
+            return;
+        }
+        for (int e = e0; e < e1; ++e) {
+            const Index first = detail::child_ring_offset(parent, nv + e), faces = parent.edge_face_count(e);
+            s.ring_offsets[nv + e] = first;
+            Index* ring = s.ring.data() + first;
+            std::memcpy(ring, &parent.edge_vertices[2 * std::size_t(e)], 2 * sizeof(Index));
+            if (faces > 2) {  // the wing tables keep two faces; the ring has them all
+                detail::write_child_rings(parent, nv + e, nv + e + 1, ring);
+                continue;
+            }
+            if (faces > 0) std::memcpy(ring + 2, &s.edge_c[2 * std::size_t(e)], 2 * sizeof(Index));
+            if (faces > 1) std::memcpy(ring + 4, &s.edge_d[2 * std::size_t(e)], 2 * sizeof(Index));
+        }
         if (part + 1 == parts) s.ring_offsets[s.num_vertices] = Index(s.ring.size());
     });
 }

@@ -21,17 +21,6 @@ inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
 // Where edge e sits in face f's edges (edge k runs from corner k to corner k + 1).
 inline int local_edge(const Index* face_edges, Index e) { return face_edges[0] == e ? 0 : face_edges[1] == e ? 1 : 2; }
 
-// The ring of the midpoint of edge e: its ends, then per face of e (fe: the face's edges, e its edge `local`) the two
-// midpoints it is joined to. Each returns the ring's next free entry.
-inline Index* midpoint_ring_ends(const Topology& p, Index e, Index* ring) {
-    ring[0] = p.edge_vertices[2 * e], ring[1] = p.edge_vertices[2 * e + 1];
-    return ring + 2;
-}
-inline Index* midpoint_ring_face(Index nv, const Index* fe, int local, Index* ring) {
-    ring[0] = nv + fe[next_corner(local)], ring[1] = nv + fe[prev_corner(local)];
-    return ring + 2;
-}
-
 // The vertices opposite the two halves of a face's edge `local` (fe: the face's edges) in that face: at_a opposite
 // the half at the edge's first vertex, at_b opposite the other. A half lies in a corner child (v_k, m_k, m_{k-1}),
 // opposite the other midpoint there; a_first: the face's corner `local` is the edge's first vertex.
@@ -39,6 +28,18 @@ inline void face_wings(Index nv, const Index* fe, int local, bool a_first, Index
     const Index before = nv + fe[prev_corner(local)], after = nv + fe[next_corner(local)];
     at_a = a_first ? before : after;
     at_b = a_first ? after : before;
+}
+
+// The ring of the midpoint of edge e: its ends, then per face of e the two midpoints it is joined to there, which are
+// the wings of e's halves in that face (face_wings: at a, then at b). The plan reads the level before the last's rings
+// back from its wing tables (PlanImpl::fill_tables_from_parent). Each returns the ring's next free entry.
+inline Index* midpoint_ring_ends(const Topology& p, Index e, Index* ring) {
+    ring[0] = p.edge_vertices[2 * e], ring[1] = p.edge_vertices[2 * e + 1];
+    return ring + 2;
+}
+inline Index* midpoint_ring_face(Index nv, const Index* fe, int local, bool a_first, Index* ring) {
+    face_wings(nv, fe, local, a_first, ring[0], ring[1]);
+    return ring + 2;
 }
 
 // The vertices opposite the two halves of parent edge e in their first two faces: (C, D) of half 2e, then of half
@@ -399,9 +400,11 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
                 const bool a_first = p.face_vertices[3 * f + local] == a;
                 *at_a++ = 4 * f + (a_first ? local : next_corner(local));
                 *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
-                *edges++ = interior_base + 3 * f + local;               // joins midpoints local and local + 1
-                *edges++ = interior_base + 3 * f + prev_corner(local);  // joins midpoints local - 1 and local
-                if (ring) ring = midpoint_ring_face(nv, fe, local, ring);
+                // Interior edge local joins midpoints local and local + 1, edge local - 1 joins local - 1 and local: the
+                // one to the midpoint next to a first, as in the ring.
+                *edges++ = interior_base + 3 * f + (a_first ? prev_corner(local) : local);
+                *edges++ = interior_base + 3 * f + (a_first ? local : prev_corner(local));
+                if (ring) ring = midpoint_ring_face(nv, fe, local, a_first, ring);
             }
         }
         if (part + 1 == parts) c.vertex_edge_offsets[c.num_vertices] = Index(ring_entries);
@@ -419,8 +422,10 @@ void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
     for (Index e = split - nv; e < end - nv; ++e) {
         ring = midpoint_ring_ends(p, e, ring);
         for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
-            const Index* fe = &p.face_edges[3 * p.edge_faces[k]];
-            ring = midpoint_ring_face(nv, fe, local_edge(fe, e), ring);
+            const Index f = p.edge_faces[k];
+            const Index* fe = &p.face_edges[3 * f];
+            const int local = local_edge(fe, e);
+            ring = midpoint_ring_face(nv, fe, local, p.face_vertices[3 * f + local] == p.edge_vertices[2 * e], ring);
         }
     }
 }
@@ -714,9 +719,10 @@ void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
     for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
         const Index f = p.edge_faces[k];
         const Index* fe = &p.face_edges[3 * f];
-        const int local = fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
-        out.push_back(interior_base + 3 * f + local);
-        out.push_back(interior_base + 3 * f + prev_corner(local));
+        const int local = local_edge(fe, e);
+        const bool a_first = p.face_vertices[3 * f + local] == p.edge_vertices[2 * e];  // as refine_topology orders them
+        out.push_back(interior_base + 3 * f + (a_first ? prev_corner(local) : local));
+        out.push_back(interior_base + 3 * f + (a_first ? local : prev_corner(local)));
     }
 }
 
