@@ -330,17 +330,22 @@ void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelSten
             detail::write_half_wings(parent, f0, f1, e0, e1, s.edge_c.data(), s.edge_d.data());
             return;
         }
+        // Plain pointers: the pairs' copies may alias anything, so the vectors' data pointers would be read again each time.
+        const Index *ends = parent.edge_vertices.data(), *face_offsets = parent.edge_face_offsets.data();
+        const Index *wing_c = s.edge_c.data(), *wing_d = s.edge_d.data();
+        Index *ring_offsets = s.ring_offsets.data(), *rings = s.ring.data();
+        const Index old_entries = parent.vertex_edge_offsets[nv];
         for (int e = e0; e < e1; ++e) {
-            const Index first = detail::child_ring_offset(parent, nv + e), faces = parent.edge_face_count(e);
-            s.ring_offsets[nv + e] = first;
-            Index* ring = s.ring.data() + first;
-            std::memcpy(ring, &parent.edge_vertices[2 * std::size_t(e)], 2 * sizeof(Index));
+            const Index first = old_entries + 2 * e + 2 * face_offsets[e], faces = face_offsets[e + 1] - face_offsets[e];  // child_ring_offset
+            ring_offsets[nv + e] = first;
+            Index* ring = rings + first;
+            std::memcpy(ring, ends + 2 * std::size_t(e), 2 * sizeof(Index));
             if (faces > 2) {  // the wing tables keep two faces; the ring has them all
                 detail::write_child_rings(parent, nv + e, nv + e + 1, ring);
                 continue;
             }
-            if (faces > 0) std::memcpy(ring + 2, &s.edge_c[2 * std::size_t(e)], 2 * sizeof(Index));
-            if (faces > 1) std::memcpy(ring + 4, &s.edge_d[2 * std::size_t(e)], 2 * sizeof(Index));
+            if (faces > 0) std::memcpy(ring + 2, wing_c + 2 * std::size_t(e), 2 * sizeof(Index));
+            if (faces > 1) std::memcpy(ring + 4, wing_d + 2 * std::size_t(e), 2 * sizeof(Index));
         }
         if (part + 1 == parts) s.ring_offsets[s.num_vertices] = Index(s.ring.size());
     });
