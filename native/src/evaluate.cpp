@@ -70,12 +70,10 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         const detail::LevelStencils& s = *passes[pass];
         // Small levels are not worth splitting.
         if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) detail::refine_ranges(kernels, s, sources[pass], targets[pass], {0, s.num_vertices}, {0, s.num_edges});
+            if (part == 0) detail::refine_part(kernels, s, sources[pass], targets[pass], 0, 1);
             return;
         }
-        const auto [v0, v1] = detail::part_of(s.num_vertices, part, parts);
-        const auto [e0, e1] = detail::part_of(s.num_edges, part, parts);
-        detail::refine_ranges(kernels, s, sources[pass], targets[pass], {v0, v1}, {e0, e1});
+        detail::refine_part(kernels, s, sources[pass], targets[pass], part, parts);
     });
 }
 

@@ -32,17 +32,30 @@ void refine_interior_scalar(const LevelStencils&, ChannelsView<const float>, Cha
 void refine_interior_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 void refine_interior_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 
+// Computes, for every channel, the output vertex points of the midpoints of parent edges [edges.begin, edges.end) and
+// the output edge points of those edges' halves, special masks included, on a level with LevelStencils::interior.
+// There a midpoint's ring is its edge's ends and then its halves' wings (a, b, c0, c1, d0, d1; PlanImpl::
+// fill_tables_from_parent), so a midpoint of two faces and its two halves read the same seven points: three outputs
+// from one fan of loads, the same bits as from the tables.
+using FanFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges);
+
+void refine_fans_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
+void refine_fans_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
+void refine_fans_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
+
 // One instruction set's kernels.
 struct Kernels {
     RefineFn refine;
     InteriorFn interior;
+    FanFn fans;
 };
 
-// Runs the kernels over the ranges of a level: a stored level in one call (its interior edges by face, where it reads
-// them from its parent's faces), a derived one (LevelStencils::derived_from) a chunk at a time, each chunk's tables
-// filled from the parent just before.
-void refine_ranges(const Kernels& kernels, const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
-                   Range vertices, Range edges);
+// Runs the kernels over part `part` of `parts` of a level: a stored level in one call (one whose interior edges come
+// from its parent's faces by kind: old vertices, midpoints with their halves, interior edges), a derived one
+// (LevelStencils::derived_from) a chunk at a time, each chunk's tables filled from the parent just before. The parts
+// together write every output once.
+void refine_part(const Kernels& kernels, const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
+                 int part, int parts);
 
 // The kernels for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
 Kernel resolve_kernel(Kernel requested);

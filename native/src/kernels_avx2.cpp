@@ -130,6 +130,29 @@ void refine_avx2(const LevelStencils& s, const StencilView& view, ChannelsView<c
     apply_specials(s, view, in, out, vertices, edges);
 }
 
+void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
+    if (!reads_as_quads(in)) return refine_fans_scalar(s, in, out, parent_edges);
+    const int nv = s.interior->parent_vertices;
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
+        // vertex_pair's and edge_pair's arithmetic, one point at a time.
+        auto vertex = [](__m128 self, __m128 ring_sum, float w_self, float w_ring) {
+            return _mm_fmadd_ps(_mm_set1_ps(w_ring), ring_sum, _mm_mul_ps(_mm_set1_ps(w_self), self));
+        };
+        auto edge = [](__m128 a, __m128 b, __m128 c, __m128 d) {
+            return _mm_fmadd_ps(_mm_set1_ps(kSmoothEdgeEndWeight), _mm_add_ps(a, b),
+                                _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), _mm_add_ps(c, d)));
+        };
+        auto irregular = [&](int h) {
+            const int i = nv + h;
+            target.store(std::size_t(i), _mm256_castps256_ps128(vertex_pair(t, source, i, i)));
+            target.store(t.first_edge_point + 2 * std::size_t(h), _mm256_castps256_ps128(edge_pair(t, source, 2 * h, 2 * h)));
+            target.store(t.first_edge_point + 2 * std::size_t(h) + 1, _mm256_castps256_ps128(edge_pair(t, source, 2 * h + 1, 2 * h + 1)));
+        };
+        fan_quad(t, s, source, target, parent_edges, vertex, edge, irregular);
+    });
+    apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end}, {2 * parent_edges.begin, 2 * parent_edges.end});
+}
+
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {
     if (!reads_as_quads(in)) return refine_interior_scalar(s, in, out, faces);
     for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {

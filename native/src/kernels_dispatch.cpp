@@ -1,10 +1,11 @@
-// Run-time choice of the evaluation kernel: the widest instruction set the CPU has, unless one is forced; and the
-// runs over a level derived from its parent, chunk by chunk.
+// Run-time choice of the evaluation kernel: the widest instruction set the CPU has, unless one is forced; and how a
+// part of a level is run: by kind where the level reads from its parent's faces, chunk by chunk where it is derived.
 #include <algorithm>
 #include <vector>
 
 #include "cpu_features.h"
 #include "kernels.h"
+#include "parallel.h"
 
 namespace loopsub::detail {
 
@@ -34,14 +35,22 @@ void refine_interior(const Kernels& kernels, const LevelStencils& s, ChannelsVie
 
 }  // namespace
 
-void refine_ranges(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
-                   Range vertices, Range edges) {
-    if (s.interior) {
-        const int first = s.interior->first_edge;
-        kernels.refine(s, stored_view(s), in, out, vertices, {edges.begin, std::min(edges.end, first)});
-        if (edges.end > first) refine_interior(kernels, s, in, out, {std::max(edges.begin, first), edges.end});
+void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                 int part, int parts) {
+    auto share = [part, parts](int begin, int end) {
+        const auto [first, last] = part_of(end - begin, part, parts);
+        return Range{begin + first, begin + last};
+    };
+    if (s.interior) {  // each kind shared on its own: they cost differently
+        const int old_vertices = s.interior->parent_vertices, halves = s.interior->first_edge;
+        kernels.refine(s, stored_view(s), in, out, share(0, old_vertices), {0, 0});
+        kernels.fans(s, in, out, share(0, halves / 2));
+        const int faces = (s.num_edges - halves) / 3;
+        const Range interior_faces = share(0, faces);
+        refine_interior(kernels, s, in, out, {halves + 3 * interior_faces.begin, halves + 3 * interior_faces.end});
         return;
     }
+    const Range vertices = share(0, s.num_vertices), edges = share(0, s.num_edges);
     const RefineFn refine = kernels.refine;
     if (!s.derived_from) return refine(s, stored_view(s), in, out, vertices, edges);
     // Chunks small enough that their tables stay in the first-level cache while the kernel reads them.
@@ -77,13 +86,13 @@ Kernel resolve_kernel(Kernel requested) {
 Kernels kernel_functions(Kernel resolved) {
 #if defined(LOOPSUB_X86_SIMD)
     switch (resolved) {
-        case Kernel::AVX2: return {refine_avx2, refine_interior_avx2};
-        case Kernel::SSE41: return {refine_sse41, refine_interior_sse41};
-        default: return {refine_scalar, refine_interior_scalar};
+        case Kernel::AVX2: return {refine_avx2, refine_interior_avx2, refine_fans_avx2};
+        case Kernel::SSE41: return {refine_sse41, refine_interior_sse41, refine_fans_sse41};
+        default: return {refine_scalar, refine_interior_scalar, refine_fans_scalar};
     }
 #else
     (void)resolved;  // resolve_kernel gives Scalar when the build has no SIMD kernel
-    return {refine_scalar, refine_interior_scalar};
+    return {refine_scalar, refine_interior_scalar, refine_fans_scalar};
 #endif
 }
 

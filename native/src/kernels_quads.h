@@ -183,5 +183,56 @@ void interior_quad(const LevelStencils& s, const QuadSource<Step> in, const Out 
     }
 }
 
+// One quad of the smooth points of the fans of parent edges [parent_edges.begin, parent_edges.end) (FanFn): a
+// midpoint of two faces (valence 6) with its two halves from its ring's seven points. vertex(self, ring_sum, w_self,
+// w_ring) and edge(a, b, c, d) are the instruction set's smooth masks as its table passes weigh them (the ring summed
+// from zero in ring order, as theirs), so the bits are the tables'; irregular(h) computes another fan from the tables.
+template <std::size_t Step, typename Out, typename Vertex, typename Edge, typename Irregular>
+void fan_quad(const Tables& t, const LevelStencils& s, const QuadSource<Step> in, const Out out, Range parent_edges,
+              Vertex vertex, Edge edge, Irregular irregular) {
+    const int nv = s.interior->parent_vertices;
+    const bool any_regular = s.smooth_self.size() > 6;
+    const float w_self = any_regular ? s.smooth_self[6] : 0.0f, w_ring = any_regular ? s.smooth_ring[6] : 0.0f;
+    auto regular = [&](int h) { return t.valence(nv + h) == 6; };
+    auto fan = [&](int h, __m128& midpoint, __m128& half_a, __m128& half_b) {
+        const std::int32_t* ring = t.ring + t.ring_first(nv + h);
+        std::int32_t a, b, c0, c1, d0, d1;
+        load_index_pair(ring, a, b);
+        load_index_pair(ring + 2, c0, c1);
+        load_index_pair(ring + 4, d0, d1);
+        const __m128 pa = _mm_loadu_ps(in.at(a)), pb = _mm_loadu_ps(in.at(b)), pm = _mm_loadu_ps(in.at(nv + h));
+        const __m128 pc0 = _mm_loadu_ps(in.at(c0)), pc1 = _mm_loadu_ps(in.at(c1));
+        const __m128 pd0 = _mm_loadu_ps(in.at(d0)), pd1 = _mm_loadu_ps(in.at(d1));
+        __m128 ring_sum = _mm_add_ps(_mm_setzero_ps(), pa);
+        ring_sum = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_add_ps(ring_sum, pb), pc0), pc1), pd0), pd1);
+        midpoint = vertex(pm, ring_sum, w_self, w_ring);
+        half_a = edge(pa, pm, pc0, pd0);  // half 2h = (a, m): wings c[2h], d[2h]
+        half_b = edge(pm, pb, pc1, pd1);  // half 2h + 1 = (m, b)
+    };
+    auto one = [&](int h) {
+        if (!regular(h)) return irregular(h);
+        __m128 midpoint, half_a, half_b;
+        fan(h, midpoint, half_a, half_b);
+        out.store(std::size_t(nv + h), midpoint);
+        out.store(t.first_edge_point + 2 * std::size_t(h), half_a);
+        out.store(t.first_edge_point + 2 * std::size_t(h) + 1, half_b);
+    };
+    int h = parent_edges.begin;
+    if constexpr (std::is_same_v<Out, PackedRows3>) {
+        for (; h + 3 < parent_edges.end; h += 4) {  // four midpoints, eight halves: three PackedRows3::store_four
+            if (!(regular(h) && regular(h + 1) && regular(h + 2) && regular(h + 3))) {
+                for (int k = 0; k < 4; ++k) one(h + k);
+                continue;
+            }
+            __m128 m[4], e[8];
+            for (int k = 0; k < 4; ++k) fan(h + k, m[k], e[2 * k], e[2 * k + 1]);
+            out.store_four(std::size_t(nv + h), m[0], m[1], m[2], m[3]);
+            out.store_four(t.first_edge_point + 2 * std::size_t(h), e[0], e[1], e[2], e[3]);
+            out.store_four(t.first_edge_point + 2 * std::size_t(h) + 4, e[4], e[5], e[6], e[7]);
+        }
+    }
+    for (; h < parent_edges.end; ++h) one(h);
+}
+
 }  // namespace
 }  // namespace loopsub::detail

@@ -88,6 +88,25 @@ void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<
     apply_specials(s, view, in, out, vertices, edges);
 }
 
+void refine_fans_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
+    if (!reads_as_quads(in)) return refine_fans_scalar(s, in, out, parent_edges);
+    const int nv = s.interior->parent_vertices;
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
+        // vertex_point's and edge_point's arithmetic.
+        auto vertex = [](__m128 self, __m128 ring_sum, float w_self, float w_ring) {
+            return _mm_add_ps(_mm_mul_ps(_mm_set1_ps(w_self), self), _mm_mul_ps(_mm_set1_ps(w_ring), ring_sum));
+        };
+        auto irregular = [&](int h) {
+            target.store(std::size_t(nv + h), vertex_point(t, source, nv + h));
+            target.store(t.first_edge_point + 2 * std::size_t(h), edge_point(t, source, 2 * h));
+            target.store(t.first_edge_point + 2 * std::size_t(h) + 1, edge_point(t, source, 2 * h + 1));
+        };
+        fan_quad(t, s, source, target, parent_edges, vertex, [](__m128 a, __m128 b, __m128 c, __m128 d) { return smooth_edge(a, b, c, d); },
+                 irregular);
+    });
+    apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end}, {2 * parent_edges.begin, 2 * parent_edges.end});
+}
+
 void refine_interior_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {
     if (!reads_as_quads(in)) return refine_interior_scalar(s, in, out, faces);
     for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {

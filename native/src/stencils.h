@@ -55,7 +55,9 @@ struct LevelStencils {
     // before the last, PlanImpl::skip_level_before_last). Edge first_edge + 3f + k joins the midpoints of parent face
     // f's edges k and k + 1, opposite the face's corner k + 1 and the midpoint of its edge k - 1 (the vertex of parent
     // edge e is parent_vertices + e). Then edge_ends, edge_c and edge_d hold the edges before first_edge only: a kernel
-    // reads three edges' ends and wings from six indices rather than twelve, and the plan writes none of them.
+    // reads three edges' ends and wings from six indices rather than twelve, and the plan writes none of them. The
+    // midpoint of parent edge e (vertex parent_vertices + e) has for ring its edge's ends, then the wings of its halves
+    // 2e and 2e + 1 face by face: a kernel computes the midpoint and both halves from it (FanFn, kernels.h).
     struct InteriorFaces {
         int first_edge = 0;
         std::int32_t parent_vertices = 0;
