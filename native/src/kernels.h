@@ -33,10 +33,10 @@ void refine_interior_sse41(const LevelStencils&, ChannelsView<const float>, Chan
 void refine_interior_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 
 // Computes, for every channel, the output vertex points of the midpoints of parent edges [edges.begin, edges.end) and
-// the output edge points of those edges' halves, special masks included, on a level with LevelStencils::interior.
-// There a midpoint's ring is its edge's ends and then its halves' wings (a, b, c0, c1, d0, d1; PlanImpl::
-// fill_tables_from_parent), so a midpoint of two faces and its two halves read the same seven points: three outputs
-// from one fan of loads, the same bits as from the tables.
+// the output edge points of those edges' halves, special masks included, on a level with fans
+// (LevelStencils::fan_midpoints). There a midpoint's ring is its edge's ends and then its halves' wings (a, b, c0, c1,
+// d0, d1), so a midpoint of two faces and its two halves read the same seven points: three outputs from one fan of
+// loads, the same bits as from the tables.
 using FanFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges);
 
 void refine_fans_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);

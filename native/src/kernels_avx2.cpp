@@ -132,7 +132,7 @@ void refine_avx2(const LevelStencils& s, const StencilView& view, ChannelsView<c
 
 void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
     if (!reads_as_quads(in)) return refine_fans_scalar(s, in, out, parent_edges);
-    const int nv = s.interior->parent_vertices;
+    const int nv = s.fan_first_midpoint;
     for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
         // vertex_pair's and edge_pair's arithmetic, one point at a time.
         auto vertex = [](__m128 self, __m128 ring_sum, float w_self, float w_ring) {

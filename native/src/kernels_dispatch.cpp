@@ -41,12 +41,12 @@ void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<co
         const auto [first, last] = part_of(end - begin, part, parts);
         return Range{begin + first, begin + last};
     };
-    if (s.interior) {  // each kind shared on its own: they cost differently
-        const int old_vertices = s.interior->parent_vertices, halves = s.interior->first_edge;
-        kernels.refine(s, stored_view(s), in, out, share(0, old_vertices), {0, 0});
-        kernels.fans(s, in, out, share(0, halves / 2));
-        const int faces = (s.num_edges - halves) / 3;
-        const Range interior_faces = share(0, faces);
+    if (s.fan_midpoints > 0) {  // each kind shared on its own: they cost differently
+        kernels.refine(s, stored_view(s), in, out, share(0, s.fan_first_midpoint), {0, 0});  // old vertices
+        kernels.fans(s, in, out, share(0, s.fan_midpoints));
+        const int halves = 2 * s.fan_midpoints;
+        if (!s.interior) return kernels.refine(s, stored_view(s), in, out, {0, 0}, share(halves, s.num_edges));
+        const Range interior_faces = share(0, (s.num_edges - halves) / 3);
         refine_interior(kernels, s, in, out, {halves + 3 * interior_faces.begin, halves + 3 * interior_faces.end});
         return;
     }

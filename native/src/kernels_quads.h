@@ -190,7 +190,7 @@ void interior_quad(const LevelStencils& s, const QuadSource<Step> in, const Out 
 template <std::size_t Step, typename Out, typename Vertex, typename Edge, typename Irregular>
 void fan_quad(const Tables& t, const LevelStencils& s, const QuadSource<Step> in, const Out out, Range parent_edges,
               Vertex vertex, Edge edge, Irregular irregular) {
-    const int nv = s.interior->parent_vertices;
+    const int nv = s.fan_first_midpoint;
     const bool any_regular = s.smooth_self.size() > 6;
     const float w_self = any_regular ? s.smooth_self[6] : 0.0f, w_ring = any_regular ? s.smooth_ring[6] : 0.0f;
     auto regular = [&](int h) { return t.valence(nv + h) == 6; };

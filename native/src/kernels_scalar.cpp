@@ -28,7 +28,7 @@ void refine_scalar(const LevelStencils& s, const StencilView& t, ChannelsView<co
 
 void refine_fans_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
     // The reference reads the same points from the tables.
-    const int nv = s.interior->parent_vertices;
+    const int nv = s.fan_first_midpoint;
     refine_scalar(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end}, {2 * parent_edges.begin, 2 * parent_edges.end});
 }
 

@@ -90,7 +90,7 @@ void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<
 
 void refine_fans_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
     if (!reads_as_quads(in)) return refine_fans_scalar(s, in, out, parent_edges);
-    const int nv = s.interior->parent_vertices;
+    const int nv = s.fan_first_midpoint;
     for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
         // vertex_point's and edge_point's arithmetic.
         auto vertex = [](__m128 self, __m128 ring_sum, float w_self, float w_ring) {

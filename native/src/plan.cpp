@@ -293,6 +293,10 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         s.edge_c = std::move(t.edge_opposite_c);
         s.edge_d = std::move(t.edge_opposite_d);
     }
+    if (child_level >= 2 && !derive_tables) {  // a split level, its rings as FanFn reads them
+        s.fan_first_midpoint = parent.num_vertices;
+        s.fan_midpoints = nv - parent.num_vertices;
+    }
     if (last_child) level_vertex_types.push_back(std::move(last_types));  // last: it moves `types`
 }
 

@@ -55,9 +55,7 @@ struct LevelStencils {
     // before the last, PlanImpl::skip_level_before_last). Edge first_edge + 3f + k joins the midpoints of parent face
     // f's edges k and k + 1, opposite the face's corner k + 1 and the midpoint of its edge k - 1 (the vertex of parent
     // edge e is parent_vertices + e). Then edge_ends, edge_c and edge_d hold the edges before first_edge only: a kernel
-    // reads three edges' ends and wings from six indices rather than twelve, and the plan writes none of them. The
-    // midpoint of parent edge e (vertex parent_vertices + e) has for ring its edge's ends, then the wings of its halves
-    // 2e and 2e + 1 face by face: a kernel computes the midpoint and both halves from it (FanFn, kernels.h).
+    // reads three edges' ends and wings from six indices rather than twelve, and the plan writes none of them.
     struct InteriorFaces {
         int first_edge = 0;
         std::int32_t parent_vertices = 0;
@@ -70,6 +68,12 @@ struct LevelStencils {
         }
     };
     std::unique_ptr<InteriorFaces> interior;
+
+    // Set on a level past the base whose tables are stored: its vertices from fan_first_midpoint on are the midpoints
+    // of its parent's fan_midpoints edges (edge e's is fan_first_midpoint + e), its edges 2e and 2e + 1 the halves of
+    // parent edge e, and a midpoint's ring is its edge's ends, then its halves' wings face by face (refine_topology,
+    // PlanImpl::fill_tables_from_parent): a kernel computes the midpoint and both halves from it (FanFn, kernels.h).
+    int fan_first_midpoint = 0, fan_midpoints = 0;
 
     // Set for a level whose tables above are not stored (Options::level_tables = Derived: every level past the base):
     // its rings and edges are derived from its parent level's connectivity through the numbering, a chunk at a time
