@@ -693,14 +693,6 @@ int VertexNeighbourhood::max_valence() const {
     return parent_ ? child_max_valence(*parent_) : level_.max_valence;
 }
 
-void VertexNeighbourhood::edge_ends(Index e, Index ends[2]) const {
-    if (!parent_) {
-        ends[0] = level_.edge_vertices[2 * e], ends[1] = level_.edge_vertices[2 * e + 1];
-        return;
-    }
-    child_edge_ends(*parent_, e, ends);
-}
-
 void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
     out.clear();
     if (!parent_) {
@@ -724,11 +716,6 @@ void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
         out.push_back(interior_base + 3 * f + (a_first ? prev_corner(local) : local));
         out.push_back(interior_base + 3 * f + (a_first ? local : prev_corner(local)));
     }
-}
-
-int VertexNeighbourhood::edge_face_count(Index e) const {
-    if (!parent_) return level_.edge_face_count(e);
-    return e < 2 * parent_->num_edges() ? parent_->edge_face_count(e / 2) : 2;
 }
 
 int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {

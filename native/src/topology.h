@@ -67,6 +67,9 @@ enum class Refined {
 // `threads` share the work (each writes its own slice of every array).
 Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
 
+// The ends of child edge e, from the parent alone.
+void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
+
 // The connectivity around single vertices and edges of a level, whether the level holds it (Refined::Full and the
 // base) or not (refined ForStencils, or not stored at all): then it is derived from the parent level through the
 // numbering, as refine_topology would have written it. Classifying the few vertices next to a crease needs no more.
@@ -75,7 +78,14 @@ public:
     VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived);
     int num_edges() const;
     int max_valence() const;
-    void edge_ends(Index e, Index ends[2]) const;
+    // Inline, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
+    void edge_ends(Index e, Index ends[2]) const {
+        if (!parent_) {
+            ends[0] = level_.edge_vertices[2 * e], ends[1] = level_.edge_vertices[2 * e + 1];
+            return;
+        }
+        child_edge_ends(*parent_, e, ends);
+    }
     Index other_end(Index e, Index v) const {
         Index ends[2];
         edge_ends(e, ends);
@@ -89,7 +99,10 @@ public:
     }
     // The edges of v, in the order of its vertex_vertices.
     void edges(Index v, std::vector<Index>& out) const;
-    int edge_face_count(Index e) const;
+    int edge_face_count(Index e) const {
+        if (!parent_) return level_.edge_face_count(e);
+        return e < 2 * parent_->num_edges() ? parent_->edge_face_count(e / 2) : 2;
+    }
     // faces_between (below) on this level. Derived: for a midpoint, only between its two halves (the only edges
     // at a midpoint that can be sharp); -1 otherwise.
     int faces_between(Index v, Index from, Index to) const;
@@ -135,8 +148,6 @@ inline void face_interior_edge(Index nv, const Index* face_vertices, const Index
     abcd[2] = face_vertices[next];
     abcd[3] = nv + face_edges[before];
 }
-// The ends of child edge e, from the parent alone.
-void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 // The faces of the grandchild level (refine_topology twice, the second time FacesOnly) of parent faces [f0, f1):
 // 48 indices per parent face, written from out[48 * f0].
 void write_grandchild_faces(const Topology& parent, int f0, int f1, Index* out);
