@@ -60,6 +60,9 @@ struct FeatureVertex {
     Index crease[2];   // the first two sharp edges (-1: none)
     bool tagged_cone;  // Hoppe94
     const Feature* own = nullptr;  // the vertex's own sharpness and tag, where it is a feature itself
+    // Per edge, its entry in the level's features (null: not a feature), so that what the vertex makes of it can go
+    // to the feature's place in a list sorted like the features.
+    const std::vector<const Feature*>* edge_features = nullptr;
 
     float own_sharpness() const { return own ? own->sharpness : 0.0f; }
     float own_tag() const { return own ? own->tag : 0.0f; }
@@ -101,12 +104,14 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         const auto end = run_start(last);
         std::vector<Index> edges;
         std::vector<float> sharpness, tags;
+        std::vector<const Feature*> edge_features;
         for (auto run = run_start(first); run != end;) {
             const Index v = run->vertex;
             const auto run_end = std::find_if(run, end, [v](const Touch& touch) { return touch.vertex != v; });
             around.edges(v, edges);
             sharpness.assign(edges.size(), 0.0f);
             tags.assign(edges.size(), 0.0f);
+            edge_features.assign(edges.size(), nullptr);
             const Feature* own = nullptr;
             for (auto touch = run; touch != run_end; ++touch) {
                 if (touch->own) own = touch->own;
@@ -114,6 +119,7 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
                 const std::size_t k = std::size_t(std::find(edges.begin(), edges.end(), touch->edge->index) - edges.begin());
                 sharpness[k] = touch->edge->sharpness;
                 tags[k] = touch->edge->tag;
+                edge_features[k] = touch->edge;
             }
             run = run_end;
             int sharp_edges = 0;
@@ -121,7 +127,7 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
             for (std::size_t k = 0; k < edges.size(); ++k)
                 if (is_sharp(sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
             visit(FeatureVertex{v, edges, sharpness, tags, sharp_edges, {crease[0], crease[1]},
-                                std::binary_search(cones.begin(), cones.end(), v), own},
+                                std::binary_search(cones.begin(), cones.end(), v), own, &edge_features},
                   part);
         }
     });
