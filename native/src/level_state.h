@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "loopsub/loopsub.h"
@@ -80,7 +81,6 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         Index vertex;
         const Feature* edge;  // null: the vertex is a feature itself (`own`), or a cone
         const Feature* own;
-        bool operator<(const Touch& other) const { return vertex < other.vertex; }
     };
     std::vector<Touch> touches;
     touches.reserve(2 * level.edges.size() + level.vertices.size() + cones.size());
@@ -92,7 +92,16 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     }
     for (const Feature& f : level.vertices) touches.push_back({f.index, nullptr, &f});
     for (Index v : cones) if (v < level.topology.num_vertices) touches.push_back({v, nullptr, nullptr});
-    std::sort(touches.begin(), touches.end());
+    // By vertex, a byte of the index at a time (stable, which the runs do not need): a comparison sort of these was
+    // a seventh of what creases add to a plan.
+    std::vector<Touch> sorted(touches.size());
+    for (int shift = 0; shift < 32 && (std::uint32_t(level.topology.num_vertices) - 1) >> shift; shift += 8) {
+        std::size_t count[257] = {};
+        for (const Touch& t : touches) ++count[(std::uint32_t(t.vertex) >> shift & 0xff) + 1];
+        for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+        for (const Touch& t : touches) sorted[count[std::uint32_t(t.vertex) >> shift & 0xff]++] = t;
+        touches.swap(sorted);
+    }
 
     run_levels(parts, 1, [&](int, int part, int part_count) {
         // A part starts where a vertex's run starts.
