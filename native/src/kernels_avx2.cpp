@@ -92,14 +92,9 @@ inline __m256 edge_pair(const Tables& t, const QuadSource<Step>& in, int e, int 
 // edge_pair for edges e and e + 1, their indices read a pair at a time.
 template <std::size_t Step>
 inline __m256 next_edges_pair(const Tables& t, const QuadSource<Step>& in, int e) {
-    const std::int32_t* ends = t.edge_ends + 2 * (e - t.edge_base);
-    std::int32_t a_e, b_e, a_f, b_f, c_e, c_f, d_e, d_f;
-    load_index_pair(ends, a_e, b_e);
-    load_index_pair(ends + 2, a_f, b_f);
-    load_index_pair(t.edge_c + (e - t.edge_base), c_e, c_f);
-    load_index_pair(t.edge_d + (e - t.edge_base), d_e, d_f);
-    const __m256 sum_ends = _mm256_add_ps(load_pair(in, a_e, a_f), load_pair(in, b_e, b_f));
-    const __m256 wings = _mm256_add_ps(load_pair(in, c_e, c_f), load_pair(in, d_e, d_f));
+    const EdgePairIndices i = next_edges_indices(t, e);
+    const __m256 sum_ends = _mm256_add_ps(load_pair(in, i.a[0], i.a[1]), load_pair(in, i.b[0], i.b[1]));
+    const __m256 wings = _mm256_add_ps(load_pair(in, i.c[0], i.c[1]), load_pair(in, i.d[0], i.d[1]));
     return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), sum_ends, _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
 }
 

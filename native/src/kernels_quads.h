@@ -124,6 +124,20 @@ inline void load_index_pair(const std::int32_t* at, std::int32_t& first, std::in
     second = std::int32_t(std::uint32_t(pair >> 32));
 }
 
+// The ends (a, b) and wings (c, d) of edges e and e + 1 from the tables, read a pair at a time.
+struct EdgePairIndices {
+    std::int32_t a[2], b[2], c[2], d[2];
+};
+inline EdgePairIndices next_edges_indices(const StencilView& t, int e) {
+    const std::int32_t* ends = t.edge_ends + 2 * (e - t.edge_base);
+    EdgePairIndices i;
+    load_index_pair(ends, i.a[0], i.b[0]);
+    load_index_pair(ends + 2, i.a[1], i.b[1]);
+    load_index_pair(t.edge_c + (e - t.edge_base), i.c[0], i.c[1]);
+    load_index_pair(t.edge_d + (e - t.edge_base), i.d[0], i.d[1]);
+    return i;
+}
+
 // Runs an instruction set's smooth pass, smooth(tables, source, target), over every quad of channels, with the
 // source and target types that let it compile the common layouts to plain strided loads and stores.
 template <typename SmoothPass>

@@ -49,14 +49,12 @@ inline __m128 edge_point(const Tables& t, const QuadSource<Step>& in, int e) {
 // Edge points e and e + 1, their indices read a pair at a time.
 template <std::size_t Step>
 inline void next_edge_points(const Tables& t, const QuadSource<Step>& in, int e, __m128& first, __m128& second) {
-    const std::int32_t* ends = t.edge_ends + 2 * (e - t.edge_base);
-    std::int32_t a_e, b_e, a_f, b_f, c_e, c_f, d_e, d_f;
-    load_index_pair(ends, a_e, b_e);
-    load_index_pair(ends + 2, a_f, b_f);
-    load_index_pair(t.edge_c + (e - t.edge_base), c_e, c_f);
-    load_index_pair(t.edge_d + (e - t.edge_base), d_e, d_f);
-    first = smooth_edge(_mm_loadu_ps(in.at(a_e)), _mm_loadu_ps(in.at(b_e)), _mm_loadu_ps(in.at(c_e)), _mm_loadu_ps(in.at(d_e)));
-    second = smooth_edge(_mm_loadu_ps(in.at(a_f)), _mm_loadu_ps(in.at(b_f)), _mm_loadu_ps(in.at(c_f)), _mm_loadu_ps(in.at(d_f)));
+    const EdgePairIndices i = next_edges_indices(t, e);
+    auto point = [&](int k) {
+        return smooth_edge(_mm_loadu_ps(in.at(i.a[k])), _mm_loadu_ps(in.at(i.b[k])), _mm_loadu_ps(in.at(i.c[k])), _mm_loadu_ps(in.at(i.d[k])));
+    };
+    first = point(0);
+    second = point(1);
 }
 
 // Rows of three (the last level's positions) go four points at a time (PackedRows3::store_four).
