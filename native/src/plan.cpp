@@ -201,10 +201,12 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             child_sharpness[k] = decayed;
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
             const float child_tag = rules->child_tag(vertex.tags[k], decayed);
-            if (decayed == 0.0f && child_tag == 0.0f) continue;
+            if (!(decayed > 0.0f || child_tag != 0.0f)) continue;
             const Feature half{around.child_edge_at(e, v), decayed, child_tag};
-            if (const Feature* feature = (*vertex.edge_features)[k]) halves_of_features[2 * std::size_t(feature - level.edges.data()) + std::size_t(half.index & 1)] = half;
-            else out.edges.push_back(half);
+            if (const Feature* feature = (*vertex.edge_features)[k])
+                halves_of_features[2 * std::size_t(feature - level.edges.data()) + std::size_t(half.index & 1)] = half;
+            else
+                out.edges.push_back(half);
         }
         const float vertex_sharpness = vertex.own_sharpness();
         const float child_vertex_sharpness = rules->child_vertex_sharpness(vertex_sharpness);
