@@ -77,7 +77,7 @@ struct LevelStencils {
 
     // Set for a level whose tables above are not stored (Options::level_tables = Derived: every level past the base):
     // its rings and edges are derived from its parent level's connectivity through the numbering, a chunk at a time
-    // as the kernels run (write_child_rings, child_edges, in refine_ranges). The plan then holds connectivity only.
+    // as the kernels run (write_child_rings, child_edges, in refine_part). The plan then holds connectivity only.
     std::unique_ptr<Topology> derived_from;
 };
 
