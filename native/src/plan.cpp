@@ -400,15 +400,7 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
         if (parent) {
             const Index e = edge / 2, m = parent->num_vertices + e;
             Index ends[2];
-            if (parent->derived_from) {
-                detail::child_edge_ends(*parent->derived_from, e, ends);
-            } else if (parent->interior && e >= parent->interior->first_edge) {
-                Index abcd[4];
-                parent->interior->edge(e, abcd);
-                ends[0] = abcd[0], ends[1] = abcd[1];
-            } else {
-                ends[0] = parent->edge_ends[2 * e], ends[1] = parent->edge_ends[2 * e + 1];
-            }
+            parent->edge_ends_of(e, ends);
             to.push_back(edge % 2 == 0 ? ends[0] : m);
             to.push_back(edge % 2 == 0 ? m : ends[1]);
         } else {
@@ -549,18 +541,12 @@ const std::vector<std::int32_t>& Plan::level_edges(int level) const {
     std::call_once(p.level_edges_ready[level], [&p, level] {
         const detail::LevelStencils& s = p.stencils[level];
         std::vector<Index>& edges = p.level_edges[level];
-        if (!s.derived_from) {
+        if (!s.derived_from && !s.interior) {
             edges.assign(s.edge_ends.begin(), s.edge_ends.end());
-            for (Index e = s.interior ? s.interior->first_edge : s.num_edges; e < s.num_edges; ++e) {
-                Index abcd[4];
-                s.interior->edge(e, abcd);
-                edges.push_back(abcd[0]);
-                edges.push_back(abcd[1]);
-            }
             return;
         }
         edges.resize(2 * std::size_t(s.num_edges));
-        for (Index e = 0; e < s.num_edges; ++e) detail::child_edge_ends(*s.derived_from, e, &edges[2 * std::size_t(e)]);
+        for (Index e = 0; e < s.num_edges; ++e) s.edge_ends_of(e, &edges[2 * std::size_t(e)]);
     });
     return p.level_edges[level];
 }

@@ -79,6 +79,19 @@ struct LevelStencils {
     // its rings and edges are derived from its parent level's connectivity through the numbering, a chunk at a time
     // as the kernels run (write_child_rings, child_edges, in refine_part). The plan then holds connectivity only.
     std::unique_ptr<Topology> derived_from;
+
+    // The ends of edge e wherever the level keeps them: its tables, its parent's faces (interior) or its parent's
+    // connectivity (derived_from). For what asks for a few edges outside the kernels.
+    void edge_ends_of(std::int32_t e, std::int32_t ends[2]) const {
+        if (derived_from) return child_edge_ends(*derived_from, e, ends);
+        if (interior && e >= interior->first_edge) {
+            std::int32_t abcd[4];
+            interior->edge(e, abcd);
+            ends[0] = abcd[0], ends[1] = abcd[1];
+            return;
+        }
+        ends[0] = edge_ends[2 * std::size_t(e)], ends[1] = edge_ends[2 * std::size_t(e) + 1];
+    }
 };
 
 // The index tables of one kernel run, as plain pointers: a stored level's own (bases 0), or a derived level's for a

@@ -42,6 +42,14 @@ inline Index* midpoint_ring_face(Index nv, const Index* fe, int local, bool a_fi
     return ring + 2;
 }
 
+// The midpoint's edges inside a face of its edge (the edge is the face's edge `local`), in its ring's order: interior
+// edge local joins midpoints local and local + 1, edge local - 1 joins local - 1 and local, and the one to the
+// midpoint next to the edge's first vertex comes first.
+inline void midpoint_face_edges(Index interior_base, Index f, int local, bool a_first, Index edges[2]) {
+    edges[0] = interior_base + 3 * f + (a_first ? prev_corner(local) : local);
+    edges[1] = interior_base + 3 * f + (a_first ? local : prev_corner(local));
+}
+
 // The vertices opposite the two halves of parent edge e in their first two faces: (C, D) of half 2e, then of half
 // 2e + 1; where a face is missing, C / D repeat the half's ends.
 inline void half_edge_wings(const Topology& p, Index e, Index wings[4]) {
@@ -333,11 +341,7 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
         }
         if (faces_only) return;
 
-        for (int e = e0; e < e1; ++e) {
-            const Index a = p.edge_vertices[2 * e], b = p.edge_vertices[2 * e + 1], m = nv + e;
-            c.edge_vertices[4 * e + 0] = a, c.edge_vertices[4 * e + 1] = m;
-            c.edge_vertices[4 * e + 2] = m, c.edge_vertices[4 * e + 3] = b;
-        }
+        write_half_ends(p, e0, e1, c.edge_vertices.data() + 4 * std::size_t(e0));
         // Interior edges: child_edges stores them a face at a time; a level without wings needs their ends only.
         const std::size_t first_interior = std::size_t(interior_base) + 3 * std::size_t(f0);
         if (neighbourhood) {
@@ -400,10 +404,8 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
                 const bool a_first = p.face_vertices[3 * f + local] == a;
                 *at_a++ = 4 * f + (a_first ? local : next_corner(local));
                 *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
-                // Interior edge local joins midpoints local and local + 1, edge local - 1 joins local - 1 and local: the
-                // one to the midpoint next to a first, as in the ring.
-                *edges++ = interior_base + 3 * f + (a_first ? prev_corner(local) : local);
-                *edges++ = interior_base + 3 * f + (a_first ? local : prev_corner(local));
+                midpoint_face_edges(interior_base, f, local, a_first, edges);
+                edges += 2;
                 if (ring) ring = midpoint_ring_face(nv, fe, local, a_first, ring);
             }
         }
@@ -450,9 +452,8 @@ void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, I
         // A face whose edges are all in range, the next face's first too, in four stores rather than twelve: the
         // vector loads read that face's first corner, and the 16-byte stores of C and D spill into its slot.
         if (3 * f >= interior_begin && 3 * f + 3 < interior_end) {
-            const __m128i m = _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.face_edges[3 * std::size_t(f)])),
-                                            _mm_set1_epi32(nv));
-            const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.face_vertices[3 * std::size_t(f)]));
+            const __m128i m = _mm_add_epi32(load_corners(&p.face_edges[3 * std::size_t(f)]), _mm_set1_epi32(nv));
+            const __m128i v = load_corners(&p.face_vertices[3 * std::size_t(f)]);
             const int k = halves + 3 * f - begin;
             _mm_storeu_si128(reinterpret_cast<__m128i*>(ends + 2 * k), _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 1, 1, 0)));  // m0 m1 m1 m2
             _mm_storel_epi64(reinterpret_cast<__m128i*>(ends + 2 * k + 4), _mm_shuffle_epi32(m, _MM_SHUFFLE(0, 0, 0, 2)));  // m2 m0
@@ -712,9 +713,9 @@ void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
         const Index f = p.edge_faces[k];
         const Index* fe = &p.face_edges[3 * f];
         const int local = local_edge(fe, e);
-        const bool a_first = p.face_vertices[3 * f + local] == p.edge_vertices[2 * e];  // as refine_topology orders them
-        out.push_back(interior_base + 3 * f + (a_first ? prev_corner(local) : local));
-        out.push_back(interior_base + 3 * f + (a_first ? local : prev_corner(local)));
+        Index in_face[2];
+        midpoint_face_edges(interior_base, f, local, p.face_vertices[3 * f + local] == p.edge_vertices[2 * e], in_face);
+        out.insert(out.end(), in_face, in_face + 2);
     }
 }
 
