@@ -7,13 +7,27 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <system_error>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#if !defined(_WIN32)
+#include <unistd.h>
+#endif
+
 namespace loopsub::detail {
+
+// Tells a child made by fork() from its parent (Windows has no fork()).
+inline long process_id() {
+#if defined(_WIN32)
+    return 0;
+#else
+    return long(getpid());
+#endif
+}
 
 // Part `part` of `parts` of n items, [first, second): how a level's work is shared among run_levels' parts.
 template <typename Count>
@@ -33,16 +47,13 @@ void wait_awake_then_sleep(std::mutex& mutex, std::condition_variable& changed, 
     changed.wait(lock, done);
 }
 
-// Threads kept for one stretch of work with many parallel steps and short serial ones between them (a plan's build):
-// while a Team is in scope on a thread, run_levels there runs on the team's threads instead of starting its own. A
-// thread starts in 60 us on average here (mean of 800 starts, a plan's four steps paying 0.24 ms of a 2.9 ms build);
-// a team starts its threads once, while the caller does serial work, and they wait awake between steps for up to
-// 1 ms, since a plan's serial steps are longer than a frame's (its base level: 0.4 ms here). A plan's two-thread
-// build: 2.61-2.75 ms with a start per step, 2.48-2.55 with a team. A thread the system refuses to start costs
+// Threads kept for stretches of work with many parallel steps and short serial ones between them: a plan's build, a
+// frame's levels. A thread starts in 60 us on average here (mean of 800 starts); a team starts its threads once, and
+// between steps they wait awake for up to 1 ms before they sleep. A thread the system refuses to start costs
 // parallelism, never the process: the caller then runs its part too.
 class Team {
 public:
-    explicit Team(int threads) : parts_(std::max(1, threads)), previous_(current_) {
+    explicit Team(int threads) : parts_(std::max(1, threads)) {
         for (int part = 1; part < parts_; ++part) {
             try {
                 workers_.emplace_back([this, part] { serve(part); });
@@ -50,10 +61,8 @@ public:
                 for (; part < parts_; ++part) callers_parts_.push_back(part);
             }
         }
-        current_ = this;
     }
     ~Team() {
-        current_ = previous_;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             stopping_ = true;
@@ -65,8 +74,6 @@ public:
     Team(const Team&) = delete;
     Team& operator=(const Team&) = delete;
 
-    // The team in scope on this thread, or null.
-    static Team* current() { return current_; }
     int parts() const { return parts_; }
 
     // Runs work(part, parts) for every part at once and returns when all have ended (their writes visible). Called
@@ -109,7 +116,6 @@ private:
 
     static constexpr std::chrono::microseconds kAwake{1000};
     const int parts_;
-    Team* const previous_;
     std::vector<std::thread> workers_;
     std::vector<int> callers_parts_ = {0};
     std::mutex mutex_;
@@ -119,61 +125,87 @@ private:
     bool running_ = false;   // the caller's thread is inside run()
     void (*job_)(const void*, int, int) = nullptr;
     const void* context_ = nullptr;
+};
+
+// The team run_levels uses on this thread while a TeamScope is alive: the one already in scope if it has as many
+// parts, else the team the process keeps if no other thread holds it, else one started for this scope (another thread
+// evaluating at the same time, or more threads than the machine has). The kept team makes back-to-back frames and
+// plans start no thread: a frame's evaluation on two threads was 0.91-1.21 ms (medians of 1,001) with a start per
+// frame, 0.70-0.79 ms with the kept team; its idle worker waits awake 1 ms after a frame, then sleeps.
+class TeamScope {
+public:
+    explicit TeamScope(int threads) : previous_(current_) {
+        if (threads < 2 || (current_ && current_->parts() == threads)) return;
+        team_ = Kept::lease(threads);
+        if (!team_) {
+            own_ = std::make_unique<Team>(threads);
+            team_ = own_.get();
+        }
+        current_ = team_;
+    }
+    ~TeamScope() {
+        current_ = previous_;
+        if (team_ && !own_) Kept::release();
+    }
+    TeamScope(const TeamScope&) = delete;
+    TeamScope& operator=(const TeamScope&) = delete;
+
+    // The team in scope on this thread, or null.
+    static Team* current() { return current_; }
+
+private:
+    // One team for the process, made on first use and never destroyed: its threads would otherwise be joined while
+    // the process exits (a Windows DLL's unload cannot join threads), and a sleeping worker costs nothing. A child
+    // made by fork() has none of its parent's threads, so it makes its own team (the parent's is left as it is).
+    struct Kept {
+        static Team* lease(int threads) {
+            if (unsigned(threads) > std::max(2u, std::thread::hardware_concurrency())) return nullptr;
+            Kept& kept = instance();
+            if (kept.leased.exchange(true, std::memory_order_acquire)) return nullptr;
+            if (kept.process != process_id()) {
+                kept.team = nullptr;  // a forked child: its parent's team has no threads here
+                kept.process = process_id();
+            }
+            if (kept.team && kept.team->parts() != threads) {
+                delete kept.team;
+                kept.team = nullptr;
+            }
+            if (!kept.team) {
+                try {
+                    kept.team = new Team(threads);
+                } catch (...) {
+                    release();
+                    throw;
+                }
+            }
+            return kept.team;
+        }
+        static void release() { instance().leased.store(false, std::memory_order_release); }
+        static Kept& instance() {
+            static Kept* kept = new Kept;
+            return *kept;
+        }
+        std::atomic<bool> leased{false};  // a lease held when fork() ran stays held in the child: it starts its own
+        Team* team = nullptr;
+        long process = process_id();
+    };
+
+    Team* team_ = nullptr;
+    std::unique_ptr<Team> own_;
+    Team* const previous_;
     static inline thread_local Team* current_ = nullptr;
 };
 
-// Runs work(level, part, parts) for every level in order and every part of a level at once: one thread per part
-// for the whole run (the caller being part 0), meeting at a barrier between levels; on the team in scope where its
-// size is `threads`. A thread the system refuses to start costs parallelism, never the process: the parts are then
-// shared among the threads that run.
+// Runs work(level, part, parts) for every level in order and every part of a level at once, on the team of this
+// thread's TeamScope (or a scope of its own): the caller is part 0, and the parts meet between levels.
 template <typename Work>
 void run_levels(int threads, int levels, const Work& work) {
-    if (threads == 1) {
+    if (threads < 2) {
         for (int l = 0; l < levels; ++l) work(l, 0, 1);
         return;
     }
-    if (Team* team = Team::current(); team && team->parts() == threads) {
-        for (int l = 0; l < levels; ++l) team->run([&work, l](int part, int parts) { work(l, part, parts); });
-        return;
-    }
-    std::mutex mutex;
-    std::condition_variable changed;
-    std::atomic<int> running{threads}, arrived{0}, generation{0};
-    auto wait_for_others = [&] {
-        const int mine = generation.load(std::memory_order_acquire);
-        if (arrived.fetch_add(1, std::memory_order_acq_rel) + 1 == running.load(std::memory_order_acquire)) {
-            arrived.store(0, std::memory_order_relaxed);
-            {
-                std::lock_guard<std::mutex> lock(mutex);
-                generation.store(mine + 1, std::memory_order_release);
-            }
-            changed.notify_all();
-            return;
-        }
-        wait_awake_then_sleep(mutex, changed, [&] { return generation.load(std::memory_order_acquire) != mine; });
-    };
-    auto run = [&](std::vector<int> parts) {
-        for (int l = 0; l < levels; ++l) {
-            for (int part : parts) work(l, part, threads);
-            wait_for_others();
-        }
-    };
-    std::vector<std::thread> workers;
-    workers.reserve(threads - 1);
-    std::vector<int> callers_parts = {0};
-    for (int part = 1; part < threads; ++part) {
-        try {
-            workers.emplace_back(run, std::vector<int>{part});
-        } catch (const std::system_error&) {
-            // The caller has not reached the first barrier yet, so the threads already waiting there cannot be
-            // released early: it is safe to lower the count here and hand the remaining parts to the caller.
-            std::lock_guard<std::mutex> lock(mutex);
-            running.fetch_sub(threads - part, std::memory_order_acq_rel);
-            for (; part < threads; ++part) callers_parts.push_back(part);
-        }
-    }
-    run(callers_parts);
-    for (std::thread& worker : workers) worker.join();
+    const TeamScope scope(threads);
+    for (int l = 0; l < levels; ++l) TeamScope::current()->run([&work, l](int part, int parts) { work(l, part, parts); });
 }
 
 }  // namespace loopsub::detail

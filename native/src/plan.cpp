@@ -426,7 +426,7 @@ void PlanImpl::collect_output_tags(const LevelState& last) {
 
 void PlanImpl::build(const MeshView& mesh) {
     const auto start = detail::Clock::now();
-    const detail::Team team(options.threads);  // its threads start while the base level is built
+    const detail::TeamScope team(options.threads);  // a kept team, or one whose threads start while the base level is built
     detail::validate_mesh(mesh, options);
     rules = detail::make_rule_set(options);
     kernel = detail::resolve_kernel(options.kernel);

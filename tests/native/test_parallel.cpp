@@ -5,8 +5,13 @@
 #include <cstdint>
 #include <vector>
 
+#include <functional>
+#include <thread>
+
 #if defined(__linux__)
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #endif
 
 #include "large_allocator.h"
@@ -18,6 +23,7 @@ namespace {
 
 using loopsub::detail::LargeVector;
 using loopsub::detail::run_levels;
+using loopsub::detail::TeamScope;
 
 // Every part of every level runs exactly once, with the part count asked for, whatever the thread count.
 TEST(RunLevels, RunsEveryPartOfEveryLevelOnce) {
@@ -40,8 +46,9 @@ TEST(RunLevels, RunsEveryPartOfEveryLevelOnce) {
 // thread for part 1 of every call (a thread of its own per call would count one call each).
 TEST(Team, RunLevelsRunsEveryPartOnTheTeamsThreads) {
     for (int threads : {2, 3}) {
-        const loopsub::detail::Team team(threads);
-        ASSERT_EQ(loopsub::detail::Team::current(), &team);
+        const TeamScope scope(threads);
+        ASSERT_NE(TeamScope::current(), nullptr);
+        ASSERT_EQ(TeamScope::current()->parts(), threads);
         static thread_local int calls_on_this_thread = 0;
         const int calls = 10, levels = 3;
         std::vector<int> runs(std::size_t(calls * levels * threads), 0), part1_calls(calls, 0);
@@ -55,14 +62,62 @@ TEST(Team, RunLevelsRunsEveryPartOnTheTeamsThreads) {
         for (int run : runs) EXPECT_EQ(run, 1);
         EXPECT_EQ(part1_calls.back() - part1_calls.front(), calls - 1) << threads << " threads";
     }
-    EXPECT_EQ(loopsub::detail::Team::current(), nullptr);
+    EXPECT_EQ(TeamScope::current(), nullptr);
 }
+
+// Frames evaluated one after another (run_levels with no scope around it) run on the team the process keeps: part 1
+// of every call runs on one thread, which no call started.
+TEST(Team, CallsOutsideAScopeShareTheKeptTeam) {
+    std::vector<std::thread::id> part1(20);
+    for (std::thread::id& id : part1)
+        run_levels(2, 2, [&](int level, int part, int) {
+            if (part == 1 && level == 0) id = std::this_thread::get_id();
+        });
+    for (const std::thread::id& id : part1) EXPECT_EQ(id, part1.front());
+    EXPECT_NE(part1.front(), std::this_thread::get_id());
+    EXPECT_EQ(TeamScope::current(), nullptr);
+}
+
+// Two threads evaluating at once: one holds the kept team, the other runs on a team of its own; both get every
+// part of every level exactly once.
+TEST(Team, ConcurrentCallersEachRunEveryPart) {
+    const int levels = 5, calls = 200;
+    auto caller = [&](std::vector<int>& runs) {
+        for (int call = 0; call < calls; ++call)
+            run_levels(2, levels, [&](int level, int part, int) { ++runs[std::size_t((call * levels + level) * 2 + part)]; });
+    };
+    std::vector<int> first(std::size_t(calls * levels * 2), 0), second(first.size(), 0);
+    std::thread other(caller, std::ref(second));
+    caller(first);
+    other.join();
+    EXPECT_EQ(first, std::vector<int>(first.size(), 1));
+    EXPECT_EQ(second, std::vector<int>(second.size(), 1));
+}
+
+#if defined(__linux__)
+// A child made by fork() (Python's multiprocessing on Linux) has none of its parent's threads: its runs must not wait
+// for the parent's kept workers. The child exits 0 when every part ran; a hang fails the test at ctest's timeout.
+TEST(Team, AForkedChildRunsEveryPart) {
+    run_levels(2, 1, [](int, int, int) {});  // the parent's kept team exists
+    const pid_t child = fork();
+    ASSERT_NE(child, -1);
+    if (child == 0) {
+        std::vector<int> runs(6, 0);
+        run_levels(2, 3, [&](int level, int part, int) { ++runs[std::size_t(level * 2 + part)]; });
+        _exit(runs == std::vector<int>(6, 1) ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+#endif
 
 // run_levels from within a team's step (the caller's part) still runs every part of the inner run once, and the
 // outer step completes: the inner one runs on the caller while the workers finish their own parts.
 TEST(Team, RunLevelsInsideAStepRunsEveryPart) {
     const int threads = 2;
-    const loopsub::detail::Team team(threads);
+    const TeamScope scope(threads);
     std::vector<int> outer(threads, 0), inner(threads, 0);
     run_levels(threads, 1, [&](int, int part, int parts) {
         ++outer[part];
@@ -78,7 +133,7 @@ TEST(Team, RunLevelsInsideAStepRunsEveryPart) {
 // The barrier between a team's steps orders them as run_levels' own does.
 TEST(Team, EachStepSeesThePreviousStepsWrites) {
     const int threads = 2, steps = 200;
-    const loopsub::detail::Team team(threads);
+    const TeamScope scope(threads);
     std::vector<std::int64_t> values(threads, 1);
     std::int64_t expected = 1;
     for (int step = 0; step < steps; ++step) {
