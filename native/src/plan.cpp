@@ -49,7 +49,7 @@ using detail::LevelState;
 
 LevelState PlanImpl::base_level(const MeshView& mesh) {
     LevelState level;
-    level.topology = detail::build_base_topology(mesh.triangles, mesh.num_triangles, mesh.num_vertices);
+    level.topology = detail::build_base_topology(mesh.triangles, mesh.num_triangles, mesh.num_vertices, options.threads);
     const Topology& t = level.topology;
 
     std::vector<float> edge_tag(t.num_edges(), 0.0f);

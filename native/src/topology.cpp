@@ -96,52 +96,20 @@ inline void corner_halves_sse2(const Topology& p, Index f, __m128i fe, __m128i& 
 }
 #endif
 
-// Prefix sums of per-item counts: offsets has one more entry than counts.
-LargeVector<Index> offsets_from_counts(const LargeVector<Index>& counts) {
-    LargeVector<Index> offsets(counts.size() + 1);
-    offsets[0] = 0;
-    std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
-    return offsets;
-}
-
-void fill_edge_faces(Topology& t) {
-    const int ne = t.num_edges(), nf = t.num_faces();
-    LargeVector<Index> counts(ne, 0);
-    for (Index e : t.face_edges) ++counts[e];
-    t.edge_face_offsets = offsets_from_counts(counts);
-    t.edge_faces.resize(t.edge_face_offsets[ne]);
-    LargeVector<Index> cursor(t.edge_face_offsets.begin(), t.edge_face_offsets.end() - 1);
-    for (int f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k) t.edge_faces[cursor[t.face_edges[3 * f + k]]++] = f;
-}
-
-void fill_vertex_edges(Topology& t) {
-    const int ne = t.num_edges();
-    LargeVector<Index> counts(t.num_vertices, 0);
-    for (Index v : t.edge_vertices) ++counts[v];
-    t.vertex_edge_offsets = offsets_from_counts(counts);
-    t.vertex_edges.resize(t.vertex_edge_offsets[t.num_vertices]);
-    LargeVector<Index> cursor(t.vertex_edge_offsets.begin(), t.vertex_edge_offsets.end() - 1);
-    for (int e = 0; e < ne; ++e) {
-        t.vertex_edges[cursor[t.edge_vertices[2 * e]]++] = e;
-        t.vertex_edges[cursor[t.edge_vertices[2 * e + 1]]++] = e;
+// Part `part`'s places in a counting sort whose items the parts counted by key (counts[q][k]: part q's items of key
+// k): a key's items from earlier parts come first, so each key keeps its items in order. Every part works its places
+// out for itself (a pass over the keys, no meeting of the parts); given `offsets`, also where each key starts.
+void part_places(const std::vector<LargeVector<Index>>& counts, int part, Index* places, Index* offsets) {
+    const std::size_t keys = counts[0].size();
+    Index start = 0;
+    for (std::size_t k = 0; k < keys; ++k) {
+        if (offsets) offsets[k] = start;
+        Index before = start;
+        for (int q = 0; q < part; ++q) before += counts[q][k];
+        places[k] = before;
+        for (const LargeVector<Index>& part_counts : counts) start += part_counts[k];
     }
-}
-
-// The winged-edge neighbourhood by lookup, for the base level (refined levels derive it).
-void fill_neighbourhood(Topology& t) {
-    t.vertex_vertices.resize(t.vertex_edges.size());
-    for (int v = 0; v < t.num_vertices; ++v)
-        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) t.vertex_vertices[k] = t.other_end(t.vertex_edges[k], v);
-    const int ne = t.num_edges();
-    t.edge_opposite_c.resize(ne);
-    t.edge_opposite_d.resize(ne);
-    for (int e = 0; e < ne; ++e) {
-        const int faces = t.edge_face_count(e);
-        const Index* f = &t.edge_faces[t.edge_face_offsets[e]];
-        t.edge_opposite_c[e] = faces > 0 ? t.opposite_vertex(f[0], e) : t.edge_vertices[2 * e];
-        t.edge_opposite_d[e] = faces > 1 ? t.opposite_vertex(f[1], e) : t.edge_vertices[2 * e + 1];
-    }
+    if (offsets) offsets[keys] = start;
 }
 
 }  // namespace
@@ -161,69 +129,147 @@ Index Topology::other_edge_at_vertex(Index f, Index v, Index e) const {
     return e;  // not reached for a vertex of f
 }
 
-Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices) {
+Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads) {
     Topology t;
     t.num_vertices = num_vertices;
-    t.face_vertices.assign(triangles, triangles + 3 * std::size_t(num_triangles));
     const int num_corners = 3 * num_triangles;
+    // Below a few thousand triangles the parts' meetings would cost more than their share of the work.
+    const int parts = num_triangles >= 2048 ? std::max(1, threads) : 1;
+    auto next = [](int c) { return c % 3 == 2 ? c - 2 : c + 1; };  // the corner after c in its face
 
-    // Corner k of a face starts the face's edge k: its ends, lower and higher.
-    LargeVector<Index> low(num_corners), high(num_corners);
-    for (int f = 0; f < num_triangles; ++f)
-        for (int k = 0; k < 3; ++k) {
-            const Index a = t.face_vertices[3 * f + k], b = t.face_vertices[3 * f + next_corner(k)];
-            low[3 * f + k] = std::min(a, b), high[3 * f + k] = std::max(a, b);
-        }
-    // Bucket the corners' edges by their lower vertex, in corner order, so that finding an edge's first corner is a
-    // scan of a bucket of about half a valence: no hashing, no sort. The bucket keeps each corner's higher end beside
-    // it, so that the scan reads one array in order.
-    LargeVector<Index> bucket_counts(num_vertices, 0);
-    for (int c = 0; c < num_corners; ++c) ++bucket_counts[low[c]];
-    const LargeVector<Index> bucket_offsets = offsets_from_counts(bucket_counts);
-    LargeVector<Index> bucket(num_corners), bucket_high(num_corners);
-    {
-        LargeVector<Index> cursor(bucket_offsets.begin(), bucket_offsets.end() - 1);
-        for (int c = 0; c < num_corners; ++c) {
-            const Index slot = cursor[low[c]]++;
-            bucket[slot] = c;
-            bucket_high[slot] = high[c];
-        }
-    }
-
+    // Corner c starts its face's edge: the edge's ends, lower and higher. The corners are bucketed by their lower end
+    // in corner order, each beside its higher end, so that finding an edge's corners is a scan of a bucket of about
+    // half a valence: no hashing, no sort. An edge is numbered by its first corner, in corner order, and its faces
+    // are listed in corner order too: a corner's rank among its edge's corners is its face's place there.
+    LargeVector<Index> low(num_corners), high(num_corners), bucket(num_corners), bucket_high(num_corners);
+    LargeVector<Index> bucket_offsets(std::size_t(num_vertices) + 1), first_corner(num_corners), rank(num_corners);
+    LargeVector<Index> corners_from_first(num_corners), corners_of_edge;
+    std::vector<LargeVector<Index>> corners_at_low(parts, LargeVector<Index>(num_vertices, 0));
+    std::vector<LargeVector<Index>> edges_at_vertex(parts, LargeVector<Index>(num_vertices, 0));
+    std::vector<Index> part_edges(parts, 0), part_edge_corners(parts, 0);
+    std::vector<int> part_max_edge_faces(parts, 0);
+    t.face_vertices.resize(num_corners);
     t.face_edges.resize(num_corners);
     t.face_edge_places.resize(num_corners);
-    t.edge_vertices.reserve(num_corners);  // at most one edge per corner
-    // Faces come to each edge in face order, the order fill_edge_faces lists them in: an edge's faces so far give
-    // the place of the next (Topology::face_edge_places).
-    LargeVector<std::uint8_t> faces_so_far;
-    faces_so_far.reserve(num_corners);
-    for (int f = 0; f < num_triangles; ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const int c = 3 * f + k;
-            const Index lo = low[c], hi = high[c];
-            Index k_first = bucket_offsets[lo];
-            while (bucket_high[k_first] != hi) ++k_first;  // c itself is in the bucket
-            const int first = bucket[k_first];
-            if (first == c) {
-                t.face_edges[c] = t.num_edges();
-                t.edge_vertices.push_back(t.face_vertices[c]);
-                t.edge_vertices.push_back(t.face_vertices[3 * f + next_corner(k)]);
-                t.face_edge_places[c] = 0 << 1 | 1;  // the first face, where the edge starts
-                faces_so_far.push_back(1);
-            } else {
-                const Index e = t.face_edges[first];
-                t.face_edges[c] = e;
-                std::uint8_t& seen = faces_so_far[e];
-                t.face_edge_places[c] = std::uint8_t(seen << 1 | int(t.face_vertices[c] == t.edge_vertices[2 * std::size_t(e)]));
-                seen = std::uint8_t(std::min(seen + 1, 2));
+    t.edge_faces.resize(num_corners);
+    t.vertex_edge_offsets.resize(std::size_t(num_vertices) + 1);
+    auto sum_before = [](const std::vector<Index>& per_part, int part) {
+        return std::accumulate(per_part.begin(), per_part.begin() + part, Index(0));
+    };
+
+    // Six steps; the edges' arrays are sized between the third and the fourth, once the edges are counted (sized for
+    // the most there could be, an edge a corner, their blocks' untouched pages were faulted in by the next plan).
+    auto run_step = [&](int step, int part, int) {
+        const auto [f0, f1] = part_of(num_triangles, part, parts);
+        const int c0 = 3 * f0, c1 = 3 * f1;
+        const Index edge0 = sum_before(part_edges, part), edge1 = edge0 + part_edges[part];
+        switch (step) {
+            case 0:
+                for (int c = c0; c < c1; ++c) {
+                    const Index a = triangles[c], b = triangles[next(c)];
+                    t.face_vertices[c] = a;
+                    low[c] = std::min(a, b), high[c] = std::max(a, b);
+                    ++corners_at_low[part][low[c]];
+                }
+                break;
+            case 1: {
+                LargeVector<Index> place(num_vertices);
+                part_places(corners_at_low, part, place.data(), part == 0 ? bucket_offsets.data() : nullptr);
+                for (int c = c0; c < c1; ++c) {
+                    const Index slot = place[low[c]]++;
+                    bucket[slot] = c;
+                    bucket_high[slot] = high[c];
+                }
+                break;
+            }
+            case 2: {  // each corner finds its edge's first corner; a first corner ranks the edge's corners
+                Index edges = 0;  // the part's totals are written once: side by side, the parts would share a line
+                for (int c = c0; c < c1; ++c) {
+                    const Index hi = high[c], end = bucket_offsets[low[c] + 1];
+                    Index k = bucket_offsets[low[c]];
+                    while (bucket_high[k] != hi) ++k;  // c itself is in the bucket
+                    first_corner[c] = bucket[k];
+                    if (bucket[k] != c) continue;
+                    ++edges;
+                    Index corners = 0;
+                    for (; k < end; ++k)
+                        if (bucket_high[k] == hi) rank[bucket[k]] = corners++;
+                    corners_from_first[c] = corners;
+                }
+                part_edges[part] = edges;
+                break;
+            }
+            case 3: {  // the part's first corners number their edges
+                Index e = edge0, edge_corners = 0;
+                int max_edge_faces = 0;
+                for (int c = c0; c < c1; ++c) {
+                    if (first_corner[c] != c) continue;
+                    t.face_edges[c] = e;
+                    t.edge_vertices[2 * std::size_t(e)] = triangles[c];
+                    t.edge_vertices[2 * std::size_t(e) + 1] = triangles[next(c)];
+                    corners_of_edge[e] = corners_from_first[c];
+                    edge_corners += corners_from_first[c];
+                    max_edge_faces = std::max(max_edge_faces, int(corners_from_first[c]));
+                    ++e;
+                }
+                part_edge_corners[part] = edge_corners;
+                part_max_edge_faces[part] = max_edge_faces;
+                break;
+            }
+            case 4: {
+                for (int c = c0; c < c1; ++c) {
+                    const Index first = first_corner[c];
+                    const Index e = t.face_edges[first];
+                    if (first != c) t.face_edges[c] = e;
+                    const int starts_edge = t.face_vertices[c] == t.edge_vertices[2 * std::size_t(e)];
+                    t.face_edge_places[c] = std::uint8_t(std::min(rank[c], Index(2)) << 1 | starts_edge);
+                }
+                Index offset = sum_before(part_edge_corners, part);
+                for (Index e = edge0; e < edge1; ++e) {
+                    t.edge_face_offsets[e] = offset;
+                    offset += corners_of_edge[e];
+                    // Where the second face is missing, the edge's second end stands in for the vertex opposite it.
+                    if (corners_of_edge[e] < 2) t.edge_opposite_d[e] = t.edge_vertices[2 * std::size_t(e) + 1];
+                    ++edges_at_vertex[part][t.edge_vertices[2 * std::size_t(e)]];
+                    ++edges_at_vertex[part][t.edge_vertices[2 * std::size_t(e) + 1]];
+                }
+                if (part + 1 == parts) t.edge_face_offsets[edge1] = offset;
+                break;
+            }
+            case 5: {
+                for (int c = c0; c < c1; ++c) {
+                    const Index e = t.face_edges[c], f = c / 3;
+                    t.edge_faces[t.edge_face_offsets[e] + rank[c]] = f;
+                    if (rank[c] > 1) continue;
+                    // The face's vertex off the edge, found by the face's first corner on it (as Topology::opposite_vertex).
+                    const Index opposite = t.face_vertices[3 * f + prev_corner(local_edge(&t.face_edges[3 * f], e))];
+                    (rank[c] == 0 ? t.edge_opposite_c : t.edge_opposite_d)[e] = opposite;
+                }
+                LargeVector<Index> place(num_vertices);
+                part_places(edges_at_vertex, part, place.data(), part == 0 ? t.vertex_edge_offsets.data() : nullptr);
+                for (Index e = edge0; e < edge1; ++e) {
+                    const Index a = t.edge_vertices[2 * std::size_t(e)], b = t.edge_vertices[2 * std::size_t(e) + 1];
+                    const Index at_a = place[a]++;
+                    t.vertex_edges[at_a] = e, t.vertex_vertices[at_a] = b;
+                    const Index at_b = place[b]++;
+                    t.vertex_edges[at_b] = e, t.vertex_vertices[at_b] = a;
+                }
+                break;
             }
         }
-    }
-    fill_edge_faces(t);
-    fill_vertex_edges(t);
+    };
+    run_levels(parts, 3, run_step);
+    const std::size_t num_edges = std::size_t(sum_before(part_edges, parts));
+    t.edge_vertices.resize(2 * num_edges);
+    t.edge_face_offsets.resize(num_edges + 1);
+    t.edge_opposite_c.resize(num_edges);
+    t.edge_opposite_d.resize(num_edges);
+    t.vertex_edges.resize(2 * num_edges);
+    t.vertex_vertices.resize(2 * num_edges);
+    corners_of_edge.resize(num_edges);
+    run_levels(parts, 3, [&run_step](int later, int part, int parts_) { run_step(3 + later, part, parts_); });
     for (int v = 0; v < num_vertices; ++v) t.max_valence = std::max(t.max_valence, t.valence(v));
-    for (int e = 0; e < t.num_edges(); ++e) t.max_edge_face_count = std::max(t.max_edge_face_count, t.edge_face_count(e));
-    fill_neighbourhood(t);
+    t.max_edge_face_count = *std::max_element(part_max_edge_faces.begin(), part_max_edge_faces.end());
     return t;
 }
 

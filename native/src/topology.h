@@ -49,8 +49,8 @@ struct Topology {
 };
 
 // Connectivity of a validated triangle list. Edges are numbered in order of first appearance, walking the
-// triangles and their corners in order.
-Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices);
+// triangles and their corners in order. Large lists are split among `threads` parts (on the team in scope).
+Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads = 1);
 
 // Child connectivity of one Loop split, derived from the parent without any search: vertex v stays v, edge e
 // gives vertex (num_vertices + e) and child edges 2e (at its first vertex) and 2e + 1; face f gives child faces

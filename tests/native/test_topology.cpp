@@ -3,10 +3,14 @@
 // meshes through three refinements, split between threads or not.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh_gen.h"
+#include "parallel.h"
 #include "topology.h"
 
 namespace {
@@ -67,6 +71,73 @@ TEST(Topology, FaceOrderAgreesWithLookups) {
             expect_face_order_agrees(t, std::string(name) + ", level " + std::to_string(level));
         }
     }
+}
+
+// The base level's connectivity as its contract states it, built here the plain way (a map from each edge's ends to
+// its number): edges numbered in order of first appearance, corner by corner; an edge's faces in face order; a
+// vertex's edges in edge order with their other ends; the vertices opposite an edge in its first two faces.
+void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
+    SCOPED_TRACE(mesh.name + ", " + std::to_string(threads) + " threads");
+    const loopsub::detail::TeamScope scope(threads);
+    const Topology t = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices(), threads);
+    std::map<std::pair<Index, Index>, Index> numbers;
+    std::vector<Index> face_edges, edge_vertices;
+    std::vector<std::vector<Index>> edge_faces, vertex_edges(mesh.num_vertices()), vertex_vertices(mesh.num_vertices());
+    for (std::size_t c = 0; c < mesh.triangles.size(); ++c) {
+        const Index a = mesh.triangles[c], b = mesh.triangles[c % 3 == 2 ? c - 2 : c + 1];
+        const auto [it, added] = numbers.emplace(std::minmax(a, b), Index(edge_faces.size()));
+        if (added) {
+            edge_vertices.insert(edge_vertices.end(), {a, b});
+            edge_faces.emplace_back();
+        }
+        face_edges.push_back(it->second);
+        edge_faces[it->second].push_back(Index(c / 3));
+    }
+    for (Index e = 0; e < Index(edge_faces.size()); ++e) {
+        const Index a = edge_vertices[2 * e], b = edge_vertices[2 * e + 1];
+        vertex_edges[a].push_back(e), vertex_vertices[a].push_back(b);
+        vertex_edges[b].push_back(e), vertex_vertices[b].push_back(a);
+    }
+    ASSERT_EQ(std::vector<Index>(t.face_vertices.begin(), t.face_vertices.end()), mesh.triangles);
+    ASSERT_EQ(std::vector<Index>(t.face_edges.begin(), t.face_edges.end()), face_edges);
+    ASSERT_EQ(std::vector<Index>(t.edge_vertices.begin(), t.edge_vertices.end()), edge_vertices);
+    int max_faces = 0, max_valence = 0;
+    for (Index e = 0; e < t.num_edges(); ++e) {
+        const std::vector<Index> faces(t.edge_faces.begin() + t.edge_face_offsets[e], t.edge_faces.begin() + t.edge_face_offsets[e + 1]);
+        ASSERT_EQ(faces, edge_faces[e]) << "edge " << e;
+        max_faces = std::max(max_faces, int(faces.size()));
+        auto opposite = [&](Index f) {
+            for (int k = 0; k < 3; ++k)
+                if (face_edges[3 * f + k] == e) return mesh.triangles[3 * f + (k + 2) % 3];
+            return Index(-1);
+        };
+        EXPECT_EQ(t.edge_opposite_c[e], opposite(faces[0])) << "edge " << e;
+        EXPECT_EQ(t.edge_opposite_d[e], faces.size() > 1 ? opposite(faces[1]) : edge_vertices[2 * e + 1]) << "edge " << e;
+    }
+    for (Index v = 0; v < t.num_vertices; ++v) {
+        const auto first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
+        ASSERT_EQ(std::vector<Index>(t.vertex_edges.begin() + first, t.vertex_edges.begin() + last), vertex_edges[v]) << "vertex " << v;
+        ASSERT_EQ(std::vector<Index>(t.vertex_vertices.begin() + first, t.vertex_vertices.begin() + last), vertex_vertices[v]) << "vertex " << v;
+        max_valence = std::max(max_valence, int(vertex_edges[v].size()));
+    }
+    EXPECT_EQ(t.max_edge_face_count, max_faces);
+    EXPECT_EQ(t.max_valence, max_valence);
+    EXPECT_EQ(std::vector<std::uint8_t>(t.face_edge_places.begin(), t.face_edge_places.end()), places_by_lookup(t));
+}
+
+// Small meshes are built in one part; from a few thousand triangles the build is split among the threads, which must
+// not change a number. Fins (edges of three faces), boundaries and a vertex of valence 40 included.
+TEST(Topology, BaseLevelMatchesLookups) {
+    using namespace loopsub::testing;
+    TestMesh grid_with_fins = grid(40, 30);  // 2,400 triangles
+    grid_with_fins.name = "grid with fins";
+    for (int k = 0; k < 5; ++k) {
+        const int a = grid_vertex(40, 3 + 7 * k, 2 + 5 * k), b = grid_vertex(40, 4 + 7 * k, 3 + 5 * k);
+        grid_with_fins.positions.insert(grid_with_fins.positions.end(), {0.0f, 0.0f, 1.0f});
+        grid_with_fins.triangles.insert(grid_with_fins.triangles.end(), {b, a, Index(grid_with_fins.num_vertices() - 1)});
+    }
+    for (const TestMesh& mesh : {icosphere(4), grid_with_fins, hemisphere(4), open_fan(40), fin_on_grid(), bowtie(5)})
+        for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
 }
 
 }  // namespace
