@@ -158,7 +158,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     const int final_level = options.levels + (options.limit_surface ? 1 : 0);
     const bool last_child = child_level == final_level, grandchild_last = child_level + 1 == final_level;
     Topology& t = level.topology;  // empty but for num_vertices where the level is not built
-    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent);
+    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &level_num_vertices);
     const int nv = t.num_vertices, ne = around.num_edges();
 
     detail::LevelStencils& s = stencils.emplace_back();

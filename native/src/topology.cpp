@@ -729,8 +729,9 @@ int faces_between(const Topology& t, Index v, Index from, Index to) {
 
 namespace loopsub::detail {
 
-VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived)
-    : level_(level), parent_(parent_if_derived) {}
+VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history)
+    : level_(level), parent_(parent_if_derived),
+      history_(history && !history->empty() && history->back() == level.num_vertices ? history : nullptr) {}
 
 int VertexNeighbourhood::num_edges() const {
     return parent_ ? 2 * parent_->num_edges() + 3 * parent_->num_faces() : level_.num_edges();
@@ -766,6 +767,17 @@ void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
 }
 
 int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
+    // A vertex made on edge e by a split (at this level or before) sees three faces between e's halves on either side,
+    // and so between their descendants at the vertex (each later split keeps a child face per face there): edge x at
+    // level l has its halves 2x and 2x + 1 at level l + 1. That spares a walk of the fan per crease vertex (its crease
+    // runs along e: the edges inside faces, its others, start smooth and stay so).
+    if (history_ && v >= history_->front()) {
+        const int level = int(history_->size()) - 1;
+        const int made = int(std::upper_bound(history_->begin(), history_->end(), int(v)) - history_->begin());
+        const Index e = v - (*history_)[made - 1];
+        const Index a = from >> (level - made), b = to >> (level - made);
+        if ((a ^ b) == 1 && a >> 1 == e) return 3;
+    }
     if (!parent_) return detail::faces_between(level_, v, from, to);
     // An old vertex's fan is its parent's, a child face per parent face; a midpoint sees three child faces of
     // each parent face between its two halves.

@@ -75,7 +75,9 @@ void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 // numbering, as refine_topology would have written it. Classifying the few vertices next to a crease needs no more.
 class VertexNeighbourhood {
 public:
-    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived);
+    // `history`: where known, the vertex counts of the levels up to this one, the base's first (a plan's
+    // level_num_vertices while it builds this level), which spares faces_between its walk for vertices made by a split.
+    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history = nullptr);
     int num_edges() const;
     int max_valence() const;
     // Inline, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
@@ -110,6 +112,7 @@ public:
 private:
     const Topology& level_;
     const Topology* parent_;
+    const std::vector<int>* history_;
 };
 
 // A child level known through its parent's numbering instead of stored: the level before the last, when nothing but

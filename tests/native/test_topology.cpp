@@ -140,4 +140,39 @@ TEST(Topology, BaseLevelMatchesLookups) {
         for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
 }
 
+// A vertex made on an edge by a split sees three faces between the edge's halves, and between their descendants at it
+// in later levels: VertexNeighbourhood answers that from the levels' vertex counts, without the walk around the
+// vertex it must agree with, on built levels and on a level known through its parent.
+TEST(Topology, FacesBetweenHalvesOfAVertexsEdgeWithoutAWalk) {
+    using namespace loopsub::testing;
+    for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2)}) {
+        SCOPED_TRACE(mesh.name);
+        std::vector<Topology> levels{loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
+        std::vector<int> history{levels[0].num_vertices};
+        for (int level = 1; level <= 3; ++level) {
+            levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
+            history.push_back(levels.back().num_vertices);
+            const Topology& t = levels.back();
+            Topology derived_stub;
+            derived_stub.num_vertices = t.num_vertices;
+            const loopsub::detail::VertexNeighbourhood built(t, nullptr, &history), derived(derived_stub, &levels[level - 1], &history);
+            int checked = 0;
+            for (Index v = history[0]; v < t.num_vertices; ++v) {
+                // v is the midpoint of edge e of level `made - 1`; follow e's halves at v down to this level.
+                int made = 1;
+                while (v >= history[made]) ++made;
+                const Index e = v - history[made - 1];
+                Index halves[2] = {2 * e, 2 * e + 1};
+                for (int l = made; l < level; ++l)
+                    for (Index& x : halves) x = levels[l].edge_vertices[2 * x] == v ? 2 * x : 2 * x + 1;
+                const int walked = loopsub::detail::faces_between(t, v, halves[0], halves[1]);
+                ASSERT_EQ(built.faces_between(v, halves[0], halves[1]), walked) << "level " << level << ", vertex " << v;
+                ASSERT_EQ(derived.faces_between(v, halves[0], halves[1]), walked) << "level " << level << ", vertex " << v;
+                ++checked;
+            }
+            EXPECT_GT(checked, 0);
+        }
+    }
+}
+
 }  // namespace
