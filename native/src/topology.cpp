@@ -162,7 +162,8 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     auto run_step = [&](int step, int part, int) {
         const auto [f0, f1] = part_of(num_triangles, part, parts);
         const int c0 = 3 * f0, c1 = 3 * f1;
-        const Index edge0 = sum_before(part_edges, part), edge1 = edge0 + part_edges[part];
+        // The part's edges, once the parts have counted theirs (step 2 writes the counts).
+        const Index edge0 = step > 2 ? sum_before(part_edges, part) : 0, edge1 = step > 2 ? edge0 + part_edges[part] : 0;
         switch (step) {
             case 0:
                 for (int c = c0; c < c1; ++c) {
