@@ -126,7 +126,7 @@ void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
 }
 
 // Small meshes are built in one part; from a few thousand triangles the build is split among the threads, which must
-// not change a number. Fins (edges of three faces), boundaries and a vertex of valence 40 included.
+// not change a number. Fins (edges of three faces), boundaries, a vertex of valence 40 and a random soup included.
 TEST(Topology, BaseLevelMatchesLookups) {
     using namespace loopsub::testing;
     TestMesh grid_with_fins = grid(40, 30);  // 2,400 triangles
@@ -136,7 +136,17 @@ TEST(Topology, BaseLevelMatchesLookups) {
         grid_with_fins.positions.insert(grid_with_fins.positions.end(), {0.0f, 0.0f, 1.0f});
         grid_with_fins.triangles.insert(grid_with_fins.triangles.end(), {b, a, Index(grid_with_fins.num_vertices() - 1)});
     }
-    for (const TestMesh& mesh : {icosphere(4), grid_with_fins, hemisphere(4), open_fan(40), fin_on_grid(), bowtie(5)})
+    // A soup: 3,000 triangles drawn at random over 300 vertices, so edges of many faces, faces repeated or flipped.
+    TestMesh soup;
+    soup.name = "random soup";
+    soup.positions.assign(3 * 300, 0.0f);
+    unsigned state = 12345;
+    auto draw = [&state] { return Index((state = state * 1103515245u + 12345u) >> 16) % 300; };
+    while (soup.num_triangles() < 3000) {
+        const Index a = draw(), b = draw(), c = draw();
+        if (a != b && b != c && c != a) soup.triangles.insert(soup.triangles.end(), {a, b, c});
+    }
+    for (const TestMesh& mesh : {icosphere(4), grid_with_fins, hemisphere(4), soup, open_fan(40), fin_on_grid(), bowtie(5)})
         for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
 }
 
