@@ -29,6 +29,9 @@
 // level 6 (21M triangles) by default, Plan + evaluate (tables Auto, then Stored) against TopologyRefiner +
 // PrimvarRefiner, beside the bytes of the output arrays (positions and triangles).
 //
+// --thread-scaling [ROUNDS] instead times one thread against two in pairs close in time (40 rounds by default): the
+// ratios issue 8 sets targets for, less at the mercy of this shared machine's drifts than rows of separate benchmarks.
+//
 // --malloc-keeps-memory (first argument) makes glibc's malloc keep freed memory for reuse (mmap threshold 32 MiB,
 // no trimming): OpenSubdiv then reuses its arrays from one run to the next as loopsub's plans reuse theirs (its
 // block pool), instead of paying the kernel for fresh pages each time (docs/benchmark.md).
@@ -47,6 +50,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -597,6 +602,65 @@ int measure_memory(int levels) {
     return auto_tables < 0 || stored_tables < 0 || theirs < 0;
 }
 
+// Two threads against one, measured in pairs close in time: this machine's speed drifts over seconds (a shared host),
+// more than Google Benchmark's interleaved repetitions (each half a second or more) can even out for a ratio. Each
+// round times `batch` plans, plans + evaluations, and evaluations with one thread and with two, back to back (the
+// order swapped every round), and takes the ratio of the two medians; the median of the rounds' ratios is printed,
+// with the spread of the middle half and the medians' times.
+int measure_thread_scaling(int rounds) {
+    constexpr int batch = 15;
+    std::printf("two threads against one, %d rounds of %d runs each side, pairs measured back to back (AVX2 or the "
+                "best kernel, tables Auto)\n", rounds, batch);
+    std::printf("%-10s %-9s %24s %10s %10s\n", "mesh", "what", "ratio median (middle half)", "1 thread", "2 threads");
+    auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    for (const Mesh& m : meshes()) {
+        for (const char* what : {"plan", "full", "evaluate"}) {
+            const std::string kind = what;
+            auto time_batch = [&](int threads) {
+                const loopsub::Options o = options(loopsub::Kernel::Auto, threads);
+                std::unique_ptr<loopsub::Plan> kept;
+                std::vector<float> out;
+                if (kind == "evaluate") {
+                    kept = std::make_unique<loopsub::Plan>(view(m), o);
+                    out.resize(std::size_t(kept->num_output_vertices()) * 3);
+                }
+                std::vector<double> ms;
+                for (int i = 0; i < batch; ++i) {
+                    const auto start = std::chrono::steady_clock::now();
+                    if (kind == "evaluate") {
+                        kept->evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3));
+                    } else {
+                        loopsub::Plan plan(view(m), o);
+                        if (kind == "full") {
+                            const std::unique_ptr<float[]> result(new float[std::size_t(plan.num_output_vertices()) * 3]);
+                            plan.evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(result.get(), 3));
+                            benchmark::DoNotOptimize(result.get());
+                        }
+                        benchmark::DoNotOptimize(plan.output_triangles());
+                    }
+                    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+                }
+                return median(ms);
+            };
+            std::vector<double> ratios, one, two;
+            for (int round = 0; round < rounds; ++round) {
+                const double first = time_batch(round % 2 ? 2 : 1), second = time_batch(round % 2 ? 1 : 2);
+                one.push_back(round % 2 ? second : first);
+                two.push_back(round % 2 ? first : second);
+                ratios.push_back(one.back() / two.back());
+            }
+            std::vector<double> sorted = ratios;
+            std::sort(sorted.begin(), sorted.end());
+            std::printf("%-10s %-9s %9.2fx (%.2f-%.2fx) %7.2f ms %7.2f ms\n", m.name.c_str(), what, median(ratios),
+                        sorted[sorted.size() / 4], sorted[sorted.size() * 3 / 4], median(one), median(two));
+        }
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -608,6 +672,7 @@ int main(int argc, char** argv) {
         --argc;
     }
     if (argc >= 2 && std::string(argv[1]) == "--memory") return measure_memory(argc >= 3 ? std::atoi(argv[2]) : 6);
+    if (argc >= 2 && std::string(argv[1]) == "--thread-scaling") return measure_thread_scaling(argc >= 3 ? std::atoi(argv[2]) : 40);
     Osd::OmpEvaluator::SetNumThreads(2);
     register_all();
     benchmark::Initialize(&argc, argv);
