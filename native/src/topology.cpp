@@ -743,27 +743,26 @@ int VertexNeighbourhood::max_valence() const {
 }
 
 void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
-    out.clear();
     if (!parent_) {
         out.assign(level_.vertex_edges.begin() + level_.vertex_edge_offsets[v], level_.vertex_edges.begin() + level_.vertex_edge_offsets[v + 1]);
         return;
     }
+    // Sized once and written in place: the vertices next to creases ask for theirs one by one.
     const Topology& p = *parent_;
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
     if (v < nv) {
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) out.push_back(detail::child_edge_at(p, p.vertex_edges[k], v));
+        const Index first = p.vertex_edge_offsets[v];
+        out.resize(std::size_t(p.vertex_edge_offsets[v + 1] - first));
+        for (std::size_t k = 0; k < out.size(); ++k) out[k] = detail::child_edge_at(p, p.vertex_edges[first + Index(k)], v);
         return;
     }
-    const Index e = v - nv;
-    out.push_back(2 * e);
-    out.push_back(2 * e + 1);
-    for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
-        const Index f = p.edge_faces[k];
-        const Index* fe = &p.face_edges[3 * f];
-        const int local = local_edge(fe, e);
-        Index in_face[2];
-        midpoint_face_edges(interior_base, f, local, p.face_vertices[3 * f + local] == p.edge_vertices[2 * e], in_face);
-        out.insert(out.end(), in_face, in_face + 2);
+    const Index e = v - nv, first_face = p.edge_face_offsets[e];
+    out.resize(2 + 2 * std::size_t(p.edge_face_offsets[e + 1] - first_face));
+    out[0] = 2 * e, out[1] = 2 * e + 1;
+    for (std::size_t k = 2; k < out.size(); k += 2) {
+        const Index f = p.edge_faces[first_face + Index(k / 2 - 1)];
+        const int local = local_edge(&p.face_edges[3 * f], e);
+        midpoint_face_edges(interior_base, f, local, p.face_vertices[3 * f + local] == p.edge_vertices[2 * e], &out[k]);
     }
 }
 
