@@ -7,6 +7,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <system_error>
@@ -78,6 +79,8 @@ public:
 
     // Runs work(part, parts) for every part at once and returns when all have ended (their writes visible). Called
     // again from within the caller's own part, it runs every part there, one after the other: the workers are busy.
+    // A part that throws (memory running out) does not cut the others short, whose work may still read the caller's
+    // stack: all end, then the first exception is thrown again on the caller's thread.
     template <typename Work>
     void run(const Work& work) {
         if (running_) {
@@ -93,20 +96,30 @@ public:
             generation_.fetch_add(1, std::memory_order_release);
         }
         started_.notify_all();
-        for (int part : callers_parts_) work(part, parts_);
+        for (int part : callers_parts_) run_part(part);
         const int workers = int(workers_.size());
         wait_awake_then_sleep(mutex_, ended_, [&] { return finished_.load(std::memory_order_acquire) == workers; });
         running_ = false;
+        if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
     }
 
 private:
+    void run_part(int part) {
+        try {
+            job_(context_, part, parts_);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!failure_) failure_ = std::current_exception();
+        }
+    }
+
     void serve(int part) {
         int seen = 0;
         while (true) {
             wait_awake_then_sleep(mutex_, started_, [&] { return generation_.load(std::memory_order_acquire) != seen; }, kAwake);
             seen = generation_.load(std::memory_order_acquire);
             if (stopping_) return;
-            job_(context_, part, parts_);
+            run_part(part);
             if (finished_.fetch_add(1, std::memory_order_acq_rel) + 1 == int(workers_.size())) {
                 std::lock_guard<std::mutex> lock(mutex_);  // the caller may be between its check and its sleep
                 ended_.notify_all();
@@ -125,6 +138,7 @@ private:
     bool running_ = false;   // the caller's thread is inside run()
     void (*job_)(const void*, int, int) = nullptr;
     const void* context_ = nullptr;
+    std::exception_ptr failure_;  // the first part's exception in a run, under mutex_
 };
 
 // The team run_levels uses on this thread while a TeamScope is alive: the one already in scope if it has as many

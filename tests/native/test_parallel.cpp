@@ -5,7 +5,10 @@
 #include <cstdint>
 #include <vector>
 
+#include <atomic>
+#include <chrono>
 #include <functional>
+#include <new>
 #include <thread>
 
 #if defined(__linux__)
@@ -92,6 +95,24 @@ TEST(Team, ConcurrentCallersEachRunEveryPart) {
     other.join();
     EXPECT_EQ(first, std::vector<int>(first.size(), 1));
     EXPECT_EQ(second, std::vector<int>(second.size(), 1));
+}
+
+// A part that throws (memory running out on a worker) reaches the caller as the exception, after every other part has
+// ended (they may read the caller's stack), and the team serves the next run as before.
+TEST(Team, AThrowingPartReachesTheCallerAfterTheOthersEnd) {
+    for (int thrower : {0, 1}) {
+        std::atomic<int> ended{0};
+        EXPECT_THROW(run_levels(2, 3, [&](int level, int part, int) {
+                         if (level == 1 && part == thrower) throw std::bad_alloc();
+                         std::this_thread::sleep_for(std::chrono::milliseconds(part == thrower ? 0 : 5));
+                         ++ended;
+                     }),
+                     std::bad_alloc);
+        EXPECT_EQ(ended.load(), 3) << "thrower " << thrower << ": level 0's two parts and level 1's other part, not level 2";
+        std::vector<int> runs(2, 0);
+        run_levels(2, 1, [&](int, int part, int) { ++runs[std::size_t(part)]; });
+        EXPECT_EQ(runs, std::vector<int>(2, 1));
+    }
 }
 
 #if defined(__linux__) && !defined(__SANITIZE_THREAD__)
