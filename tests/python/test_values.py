@@ -484,6 +484,25 @@ def test_scalar_and_simd_and_threads_agree(rules, channels):
         np.testing.assert_allclose(plan.evaluate(values), reference, atol=2e-6, err_msg=str(options))
 
 
+def _evaluate_in_child(levels):
+    p, t = icosahedron()
+    return _loopsub.Plan(t, len(p), levels, threads=2).evaluate(p)
+
+
+def test_two_threads_in_a_forked_child():
+    """A pipeline that evaluates on two threads, then forks workers (multiprocessing's default on Linux): the module
+    keeps its threads between calls, and a child has none of its parent's threads, so it must make its own rather than
+    wait forever for them. The children's results equal the parent's."""
+    import multiprocessing
+
+    p, t = icosahedron()
+    expected = _loopsub.Plan(t, len(p), 5, threads=2).evaluate(p)  # the parent's kept threads exist from here
+    with multiprocessing.get_context("fork").Pool(2) as pool:
+        results = pool.map_async(_evaluate_in_child, [5, 5, 5]).get(timeout=120)
+    for result in results:
+        np.testing.assert_array_equal(result, expected)
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # The limit surface, face-varying layers, holes
 
