@@ -94,7 +94,9 @@ struct Options {
     // and can write the limit normals too. OpenSubdiv: Far::PrimvarRefiner::Limit. Hoppe94: the limits of its own
     // masks (docs/python.md, "The limit surface").
     bool limit_surface = false;
-    int threads = 1;  // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores)
+    // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores). From 2, the process keeps the
+    // extra threads between calls (awake for 1 ms after each, then asleep), so that frames back to back start none.
+    int threads = 1;
     LevelTables level_tables = LevelTables::Auto;
     // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
     std::uint64_t memory_limit_bytes = std::uint64_t(4) << 30;
