@@ -242,9 +242,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
                     const Index e = t.face_edges[c], f = c / 3;
                     t.edge_faces[t.edge_face_offsets[e] + rank[c]] = f;
                     if (rank[c] > 1) continue;
-                    // The face's vertex off the edge, found by the face's first corner on it (as Topology::opposite_vertex).
-                    const Index opposite = t.face_vertices[3 * f + prev_corner(local_edge(&t.face_edges[3 * f], e))];
-                    (rank[c] == 0 ? t.edge_opposite_c : t.edge_opposite_d)[e] = opposite;
+                    (rank[c] == 0 ? t.edge_opposite_c : t.edge_opposite_d)[e] = t.opposite_vertex(f, e);
                 }
                 LargeVector<Index> place(num_vertices);
                 part_places(edges_at_vertex, part, place.data(), part == 0 ? t.vertex_edge_offsets.data() : nullptr);
