@@ -173,13 +173,13 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     // decay; edges inside faces and vertices on edges start smooth.
     detail::LargeVector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     // The last level is refined no further, but its classes are reported too (what the result is tagged with): an
-    // old vertex's from its child sharpness, a midpoint's from its two halves, over this level's neighbourhoods.
-    detail::LargeVector<VertexType> last_types;
-    if (last_child) last_types.assign(std::size_t(nv) + std::size_t(ne), VertexType::Smooth);
-    // Each thread collects its share of the vertices' child features and special masks; joined in order after.
+    // old vertex's from its child sharpness, a midpoint's from its two halves, over this level's neighbourhoods. Only
+    // those next to a feature are kept here (PlanImpl::last_level_types).
+    // Each thread collects its share of the vertices' child features, special masks and last classes; joined in order after.
     struct PartFeatures {
         std::vector<Feature> edges, vertices;
         std::vector<detail::SpecialVertex> specials;
+        std::vector<std::pair<Index, VertexType>> last_types;
         std::vector<float> child_sharpness;  // scratch
     };
     const int parts = std::max(1, options.threads);
@@ -218,7 +218,8 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         if (last_child) {
             const detail::FeatureVertex as_child{v, vertex.edges, child_sharpness, vertex.tags, child_sharp_edges,
                                                  {child_crease[0], child_crease[1]}, vertex.tagged_cone};
-            last_types[v] = detail::classify_vertex(detail::sdc_vertex_rule(child_vertex_sharpness, child_sharp_edges), as_child, around);
+            out.last_types.push_back(
+                {v, detail::classify_vertex(detail::sdc_vertex_rule(child_vertex_sharpness, child_sharp_edges), as_child, around)});
         }
         const detail::VertexMask smooth = detail::smooth_vertex_mask(valence);
         Index ends[2];
@@ -240,6 +241,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         child.edges.insert(child.edges.end(), out.edges.begin(), out.edges.end());
         child.vertices.insert(child.vertices.end(), out.vertices.begin(), out.vertices.end());
         s.special_vertices.insert(s.special_vertices.end(), out.specials.begin(), out.specials.end());
+        last_level_types.insert(last_level_types.end(), out.last_types.begin(), out.last_types.end());
     }
     if (unsorted) std::sort(child.edges.begin(), child.edges.end());  // vertices were visited in order: child.vertices is sorted
     if (last_child) {
@@ -248,9 +250,11 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         detail::FeatureWalk halves(child.edges);
         for (const Feature& f : level.edges) {
             const int sharp_halves = detail::is_sharp(halves.sharpness(2 * f.index)) + detail::is_sharp(halves.sharpness(2 * f.index + 1));
-            VertexType& type = last_types[std::size_t(nv) + std::size_t(f.index)];
-            if (sharp_halves == 1) type = VertexType::Dart;
-            if (sharp_halves == 2) type = around.edge_face_count(f.index) <= 2 ? VertexType::RegularCrease : VertexType::IrregularCrease;
+            if (sharp_halves == 0) continue;
+            const VertexType type = sharp_halves == 1                            ? VertexType::Dart
+                                    : around.edge_face_count(f.index) <= 2 ? VertexType::RegularCrease
+                                                                           : VertexType::IrregularCrease;
+            last_level_types.push_back({nv + f.index, type});
         }
     }
 
@@ -309,7 +313,6 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         s.fan_first_midpoint = parent.num_vertices;
         s.fan_midpoints = nv - parent.num_vertices;
     }
-    if (last_child) level_vertex_types.push_back(std::move(last_types));  // last: it moves `types`
 }
 
 void PlanImpl::fill_tables_from_parent(const Topology& parent, detail::LevelStencils& s) const {
@@ -492,8 +495,8 @@ void PlanImpl::build(const MeshView& mesh) {
     if (!holes.empty()) drop_holes();
     level_edges.resize(options.levels);
     level_edges_ready = std::vector<std::once_flag>(options.levels);
-    level_vertex_types_copies.resize(level_vertex_types.size());
-    level_vertex_types_ready = std::vector<std::once_flag>(level_vertex_types.size());
+    level_vertex_types_copies.resize(std::size_t(options.levels) + 1);
+    level_vertex_types_ready = std::vector<std::once_flag>(std::size_t(options.levels) + 1);
     collect_output_tags(level);
     rules.reset();
     if (needed > 4 * detail::BlockPool::kPoolBytes) detail::BlockPool::instance().release_all(detail::LargeAllocator<char>::free_large);
@@ -555,11 +558,17 @@ int Plan::level_num_vertices(int level) const {
     return impl_->level_num_vertices[level];
 }
 const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
-    const int last = int(impl_->level_vertex_types.size()) - 1;  // levels()
-    if (level < 0 || level > last) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(last));
     const PlanImpl& p = *impl_;
+    const int last = p.options.levels > 0 || p.options.limit_surface ? p.options.levels : -1;
+    if (level < 0 || level > last) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(last));
     std::call_once(p.level_vertex_types_ready[level], [&p, level] {
-        p.level_vertex_types_copies[level].assign(p.level_vertex_types[level].begin(), p.level_vertex_types[level].end());
+        std::vector<VertexType>& copy = p.level_vertex_types_copies[level];
+        if (level < int(p.level_vertex_types.size())) {
+            copy.assign(p.level_vertex_types[level].begin(), p.level_vertex_types[level].end());
+            return;
+        }
+        copy.assign(std::size_t(p.level_num_vertices.back()), VertexType::Smooth);
+        for (const auto& [v, type] : p.last_level_types) copy[std::size_t(v)] = type;
     });
     return p.level_vertex_types_copies[level];
 }

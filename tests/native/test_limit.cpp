@@ -222,6 +222,22 @@ TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {
     for (std::size_t i = 0; i < one.size(); ++i) ASSERT_NEAR(one[i], scalar[i], 1e-5) << "component " << i;
 }
 
+// Every level up to the last has classes, the last one an entry per output vertex; with neither levels nor the limit
+// surface nothing was classified.
+TEST(VertexTypes, EveryLevelUpToTheLast) {
+    const TestMesh mesh = icosphere(1);
+    Options options;
+    options.levels = 0;
+    const Plan none(mesh.view(), options);
+    EXPECT_THROW(none.level_vertex_types(0), std::out_of_range);
+    options.levels = 2;
+    const Plan two(mesh.view(), options);
+    for (int level = 0; level <= 2; ++level)
+        EXPECT_EQ(two.level_vertex_types(level).size(), std::size_t(two.level_num_vertices(level))) << "level " << level;
+    EXPECT_THROW(two.level_vertex_types(3), std::out_of_range);
+    EXPECT_THROW(two.level_vertex_types(-1), std::out_of_range);
+}
+
 // The last level's classes (what an application tags the output with) are the ones a plan one level deeper
 // repositions that level with, and the ones the limit uses: one classification, three ways to reach it.
 TEST(VertexTypes, LastLevelEqualsTheNextLevelsAndTheLimits) {
