@@ -656,19 +656,20 @@ void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
 }
 
 std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
-    // Consistently wound neighbours run along a shared edge in opposite directions: counting +1 for each corner that
-    // starts the edge at its first vertex and -1 for each that starts it at its second, an edge of two faces sums
-    // to zero. One pass over the corners, no search of a face for its edge.
-    LargeVector<Index> direction(t.num_edges(), 0);
-    for (std::size_t c = 0; c < t.face_edges.size(); ++c) {
-        const Index e = t.face_edges[c];
-        direction[e] += t.face_vertices[c] == t.edge_vertices[2 * std::size_t(e)] ? 1 : -1;
-    }
+    // Consistently wound neighbours run along a shared edge in opposite directions. An edge's first face runs along it
+    // from its first end (the edge took its ends from that corner), so an edge of two faces winds inconsistently where
+    // its second face does so too: a place byte of 0b11 (second face, starts the edge). One pass over the place bytes;
+    // counting directions per corner instead cost a read of each corner's edge ends (26 us of a base level of 5,120
+    // triangles, in a plan's serial part).
     std::vector<std::uint8_t> flags(t.num_edges(), 0);
-    for (int e = 0; e < t.num_edges(); ++e) {
-        const int count = t.edge_face_count(e);
-        flags[e] = count > 2 || (count == 2 && direction[e] != 0);
-    }
+    // Plain pointers: a byte store may alias anything, so the vectors' data pointers would be read again each time.
+    std::uint8_t* flag = flags.data();
+    const Index* face_offsets = t.edge_face_offsets.data();
+    for (int e = 0; e < t.num_edges(); ++e) flag[e] = face_offsets[e + 1] - face_offsets[e] > 2;
+    const std::uint8_t* places = t.face_edge_places.data();
+    const Index* corner_edges = t.face_edges.data();
+    for (std::size_t c = 0; c < t.face_edge_places.size(); ++c)
+        if (places[c] == (1 << 1 | 1)) flag[corner_edges[c]] = 1;
     return flags;
 }
 

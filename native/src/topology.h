@@ -165,7 +165,8 @@ inline int child_max_edge_face_count(const Topology& parent) {
 // Child edge of parent edge e at its end vertex v.
 inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }
 
-// An edge is non-manifold when it has more than two faces, or two faces that run along it the same way.
+// An edge is non-manifold when it has more than two faces, or two faces that run along it the same way. Of a base
+// level (it reads face_edge_places as build_base_topology numbers them).
 std::vector<std::uint8_t> non_manifold_edges(const Topology& topology);
 // A vertex is non-manifold when one of its edges is, or its faces do not form a single fan.
 std::vector<std::uint8_t> non_manifold_vertices(const Topology& topology, const std::vector<std::uint8_t>& non_manifold_edge,

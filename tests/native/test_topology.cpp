@@ -114,6 +114,13 @@ void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
         EXPECT_EQ(t.edge_opposite_c[e], opposite(faces[0])) << "edge " << e;
         EXPECT_EQ(t.edge_opposite_d[e], faces.size() > 1 ? opposite(faces[1]) : edge_vertices[2 * e + 1]) << "edge " << e;
     }
+    // Non-manifold edges: more than two faces, or two whose corners run along the edge the same way.
+    std::vector<int> direction(edge_faces.size(), 0);
+    for (std::size_t c = 0; c < mesh.triangles.size(); ++c) direction[face_edges[c]] += mesh.triangles[c] == edge_vertices[2 * face_edges[c]] ? 1 : -1;
+    std::vector<std::uint8_t> non_manifold;
+    for (std::size_t e = 0; e < edge_faces.size(); ++e)
+        non_manifold.push_back(edge_faces[e].size() > 2 || (edge_faces[e].size() == 2 && direction[e] != 0));
+    EXPECT_EQ(loopsub::detail::non_manifold_edges(t), non_manifold);
     for (Index v = 0; v < t.num_vertices; ++v) {
         const auto first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
         ASSERT_EQ(std::vector<Index>(t.vertex_edges.begin() + first, t.vertex_edges.begin() + last), vertex_edges[v]) << "vertex " << v;
