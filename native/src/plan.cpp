@@ -100,7 +100,7 @@ LevelState PlanImpl::base_level(const MeshView& mesh) {
         const bool forced_sharp = t.edge_face_count(e) < 2 || non_manifold_edge[e];
         if (tag == 0.0f && !forced_sharp) continue;
         const float sharpness = forced_sharp ? kInfiniteSharpness : rules->edge_sharpness_from_tag(tag);
-        if (sharpness > 0.0f || tag != 0.0f) level.edges.push_back({Index(e), sharpness, tag});
+        if (sharpness > 0.0f || tag != 0.0f) level.edges.push_back({Index(e), sharpness, tag, {t.edge_vertices[2 * e], t.edge_vertices[2 * e + 1]}});
     }
     const bool corners_kept = options.boundary == Boundary::EdgesAndCorners;
     for (int v = 0; v < t.num_vertices; ++v) {
@@ -207,7 +207,8 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
             if (detail::is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
             const float child_tag = rules->child_tag(vertex.tags[k], decayed);
             if (!(decayed > 0.0f || child_tag != 0.0f)) continue;
-            const Feature half{around.child_edge_at(e, v), decayed, child_tag};
+            const Index half_index = around.child_edge_at(e, v), m = nv + e;  // half 2e = (a, m), 2e + 1 = (m, b)
+            const Feature half{half_index, decayed, child_tag, {half_index & 1 ? m : v, half_index & 1 ? v : m}};
             if (const Feature* feature = (*vertex.edge_features)[k])
                 halves_of_features[2 * std::size_t(feature - level.edges.data()) + std::size_t(half.index & 1)] = half;
             else
@@ -294,9 +295,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
         const Index e = feature.index;
         const float sharpness = feature.sharpness;
         if (!detail::is_sharp(sharpness)) continue;
-        Index ends[2];
-        around.edge_ends(e, ends);
-        const Index a = ends[0], b = ends[1];
+        const Index a = feature.ends[0], b = feature.ends[1];
         const bool halves_sharp = detail::is_sharp(halves.sharpness(2 * e)) && detail::is_sharp(halves.sharpness(2 * e + 1));
         const detail::EdgeMask mask = rules->edge_mask({sharpness, types[a], types[b], around.edge_face_count(e), halves_sharp});
         if (!(mask == detail::smooth_edge_mask())) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
@@ -401,28 +400,15 @@ void PlanImpl::drop_holes() {
 }
 
 void PlanImpl::collect_output_tags(const LevelState& last) {
-    // The last level's edges were not built; its tagged edges are halves of the previous level's edges, whose
-    // endpoints follow from the numbering (half 2e = (a, m), 2e + 1 = (m, b), m the midpoint of e).
-    const detail::LevelStencils* parent = stencils.empty() ? nullptr : &stencils.back();
-    auto add_ends = [&](Index edge, std::vector<Index>& to) {
-        if (parent) {
-            const Index e = edge / 2, m = parent->num_vertices + e;
-            Index ends[2];
-            parent->edge_ends_of(e, ends);
-            to.push_back(edge % 2 == 0 ? ends[0] : m);
-            to.push_back(edge % 2 == 0 ? m : ends[1]);
-        } else {
-            to.push_back(last.topology.edge_vertices[2 * edge]);
-            to.push_back(last.topology.edge_vertices[2 * edge + 1]);
-        }
-    };
     for (const Feature& f : last.edges) {
         if (f.sharpness > 0.0f) {
-            add_ends(f.index, output_sharp_edges);
+            output_sharp_edges.push_back(f.ends[0]);
+            output_sharp_edges.push_back(f.ends[1]);
             output_sharp_edge_sharpness.push_back(f.sharpness);
         }
         if (f.tag <= 0.0f) continue;
-        add_ends(f.index, output_crease_edges);
+        output_crease_edges.push_back(f.ends[0]);
+        output_crease_edges.push_back(f.ends[1]);
         output_crease_sharpness.push_back(f.tag);
     }
     for (const Feature& f : last.vertices) {
