@@ -81,15 +81,20 @@ public:
     // again from within the caller's own part, it runs every part there, one after the other: the workers are busy.
     // A part that throws (memory running out) does not cut the others short, whose work may still read the caller's
     // stack: all end, then the first exception is thrown again on the caller's thread.
+    // With more `pieces` than threads, the work is cut into that many parts, which the threads take in turn as they
+    // finish the last: a thread the system holds up (another process on its core) then delays only its piece.
     template <typename Work>
-    void run(const Work& work) {
+    void run(const Work& work, int pieces = 0) {
+        pieces = std::max(pieces, parts_);
         if (running_) {
-            for (int part = 0; part < parts_; ++part) work(part, parts_);
+            for (int part = 0; part < pieces; ++part) work(part, pieces);
             return;
         }
         running_ = true;
         job_ = [](const void* context, int part, int parts) { (*static_cast<const Work*>(context))(part, parts); };
         context_ = &work;
+        pieces_ = pieces;
+        next_piece_.store(0, std::memory_order_relaxed);
         finished_.store(0, std::memory_order_relaxed);
         {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -106,7 +111,8 @@ public:
 private:
     void run_part(int part) {
         try {
-            job_(context_, part, parts_);
+            if (pieces_ == parts_) return job_(context_, part, parts_);
+            for (int piece; (piece = next_piece_.fetch_add(1, std::memory_order_relaxed)) < pieces_;) job_(context_, piece, pieces_);
         } catch (...) {
             std::lock_guard<std::mutex> lock(mutex_);
             if (!failure_) failure_ = std::current_exception();
@@ -133,7 +139,8 @@ private:
     std::vector<int> callers_parts_ = {0};
     std::mutex mutex_;
     std::condition_variable started_, ended_;
-    std::atomic<int> generation_{0}, finished_{0};
+    std::atomic<int> generation_{0}, finished_{0}, next_piece_{0};
+    int pieces_ = 1;  // of the current run
     bool stopping_ = false;  // written under mutex_ before the generation that ends the workers
     bool running_ = false;   // the caller's thread is inside run()
     void (*job_)(const void*, int, int) = nullptr;
@@ -213,15 +220,18 @@ private:
 };
 
 // Runs work(level, part, parts) for every level in order and every part of a level at once, on the team of this
-// thread's TeamScope (or a scope of its own): the caller is part 0, and the parts meet between levels.
+// thread's TeamScope (or a scope of its own): the caller is part 0, and the parts meet between levels. With
+// pieces_per_thread > 1 a level is cut into that many parts per thread, taken in turn (Team::run): for work whose
+// parts need no state of their own per thread.
 template <typename Work>
-void run_levels(int threads, int levels, const Work& work) {
+void run_levels(int threads, int levels, const Work& work, int pieces_per_thread = 1) {
     if (threads < 2) {
         for (int l = 0; l < levels; ++l) work(l, 0, 1);
         return;
     }
     const TeamScope scope(threads);
-    for (int l = 0; l < levels; ++l) TeamScope::current()->run([&work, l](int part, int parts) { work(l, part, parts); });
+    for (int l = 0; l < levels; ++l)
+        TeamScope::current()->run([&work, l](int part, int parts) { work(l, part, parts); }, pieces_per_thread * threads);
 }
 
 }  // namespace loopsub::detail

@@ -45,6 +45,56 @@ TEST(RunLevels, RunsEveryPartOfEveryLevelOnce) {
     }
 }
 
+// Cut into pieces taken in turn, every piece of every level runs exactly once, with the piece count (pieces per
+// thread times threads; one thread runs each level whole), and each level sees every piece's writes of the level before.
+TEST(RunLevels, RunsEveryPieceOfEveryLevelOnceInLevelOrder) {
+    for (int threads : {1, 2, 3}) {
+        const int levels = 20, per_thread = 4, pieces = threads > 1 ? per_thread * threads : 1;
+        std::vector<int> runs(std::size_t(levels * pieces), 0), seen(runs.size(), 0);
+        std::vector<std::int64_t> values(std::size_t(levels * pieces), 0);
+        run_levels(threads, levels, [&](int level, int piece, int count) {
+            const std::size_t at = std::size_t(level * count + piece);
+            ++runs[at];
+            seen[at] = count;
+            std::int64_t below = 1;  // the sum of the level before, every piece of it
+            if (level > 0)
+                for (int k = 0; k < count; ++k) below += values[std::size_t((level - 1) * count + k)];
+            values[at] = below % 1000003;
+        }, per_thread);
+        EXPECT_EQ(runs, std::vector<int>(runs.size(), 1)) << threads << " threads";
+        EXPECT_EQ(seen, std::vector<int>(seen.size(), pieces)) << threads << " threads";
+        std::int64_t expected = 1;
+        for (int level = 1; level < levels; ++level) expected = (1 + pieces * expected) % 1000003;
+        EXPECT_EQ(values[std::size_t((levels - 1) * pieces)], expected) << threads << " threads";
+    }
+}
+
+// A piece held up (its thread descheduled) delays only itself: the other thread takes every piece left.
+TEST(Team, AThreadHeldUpLeavesTheRemainingPiecesToTheOthers) {
+    const TeamScope scope(2);
+    std::vector<std::thread::id> ran_on(8);
+    run_levels(2, 1, [&](int, int piece, int) {
+        if (piece == 0) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        ran_on[std::size_t(piece)] = std::this_thread::get_id();
+    }, 4);
+    for (int piece = 1; piece < 8; ++piece) EXPECT_NE(ran_on[std::size_t(piece)], ran_on[0]) << "piece " << piece;
+}
+
+// A throwing piece reaches the caller after every other piece has ended; the team serves the next run as before.
+TEST(Team, AThrowingPieceReachesTheCallerAfterTheOthersEnd) {
+    std::atomic<int> ended{0};
+    EXPECT_THROW(run_levels(2, 1, [&](int, int piece, int) {
+                     if (piece == 3) throw std::bad_alloc();
+                     std::this_thread::sleep_for(std::chrono::milliseconds(2));
+                     ++ended;
+                 }, 4),
+                 std::bad_alloc);
+    EXPECT_EQ(ended.load(), 7);
+    std::vector<int> runs(8, 0);
+    run_levels(2, 1, [&](int, int piece, int) { ++runs[std::size_t(piece)]; }, 4);
+    EXPECT_EQ(runs, std::vector<int>(8, 1));
+}
+
 // Within a team's scope run_levels runs on the team's threads: every part of every level once, and the same worker
 // thread for part 1 of every call (a thread of its own per call would count one call each).
 TEST(Team, RunLevelsRunsEveryPartOnTheTeamsThreads) {
