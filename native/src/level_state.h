@@ -22,8 +22,8 @@ struct Feature {
     float sharpness;  // OpenSubdiv: the current sharpness; Hoppe94: infinite on creases and corners, else 0
     float tag;        // the crease or corner tag carried into the output (0: none)
     // An edge's ends, in its level's order. Carried from level to level (a half's are its parent's end and midpoint),
-    // so that the walk over the features, the edge masks and the output's tags need not look them up: on a level
-    // that is not built each lookup goes through the parent's arrays, far apart (a fifth of what creases add to a plan).
+    // so that the walk over the features, the edge masks and the output's tags need not look them up (on a level that
+    // is not built, a lookup goes through its parent's arrays).
     Index ends[2] = {-1, -1};
     bool operator<(const Feature& other) const { return index < other.index; }
 };
@@ -32,19 +32,6 @@ inline const Feature* find_feature(const std::vector<Feature>& features, Index i
     const auto found = std::lower_bound(features.begin(), features.end(), Feature{index, 0.0f, 0.0f});
     return found != features.end() && found->index == index ? &*found : nullptr;
 }
-
-// Looks features up by index in ascending order, walking the sorted list once rather than searching it each time.
-class FeatureWalk {
-public:
-    explicit FeatureWalk(const std::vector<Feature>& features) : next_(features.data()), end_(features.data() + features.size()) {}
-    float sharpness(Index index) {
-        while (next_ != end_ && next_->index < index) ++next_;
-        return next_ != end_ && next_->index == index ? next_->sharpness : 0.0f;
-    }
-
-private:
-    const Feature *next_, *end_;
-};
 
 struct LevelState {
     Topology topology;

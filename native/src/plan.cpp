@@ -239,6 +239,17 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
                                     float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
         }
     }, parts);
+    // Whether half k of feature edge i (slot 2i + k) is sharp: a slot with no half holds sharpness 0.
+    auto sharp_half = [&halves_of_features](std::size_t slot) { return detail::is_sharp(halves_of_features[slot].sharpness); };
+    std::size_t joined[4] = {halves_of_features.size(), 0, 0, 0};  // upper bounds: the joins then move nothing twice
+    for (const PartFeatures& out : by_part) {
+        joined[0] += out.edges.size(), joined[1] += out.vertices.size();
+        joined[2] += out.specials.size(), joined[3] += out.last_types.size();
+    }
+    child.edges.reserve(joined[0]);
+    child.vertices.reserve(joined[1]);
+    s.special_vertices.reserve(joined[2]);
+    last_level_types.reserve(joined[3] + (last_child ? level.edges.size() : 0));
     for (const Feature& half : halves_of_features)
         if (half.index >= 0) child.edges.push_back(half);
     bool unsorted = false;  // halves of edges that were no feature (a rule set that sharpens them)
@@ -253,9 +264,9 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     if (last_child) {
         // A midpoint's only edges that can be sharp are its two halves; it is regular where its edge has at most
         // two faces (valence 6 with three faces on each side, or a boundary of valence 4).
-        detail::FeatureWalk halves(child.edges);
-        for (const Feature& f : level.edges) {
-            const int sharp_halves = detail::is_sharp(halves.sharpness(2 * f.index)) + detail::is_sharp(halves.sharpness(2 * f.index + 1));
+        for (std::size_t i = 0; i < level.edges.size(); ++i) {
+            const Feature& f = level.edges[i];
+            const int sharp_halves = sharp_half(2 * i) + sharp_half(2 * i + 1);
             if (sharp_halves == 0) continue;
             const VertexType type = sharp_halves == 1                            ? VertexType::Dart
                                     : around.edge_face_count(f.index) <= 2 ? VertexType::RegularCrease
@@ -290,13 +301,13 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
 
     // Edge points: the endpoints, and the vertices opposite the edge in its first two faces (a missing face
     // repeats an endpoint: such an edge is sharp, and its mask gives them no weight).
-    detail::FeatureWalk halves(child.edges);
-    for (const Feature& feature : level.edges) {
+    for (std::size_t i = 0; i < level.edges.size(); ++i) {
+        const Feature& feature = level.edges[i];
         const Index e = feature.index;
         const float sharpness = feature.sharpness;
         if (!detail::is_sharp(sharpness)) continue;
         const Index a = feature.ends[0], b = feature.ends[1];
-        const bool halves_sharp = detail::is_sharp(halves.sharpness(2 * e)) && detail::is_sharp(halves.sharpness(2 * e + 1));
+        const bool halves_sharp = sharp_half(2 * i) && sharp_half(2 * i + 1);
         const detail::EdgeMask mask = rules->edge_mask({sharpness, types[a], types[b], around.edge_face_count(e), halves_sharp});
         if (!(mask == detail::smooth_edge_mask())) s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
     }
