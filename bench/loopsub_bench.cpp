@@ -30,7 +30,8 @@
 // PrimvarRefiner, beside the bytes of the output arrays (positions and triangles).
 //
 // --thread-scaling [ROUNDS] instead times one thread against two in pairs close in time (40 rounds by default): the
-// ratios issue 8 sets targets for, less at the mercy of this shared machine's drifts than rows of separate benchmarks.
+// ratios issue 8 sets targets for, less at the mercy of this shared machine's drifts than rows of separate benchmarks;
+// and the ratio of the fastest run of each side, what two threads give when the machine leaves them both cores.
 //
 // --malloc-keeps-memory (first argument) makes glibc's malloc keep freed memory for reuse (mmap threshold 32 MiB,
 // no trimming): OpenSubdiv then reuses its arrays from one run to the next as loopsub's plans reuse theirs (its
@@ -611,7 +612,8 @@ int measure_thread_scaling(int rounds) {
     constexpr int batch = 15;
     std::printf("two threads against one, %d rounds of %d runs each side, pairs measured back to back (AVX2 or the "
                 "best kernel, tables Auto)\n", rounds, batch);
-    std::printf("%-10s %-9s %24s %10s %10s\n", "mesh", "what", "ratio median (middle half)", "1 thread", "2 threads");
+    std::printf("%-10s %-9s %24s %10s %10s %16s\n", "mesh", "what", "ratio median (middle half)", "1 thread", "2 threads",
+                "fastest runs");
     auto median = [](std::vector<double> v) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
@@ -628,6 +630,7 @@ int measure_thread_scaling(int rounds) {
                     out.resize(std::size_t(kept->num_output_vertices()) * 3);
                 }
                 std::vector<double> ms;
+                ms.reserve(batch);
                 for (int i = 0; i < batch; ++i) {
                     const auto start = std::chrono::steady_clock::now();
                     if (kind == "evaluate") {
@@ -643,19 +646,25 @@ int measure_thread_scaling(int rounds) {
                     }
                     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
                 }
-                return median(ms);
+                return std::pair<double, double>(median(ms), *std::min_element(ms.begin(), ms.end()));
             };
             std::vector<double> ratios, one, two;
+            double fastest_one = 1e30, fastest_two = 1e30;  // what each does when the machine leaves it both cores
             for (int round = 0; round < rounds; ++round) {
-                const double first = time_batch(round % 2 ? 2 : 1), second = time_batch(round % 2 ? 1 : 2);
-                one.push_back(round % 2 ? second : first);
-                two.push_back(round % 2 ? first : second);
+                const auto first = time_batch(round % 2 ? 2 : 1), second = time_batch(round % 2 ? 1 : 2);
+                const auto& with_one = round % 2 ? second : first;
+                const auto& with_two = round % 2 ? first : second;
+                one.push_back(with_one.first);
+                two.push_back(with_two.first);
                 ratios.push_back(one.back() / two.back());
+                fastest_one = std::min(fastest_one, with_one.second);
+                fastest_two = std::min(fastest_two, with_two.second);
             }
             std::vector<double> sorted = ratios;
             std::sort(sorted.begin(), sorted.end());
-            std::printf("%-10s %-9s %9.2fx (%.2f-%.2fx) %7.2f ms %7.2f ms\n", m.name.c_str(), what, median(ratios),
-                        sorted[sorted.size() / 4], sorted[sorted.size() * 3 / 4], median(one), median(two));
+            std::printf("%-10s %-9s %9.2fx (%.2f-%.2fx) %7.2f ms %7.2f ms %6.2fx (%.2f ms)\n", m.name.c_str(), what, median(ratios),
+                        sorted[sorted.size() / 4], sorted[sorted.size() * 3 / 4], median(one), median(two), fastest_one / fastest_two,
+                        fastest_two);
         }
     }
     return 0;
