@@ -72,7 +72,7 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
     std::vector<Classified> classified;
     detail::LargeVector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
-    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &level_num_vertices);
+    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &level_num_vertices, base_for_walks);
     detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex, int) {
         const detail::SdcRule rule = detail::sdc_vertex_rule(vertex.own_sharpness(), vertex.sharp_edges);
         types[vertex.vertex] = detail::classify_vertex(rule, vertex, around);

@@ -163,7 +163,7 @@ void PlanImpl::plan_level(LevelState& level, const Topology& parent, LevelState&
     const int final_level = options.levels + (options.limit_surface ? 1 : 0);
     const bool last_child = child_level == final_level, grandchild_last = child_level + 1 == final_level;
     Topology& t = level.topology;  // empty but for num_vertices where the level is not built
-    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &level_num_vertices);
+    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &level_num_vertices, base_for_walks);
     const int nv = t.num_vertices, ne = around.num_edges();
 
     detail::LevelStencils& s = stencils.emplace_back();
@@ -496,6 +496,10 @@ void PlanImpl::build(const MeshView& mesh) {
             stencils[l].interior->face_vertices = std::move(parent.face_vertices);
             stencils[l].interior->face_edges = std::move(parent.face_edges);
         }
+        if (l == 1) {  // the base, done with: its faces stay for the walks around its vertices on later levels
+            if (stencils[1].derived_from) base_for_walks = stencils[1].derived_from.get();
+            else if (!stencils[1].interior) base_for_walks = &(kept_base = std::move(parent));
+        }
         parent = std::move(level.topology);
         level = std::move(child);
     }
@@ -513,6 +517,8 @@ void PlanImpl::build(const MeshView& mesh) {
     level_vertex_types_ready = std::vector<std::once_flag>(std::size_t(options.levels) + 1);
     collect_output_tags(level);
     rules.reset();
+    base_for_walks = nullptr;
+    kept_base = Topology();
     if (needed > 4 * detail::BlockPool::kPoolBytes) detail::BlockPool::instance().release_all(detail::LargeAllocator<char>::free_large);
     topology_ms = detail::ms_since(start);
 }

@@ -49,6 +49,10 @@ using detail::Index;
 struct PlanImpl {
     Options options;
     std::unique_ptr<detail::RuleSet> rules;  // while building
+    // While building, past the first split: the base level's faces and edge faces, for the walks around base vertices
+    // (VertexNeighbourhood); the stencils' own copy where they keep the base whole (derived tables).
+    detail::Topology kept_base;
+    const detail::Topology* base_for_walks = nullptr;
     Kernel kernel = Kernel::Scalar;
     int num_input_vertices = 0;
     int num_input_triangles = 0;

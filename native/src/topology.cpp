@@ -729,9 +729,11 @@ int faces_between(const Topology& t, Index v, Index from, Index to) {
 
 namespace loopsub::detail {
 
-VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history)
+VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history,
+                                         const Topology* base)
     : level_(level), parent_(parent_if_derived),
-      history_(history && !history->empty() && history->back() == level.num_vertices ? history : nullptr) {}
+      history_(history && !history->empty() && history->back() == level.num_vertices ? history : nullptr),
+      base_(history_ && base && base->num_vertices == history_->front() ? base : nullptr) {}
 
 int VertexNeighbourhood::num_edges() const {
     return parent_ ? 2 * parent_->num_edges() + 3 * parent_->num_faces() : level_.num_edges();
@@ -776,6 +778,13 @@ int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
         const Index e = v - (*history_)[made - 1];
         const Index a = from >> (level - made), b = to >> (level - made);
         if ((a ^ b) == 1 && a >> 1 == e) return 3;
+    }
+    // A base vertex keeps its fan through every split (a corner child per face, a half per edge, the faces of a half
+    // in its edge's order), so the count is the base's between the edges the two descend from: a walk over the base's
+    // small arrays rather than this level's (walks of base vertices were 2.5 % of a creased plan's time).
+    if (base_ && v < history_->front()) {
+        const int splits = int(history_->size()) - 1;
+        return detail::faces_between(*base_, v, from >> splits, to >> splits);
     }
     if (!parent_) return detail::faces_between(level_, v, from, to);
     // An old vertex's fan is its parent's, a child face per parent face; a midpoint sees three child faces of

@@ -76,8 +76,10 @@ void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 class VertexNeighbourhood {
 public:
     // `history`: where known, the vertex counts of the levels up to this one, the base's first (a plan's
-    // level_num_vertices while it builds this level), which spares faces_between its walk for vertices made by a split.
-    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history = nullptr);
+    // level_num_vertices while it builds this level), which spares faces_between its walk for vertices made by a split;
+    // with `base` (the base level's faces and edge faces) too, a base vertex's walk is the base's.
+    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history = nullptr,
+                        const Topology* base = nullptr);
     int num_edges() const;
     int max_valence() const;
     // Inline, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
@@ -113,6 +115,7 @@ private:
     const Topology& level_;
     const Topology* parent_;
     const std::vector<int>* history_;
+    const Topology* base_;
 };
 
 // A child level known through its parent's numbering instead of stored: the level before the last, when nothing but

@@ -192,4 +192,36 @@ TEST(Topology, FacesBetweenHalvesOfAVertexsEdgeWithoutAWalk) {
     }
 }
 
+// A base vertex keeps its fan through every split: VertexNeighbourhood, given the base, counts the faces between two of
+// its edges on the base, and must agree with the walk around the vertex on the level itself, built or derived.
+TEST(Topology, FacesBetweenAtABaseVertexAreTheBases) {
+    using namespace loopsub::testing;
+    for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        std::vector<Topology> levels{loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
+        std::vector<int> history{levels[0].num_vertices};
+        int checked = 0;
+        for (int level = 1; level <= 3; ++level) {
+            levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
+            history.push_back(levels.back().num_vertices);
+            const Topology& t = levels.back();
+            Topology derived_stub;
+            derived_stub.num_vertices = t.num_vertices;
+            const loopsub::detail::VertexNeighbourhood built(t, nullptr, &history, &levels[0]);
+            const loopsub::detail::VertexNeighbourhood derived(derived_stub, &levels[level - 1], &history, &levels[0]);
+            for (Index v = 0; v < history[0]; ++v)
+                for (Index j = t.vertex_edge_offsets[v]; j < t.vertex_edge_offsets[v + 1]; ++j)
+                    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+                        const Index from = t.vertex_edges[j], to = t.vertex_edges[k];
+                        if (from == to || t.edge_face_count(from) != 2 || t.edge_face_count(to) != 2) continue;
+                        const int walked = loopsub::detail::faces_between(t, v, from, to);
+                        ASSERT_EQ(built.faces_between(v, from, to), walked) << "level " << level << ", vertex " << v;
+                        ASSERT_EQ(derived.faces_between(v, from, to), walked) << "level " << level << ", vertex " << v;
+                        ++checked;
+                    }
+        }
+        EXPECT_GT(checked, 0);
+    }
+}
+
 }  // namespace
