@@ -157,6 +157,25 @@ TEST(Topology, BaseLevelMatchesLookups) {
         for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
 }
 
+// The mesh split three times (Refined::Full): per level past the base, `check` gets the levels so far, their vertex
+// counts, and the level's VertexNeighbourhood on the level itself and derived from its parent, both given the base
+// level for the walks around its vertices where `with_base`.
+template <typename Check>
+void for_each_split(const loopsub::testing::TestMesh& mesh, bool with_base, const Check& check) {
+    std::vector<Topology> levels{loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
+    std::vector<int> history{levels[0].num_vertices};
+    for (int level = 1; level <= 3; ++level) {
+        levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
+        history.push_back(levels.back().num_vertices);
+        Topology derived_stub;
+        derived_stub.num_vertices = levels.back().num_vertices;
+        const Topology* base = with_base ? &levels[0] : nullptr;
+        const loopsub::detail::VertexNeighbourhood built(levels.back(), nullptr, &history, base);
+        const loopsub::detail::VertexNeighbourhood derived(derived_stub, &levels[level - 1], &history, base);
+        check(level, levels, history, built, derived);
+    }
+}
+
 // A vertex made on an edge by a split sees three faces between the edge's halves, and between their descendants at it
 // in later levels: VertexNeighbourhood answers that from the levels' vertex counts, without the walk around the
 // vertex it must agree with, on built levels and on a level known through its parent.
@@ -164,15 +183,10 @@ TEST(Topology, FacesBetweenHalvesOfAVertexsEdgeWithoutAWalk) {
     using namespace loopsub::testing;
     for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2)}) {
         SCOPED_TRACE(mesh.name);
-        std::vector<Topology> levels{loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
-        std::vector<int> history{levels[0].num_vertices};
-        for (int level = 1; level <= 3; ++level) {
-            levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
-            history.push_back(levels.back().num_vertices);
+        for_each_split(mesh, false, [](int level, const std::vector<Topology>& levels, const std::vector<int>& history,
+                                       const loopsub::detail::VertexNeighbourhood& built,
+                                       const loopsub::detail::VertexNeighbourhood& derived) {
             const Topology& t = levels.back();
-            Topology derived_stub;
-            derived_stub.num_vertices = t.num_vertices;
-            const loopsub::detail::VertexNeighbourhood built(t, nullptr, &history), derived(derived_stub, &levels[level - 1], &history);
             int checked = 0;
             for (Index v = history[0]; v < t.num_vertices; ++v) {
                 // v is the midpoint of edge e of level `made - 1`; follow e's halves at v down to this level.
@@ -188,7 +202,7 @@ TEST(Topology, FacesBetweenHalvesOfAVertexsEdgeWithoutAWalk) {
                 ++checked;
             }
             EXPECT_GT(checked, 0);
-        }
+        });
     }
 }
 
@@ -198,17 +212,11 @@ TEST(Topology, FacesBetweenAtABaseVertexAreTheBases) {
     using namespace loopsub::testing;
     for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2), bowtie(5)}) {
         SCOPED_TRACE(mesh.name);
-        std::vector<Topology> levels{loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
-        std::vector<int> history{levels[0].num_vertices};
         int checked = 0;
-        for (int level = 1; level <= 3; ++level) {
-            levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
-            history.push_back(levels.back().num_vertices);
+        for_each_split(mesh, true, [&checked](int level, const std::vector<Topology>& levels, const std::vector<int>& history,
+                                              const loopsub::detail::VertexNeighbourhood& built,
+                                              const loopsub::detail::VertexNeighbourhood& derived) {
             const Topology& t = levels.back();
-            Topology derived_stub;
-            derived_stub.num_vertices = t.num_vertices;
-            const loopsub::detail::VertexNeighbourhood built(t, nullptr, &history, &levels[0]);
-            const loopsub::detail::VertexNeighbourhood derived(derived_stub, &levels[level - 1], &history, &levels[0]);
             for (Index v = 0; v < history[0]; ++v)
                 for (Index j = t.vertex_edge_offsets[v]; j < t.vertex_edge_offsets[v + 1]; ++j)
                     for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
@@ -219,7 +227,7 @@ TEST(Topology, FacesBetweenAtABaseVertexAreTheBases) {
                         ASSERT_EQ(derived.faces_between(v, from, to), walked) << "level " << level << ", vertex " << v;
                         ++checked;
                     }
-        }
+        });
         EXPECT_GT(checked, 0);
     }
 }
