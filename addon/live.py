@@ -110,6 +110,9 @@ def _write(entry, obj, evaluated, mesh, carrier, options, render):
                                   exact_normals=render)
         plan_key = source.plan_key()
         if not _equal(entry.plan_key, plan_key):
+            # The old plan is of another topology: it goes (with the normals that view its triangles) before the new
+            # one is built, so that a large result's two plans are never held at once, and the new one reuses its memory.
+            entry.plan = entry.plan_key = entry.limit_normals = None
             entry.plan, entry.plan_key, entry.inputs = source.plan(), plan_key, None
             entry.plan_builds += 1
             entry.messages = source.messages

@@ -10,6 +10,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import weakref
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
@@ -159,11 +160,25 @@ def edits():
     check(plan_builds(obj) == builds and not np.array_equal(in_edit, after),
           "in Edit Mode a vertex move shows in the result, with the same plan")
     edit.faces.ensure_lookup_table()
-    bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
-    bmesh.update_edit_mesh(obj.data)
-    _, faces = evaluated(obj)
+    old_plan = weakref.ref(addon.live.cache(obj).plan)
+    old_gone_when_built = []
+    build_plan = addon.mesh_data.Source.plan
+
+    def watched_build(source, *arguments, **keywords):
+        old_gone_when_built.append(old_plan() is None)
+        return build_plan(source, *arguments, **keywords)
+
+    addon.mesh_data.Source.plan = watched_build
+    try:
+        bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
+        bmesh.update_edit_mesh(obj.data)
+        _, faces = evaluated(obj)
+    finally:
+        addon.mesh_data.Source.plan = build_plan
     check(plan_builds(obj) == builds + 1 and faces == 4 * (len(obj.data.polygons) - 1),
           "in Edit Mode deleting a face builds a new plan")
+    check(old_gone_when_built == [True],
+          "the old plan is let go before the new one is built (a large result's two plans are never held at once)")
     bpy.ops.object.mode_set(mode='OBJECT')
     check(np.array_equal(evaluated(obj)[0], applied(obj, levels=1)[0]),
           "back in Object Mode the result is the subdivision of the edited mesh")
