@@ -659,8 +659,8 @@ std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
     // Consistently wound neighbours run along a shared edge in opposite directions. An edge's first face runs along it
     // from its first end (the edge took its ends from that corner), so an edge of two faces winds inconsistently where
     // its second face does so too: a place byte of 0b11 (second face, starts the edge). One pass over the place bytes;
-    // counting directions per corner instead cost a read of each corner's edge ends (26 us of a base level of 5,120
-    // triangles, in a plan's serial part).
+    // counting directions per corner instead read each corner's edge ends (17.5 us against 9.5 on a base level of
+    // 5,120 triangles, in a plan's serial part).
     std::vector<std::uint8_t> flags(t.num_edges(), 0);
     // Plain pointers: a byte store may alias anything, so the vectors' data pointers would be read again each time.
     std::uint8_t* flag = flags.data();
