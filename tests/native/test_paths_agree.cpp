@@ -294,21 +294,27 @@ INSTANTIATE_TEST_SUITE_P(Evaluation, PathsAgree, ::testing::ValuesIn(path_cases(
                          [](const ::testing::TestParamInfo<PathCase>& info) { return info.param.name; });
 
 // Large enough that two threads really split the levels (icosphere of 5,120 triangles to level 3), with
-// semi-sharp creases so that the special-vertex lists are split too.
-TEST(PathsAgreeLarge, TwoThreadsEqualOneOnIcosphere5120) {
+// semi-sharp creases so that the special-vertex lists are split too; three threads cut the work into other pieces.
+TEST(PathsAgreeLarge, MoreThreadsEqualOneOnIcosphere5120) {
     TestMesh mesh = icosphere(4);
     jitter(mesh, 97, 0.005f);
     add_random_creases(mesh, 97, 0.05, true);
     for (Kernel kernel : {Kernel::Scalar, Kernel::Auto}) {
-        SCOPED_TRACE(kernel_name(kernel));
         Options options;
         options.rules = Rules::OpenSubdiv;
         options.levels = 3;
         options.kernel = kernel;
         Plan one(mesh.view(), options);
-        options.threads = 2;
-        Plan two(mesh.view(), options);
-        EXPECT_TRUE(bitwise_equal(evaluate_positions(one, mesh), evaluate_positions(two, mesh)));
+        const std::vector<float> expected = evaluate_positions(one, mesh);
+        for (int threads : {2, 3}) {
+            SCOPED_TRACE(std::string(kernel_name(kernel)) + ", threads " + std::to_string(threads));
+            options.threads = threads;
+            Plan more(mesh.view(), options);
+            EXPECT_TRUE(bitwise_equal(expected, evaluate_positions(more, mesh)));
+            ASSERT_EQ(one.num_output_triangles(), more.num_output_triangles());
+            EXPECT_TRUE(std::equal(one.output_triangles(), one.output_triangles() + 3 * one.num_output_triangles(),
+                                   more.output_triangles()));
+        }
     }
 }
 
