@@ -14,6 +14,8 @@
 //   opensubdiv_limit              Interpolate, levels 1-4, then Limit with both tangents (per frame)
 //   opensubdiv_face_varying       InterpolateFaceVarying of a UV layer with a seam, levels 1-4, FVAR_LINEAR_CORNERS_ONLY
 //                                 (per frame)
+//   opensubdiv_far_full_uvs       the full pipeline with that layer: TopologyRefinerFactory with its channel +
+//                                 RefineUniform(4) + Interpolate + InterpolateFaceVarying, levels 1-4
 // loopsub (kernel: scalar, sse4.1, avx2; threads: Options::threads):
 //   loopsub_full                  Plan construction + evaluate
 //   loopsub_topology              Plan construction
@@ -22,6 +24,8 @@
 //                                 use Auto, which stores the tables at this size
 //   loopsub_limit                 Plan::evaluate with the limit surface and its normals (per frame)
 //   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
+//   loopsub_full_uvs              Plan construction with that layer + evaluate + evaluate_face_varying (what the add-on
+//                                 and the CLI do with a mesh that has UVs)
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
 //
@@ -292,6 +296,28 @@ void osd_face_varying(benchmark::State& state, const Mesh* m) {
     set_rate(state, refiner->GetLevel(kLevels).GetNumFVarValues(0));
 }
 
+// The full pipeline with a UV layer: topology with its face-varying channel, then vertices and UVs.
+void osd_far_full_uvs(benchmark::State& state, const Mesh* m) {
+    int vertices = 0;
+    for (auto _ : state) {
+        const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m, false, true);
+        const std::unique_ptr<Vertex[]> all(new Vertex[refiner->GetNumVerticesTotal()]);
+        benchmark::DoNotOptimize(osd_interpolate(*refiner, *m, all.get()));
+        const std::unique_ptr<UV[]> uvs(new UV[refiner->GetNumFVarValuesTotal(0)]);
+        std::copy(m->uvs.begin(), m->uvs.end(), &uvs[0].p[0]);
+        const Far::PrimvarRefiner primvar(*refiner);
+        UV* src = uvs.get();
+        for (int level = 1; level <= kLevels; ++level) {
+            UV* dst = src + refiner->GetLevel(level - 1).GetNumFVarValues(0);
+            primvar.InterpolateFaceVarying(level, src, dst, 0);
+            src = dst;
+        }
+        benchmark::DoNotOptimize(src);
+        vertices = output_vertices(*refiner);
+    }
+    set_rate(state, vertices);
+}
+
 std::unique_ptr<const Far::StencilTable> osd_stencils(const Far::TopologyRefiner& refiner) {
     Far::StencilTableFactory::Options options;
     options.generateIntermediateLevels = false;  // control vertices straight to the last level
@@ -408,6 +434,20 @@ void ours_face_varying(benchmark::State& state, const Mesh* m, int threads) {
     set_rate(state, plan.num_output_face_varying_values(0));
 }
 
+void ours_full_uvs(benchmark::State& state, const Mesh* m, int threads) {
+    int vertices = 0;
+    for (auto _ : state) {
+        loopsub::Plan plan(view(*m, true), options(loopsub::Kernel::Auto, threads));
+        vertices = plan.num_output_vertices();
+        const std::unique_ptr<float[]> out(new float[std::size_t(vertices) * 3]);
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.get(), 3));
+        const std::unique_ptr<float[]> uvs(new float[std::size_t(plan.num_output_face_varying_values(0)) * 2]);
+        plan.evaluate_face_varying(0, loopsub::interleaved(m->uvs.data(), 2), loopsub::interleaved(uvs.get(), 2));
+        benchmark::DoNotOptimize(uvs.get());
+    }
+    set_rate(state, vertices);
+}
+
 // ---- Registration and the speedup table --------------------------------------------------------------------------
 
 constexpr loopsub::Kernel kKernels[] = {loopsub::Kernel::Scalar, loopsub::Kernel::SSE41, loopsub::Kernel::AVX2};
@@ -429,9 +469,11 @@ void register_all() {
         add("opensubdiv_omp_evaluator/" + m.name + "/threads:2", osd_evaluator<Osd::OmpEvaluator>, &m);
         add("opensubdiv_limit/" + m.name, osd_limit, &m);
         add("opensubdiv_face_varying/" + m.name, osd_face_varying, &m);
+        add("opensubdiv_far_full_uvs/" + m.name, osd_far_full_uvs, &m);
         for (int threads : {1, 2}) {
             add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
             add("loopsub_face_varying/" + m.name + "/threads:" + std::to_string(threads), ours_face_varying, &m, threads);
+            add("loopsub_full_uvs/" + m.name + "/threads:" + std::to_string(threads), ours_full_uvs, &m, threads);
             const std::string suffix = m.name + "/threads:" + std::to_string(threads);
             add("loopsub_topology/" + suffix, ours_topology, &m, threads, loopsub::LevelTables::Auto);
             add("loopsub_topology_derived/" + suffix, ours_topology, &m, threads, loopsub::LevelTables::Derived);
@@ -517,19 +559,24 @@ void print_speedups(const RecordingReporter& r) {
             }
         }
     }
-    std::printf("\nPer frame, limit surface and face-varying (best kernel), OpenSubdiv time / loopsub time:\n");
-    std::printf("%-10s %-8s %34s %38s\n", "mesh", "threads", "limit+normals vs Interpolate+Limit",
-                "UVs vs InterpolateFaceVarying (ms)");
+    std::printf("\nLimit surface and face-varying (best kernel), OpenSubdiv time / loopsub time; per frame, and end to end "
+                "with a UV layer:\n");
+    std::printf("%-10s %-8s %34s %38s %38s\n", "mesh", "threads", "limit+normals vs Interpolate+Limit",
+                "UVs vs InterpolateFaceVarying (ms)", "full with UVs vs Far with UVs (ms)");
+    auto compared = [&](const std::string& theirs, const std::string& ours) {
+        const double a = r.ms(theirs), b = r.ms(ours);
+        char text[64] = "-";
+        if (a > 0 && b > 0) std::snprintf(text, sizeof text, "%.1fx (%.1f vs %.1f ms)", a / b, b, a);
+        return std::string(text);
+    };
     for (const Mesh& m : meshes()) {
         for (int threads : {1, 2}) {
             const std::string suffix = m.name + "/threads:" + std::to_string(threads);
-            const double limit = r.ms("loopsub_limit/" + suffix), uvs = r.ms("loopsub_face_varying/" + suffix);
-            const double osd_limit = r.ms("opensubdiv_limit/" + m.name), osd_uvs = r.ms("opensubdiv_face_varying/" + m.name);
-            if (limit < 0 && uvs < 0) continue;
-            char a[64] = "-", b[64] = "-";
-            if (limit > 0 && osd_limit > 0) std::snprintf(a, sizeof a, "%.1fx (%.1f vs %.1f ms)", osd_limit / limit, limit, osd_limit);
-            if (uvs > 0 && osd_uvs > 0) std::snprintf(b, sizeof b, "%.1fx (%.1f vs %.1f ms)", osd_uvs / uvs, uvs, osd_uvs);
-            std::printf("%-10s %-8d %34s %38s\n", m.name.c_str(), threads, a, b);
+            const std::string limit = compared("opensubdiv_limit/" + m.name, "loopsub_limit/" + suffix);
+            const std::string uvs = compared("opensubdiv_face_varying/" + m.name, "loopsub_face_varying/" + suffix);
+            const std::string full = compared("opensubdiv_far_full_uvs/" + m.name, "loopsub_full_uvs/" + suffix);
+            if (limit == "-" && uvs == "-" && full == "-") continue;
+            std::printf("%-10s %-8d %34s %38s %38s\n", m.name.c_str(), threads, limit.c_str(), uvs.c_str(), full.c_str());
         }
     }
 }
