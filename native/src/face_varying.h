@@ -36,7 +36,7 @@ public:
     // child level's features.
     void plan_level(const LevelState& level, const LevelStencils& vertex_stencils, const LevelState& child, bool last);
     // The limit pass over the last level, from the vertex plan's limit stencils.
-    void plan_limit(const LevelState& last, const LevelStencils& vertex_limit);
+    void plan_limit(const LevelStencils& vertex_limit);
     FaceVaryingPlan finish();
 
 private:
@@ -47,7 +47,10 @@ private:
         bool semi_sharp = false;  // held while semi-sharp features around it decay, then a crease
         bool dep_sharp = false;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
     };
-    void map_to_vertices(const LevelState& level);
+    // The base level's value -> vertex and layer edge -> edge maps, and its seams, from the faces' corners.
+    void map_to_vertices(const LevelState& base);
+    // The child level's, from this level's through refine_topology's numbering (`t`: this level's vertex mesh).
+    void inherit_mapping(const Topology& t);
     void classify_base(const LevelState& base);
     // The layer edges at value x with two faces in the layer (inside its span) and their vertex-mesh edges.
     void inner_edges(Index x, std::vector<Index>& edges) const;

@@ -523,7 +523,7 @@ void PlanImpl::build(const MeshView& mesh) {
     }
     if (options.limit_surface) plan_limit(level, parent);
     for (detail::FaceVaryingBuilder& layer : layers) {
-        if (options.limit_surface) layer.plan_limit(level, limit->positions);
+        if (options.limit_surface) layer.plan_limit(limit->positions);
         face_varying.push_back(layer.finish());
     }
     if (options.levels > 0 && !skip_level_before_last) hand_over_edges_and_offsets(parent, stencils.back());
