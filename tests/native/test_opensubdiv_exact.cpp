@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -448,6 +449,27 @@ std::vector<ExactCase> generated_cases() {
         add_uvs_with_seam(m);
         return m;
     });
+    // A semi-sharp crease along the whole UV seam, its sharpness changing from edge to edge (with Chaikin an edge's
+    // halves decay differently): the seam values held, then released, level by level as the crease decays.
+    for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
+        add(cases, std::string("icosphere320_semisharp_seam_") + (method == CreaseMethod::Chaikin ? "chaikin" : "uniform"), [method] {
+            TestMesh m = icosphere(2);
+            jitter(m, 64, 0.01f);
+            add_uvs_with_seam(m);
+            std::map<std::array<std::int32_t, 2>, std::set<std::array<std::int32_t, 2>>> values_at_edge;
+            for (std::size_t c = 0; c < m.triangles.size(); ++c) {
+                const std::size_t next = c % 3 == 2 ? c - 2 : c + 1;
+                const bool forward = m.triangles[c] < m.triangles[next];
+                const std::array<std::int32_t, 2> edge{m.triangles[forward ? c : next], m.triangles[forward ? next : c]};
+                values_at_edge[edge].insert({m.triangle_uvs[forward ? c : next], m.triangle_uvs[forward ? next : c]});
+            }
+            int k = 0;
+            for (const auto& [edge, values] : values_at_edge)
+                if (values.size() > 1) m.add_crease(edge[0], edge[1], 0.5f + 0.75f * float(k++ % 4));
+            m.crease_method = method;
+            return m;
+        });
+    }
     add(cases, "grid6x5_uv_seam_edges_and_corners", [] {
         TestMesh m = with_boundary(grid(6, 5), Boundary::EdgesAndCorners);
         jitter(m, 62, 0.01f);
