@@ -235,7 +235,9 @@ def weld_corner_values(corner_vertices, corner_values):
     whose values are equal bit for bit (-0.0 and 0.0 alike) share one value, different values make a seam there.
 
     corner_vertices (T, 3) int; corner_values (T, 3, C) float32. Returns (indices (T, 3) int32, values (V, C)
-    float32): the value index of each corner, as _loopsub.Plan's face_varying_indices takes it, and the values."""
+    float32): the value index of each corner, as _loopsub.Plan's face_varying_indices takes it, and the values.
+    Values are numbered in the order of their first corner, so that the indices change only where corners join or
+    leave a value: a UV dragged without splitting or joining keeps the plan (the live entry's key)."""
     corner_vertices = np.asarray(corner_vertices).reshape(-1)
     values = np.asarray(corner_values, dtype=np.float32)
     width = values.shape[-1]
@@ -247,9 +249,13 @@ def weld_corner_values(corner_vertices, corner_values):
     keys = np.column_stack([corner_vertices[order], bits[order]])
     first = np.ones(len(order), dtype=bool)
     first[1:] = (keys[1:] != keys[:-1]).any(axis=1)
+    group = np.cumsum(first, dtype=np.int64) - 1  # of each corner in `order`
+    first_corner = np.minimum.reduceat(order, np.flatnonzero(first))  # of each group
+    rank = np.empty(len(first_corner), dtype=np.int64)
+    rank[np.argsort(first_corner)] = np.arange(len(first_corner))
     index = np.empty(len(order), dtype=np.int32)
-    index[order] = np.cumsum(first, dtype=np.int64) - 1
-    return index.reshape(-1, 3), np.ascontiguousarray(values[order[first]])
+    index[order] = rank[group]
+    return index.reshape(-1, 3), np.ascontiguousarray(values[np.sort(first_corner)])
 
 
 def shared_vertex_normals(triangles, corner_normals, num_vertices):

@@ -122,7 +122,7 @@ def _write(entry, obj, evaluated, mesh, carrier, options, render):
                     and len(carrier.data.vertices) == entry.plan.num_output_vertices)
         if in_place and _equal(entry.inputs, inputs):
             return
-        refined = source.refine(entry.plan)
+        refined = source.refine(entry.plan, written=entry.inputs if in_place else None)
         if in_place:
             if entry.exact_shown:
                 mesh_data.show_blender_normals(carrier.data, carrier, entry.blender_shading)

@@ -162,7 +162,8 @@ class Result:
 class Refined:
     """What a plan's evaluation gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
     (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the limit normals per output
-    corner (T_out, 3, 3), None without the limit surface, and the output triangles (the plan's)."""
+    corner (T_out, 3, 3), None without the limit surface, and the output triangles (the plan's). A UV map or the
+    corner channels left as the result holds them (Source.refine's written) are None."""
 
     def __init__(self, vertex, uvs, corners, normals, triangles):
         self.vertex = vertex
@@ -328,17 +329,27 @@ class Source:
         return (self.vertex.packed(), self.corners.packed() if self.corners.parts else None,
                 *(values for _, values in self.uv_layers))
 
-    def refine(self, plan):
-        """Evaluates plan (built from this source's plan key) on the source's values: a Refined."""
+    def refine(self, plan, written=None):
+        """Evaluates plan (built from this source's plan key) on the source's values: a Refined. written: the inputs
+        (Source.inputs) of the result it updates in place; the UV maps and corner channels whose values are still
+        those are not refined again (None in the Refined): the result holds them already, and playback moves only
+        positions."""
+        def unchanged(index, values):
+            return written is not None and np.array_equal(written[index], values)
+
         normals = None
         if self.options.use_limit_surface:
             # Positions come first among the vertex channels; the others are refined with the same limit weights.
             vertex, normals = native.run(plan.evaluate_with_normals, self.vertex.packed())
         else:
             vertex = native.run(plan.evaluate, self.vertex.packed())
-        uvs = [native.run(plan.evaluate_face_varying, values, layer=layer)[plan.face_varying_indices(layer)]
+        uvs = [None if unchanged(2 + layer, values)
+               else native.run(plan.evaluate_face_varying, values, layer=layer)[plan.face_varying_indices(layer)]
                for layer, (_, values) in enumerate(self.uv_layers)]
-        corners = native.run(plan.evaluate_face_varying, self.corners.packed()) if self.corners.parts else None
+        corners = None
+        if self.corners.parts:
+            values = self.corners.packed()
+            corners = None if unchanged(1, values) else native.run(plan.evaluate_face_varying, values)
         return Refined(vertex, uvs, corners, normals, plan.triangles)
 
 
@@ -425,8 +436,9 @@ def _write_values(new, source, refined):
         _fill(new.attributes[name], data_type,
               geometry.from_refined(refined.vertex[:, vertex.columns["attribute", name]], data_type))
     for uv_name, uvs in zip(source.uv_names, refined.uvs):
-        new.uv_layers[uv_name].data.foreach_set("uv", np.ascontiguousarray(uvs).ravel())
-    for name, _, data_type in source.corner:
+        if uvs is not None:
+            new.uv_layers[uv_name].data.foreach_set("uv", np.ascontiguousarray(uvs).ravel())
+    for name, _, data_type in source.corner if refined.corners is not None else ():
         _fill(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
 

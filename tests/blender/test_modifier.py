@@ -16,6 +16,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
+from mathutils import Vector  # noqa: E402
 
 import blender_test_support as support  # noqa: E402
 
@@ -187,8 +188,9 @@ def edits():
 
 def uv_edits():
     """A moved vertex and a moved UV of a cage with a UV map and a corner colour are written into the result in place,
-    UVs, colours and (once the result is still) limit normals included, as Apply would write them; a UV split off its
-    vertex's other corners (a new seam) builds a new plan."""
+    UVs, colours and (once the result is still) limit normals included, as Apply would write them, each alone too (an
+    update refines only the values that changed); a UV split off its vertex's other corners (a new seam) builds a new
+    plan."""
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
@@ -213,18 +215,33 @@ def uv_edits():
             float(np.abs(shown[3] - expected[3]).max())
 
     builds = plan_builds(obj)
-    uvs = support.read_array(obj.data.uv_layers["UVMap"].data, "uv", 2)
     loop_vertices = support.read_array(obj.data.loops, "vertex_index", dtype=np.int32)
-    # Every corner of vertex 0 with the UV of its first corner: the value moves, the UV topology stays.
-    moved = (loop_vertices == 0) & (uvs == uvs[0]).all(axis=1)
-    uvs[moved] = (0.9, 0.1)
-    obj.data.uv_layers["UVMap"].data.foreach_set("uv", uvs.ravel())
+
+    def move_uv(vertex, uv):
+        """Every corner of vertex with the UV of its first corner takes uv: the value moves, the UV topology stays."""
+        uvs = support.read_array(obj.data.uv_layers["UVMap"].data, "uv", 2)
+        first = np.flatnonzero(loop_vertices == vertex)[0]
+        uvs[(loop_vertices == vertex) & (uvs == uvs[first]).all(axis=1)] = uv
+        obj.data.uv_layers["UVMap"].data.foreach_set("uv", uvs.ravel())
+
+    move_uv(0, (0.9, 0.1))
     obj.data.vertices[0].co.z += 0.25
     obj.data.update()
     same, normals = shown_and_applied()
     check(plan_builds(obj) == builds and same and normals < 1e-6,
           "with a UV map and corner colours, an edit is written in place: positions, UVs, colours and normals as "
           f"Apply's (normals within {normals:.1e})")
+    edits_alone = {
+        "a vertex": lambda: setattr(obj.data.vertices[1], "co", obj.data.vertices[1].co + Vector((0.1, 0.0, 0.05))),
+        "a UV": lambda: move_uv(2, (0.3, 0.7)),
+        "a corner colour": lambda: setattr(obj.data.color_attributes["Paint"].data[5], "color", (1.0, 0.0, 0.5, 1.0)),
+    }
+    for what, edit in edits_alone.items():
+        edit()
+        obj.data.update()
+        same, normals = shown_and_applied()
+        check(plan_builds(obj) == builds and same and normals < 1e-6,
+              f"{what} edited alone is written in place, the result as Apply's (normals within {normals:.1e})")
     obj.data.uv_layers["UVMap"].data[0].uv = (0.5, 0.5)  # one corner leaves its vertex's others: a new seam
     obj.data.update()
     same, normals = shown_and_applied()

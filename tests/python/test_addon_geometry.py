@@ -167,6 +167,13 @@ def test_weld_corner_values():
     assert len(values) == 5
     assert indices[0, 2] == indices[1, 2] and indices[0, 1] != indices[1, 0]
     assert np.array_equal(values[indices], uvs + 0.0)
+    # A value moved without splitting or joining corners keeps every index (the live entry keeps its plan), whether
+    # it now sorts before or after the vertex's other values.
+    for moved in ([0.5, 0.5], [9, 9]):
+        dragged = uvs.copy()
+        dragged[1, 0] = moved
+        dragged_indices, dragged_values = geometry.weld_corner_values(triangles, dragged)
+        assert np.array_equal(dragged_indices, indices) and np.array_equal(dragged_values[indices], dragged + 0.0)
     # Equal UVs on different vertices stay different values.
     indices, values = geometry.weld_corner_values(triangles, np.zeros((2, 3, 2), np.float32))
     assert len(values) == 4 and indices[0, 1] == indices[1, 0] and indices[0, 2] == indices[1, 2]
