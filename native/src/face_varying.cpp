@@ -215,8 +215,10 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
     }
 }
 
-void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils& vertex_stencils, const LevelState& child, bool last) {
+void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* level_parent, const LevelStencils& vertex_stencils,
+                                    const LevelState& child, bool last) {
     const Topology& t = level.topology;
+    const VertexNeighbourhood vertex_level(t, level_parent);
     const Mode mode = options_.face_varying;
     const int nx = values_.num_vertices, ne = values_.num_edges();
     LevelStencils& s = plan_.passes.emplace_back();
@@ -229,7 +231,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
     std::vector<Tag> child_tags = tags_;
     std::vector<Index> offsets, at_vertex, inner, around;
     group_by_vertex(vertex_of_, t.num_vertices, offsets, at_vertex);
-    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(child_edge_at(t, e, v)); };
+    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
     for (int v = 0; v < t.num_vertices && mode != Mode::All; ++v) {
         const int n = offsets[v + 1] - offsets[v];
         const Index* values = at_vertex.data() + offsets[v];
@@ -309,7 +311,9 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
         }
         const SpecialEdge* m = find_special(vertex_stencils.special_edges, edge, [](const SpecialEdge& se) { return se.edge; });
         if (!m) continue;
-        const bool same_way = vertex_of_[values_.edge_vertices[2 * e]] == t.edge_vertices[2 * edge];
+        Index ends[2];
+        vertex_level.edge_ends(edge, ends);
+        const bool same_way = vertex_of_[values_.edge_vertices[2 * e]] == ends[0];
         s.special_edges.push_back({e, same_way ? m->wa : m->wb, same_way ? m->wb : m->wa, m->wcd});
     }
 
@@ -325,7 +329,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const LevelStencils
     }
     const bool planned_further = !last || options_.limit_surface;
     Topology child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
-    if (planned_further) inherit_mapping(t);
+    if (planned_further) inherit_mapping(t);  // a level planned further was built
     s.ring_offsets = std::move(values_.vertex_edge_offsets);
     s.ring = std::move(values_.vertex_vertices);
     s.edge_ends = std::move(values_.edge_vertices);

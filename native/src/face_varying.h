@@ -32,9 +32,10 @@ class FaceVaryingBuilder {
 public:
     // `base` is the vertex plan's level 0 (full topology, sharpness set).
     FaceVaryingBuilder(const MeshView& mesh, int layer, const Options& options, const LevelState& base);
-    // Plans one level: `level` (its faces, face edges and features), the vertex plan's stencils for it, and the
-    // child level's features.
-    void plan_level(const LevelState& level, const LevelStencils& vertex_stencils, const LevelState& child, bool last);
+    // Plans one level: `level` (its features, and its faces and edges unless it was not built: then they are read
+    // through `level_parent`, the level before it), the vertex plan's stencils for it, and the child level's features.
+    void plan_level(const LevelState& level, const Topology* level_parent, const LevelStencils& vertex_stencils,
+                    const LevelState& child, bool last);
     // The limit pass over the last level, from the vertex plan's limit stencils.
     void plan_limit(const LevelStencils& vertex_limit);
     FaceVaryingPlan finish();

@@ -494,14 +494,16 @@ void PlanImpl::build(const MeshView& mesh) {
     LevelCounts last_but_one = counts;
     for (int l = 1; l < options.levels; ++l) last_but_one = last_but_one.child();
     const std::uint64_t stored_tables = mul(24, add(last_but_one.edges, last_but_one.faces));  // ring, edges, faces
-    skip_level_before_last = options.levels >= 2 && !options.limit_surface && layers.empty();
-    derive_tables = skip_level_before_last && (options.level_tables == LevelTables::Derived ||
+    skip_level_before_last = options.levels >= 2 && !options.limit_surface;
+    derive_tables = skip_level_before_last && layers.empty() && (options.level_tables == LevelTables::Derived ||
                                                (options.level_tables == LevelTables::Auto && stored_tables > kDeriveAboveBytes));
     Topology parent;  // the level before `level`: the next-to-last level derives its neighbourhoods from it
     for (int l = 0; l < options.levels; ++l) {
         LevelState child;
         plan_level(level, parent, child, l + 1);
-        for (detail::FaceVaryingBuilder& layer : layers) layer.plan_level(level, stencils[l], child, l + 1 == options.levels);
+        const bool last = l + 1 == options.levels;
+        for (detail::FaceVaryingBuilder& layer : layers)
+            layer.plan_level(level, skip_level_before_last && last ? &parent : nullptr, stencils[l], child, last);
         // A level's edge list serves its child's neighbourhoods, then the stencils as the edge points' ends; with
         // derived tables, a level's stencils keep the whole level before (the base's stencils its own edge list).
         if (derive_tables && l > 0) {

@@ -84,9 +84,10 @@ struct PlanImpl {
     // A kernel sums up to this many input values before it weights them (a vertex's ring): inputs must stay below
     // the float maximum divided by it, or the sums overflow to infinity and give NaN (checked by evaluate).
     int max_summed_terms = 1;
-    // The level before the last is never built where nothing but vertex values are refined over two levels or more:
-    // its stencil tables come from its parent's connectivity (filled here, or derived as an evaluation runs), and
-    // the last level's triangles straight from its parent too (write_grandchild_faces).
+    // The level before the last is never built where there is no limit surface to plan over two levels or more: its
+    // stencil tables come from its parent's connectivity (filled here, or derived as an evaluation runs), and the last
+    // level's triangles straight from its parent too (write_grandchild_faces). Face-varying layers read its edges
+    // through its parent (FaceVaryingBuilder::plan_level).
     bool skip_level_before_last = false;
     // Options::level_tables, resolved: the stencils of levels 1 .. levels - 1 are derived (LevelStencils::derived_from).
     bool derive_tables = false;

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -450,7 +451,8 @@ std::vector<ExactCase> generated_cases() {
         return m;
     });
     // A semi-sharp crease along the whole UV seam, its sharpness changing from edge to edge (with Chaikin an edge's
-    // halves decay differently): the seam values held, then released, level by level as the crease decays.
+    // halves decay differently), and random semi-sharp edges elsewhere, some reaching the seam: the seam values held,
+    // then released, level by level as the creases decay.
     for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
         add(cases, std::string("icosphere320_semisharp_seam_") + (method == CreaseMethod::Chaikin ? "chaikin" : "uniform"), [method] {
             TestMesh m = icosphere(2);
@@ -463,9 +465,12 @@ std::vector<ExactCase> generated_cases() {
                 const std::array<std::int32_t, 2> edge{m.triangles[forward ? c : next], m.triangles[forward ? next : c]};
                 values_at_edge[edge].insert({m.triangle_uvs[forward ? c : next], m.triangle_uvs[forward ? next : c]});
             }
+            std::mt19937 rng(65);
+            std::bernoulli_distribution take(0.3);
+            const float kSharpness[] = {0.5f, 1.25f, 2.0f, 2.75f, 0.8f, 3.3f};
             int k = 0;
             for (const auto& [edge, values] : values_at_edge)
-                if (values.size() > 1) m.add_crease(edge[0], edge[1], 0.5f + 0.75f * float(k++ % 4));
+                if (values.size() > 1 || take(rng)) m.add_crease(edge[0], edge[1], kSharpness[k++ % 6]);
             m.crease_method = method;
             return m;
         });
@@ -554,6 +559,54 @@ TEST(HoppeFaceVarying, EqualsOpenSubdivOnSmoothClosedMeshes) {
         ASSERT_TRUE(mapped.errors.empty()) << mapped.errors.front();
         const std::string report = compare_face_uvs(plan, mapped, layer_per_corner(plan, mesh.uvs), mapped.face_uvs);
         EXPECT_TRUE(report.empty()) << "mode " << m << ":\n" << report;
+    }
+}
+
+// A layer without seams whose values are an affine function of the positions refines as the positions do, whatever
+// the rules and tags: each value takes its vertex's masks (Hoppe 94's {5, 3} irregular crease edges included, which
+// run their edge's way), so the refined values are that function of the refined positions, at the limit too. Sharp
+// creases (irregular crease vertices under Hoppe 94) and semi-sharp ones with Chaikin, both rule sets, every mode
+// but linear, levels 1-3 (the last level's parent is not built from 2 on).
+TEST(FaceVaryingWithoutSeams, RefinesAsThePositions) {
+    auto uv_of = [](const float* p, int k) { return k == 0 ? p[0] + 0.3f * p[2] + 0.1f : p[1] - 0.2f * p[2]; };
+    for (bool semi_sharp : {false, true}) {
+        TestMesh mesh = icosphere(2);
+        jitter(mesh, 65, 0.01f);
+        add_random_creases(mesh, semi_sharp ? 66 : 65, 0.25, semi_sharp);
+        if (semi_sharp) mesh.crease_method = CreaseMethod::Chaikin;
+        std::vector<float> uvs(2 * std::size_t(mesh.num_vertices()));
+        for (int v = 0; v < mesh.num_vertices(); ++v)
+            for (int k = 0; k < 2; ++k) uvs[2 * v + k] = uv_of(&mesh.positions[3 * v], k);
+        const FaceVaryingLayer layer{mesh.triangles.data(), mesh.num_vertices()};
+        MeshView view = mesh.view();
+        view.face_varying = &layer;
+        view.num_face_varying = 1;
+        for (Rules rules : {Rules::Hoppe94, Rules::OpenSubdiv})
+            for (int m = 0; m < int(FaceVaryingInterpolation::All); ++m)
+                for (int levels = 1; levels <= 3; ++levels)
+                    for (bool limit : {false, true}) {
+                        Options options;
+                        options.rules = rules;
+                        options.crease_method = mesh.crease_method;
+                        options.levels = levels;
+                        options.face_varying = FaceVaryingInterpolation(m);
+                        options.limit_surface = limit;
+                        Plan plan(view, options);
+                        std::vector<float> positions(3 * std::size_t(plan.num_output_vertices()));
+                        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(positions.data(), 3));
+                        std::vector<float> values(2 * std::size_t(plan.num_output_face_varying_values(0)));
+                        plan.evaluate_face_varying(0, interleaved(uvs.data(), 2), interleaved(values.data(), 2));
+                        const std::int32_t* triangles = plan.output_triangles();
+                        const std::int32_t* value_of = plan.output_face_varying_indices(0);
+                        double worst = 0;
+                        for (std::size_t c = 0; c < 3 * std::size_t(plan.num_output_triangles()); ++c)
+                            for (int k = 0; k < 2; ++k)
+                                worst = std::max(worst, double(std::abs(values[2 * std::size_t(value_of[c]) + k] -
+                                                                        uv_of(&positions[3 * std::size_t(triangles[c])], k))));
+                        EXPECT_LT(worst, 2e-5) << (semi_sharp ? "semi-sharp" : "sharp") << " creases, rules "
+                                               << int(rules) << ", mode " << m << ", levels " << levels
+                                               << (limit ? ", limit" : "");
+                    }
     }
 }
 
