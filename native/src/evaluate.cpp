@@ -26,7 +26,7 @@ namespace {
 // shared machine, where another process holds a core up now and then, two-thread frames were 0-8 % faster (medians
 // of 300, interleaved with fixed halves in one process; 8 pieces: up to 21 % in a busy stretch, but slower when quiet).
 // The plan's passes keep fixed halves, as pieces made them no faster, but where two kinds of work share a step
-// (PlanImpl::fill_tables_from_parent).
+// (fill_tables_from_parent).
 constexpr int kPiecesPerThread = 4;
 
 // Floats per element in the scratch levels (see run_passes).

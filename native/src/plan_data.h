@@ -98,9 +98,6 @@ struct PlanImpl {
     detail::LevelState base_level(const MeshView& mesh);
     // Classifies level L's vertices and edges, fills its stencils, and returns the child level's sharpness.
     void plan_level(detail::LevelState& level, const detail::Topology& parent, detail::LevelState& child, int child_level);
-    // The stencil tables of a level that is not built (skip_level_before_last), from its parent's connectivity, and
-    // the faces of the last level after it (48 indices per parent face).
-    void fill_tables_from_parent(const detail::Topology& parent, detail::LevelStencils& s, Index* last_faces) const;
     void collect_output_tags(const detail::LevelState& last);
     // Leaves the descendants of hole triangles out of everything indexed by output triangle.
     void drop_holes();

@@ -72,7 +72,7 @@ struct LevelStencils {
     // Set on a level past the base whose tables are stored: its vertices from fan_first_midpoint on are the midpoints
     // of its parent's fan_midpoints edges (edge e's is fan_first_midpoint + e), its edges 2e and 2e + 1 the halves of
     // parent edge e, and a midpoint's ring is its edge's ends, then its halves' wings face by face (refine_topology,
-    // PlanImpl::fill_tables_from_parent): a kernel computes the midpoint and both halves from it (FanFn, kernels.h).
+    // fill_tables_from_parent): a kernel computes the midpoint and both halves from it (FanFn, kernels.h).
     int fan_first_midpoint = 0, fan_midpoints = 0;
 
     // Set for a level whose tables above are not stored (Options::level_tables = Derived: every level past the base):
@@ -93,6 +93,13 @@ struct LevelStencils {
         ends[0] = edge_ends[2 * std::size_t(e)], ends[1] = edge_ends[2 * std::size_t(e) + 1];
     }
 };
+
+// The stencil tables of a level that is not built (the level before the last: PlanImpl::skip_level_before_last, and
+// the face-varying layers' own), from its parent's connectivity, as refine_topology would have written them
+// (Refined::ForStencils) but in one pass and with its edges inside the parent's faces left to `interior`, whose faces
+// the caller hands over from the parent; and the faces of the last level after it (48 indices per parent face). The
+// parent must hold its edge faces and vertex edges. `s.num_vertices` is set; `threads` share the work.
+void fill_tables_from_parent(const Topology& parent, LevelStencils& s, std::int32_t* last_faces, int threads);
 
 // The index tables of one kernel run, as plain pointers: a stored level's own (bases 0), or a derived level's for a
 // chunk, filled just before the run. Vertex i's ring is ring[ring_offsets[i - vertex_base] ..

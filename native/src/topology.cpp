@@ -32,7 +32,7 @@ inline void face_wings(Index nv, const Index* fe, int local, bool a_first, Index
 
 // The ring of the midpoint of edge e: its ends, then per face of e the two midpoints it is joined to there, which are
 // the wings of e's halves in that face (face_wings: at a, then at b). The plan reads the level before the last's rings
-// back from its wing tables (PlanImpl::fill_tables_from_parent). Each returns the ring's next free entry.
+// back from its wing tables (fill_tables_from_parent). Each returns the ring's next free entry.
 inline Index* midpoint_ring_ends(const Topology& p, Index e, Index* ring) {
     ring[0] = p.edge_vertices[2 * e], ring[1] = p.edge_vertices[2 * e + 1];
     return ring + 2;
