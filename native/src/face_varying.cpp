@@ -36,7 +36,8 @@ SpecialVertex copy_of(Index x) { return {x, x, x, 1.0f, 0.0f, 0.0f, 0.0f}; }
 }  // namespace
 
 FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Options& options, const LevelState& base)
-    : options_(options) {
+    : options_(options),
+      skip_level_before_last_(options.levels >= 2 && !options.limit_surface && options.face_varying != Mode::All) {
     const FaceVaryingLayer& input = mesh.face_varying[layer];
     const std::string name = "face-varying layer " + std::to_string(layer);
     if (input.num_values < 0) fail(name + " has a negative number of values (" + std::to_string(input.num_values) + ")");
@@ -112,17 +113,24 @@ void FaceVaryingBuilder::inherit_mapping(const Topology& t) {
     split_ = std::move(split);
 }
 
+const std::vector<Index>& FaceVaryingBuilder::edges_at(Index x) const {
+    layer().edges(x, edges_at_value_);
+    return edges_at_value_;
+}
+
 void FaceVaryingBuilder::inner_edges(Index x, std::vector<Index>& edges) const {
+    const VertexNeighbourhood layer = this->layer();
     edges.clear();
-    for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
-        if (values_.edge_face_count(values_.vertex_edges[k]) == 2) edges.push_back(edge_of_[values_.vertex_edges[k]]);
+    for (Index e : edges_at(x))
+        if (layer.edge_face_count(e) == 2) edges.push_back(edge_of_[e]);
 }
 
 bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2]) const {
+    const VertexNeighbourhood layer = this->layer();
     int found = 0;
-    for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
-        if (values_.edge_face_count(values_.vertex_edges[k]) != 1) continue;
-        if (found < 2) ends[found] = values_.vertex_vertices[k];
+    for (Index e : edges_at(x)) {
+        if (layer.edge_face_count(e) != 1) continue;
+        if (found < 2) ends[found] = layer.other_end(e, x);
         ++found;
     }
     return found == 2;
@@ -135,8 +143,11 @@ SpecialVertex FaceVaryingBuilder::on_layer(Index x, const SpecialVertex& m) cons
 }
 
 Index FaceVaryingBuilder::neighbour_at_vertex(Index x, Index vertex) const {
-    for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
-        if (vertex_of_[values_.vertex_vertices[k]] == vertex) return values_.vertex_vertices[k];
+    const VertexNeighbourhood layer = this->layer();
+    for (Index e : edges_at(x)) {
+        const Index other = layer.other_end(e, x);
+        if (vertex_of_[other] == vertex) return other;
+    }
     return -1;
 }
 
@@ -185,8 +196,7 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
         for (int i = 0; i < n; ++i) {
             const Index x = values[i];
             Span& span = spans[i];
-            for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k)
-                span.faces += values_.edge_face_count(values_.vertex_edges[k]);
+            for (Index e : edges_at(x)) span.faces += values_.edge_face_count(e);
             span.faces /= 2;
             inner_edges(x, inner);
             for (Index e : inner) {
@@ -220,11 +230,13 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     const Topology& t = level.topology;
     const VertexNeighbourhood vertex_level(t, level_parent);
     const Mode mode = options_.face_varying;
-    const int nx = values_.num_vertices, ne = values_.num_edges();
+    const VertexNeighbourhood layer = this->layer();
+    const int nx = values_.num_vertices, ne = layer.num_edges();
+    const bool child_not_built = skip_level_before_last_ && int(plan_.passes.size()) + 2 == options_.levels;
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
     s.num_edges = ne;
-    set_smooth_masks(s, values_.max_valence, smooth_vertex_mask);
+    set_smooth_masks(s, layer.max_valence(), smooth_vertex_mask);
 
     // The children's tags: a vertex's child keeps its parent's, except that semi-sharp values turn into creases as
     // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
@@ -238,8 +250,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         if (n == 0 || !tags_[values[0]].mismatch) continue;
         around.clear();
         for (int i = 0; i < n; ++i)
-            for (Index k = values_.vertex_edge_offsets[values[i]]; k < values_.vertex_edge_offsets[values[i] + 1]; ++k)
-                around.push_back(edge_of_[values_.vertex_edges[k]]);
+            for (Index e : edges_at(values[i])) around.push_back(edge_of_[e]);
         const bool parent_semi = is_semi_sharp(level.vertex_sharpness(v)) ||
                                  std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
         if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
@@ -311,9 +322,10 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         }
         const SpecialEdge* m = find_special(vertex_stencils.special_edges, edge, [](const SpecialEdge& se) { return se.edge; });
         if (!m) continue;
-        Index ends[2];
+        Index ends[2], layer_ends[2];
         vertex_level.edge_ends(edge, ends);
-        const bool same_way = vertex_of_[values_.edge_vertices[2 * e]] == ends[0];
+        layer.edge_ends(e, layer_ends);
+        const bool same_way = vertex_of_[layer_ends[0]] == ends[0];
         s.special_edges.push_back({e, same_way ? m->wa : m->wb, same_way ? m->wb : m->wa, m->wcd});
     }
 
@@ -327,14 +339,31 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
             tag.crease = !linear_boundaries(mode);
         }
     }
-    const bool planned_further = !last || options_.limit_surface;
-    Topology child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
-    if (planned_further) inherit_mapping(t);  // a level planned further was built
-    s.ring_offsets = std::move(values_.vertex_edge_offsets);
-    s.ring = std::move(values_.vertex_vertices);
-    s.edge_ends = std::move(values_.edge_vertices);
-    s.edge_c = std::move(values_.edge_opposite_c);
-    s.edge_d = std::move(values_.edge_opposite_d);
+    Topology child_values;
+    if (!values_built_) {
+        // The level before the last: its tables from its parent, and the last level's faces with them.
+        child_values.num_vertices = nx + ne;
+        child_values.face_vertices.resize(48 * std::size_t(parent_values_.num_faces()));
+        fill_tables_from_parent(parent_values_, s, child_values.face_vertices.data(), options_.threads);
+        s.fan_first_midpoint = parent_values_.num_vertices;
+        s.fan_midpoints = parent_values_.num_edges();
+        s.interior->face_vertices = std::move(parent_values_.face_vertices);
+        s.interior->face_edges = std::move(parent_values_.face_edges);
+        parent_values_ = Topology();
+    } else {
+        const bool planned_further = !last || options_.limit_surface;
+        if (child_not_built) child_values.num_vertices = nx + ne;
+        else child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
+        if (planned_further) inherit_mapping(t);
+        // A child not built is read through this level: it keeps its offsets and edges (copies to the tables).
+        if (child_not_built) s.ring_offsets = values_.vertex_edge_offsets, s.edge_ends = values_.edge_vertices;
+        else s.ring_offsets = std::move(values_.vertex_edge_offsets), s.edge_ends = std::move(values_.edge_vertices);
+        s.ring = std::move(values_.vertex_vertices);
+        s.edge_c = std::move(values_.edge_opposite_c);
+        s.edge_d = std::move(values_.edge_opposite_d);
+        if (child_not_built) parent_values_ = std::move(values_);
+    }
+    values_built_ = !child_not_built;
     values_ = std::move(child_values);
     tags_ = std::move(child_tags);
     plan_.counts.push_back(values_.num_vertices);

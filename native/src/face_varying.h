@@ -3,8 +3,9 @@
 //
 // A layer is refined as a mesh of its own: one vertex per (vertex, value) pair, the triangles as the input's, so
 // that a seam is a boundary of this mesh and each side refines from its own values with the same Loop split and
-// numbering (refine_topology). Face f of the layer is face f of the vertex mesh at every level, which maps each value
-// to its vertex and each layer edge to its edge through the corners. The masks then come from two sources:
+// numbering (refine_topology; its level before the last, as the vertex mesh's, is not built but filled from its
+// parent). Face f of the layer is face f of the vertex mesh at every level, which maps each value to its vertex and
+// each layer edge to its edge through the corners. The masks then come from two sources:
 //   * a value whose vertex has no seam ("matching") takes the vertex's own mask from the vertex plan, its
 //     neighbours read through the layer: creases, semi-sharp blends, Hoppe 94's classes all carry over;
 //   * values on a seam follow Options::face_varying: corners stay, the rest runs along the seam as a uniform cubic
@@ -53,6 +54,10 @@ private:
     // The child level's, from this level's through refine_topology's numbering (`t`: this level's vertex mesh).
     void inherit_mapping(const Topology& t);
     void classify_base(const LevelState& base);
+    // The layer's current level as the queries below read it: its own arrays, or its parent's where it is not built.
+    VertexNeighbourhood layer() const { return VertexNeighbourhood(values_, values_built_ ? nullptr : &parent_values_); }
+    // The layer edges at value x, into edges_at_value_.
+    const std::vector<Index>& edges_at(Index x) const;
     // The layer edges at value x with two faces in the layer (inside its span) and their vertex-mesh edges.
     void inner_edges(Index x, std::vector<Index>& edges) const;
     // The far ends of the layer's boundary edges at x (its seam neighbours); false unless there are exactly two.
@@ -64,6 +69,12 @@ private:
     Options options_;
     FaceVaryingPlan plan_;
     Topology values_;                  // the layer's mesh on the current level
+    // The level before the last is not built where the vertex plan builds none (no limit surface) and the layer is not
+    // linear (whose edges inside faces are special): its tables are filled from its parent, kept here meanwhile.
+    bool skip_level_before_last_ = false;
+    bool values_built_ = true;
+    Topology parent_values_;
+    mutable std::vector<Index> edges_at_value_;
     std::vector<Tag> tags_;            // per value
     std::vector<Index> vertex_of_;     // per value: its vertex
     std::vector<Index> edge_of_;       // per layer edge: its vertex-mesh edge

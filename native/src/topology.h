@@ -118,8 +118,9 @@ private:
     const Topology* base_;
 };
 
-// A child level known through its parent's numbering instead of stored: the level before the last, when nothing but
-// vertex values are refined, whose tables are filled from its parent (fill_tables_from_parent), and with
+// A child level known through its parent's numbering instead of stored: the level before the last without the limit
+// surface (the vertex mesh's, and a face-varying layer's), whose tables are filled from its parent
+// (fill_tables_from_parent), and with
 // derived tables every level past the base (LevelStencils::derived_from), whose tables are derived a chunk at a time
 // as the kernels run; exactly as refine_topology would have written them. The parent must hold its edge faces and
 // vertex edges (Refined::Full, or the base).
