@@ -25,10 +25,13 @@ void group_by_vertex(const std::vector<Index>& vertex_of, int num_vertices, std:
     for (std::size_t x = 0; x < vertex_of.size(); ++x) values[cursor[vertex_of[x]]++] = Index(x);
 }
 
+// Each target's special mask among `specials` (sorted by target), or null, as a table: one pass over the list, then
+// a load per value or edge (a binary search per value and per edge was a third of a creased plan with a UV layer).
 template <typename Special, typename Key>
-const Special* find_special(const std::vector<Special>& specials, Index target, Key key) {
-    const auto found = std::lower_bound(specials.begin(), specials.end(), target, [&](const Special& s, Index t) { return key(s) < t; });
-    return found != specials.end() && key(*found) == target ? &*found : nullptr;
+std::vector<const Special*> specials_by_target(const std::vector<Special>& specials, int targets, Key key) {
+    std::vector<const Special*> table(std::size_t(targets), nullptr);
+    for (const Special& special : specials) table[std::size_t(key(special))] = &special;
+    return table;
 }
 
 SpecialVertex copy_of(Index x) { return {x, x, x, 1.0f, 0.0f, 0.0f, 0.0f}; }
@@ -276,12 +279,14 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     }
 
     // Value points.
+    const auto special_vertex = specials_by_target(vertex_stencils.special_vertices, vertex_stencils.num_vertices,
+                                                   [](const SpecialVertex& sv) { return sv.vertex; });
     std::vector<float> parent_edges, child_edges;
     for (Index x = 0; x < nx; ++x) {
         const Tag& tag = tags_[x];
         const Index v = vertex_of_[x];
         if (!tag.mismatch) {
-            const SpecialVertex* m = find_special(vertex_stencils.special_vertices, v, [](const SpecialVertex& sv) { return sv.vertex; });
+            const SpecialVertex* m = special_vertex[v];
             if (m) s.special_vertices.push_back(on_layer(x, *m));  // else the smooth mask, by the same valence
             continue;
         }
@@ -314,13 +319,15 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     }
 
     // Edge points: midpoints along seams, the edge's own mask elsewhere.
+    const auto special_edge = specials_by_target(vertex_stencils.special_edges, vertex_stencils.num_edges,
+                                                 [](const SpecialEdge& se) { return se.edge; });
     for (Index e = 0; e < ne; ++e) {
         const Index edge = edge_of_[e];
         if (split_[edge] || mode == Mode::All) {
             s.special_edges.push_back({e, 0.5f, 0.5f, 0.0f});
             continue;
         }
-        const SpecialEdge* m = find_special(vertex_stencils.special_edges, edge, [](const SpecialEdge& se) { return se.edge; });
+        const SpecialEdge* m = special_edge[edge];
         if (!m) continue;
         Index ends[2], layer_ends[2];
         vertex_level.edge_ends(edge, ends);
@@ -379,6 +386,8 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
     // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
     // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
     const LimitMask crease = crease_limit_mask();
+    const auto special_vertex = specials_by_target(vertex_limit.special_vertices, vertex_limit.num_vertices,
+                                                   [](const SpecialVertex& sv) { return sv.vertex; });
     for (Index x = 0; x < nx; ++x) {
         const Tag& tag = tags_[x];
         Index ends[2];
@@ -386,7 +395,7 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
             s.special_vertices.push_back(copy_of(x));
         } else if (tag.mismatch) {
             s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
-        } else if (const SpecialVertex* m = find_special(vertex_limit.special_vertices, vertex_of_[x], [](const SpecialVertex& sv) { return sv.vertex; })) {
+        } else if (const SpecialVertex* m = special_vertex[vertex_of_[x]]) {
             s.special_vertices.push_back(on_layer(x, *m));
         }
     }
