@@ -1,17 +1,18 @@
 """Loop Subdivision against Blender's Subdivision Surface in one Blender run: Apply, edits of every cage vertex, and
 animation playback. Prints medians; run with scripts/bench_blender.sh (or blender -b --factory-startup --python this
--- --addon-dir addon [--repeat N]).
+-- --addon-dir addon [--repeat N] [--only NAME]).
 
 - Apply: the add-on's operator vs Blender's modifier_apply of Subdivision Surface (Catmull-Clark of the same
   triangles), each with its default, the limit surface on (the add-on then also writes the limit normals as custom
   split normals), and with the limit surface off (refinement only), on a 200x200 grid (80,000 triangles) at level 2
-  and a 20,480-triangle icosphere at level 3; times per output vertex too, since Catmull-Clark of triangles makes more
-  vertices than Loop. Ratios compare like with like (limit on with limit on).
+  and a 20,480-triangle icosphere at level 3, without and with a UV map (Blender's icosphere unwrap, seams
+  included); times per output vertex too, since Catmull-Clark of triangles makes more vertices than Loop. Ratios
+  compare like with like (limit on with limit on).
 - Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
   100,352-triangle grid at level 1, limit surface on (both defaults) and off.
 - Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2, stepping frames, limit surface
-  on and off; and of a Wave-deformed box of 20,172 triangles with its 12 edges creased (limit on), where the limit
-  normals split along the creases.
+  on and off, and with a UV map; and of a Wave-deformed box of 20,172 triangles with its 12 edges creased (limit
+  on), where the limit normals split along the creases.
 
 Edits and playback are the viewport's: with the limit surface, the add-on's result then shades with Blender's normals,
 split where the limit normals split, and gets the limit normals themselves only once it is still (a timer in the
@@ -33,6 +34,7 @@ import blender_test_support as support  # noqa: E402  (mesh and add-on helpers s
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()
 parser.add_argument("--repeat", type=int, default=5)
+parser.add_argument("--only", default="", help="run only the rows whose mesh name contains this")
 args, _ = parser.parse_known_args(argv)
 addon = support.load_addon()
 
@@ -54,8 +56,12 @@ def grid(cuts):
     return lambda bm: bmesh.ops.create_grid(bm, x_segments=cuts, y_segments=cuts, size=1.0)
 
 
-def icosphere(subdivisions):
-    return lambda bm: bmesh.ops.create_icosphere(bm, subdivisions=subdivisions, radius=1.0)
+def icosphere(subdivisions, uvs=False):
+    def build(bm):
+        if uvs:
+            bm.loops.layers.uv.new("UVMap")
+        bmesh.ops.create_icosphere(bm, subdivisions=subdivisions, radius=1.0, calc_uvs=uvs)
+    return build
 
 
 def creased_box(cuts):
@@ -183,10 +189,17 @@ def playback_rows(name, build, levels, frames=24, use_limit_surface=True):
 
 clear()
 print(f"Blender {bpy.app.version_string}, medians of {args.repeat}")
-apply_rows("grid 200x200 (80,000 tris)", grid(200), 2)
-apply_rows("icosphere (20,480 tris)", icosphere(5), 3)
-edit_rows("grid 224x224 (100,352 tris)", grid(224), 1)
-edit_rows("grid 224x224 (100,352 tris)", grid(224), 1, use_limit_surface=False)
-playback_rows("icosphere (20,480 tris)", icosphere(5), 2)
-playback_rows("icosphere (20,480 tris)", icosphere(5), 2, use_limit_surface=False)
-playback_rows("creased box (20,172 tris)", creased_box(40), 2)
+rows = [
+    (apply_rows, "grid 200x200 (80,000 tris)", grid(200), 2, {}),
+    (apply_rows, "icosphere (20,480 tris)", icosphere(5), 3, {}),
+    (apply_rows, "icosphere with UVs (20,480 tris)", icosphere(5, uvs=True), 3, {}),
+    (edit_rows, "grid 224x224 (100,352 tris)", grid(224), 1, {}),
+    (edit_rows, "grid 224x224 (100,352 tris)", grid(224), 1, {"use_limit_surface": False}),
+    (playback_rows, "icosphere (20,480 tris)", icosphere(5), 2, {}),
+    (playback_rows, "icosphere (20,480 tris)", icosphere(5), 2, {"use_limit_surface": False}),
+    (playback_rows, "icosphere with UVs (20,480 tris)", icosphere(5, uvs=True), 2, {}),
+    (playback_rows, "creased box (20,172 tris)", creased_box(40), 2, {}),
+]
+for row, name, build, levels, keywords in rows:
+    if args.only in name:
+        row(name, build, levels, **keywords)
