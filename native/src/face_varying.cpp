@@ -248,7 +248,11 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
 
     // The children's tags: a vertex's child keeps its parent's, except that semi-sharp values turn into creases as
     // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
-    std::vector<Tag> child_tags = tags_;
+    // Tags of the edges' children too only when a level is planned on this one's children.
+    const bool planned_further = !last || options_.limit_surface;
+    std::vector<Tag> child_tags;
+    child_tags.reserve(std::size_t(nx) + (planned_further ? ne : 0));
+    child_tags.assign(tags_.begin(), tags_.end());
     std::vector<Index> offsets, at_vertex, inner, around;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex);
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
@@ -323,13 +327,16 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         s.special_vertices.push_back({x, ends[0], ends[1], float(vertex_weight), 0.0f, float(end_weight), float(end_weight)});
     }
 
-    // Edge points: midpoints along seams, the edge's own mask elsewhere.
+    // Edge points: midpoints along seams, the edge's own mask elsewhere. Their children on a seam follow it (smooth
+    // modes) or stay (linear boundaries); the rest match.
     const auto special_edge = specials_by_target(vertex_stencils.special_edges, vertex_stencils.num_edges,
                                                  [](const SpecialEdge& se) { return se.edge; });
+    if (planned_further) child_tags.resize(std::size_t(nx) + ne);
     for (Index e = 0; e < ne; ++e) {
         const Index edge = edge_of_[e];
         if (split_[edge] || mode == Mode::All) {
             s.special_edges.push_back({e, 0.5f, 0.5f, 0.0f});
+            if (planned_further) child_tags[std::size_t(nx) + e] = {true, !linear_boundaries(mode)};
             continue;
         }
         const SpecialEdge* m = special_edge[edge];
@@ -341,16 +348,6 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         s.special_edges.push_back({e, same_way ? m->wa : m->wb, same_way ? m->wb : m->wa, m->wcd});
     }
 
-    // Edge children on a seam follow it (smooth modes) or stay (linear boundaries); the rest match.
-    child_tags.resize(std::size_t(nx) + ne);
-    for (Index e = 0; e < ne; ++e) {
-        Tag& tag = child_tags[nx + e];
-        tag = Tag{};
-        if (split_[edge_of_[e]] || mode == Mode::All) {
-            tag.mismatch = true;
-            tag.crease = !linear_boundaries(mode);
-        }
-    }
     Topology child_values;
     if (!values_built_) {
         // The level before the last: its tables from its parent, and the last level's faces with them.
@@ -363,7 +360,6 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         s.interior->face_edges = std::move(parent_values_.face_edges);
         parent_values_ = Topology();
     } else {
-        const bool planned_further = !last || options_.limit_surface;
         if (child_not_built) child_values.num_vertices = nx + ne;
         else child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
         if (planned_further) inherit_mapping(t);

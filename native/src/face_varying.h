@@ -75,6 +75,7 @@ private:
     bool values_built_ = true;
     Topology parent_values_;
     mutable std::vector<Index> edges_at_value_;
+    // Up to date for the levels still to be planned (after the last level without a limit surface: partial, stale):
     std::vector<Tag> tags_;            // per value
     std::vector<Index> vertex_of_;     // per value: its vertex
     std::vector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
