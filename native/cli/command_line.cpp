@@ -31,7 +31,7 @@ const char* const kUsage =
     "  --uv-interpolation MODE       none|corners|corners-plus1|corners-plus2|boundaries|all: where UVs stay\n"
     "                                linear (default: the file's facevaryinginterpolateboundary tag, else\n"
     "                                corners, as OpenSubdiv)\n"
-    "  --threads N                   worker threads, N >= 1 (default 1)\n"
+    "  --threads N                   worker threads, 1 to 256 (default 1)\n"
     "  --scalar                      force the scalar reference kernel instead of SIMD\n"
     "  --memory-limit-mb N           refuse a refinement that would need more than N MiB (default 4096)\n"
     "  --stats                       print one line of timings and counts on stdout\n"
@@ -92,7 +92,7 @@ Command parse_command_line(int argc, char** argv) {
             no_value();
             command.help = true;
         } else if (arg == "--levels") {
-            command.options.levels = int(parse_integer(arg, value(), 0, INT32_MAX));
+            command.options.levels = int(parse_integer(arg, value(), 0, loopsub::kMaxLevels));
             levels_given = true;
         } else if (arg == "--rules") {
             std::string rules = value();
@@ -123,7 +123,7 @@ Command parse_command_line(int argc, char** argv) {
             else if (method == "chaikin") command.crease_method = CreaseMethod::Chaikin;
             else throw UsageError("--crease-method expects uniform or chaikin, got '" + method + "'");
         } else if (arg == "--threads") {
-            command.options.threads = int(parse_integer(arg, value(), 1, 256));
+            command.options.threads = int(parse_integer(arg, value(), 1, loopsub::kMaxThreads));
         } else if (arg == "--scalar") {
             no_value();
             command.options.kernel = Kernel::Scalar;

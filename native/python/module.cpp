@@ -209,9 +209,8 @@ struct OptionArgs {
 };
 
 void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int levels, const OptionArgs& o) {
-    if (levels < 0) throw py::value_error("levels must be >= 0, got " + std::to_string(levels));
+    // levels and threads are checked by the core, before it starts a thread.
     if (num_vertices < 0) throw py::value_error("num_vertices must be >= 0, got " + std::to_string(num_vertices));
-    if (o.threads < 1) throw py::value_error("threads must be >= 1, got " + std::to_string(o.threads));
     if (o.memory_limit_bytes < 0)
         throw py::value_error("memory_limit_bytes must be >= 0, got " + std::to_string(o.memory_limit_bytes));
     if (!std::isfinite(o.crease_threshold))
@@ -409,10 +408,23 @@ py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handl
     return py::make_tuple(result, normals);
 }
 
-py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
-    if (layer < 0 || layer >= int(p.layer_values.size()))
-        throw py::value_error("layer " + std::to_string(layer) + " is not a face-varying layer of this Plan (it has " +
+// A face-varying layer's index as the caller gave it: any integer (numpy's too; a huge one is out of range, not a
+// failed conversion), checked against the plan's layers.
+int layer_index(const PyPlan& p, py::handle layer) {
+    const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(layer.ptr()));
+    if (!index) {
+        PyErr_Clear();
+        throw py::type_error("layer must be an integer, got " + std::string(py::str(py::type::handle_of(layer).attr("__name__"))));
+    }
+    int overflow = 0;
+    const long long k = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+    if (overflow != 0 || k < 0 || k >= static_cast<long long>(p.layer_values.size()))
+        throw py::value_error("layer " + std::string(py::str(index)) + " is not a face-varying layer of this Plan (it has " +
                               std::to_string(p.layer_values.size()) + ")");
+    return int(k);
+}
+
+py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
     auto [in, channels] = read_vertex_values(values, "values", p.layer_values[layer]);
     std::vector<Dim> dims{{p.plan.num_output_face_varying_values(layer), "V_out"}};
     if (in.ndim() == 2) dims.push_back({channels, "C"});
@@ -430,7 +442,7 @@ py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out
 
 py::array evaluate_face_varying(py::object self, py::handle values, py::handle out, py::object layer) {
     PyPlan& p = self.cast<PyPlan&>();
-    if (!layer.is_none()) return evaluate_layer(p, layer.cast<int>(), values, out);
+    if (!layer.is_none()) return evaluate_layer(p, layer_index(p, layer), values, out);
     auto [in, channels] = read_corner_values(values, "values", p.num_input_triangles);
     std::vector<Dim> dims{{p.plan.num_output_triangles(), "T_out"}, {3, "3"}};
     if (in.ndim() == 3) dims.push_back({channels, "C"});
@@ -860,11 +872,9 @@ PYBIND11_MODULE(_loopsub, m) {
              py::arg("out") = py::none(), py::kw_only(), py::arg("layer") = py::none())
         .def(
             "face_varying_indices",
-            [](py::object self, int layer) {
+            [](py::object self, py::handle layer_arg) {
                 PyPlan& p = self.cast<PyPlan&>();
-                if (layer < 0 || layer >= int(p.layer_values.size()))
-                    throw py::value_error("layer " + std::to_string(layer) + " is not a face-varying layer of this Plan (it has " +
-                                          std::to_string(p.layer_values.size()) + ")");
+                const int layer = layer_index(p, layer_arg);
                 return plan_view(p.plan.output_face_varying_indices(layer), {p.plan.num_output_triangles(), 3}, self);
             },
             py::arg("layer"),

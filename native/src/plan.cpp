@@ -390,8 +390,9 @@ void hand_over_edges_and_offsets(Topology& level, detail::LevelStencils& s) {
 
 void PlanImpl::build(const MeshView& mesh) {
     const auto start = detail::Clock::now();
+    detail::validate_options(options);  // first: the team below starts `threads` threads
     const detail::TeamScope team(options.threads);  // a kept team, or one whose threads start while the base level is built
-    detail::validate_mesh(mesh, options);
+    detail::validate_mesh(mesh);
     rules = detail::make_rule_set(options);
     kernel = detail::resolve_kernel(options.kernel);
     num_input_vertices = mesh.num_vertices;

@@ -14,11 +14,16 @@ bool finite_non_negative(float value) { return std::isfinite(value) && value >= 
 
 }  // namespace
 
-void validate_mesh(const MeshView& mesh, const Options& options) {
-    if (options.levels < 0) fail("levels must be >= 0, got " + std::to_string(options.levels));
-    if (options.threads < 1) fail("threads must be >= 1, got " + std::to_string(options.threads));
+void validate_options(const Options& options) {
+    if (options.levels < 0 || options.levels > kMaxLevels)
+        fail("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " + std::to_string(options.levels));
+    if (options.threads < 1 || options.threads > kMaxThreads)
+        fail("threads must be between 1 and " + std::to_string(kMaxThreads) + ", got " + std::to_string(options.threads));
     if (!finite_non_negative(options.crease_threshold))
         fail("crease threshold must be a finite number >= 0, got " + std::to_string(options.crease_threshold));
+}
+
+void validate_mesh(const MeshView& mesh) {
     if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || mesh.num_crease_edges < 0 || mesh.num_corners < 0 || mesh.num_cones < 0 ||
         mesh.num_face_varying < 0 || mesh.num_holes < 0)
         fail("negative element count");

@@ -8,7 +8,8 @@
 
 namespace loopsub::detail {
 
-void validate_mesh(const MeshView& mesh, const Options& options);
+void validate_options(const Options& options);  // levels, threads, crease threshold
+void validate_mesh(const MeshView& mesh);
 
 // Per-vertex values (or a face-varying layer's, element "face-varying value"): finite, and within +-largest (the
 // bound that keeps a kernel's sums finite).

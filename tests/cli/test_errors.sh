@@ -11,6 +11,8 @@ expect_stderr "loopsub: error: unknown option '--frobnicate'"
 expect_stderr "usage: loopsub IN.obj OUT.obj --levels N"
 run_cli 2 "$good" "$out" --levels -1
 expect_stderr "loopsub: error: --levels must be >= 0, got -1"
+run_cli 2 "$good" "$out" --levels 65
+expect_stderr "loopsub: error: --levels must be <= 64, got 65"
 run_cli 2 "$good" "$out" --levels two
 expect_stderr "loopsub: error: --levels expects an integer, got 'two'"
 run_cli 2 "$good" "$out" --levels 1.5
@@ -21,6 +23,8 @@ run_cli 2 "$good" "$out" --levels 1 --crease-threshold -1
 expect_stderr "--crease-threshold must be >= 0"
 run_cli 2 "$good" "$out" --levels 1 --threads 0
 expect_stderr "--threads must be >= 1"
+run_cli 2 "$good" "$out" --levels 1 --threads 257
+expect_stderr "--threads must be <= 256, got 257"
 run_cli 2 "$good" "$out" --levels 1 --rules catmull
 expect_stderr "--rules expects hoppe94 or opensubdiv, got 'catmull'"
 run_cli 2 "$good" "$out" --levels 1 --boundary sideways

@@ -263,9 +263,12 @@ TEST(BadInput, BadOptions) {
     for (Rules rules : kBothRules) {
         Tetrahedron mesh;
         expect_plan_error(mesh.view(), options_for(rules, -1), {"levels", "-1"});
+        expect_plan_error(mesh.view(), options_for(rules, loopsub::kMaxLevels + 1), {"levels must be between 0 and 64", "65"});
         loopsub::Options options = options_for(rules);
-        options.threads = 0;
-        expect_plan_error(mesh.view(), options, {"threads"});
+        for (int threads : {0, -1, loopsub::kMaxThreads + 1, std::numeric_limits<int>::max()}) {
+            options.threads = threads;
+            expect_plan_error(mesh.view(), options, {"threads", std::to_string(threads)});
+        }
         for (float bad : {-0.5f, std::numeric_limits<float>::quiet_NaN()}) {
             options = options_for(rules);
             options.crease_threshold = bad;
@@ -320,7 +323,7 @@ TEST(BadInput, LevelPastTheMemoryLimit) {
 
 // Beyond ~31 levels 4^L triangles no longer fit in 64 bits: the check must not wrap around.
 TEST(BadInput, LevelFarPastTheMemoryLimit) {
-    for (int levels : {20, 31, 32, 40, 100}) expect_memory_error(levels, loopsub::Options().memory_limit_bytes);
+    for (int levels : {20, 31, 32, 40, loopsub::kMaxLevels}) expect_memory_error(levels, loopsub::Options().memory_limit_bytes);
 }
 
 TEST(BadInput, WrongChannelCount) {

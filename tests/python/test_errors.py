@@ -235,6 +235,8 @@ def test_negative_levels(mesh, levels):
     (dict(uv_interpolation="linear"), "uv_interpolation"),
     (dict(crease_method="linear"), "crease_method"),
     (dict(threads=0), "threads"),
+    (dict(threads=257), "threads must be between 1 and 256, got 257"),  # not 257 threads started
+    (dict(threads=2**31 - 1), "threads must be between 1 and 256"),
     (dict(memory_limit_bytes=-1), "memory_limit_bytes"),
     (dict(crease_threshold=float("nan")), "crease_threshold"),
     (dict(crease_sharpness=np.ones(1, np.float32)), "without crease_edges"),
@@ -270,7 +272,7 @@ def test_memory_limit_raises_memory_error_with_the_size(mesh):
         _loopsub.Plan(t, 4, 6, memory_limit_bytes=required - 1)
 
 
-@pytest.mark.parametrize("levels", [14, 20, 31, 40, 1000])
+@pytest.mark.parametrize("levels", [14, 20, 31, 40, 64])
 def test_absurd_levels_hit_the_default_limit(mesh, levels):
     """4 * 4**levels triangles would overflow any counter: the estimate must say no, not wrap around."""
     p, t = mesh
@@ -280,13 +282,26 @@ def test_absurd_levels_hit_the_default_limit(mesh, levels):
     still_works()
 
 
-# Runs in a child process capped at 2 GiB of address space: if the size check is wrong, the core's allocations
-# fail there (std::bad_alloc, a MemoryError *without* required_bytes) instead of exhausting the shared machine.
+@pytest.mark.parametrize("triangles", [np.zeros((0, 3), np.int32), tetrahedron()[1]])
+@pytest.mark.parametrize("levels", [65, 1000])
+def test_levels_past_64_are_refused(triangles, levels):
+    """A mesh without triangles refines to itself at any level, but each level is a record of the plan: 2**31 - 1
+    of them took all of the machine's memory before this check (found by test_hostile_arguments)."""
+    with pytest.raises(ValueError, match=f"levels must be between 0 and 64, got {levels}"):
+        _loopsub.Plan(triangles, 4, levels)
+    with pytest.raises(ValueError, match="levels must be between 0 and 64"):
+        _loopsub.subdivide(np.zeros((4, 3), np.float32), triangles, levels)
+
+
+# Runs in a child process capped at 2 GiB of address space (under the sanitizer, whose shadow memory needs terabytes
+# of it, at 2 GiB per allocation instead): if the size check is wrong, the core's allocations fail there
+# (std::bad_alloc, a MemoryError *without* required_bytes) instead of exhausting the shared machine.
 _HUGE_LEVELS_CHILD = textwrap.dedent("""
-    import resource, sys
+    import os, resource, sys
     import numpy as np
     import _loopsub
-    resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+    if "asan" not in os.environ.get("LD_PRELOAD", ""):
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
     t = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]], np.int32)
     try:
         _loopsub.Plan(t, 4, int(sys.argv[1]), memory_limit_bytes=2**63 - 1)
@@ -305,7 +320,32 @@ _HUGE_LEVELS_CHILD = textwrap.dedent("""
 def test_absurd_levels_are_refused_even_with_no_memory_limit(levels):
     """With the limit out of the way the count check must still refuse, before allocating anything."""
     env = dict(os.environ, PYTHONPATH=os.path.dirname(_loopsub.__file__))
+    env["ASAN_OPTIONS"] = env.get("ASAN_OPTIONS", "") + ":max_allocation_size_mb=2048:allocator_may_return_null=1"
     child = subprocess.run([sys.executable, "-c", _HUGE_LEVELS_CHILD, str(levels)], env=env, capture_output=True,
                            text=True, timeout=120)
     assert child.returncode == 0, child.stderr
     assert child.stdout.strip() == "required_bytes"
+
+
+@pytest.mark.parametrize("layer", [-1, 1, 2**40, -(2**70), np.int64(5)])
+def test_layer_out_of_range(mesh, layer):
+    p, t = mesh
+    plan = _loopsub.Plan(t, 4, 1, face_varying_indices=[np.arange(12, dtype=np.int32).reshape(4, 3)])
+    values = np.zeros((12, 2), np.float32)
+    with pytest.raises(ValueError, match=f"layer {int(layer)} is not a face-varying layer of this Plan \\(it has 1\\)"):
+        plan.evaluate_face_varying(values, layer=layer)
+    with pytest.raises(ValueError, match=f"layer {int(layer)} is not"):
+        plan.face_varying_indices(layer)
+    # A numpy integer is an index like any other.
+    np.testing.assert_array_equal(plan.evaluate_face_varying(values, layer=np.int32(0)),
+                                  plan.evaluate_face_varying(values, layer=0))
+
+
+@pytest.mark.parametrize("layer", ["0", 0.5, [0]])
+def test_layer_not_an_integer(mesh, layer):
+    _, t = mesh
+    plan = _loopsub.Plan(t, 4, 1, face_varying_indices=[np.arange(12, dtype=np.int32).reshape(4, 3)])
+    with pytest.raises(TypeError, match="layer must be an integer, got (str|float|list)"):
+        plan.evaluate_face_varying(np.zeros((12, 2), np.float32), layer=layer)
+    with pytest.raises(TypeError, match="layer must be an integer"):
+        plan.face_varying_indices(layer)

@@ -80,6 +80,12 @@ enum class LevelTables {
 };
 
 inline constexpr float kInfiniteSharpness = 10.0f;  // Sdc::Crease::SHARPNESS_INFINITE
+// Options::threads above this is refused: each thread is a real one, and a count meant as "all you have" (or a typo)
+// must not try to start millions of them.
+inline constexpr int kMaxThreads = 256;
+// Options::levels above this is refused. Level 16 of a single triangle is already past 32-bit indices (refused as
+// memory), but a mesh without triangles refines to itself at any level, and each level is still a plan record.
+inline constexpr int kMaxLevels = 64;
 
 struct Options {
     Rules rules = Rules::Hoppe94;
@@ -94,8 +100,9 @@ struct Options {
     // and can write the limit normals too. OpenSubdiv: Far::PrimvarRefiner::Limit. Hoppe94: the limits of its own
     // masks (docs/python.md, "The limit surface").
     bool limit_surface = false;
-    // 1 or 2 (more are accepted and used, but the machines this targets have 2 cores). From 2, the process keeps the
-    // extra threads between calls (awake for 1 ms after each, then asleep), so that frames back to back start none.
+    // 1 or 2 (up to kMaxThreads are accepted and used, but the machines this targets have 2 cores). From 2, the process
+    // keeps the extra threads between calls (awake for 1 ms after each, then asleep), so that frames back to back start
+    // none.
     int threads = 1;
     LevelTables level_tables = LevelTables::Auto;
     // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
