@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Sets up (installs and builds) if needed, then runs every test through one ctest run, which ends with ctest's summary:
 # native (GoogleTest, against OpenSubdiv), CLI, Python (pytest), the Blender add-on in background mode, and the deep
-# checks: the native and CLI tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), 45 s
+# checks: the native, CLI and Python tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), 45 s
 # of each libFuzzer target (build-fuzz/), and the Windows and ARM64 cross builds checked under wine64 and qemu-user
 # where their toolchains are installed (skipped with a notice otherwise; scripts/cross.sh installs them). A few
 # minutes from a fresh clone on two cores.
 # Usage: scripts/test.sh [--quick | --sanitize]
 #   --quick     without the deep checks
-#   --sanitize  only the sanitizer run (native tests and CLI, in build-asan/)
+#   --sanitize  only the sanitizer run (native, CLI and Python tests, in build-asan/)
 # Longer fuzzing: scripts/fuzz.sh --seconds 3600.
 set -euo pipefail
 cd "$(dirname "$0")/.."
