@@ -4,7 +4,7 @@
 # build-fuzz/failures/<target>-*; make it a regression test (tests/native/test_bad_input.cpp shows how).
 #
 # Usage: scripts/fuzz.sh [--seconds N] [--target fuzz_obj|fuzz_plan|fuzz_cli] [--build-only] [--run-only]
-#   default: build, then run every target for 60 s (the test suite runs 45 s each; longer runs: --seconds 3600)
+#   default: build, then run every target for 60 s (the test suite runs them too; longer runs: --seconds 3600)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

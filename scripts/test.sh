@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up (installs and builds) if needed, then runs every test through one ctest run, which ends with ctest's summary:
 # native (GoogleTest, against OpenSubdiv), CLI, Python (pytest), the Blender add-on in background mode, and the deep
-# checks: the native, CLI and Python tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), 45 s
+# checks: the native, CLI and Python tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), 60 s
 # of each libFuzzer target (build-fuzz/), and the Windows and ARM64 cross builds checked under wine64 and qemu-user
 # where their toolchains are installed (skipped with a notice otherwise; scripts/cross.sh installs them). A few
 # minutes from a fresh clone on two cores.
