@@ -334,7 +334,7 @@ class Source:
         (Source.inputs) of the result it updates in place; the UV maps and corner channels whose values are still
         those are not refined again (None in the Refined): the result holds them already, and playback moves only
         positions."""
-        def unchanged(index, values):
+        def unchanged(index, values):  # index: the place of values in Source.inputs
             return written is not None and np.array_equal(written[index], values)
 
         normals = None

@@ -278,21 +278,23 @@ struct UV {  // PrimvarRefiner's interface, two floats
     }
 };
 
+// The UV layer's values of all levels into one buffer, as osd_interpolate the vertices'; returns the last level's.
+const UV* osd_interpolate_uvs(const Far::TopologyRefiner& refiner, const Mesh& m, UV* all) {
+    std::copy(m.uvs.begin(), m.uvs.end(), &all[0].p[0]);
+    const Far::PrimvarRefiner primvar(refiner);
+    UV* src = all;
+    for (int level = 1; level <= kLevels; ++level) {
+        UV* dst = src + refiner.GetLevel(level - 1).GetNumFVarValues(0);
+        primvar.InterpolateFaceVarying(level, src, dst, 0);
+        src = dst;
+    }
+    return src;
+}
+
 void osd_face_varying(benchmark::State& state, const Mesh* m) {
     const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m, false, true);
-    const Far::PrimvarRefiner primvar(*refiner);
-    std::vector<int> offsets{0};
-    for (int level = 0; level <= kLevels; ++level) offsets.push_back(offsets.back() + refiner->GetLevel(level).GetNumFVarValues(0));
-    std::vector<UV> all(offsets.back());
-    std::copy(m->uvs.begin(), m->uvs.end(), &all[0].p[0]);
-    for (auto _ : state) {
-        for (int level = 1; level <= kLevels; ++level) {
-            const UV* src = &all[offsets[level - 1]];
-            UV* dst = &all[offsets[level]];
-            primvar.InterpolateFaceVarying(level, src, dst, 0);
-        }
-        benchmark::DoNotOptimize(all.data());
-    }
+    const std::unique_ptr<UV[]> all(new UV[refiner->GetNumFVarValuesTotal(0)]);
+    for (auto _ : state) benchmark::DoNotOptimize(osd_interpolate_uvs(*refiner, *m, all.get()));
     set_rate(state, refiner->GetLevel(kLevels).GetNumFVarValues(0));
 }
 
@@ -304,15 +306,7 @@ void osd_far_full_uvs(benchmark::State& state, const Mesh* m) {
         const std::unique_ptr<Vertex[]> all(new Vertex[refiner->GetNumVerticesTotal()]);
         benchmark::DoNotOptimize(osd_interpolate(*refiner, *m, all.get()));
         const std::unique_ptr<UV[]> uvs(new UV[refiner->GetNumFVarValuesTotal(0)]);
-        std::copy(m->uvs.begin(), m->uvs.end(), &uvs[0].p[0]);
-        const Far::PrimvarRefiner primvar(*refiner);
-        UV* src = uvs.get();
-        for (int level = 1; level <= kLevels; ++level) {
-            UV* dst = src + refiner->GetLevel(level - 1).GetNumFVarValues(0);
-            primvar.InterpolateFaceVarying(level, src, dst, 0);
-            src = dst;
-        }
-        benchmark::DoNotOptimize(src);
+        benchmark::DoNotOptimize(osd_interpolate_uvs(*refiner, *m, uvs.get()));
         vertices = output_vertices(*refiner);
     }
     set_rate(state, vertices);

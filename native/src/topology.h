@@ -120,9 +120,8 @@ private:
 
 // A child level known through its parent's numbering instead of stored: the level before the last without the limit
 // surface (the vertex mesh's, and a face-varying layer's), whose tables are filled from its parent
-// (fill_tables_from_parent), and with
-// derived tables every level past the base (LevelStencils::derived_from), whose tables are derived a chunk at a time
-// as the kernels run; exactly as refine_topology would have written them. The parent must hold its edge faces and
+// (fill_tables_from_parent), and with derived tables every level past the base (LevelStencils::derived_from), whose
+// tables are derived a chunk at a time as the kernels run; exactly as refine_topology would have written them. The parent must hold its edge faces and
 // vertex edges (Refined::Full, or the base).
 // Where child vertex v's one-ring starts in refine_topology's vertex_vertices, for v from 0 to the number of child
 // vertices: an old vertex keeps its parent's offset, after them each midpoint has its ends and two per face.

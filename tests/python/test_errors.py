@@ -327,10 +327,16 @@ def test_absurd_levels_are_refused_even_with_no_memory_limit(levels):
     assert child.stdout.strip() == "required_bytes"
 
 
+@pytest.fixture
+def one_layer_plan(mesh):
+    """A plan of the tetrahedron with one face-varying layer of 12 values (one per corner)."""
+    _, t = mesh
+    return _loopsub.Plan(t, 4, 1, face_varying_indices=[np.arange(12, dtype=np.int32).reshape(4, 3)])
+
+
 @pytest.mark.parametrize("layer", [-1, 1, 2**40, -(2**70), np.int64(5)])
-def test_layer_out_of_range(mesh, layer):
-    p, t = mesh
-    plan = _loopsub.Plan(t, 4, 1, face_varying_indices=[np.arange(12, dtype=np.int32).reshape(4, 3)])
+def test_layer_out_of_range(one_layer_plan, layer):
+    plan = one_layer_plan
     values = np.zeros((12, 2), np.float32)
     with pytest.raises(ValueError, match=f"layer {int(layer)} is not a face-varying layer of this Plan \\(it has 1\\)"):
         plan.evaluate_face_varying(values, layer=layer)
@@ -342,9 +348,8 @@ def test_layer_out_of_range(mesh, layer):
 
 
 @pytest.mark.parametrize("layer", ["0", 0.5, [0]])
-def test_layer_not_an_integer(mesh, layer):
-    _, t = mesh
-    plan = _loopsub.Plan(t, 4, 1, face_varying_indices=[np.arange(12, dtype=np.int32).reshape(4, 3)])
+def test_layer_not_an_integer(one_layer_plan, layer):
+    plan = one_layer_plan
     with pytest.raises(TypeError, match="layer must be an integer, got (str|float|list)"):
         plan.evaluate_face_varying(np.zeros((12, 2), np.float32), layer=layer)
     with pytest.raises(TypeError, match="layer must be an integer"):

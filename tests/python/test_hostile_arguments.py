@@ -69,7 +69,7 @@ def meshes(draw):
                          np.int32).reshape(-1, 3)
     positions = np.array(draw(st.lists(st.tuples(FLOATS, FLOATS, FLOATS), min_size=n, max_size=n)),
                          np.float32).reshape(-1, 3)
-    if draw(st.booleans()):  # mostly finite positions, so that the rest of the call is reached
+    if draw(st.booleans()):  # half the time all finite, so that the rest of the call is reached
         positions = np.nan_to_num(positions, nan=0.0, posinf=1.0, neginf=-1.0)
     return positions, triangles
 
@@ -78,10 +78,10 @@ def meshes(draw):
 def options(draw, num_vertices, num_triangles):
     """A random subset of the options, each ordinary or hostile."""
     vertex = st.one_of(st.integers(0, max(num_vertices - 1, 0)), st.sampled_from([-1, num_vertices, 2**31 - 1]))
-    def indices(shape_of_one):
+    def indices(width):  # (k, width) vertex indices; (k,) for width 1
         k = draw(st.integers(0, 4))
-        return np.array(draw(st.lists(st.tuples(*[vertex] * shape_of_one) if shape_of_one > 1 else vertex,
-                                      min_size=k, max_size=k)), np.int32).reshape((k, shape_of_one) if shape_of_one > 1 else (k,))
+        rows = np.array(draw(st.lists(st.tuples(*[vertex] * width), min_size=k, max_size=k)), np.int32).reshape(k, width)
+        return rows if width > 1 else rows.reshape(k)
     def sharpness(k):
         return np.array(draw(st.lists(FLOATS, min_size=k, max_size=k)), np.float32)
     crease_edges = indices(2)
