@@ -11,8 +11,8 @@ import sys
 import tempfile
 import time
 
-import bmesh
 import bpy
+import bmesh
 import numpy as np
 
 _started = time.time()

@@ -13,8 +13,8 @@ import tempfile
 import weakref
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import bmesh  # noqa: E402
 import bpy  # noqa: E402
+import bmesh  # noqa: E402
 import numpy as np  # noqa: E402
 from mathutils import Vector  # noqa: E402
 

@@ -23,8 +23,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import bmesh  # noqa: E402
 import bpy  # noqa: E402
+import bmesh  # noqa: E402
 import numpy as np  # noqa: E402
 from mathutils.bvhtree import BVHTree  # noqa: E402
 
