@@ -26,6 +26,11 @@ if ((${#missing[@]} && if_installed)); then
   exit 77
 fi
 install_packages "${packages[@]}"
+shapes=../shared/peer/opensubdiv-loop-shapes
+if [ ! -d "$shapes" ]; then
+  echo "cross: skipped: OpenSubdiv's Loop shapes are not in $shapes (clone beside the team's shared folder)"
+  exit 77
+fi
 
 build=build-$target
 cmake -S . -B "$build" -DCMAKE_SYSTEM_NAME=$system -DCMAKE_SYSTEM_PROCESSOR=$processor \
@@ -48,7 +53,6 @@ case "$target" in
 esac
 chmod +x "$runner"
 
-shapes=../shared/peer/opensubdiv-loop-shapes
 work=$(mktemp -d)
 trap 'rm -rf "$work"; [ "$target" != windows ] || /usr/lib/wine/wineserver -k 2>/dev/null || true' EXIT
 compared=0

@@ -17,6 +17,15 @@ fail() {
   failures=$((failures + 1))
 }
 
+# require_shapes: a test that reads OpenSubdiv's shapes ends here as skipped (exit 77, ctest's "Not Run") with the
+# reason when they are missing, in a clone that does not sit beside the team's shared folder.
+require_shapes() {
+  if [ ! -d "$SHAPES" ]; then
+    echo "$(basename "$0"): skipped: OpenSubdiv's Loop shapes are not in $SHAPES (clone beside the team's shared folder)"
+    exit 77
+  fi
+}
+
 finish() {
   if ((failures > 0)); then
     echo "$(basename "$0"): $failures check(s) failed" >&2

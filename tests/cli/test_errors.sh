@@ -1,6 +1,7 @@
 # Bad command lines exit 2 with the usage, bad inputs exit 1 with "loopsub: error: " and a message that says
 # what and where; nothing crashes. A quad mesh is triangulated, with a notice.
 source "$(dirname "$0")/cli_lib.sh"
+require_shapes
 
 good="$SHAPES/loop_tetrahedron.obj"
 out="$WORK/out.obj"

@@ -1,6 +1,7 @@
 # --stats prints exactly one line with the timings and counts; --scalar and --threads show in it and give the
 # same surface as the defaults.
 source "$(dirname "$0")/cli_lib.sh"
+require_shapes
 
 in="$SHAPES/loop_cube_creases0.obj"  # 8 vertices, 12 triangles, 18 edges
 number='[0-9]+(\.[0-9]+)?'

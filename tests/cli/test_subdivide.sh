@@ -1,6 +1,7 @@
 # The CLI on OpenSubdiv's shapes: valid OBJ output with 4^L times the faces and V + E new vertices per level,
 # the child crease / corner tags, cones kept, UV seams kept, and output that can be fed back in.
 source "$(dirname "$0")/cli_lib.sh"
+require_shapes
 
 # Every shape but loop_nonman_edges (degenerate triangles, refused; see test_errors.sh), both rule sets, 1-2 levels.
 for shape in loop_chaikin0 loop_cube loop_cube_creases0 loop_fvar_bound0 loop_icos_semisharp loop_icosahedron \

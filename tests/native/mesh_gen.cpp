@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -359,7 +360,19 @@ bool is_degenerate_face_line(const std::string& line) {
 
 }  // namespace
 
+const char* peer_shapes_missing() {
+    return std::filesystem::is_directory(LOOPSUB_PEER_SHAPES)
+               ? nullptr
+               : "OpenSubdiv's Loop shapes are not in " LOOPSUB_PEER_SHAPES
+                 " (clone beside the team's shared folder to run this test)";
+}
+
+void require_peer_shapes() {
+    if (const char* missing = peer_shapes_missing()) throw PeerShapesMissing(missing);
+}
+
 TestMesh peer_shape(const std::string& file_name, bool drop_degenerate_faces) {
+    require_peer_shapes();
     const std::string path = std::string(LOOPSUB_PEER_SHAPES) + "/" + file_name;
     obj::ObjMesh obj;
     if (drop_degenerate_faces) {

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,18 @@ void add_uvs_with_seam(TestMesh& mesh);
 // (loop_nonman_edges has four); the project refuses them as bad input, so drop_degenerate_faces removes those
 // `f` lines before parsing, to compare the rest of the shape.
 TestMesh peer_shape(const std::string& file_name, bool drop_degenerate_faces = false);
+
+// In a clone that does not sit beside the team's shared folder, OpenSubdiv's shapes are missing: peer_shape throws
+// this, and the tests that read them skip with its message (ctest's "Not Run"), never fail or pass.
+struct PeerShapesMissing : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+// Throws PeerShapesMissing, naming the folder, when it is not there.
+void require_peer_shapes();
+// The reason to skip a test that reads the shapes (nullptr when they are there), and the macro that does it.
+const char* peer_shapes_missing();
+#define SKIP_WITHOUT_PEER_SHAPES() \
+    if (const char* missing = ::loopsub::testing::peer_shapes_missing()) GTEST_SKIP() << missing
 
 // Refines the mesh's positions with a plan built for it: 3 floats per output vertex.
 std::vector<float> evaluate_positions(Plan& plan, const TestMesh& mesh);
