@@ -4,7 +4,13 @@ Blender 4.0 moved edge and vertex creases from dedicated layers (MeshEdge.crease
 Mesh.vertex_creases, bmesh's crease layers) to the generic float attributes "crease_edge" and "crease_vert",
 made MeshPolygon.loop_total read-only (face sizes follow from loop_start) and moved node group sockets to
 NodeTree.interface; 4.1 dropped Auto Smooth, so that custom split normals and marked sharp edges always shade, and
-replaced Mesh.calc_normals_split / MeshLoop.normal with Mesh.corner_normals.
+replaced Mesh.calc_normals_split / MeshLoop.normal with Mesh.corner_normals. After 5.0 a Geometry Nodes modifier
+keeps its inputs' values in RNA (modifier.properties.inputs) instead of ID properties of the modifier.
+
+Normals and shading: 4.0 has Mesh.corner_normals but fills it only after calc_normals_split(); 4.1 converts the Auto
+Smooth of files saved before it into appended "Auto Smooth" modifiers; 4.5 keeps UV seams in the attribute "uv_seam"
+and custom normals in "custom_normal" (tangent space, or "free" float vectors), which apply must not copy as generic
+attributes.
 """
 import math
 
@@ -94,6 +100,31 @@ def crease_attribute_names():
     return {EDGE_CREASE_ATTRIBUTE, VERTEX_CREASE_ATTRIBUTE} if USES_CREASE_ATTRIBUTES else set()
 
 
+# Blender 4.5 (4.5.15 here; 4.2.23 has neither, 4.3 and 4.4 are not installed: upstream made both changes for 5.0
+# and 4.5 took them over) keeps UV seams as the visible edge attribute "uv_seam" (".uv_seam", hidden, before) and
+# custom normals as the attribute "custom_normal": a corner int16 pair in tangent space (what
+# normals_split_custom_set writes), or "free" normals, a float vector on the point, face or corner domain (e.g. from a
+# Set Mesh Normal node, or written directly), which Blender shades with as they are.
+NAMES_SEAMS_AND_NORMALS = bpy.app.version >= (4, 5, 0)
+SEAM_ATTRIBUTE = "uv_seam"
+CUSTOM_NORMAL_ATTRIBUTE = "custom_normal"
+
+
+def seam_and_normal_attribute_names():
+    """Attribute names under which 4.5+ keeps UV seams and custom normals (empty before 4.5), which apply handles
+    itself (MeshEdge.use_seam, the corner normals): carried over as generic attributes too, "uv_seam" came out twice
+    ("uv_seam.001"), and a free "custom_normal" was refined as a plain vector and never normalised (and, on the point
+    domain, with the vertex rules instead of per face), because normals_split_custom_set leaves a mesh that has free
+    normals as it is (seen in 4.5.15, 5.0.1 and 5.2.3)."""
+    return {SEAM_ATTRIBUTE, CUSTOM_NORMAL_ATTRIBUTE} if NAMES_SEAMS_AND_NORMALS else set()
+
+
+def has_free_normals(mesh):
+    """Whether the mesh shades with free custom normals (4.5+): a float vector "custom_normal", on any domain."""
+    attribute = mesh.attributes.get(CUSTOM_NORMAL_ATTRIBUTE) if NAMES_SEAMS_AND_NORMALS else None
+    return attribute is not None and attribute.data_type == 'FLOAT_VECTOR'
+
+
 def set_polygon_loops(mesh, loop_start, loop_total):
     mesh.polygons.foreach_set("loop_start", np.ascontiguousarray(loop_start, dtype=np.int32))
     if not bpy.types.MeshPolygon.bl_rna.properties["loop_total"].is_readonly:
@@ -143,6 +174,38 @@ def group_input_identifier(group, name):
     return group.inputs[name].identifier
 
 
+def _modifier_input_values(modifier):
+    """Where a Geometry Nodes modifier keeps its inputs' values, and whether that is the RNA struct of releases after
+    5.0 (modifier_input)."""
+    values = getattr(getattr(modifier, "properties", None), "inputs", None)
+    return (values, True) if values is not None else (modifier, False)
+
+
+def modifier_input(modifier, name):
+    """The value a Geometry Nodes modifier gives its node group's input called name (None when unset). Up to 5.0
+    the values are ID properties of the modifier, under the socket's identifier (modifier[identifier]); a release
+    after 5.0 (5.2.3 has it, 5.0.1 does not) moved them to RNA structs generated per node group,
+    modifier.properties.inputs.<identifier>.value, and the modifier itself no longer takes ID properties
+    (modifier.get and modifier[identifier] raise "this type doesn't support IDProperties")."""
+    values, rna = _modifier_input_values(modifier)
+    key = group_input_identifier(modifier.node_group, name)
+    if rna:
+        socket = getattr(values, key, None)
+        return None if socket is None else socket.value
+    return values.get(key)
+
+
+def set_modifier_input(modifier, name, value):
+    """Sets the value a Geometry Nodes modifier gives its node group's input called name (see modifier_input for
+    where each version keeps it)."""
+    values, rna = _modifier_input_values(modifier)
+    key = group_input_identifier(modifier.node_group, name)
+    if rna:
+        getattr(values, key).value = value
+    else:
+        values[key] = value
+
+
 def bmesh_crease_layers(bm):
     """The bmesh layers of edge and vertex creases, made when missing: (edge layer, vertex layer)."""
     if USES_CREASE_ATTRIBUTES:
@@ -183,10 +246,25 @@ def custom_normals_in_use(mesh):
 
 
 def read_corner_normals(mesh):
-    """The normal Blender shades each corner (loop) with, custom split normals included: (L, 3) float32."""
+    """The normal Blender shades each corner (loop) with, custom split normals included: (L, 3) float32.
+
+    4.1+ has them in Mesh.corner_normals; up to 4.0 Mesh.calc_normals_split() computes them into MeshLoop.normal.
+    4.0 has Mesh.corner_normals too, but it is empty until calc_normals_split() has run (its length is that of the
+    CD_NORMAL layer, rna_mesh.cc), so the version decides, not hasattr, and a length that is not the number of corners
+    takes the old way as well. No 4.0 is installed here: that branch is read from Blender's sources, not tested.
+
+    Free normals (4.5+) are read from their attribute, spread to the corners: that is what Blender shades with
+    (Mesh.corner_normals gives the attribute's values as they are, unnormalised, whatever the faces' smooth flags),
+    and Mesh.corner_normals of a copy from Object.to_mesh() of a mesh with free corner normals, what the live entry
+    reads its input from, gave stale memory at a few corners in 4.5.15 and 5.0.1 (zeros, denormals, NaN; not seen in
+    5.2.3)."""
+    free = _free_corner_normals(mesh)
+    if free is not None:
+        return free
     values = np.empty(len(mesh.loops) * 3, dtype=np.float32)
-    if hasattr(mesh, "corner_normals"):
-        mesh.corner_normals.foreach_get("vector", values)
+    corner_normals = getattr(mesh, "corner_normals", None) if bpy.app.version >= (4, 1, 0) else None
+    if corner_normals is not None and len(corner_normals) == len(mesh.loops):
+        corner_normals.foreach_get("vector", values)
     else:
         mesh.calc_normals_split()
         mesh.loops.foreach_get("normal", values)
@@ -194,12 +272,50 @@ def read_corner_normals(mesh):
     return values.reshape(-1, 3)
 
 
-def set_custom_normals(mesh, normals, vertex_normals=None):
+def _free_corner_normals(mesh):
+    """The free normals of mesh per corner (L, 3) float32, or None when it has none on the point, face or corner
+    domain."""
+    if not has_free_normals(mesh):
+        return None
+    attribute = mesh.attributes[CUSTOM_NORMAL_ATTRIBUTE]
+    if attribute.domain not in ('POINT', 'FACE', 'CORNER'):
+        return None
+    values = np.empty(len(attribute.data) * 3, dtype=np.float32)
+    attribute.data.foreach_get("vector", values)
+    values = values.reshape(-1, 3)
+    if attribute.domain == 'POINT':
+        corner_vertices = np.empty(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", corner_vertices)
+        return values[corner_vertices]
+    if attribute.domain == 'FACE':  # faces hold their corners in order (offsets) from 4.0 on
+        sizes = np.empty(len(mesh.polygons), dtype=np.int32)
+        mesh.polygons.foreach_get("loop_total", sizes)
+        return np.repeat(values, sizes, axis=0)
+    return values
+
+
+def set_custom_normals(mesh, normals, vertex_normals=None, free=False):
     """Custom split normals, one per loop ((L, 3); a zero vector keeps Blender's own normal at that corner), or, when
     every corner of a vertex has the same one, vertex_normals (V, 3), which Blender takes several times faster. Up to
     4.0 they show only with Auto Smooth, which this turns on; a mesh that had it off gets the widest angle, so that
     only marked sharp edges (and the normals themselves) split the shading. Blender marks the edges sharp where the
-    normals of one smooth fan differ (across creases)."""
+    normals of one smooth fan differ (across creases).
+
+    free (4.5+, for a cage that has free normals): the normals (unit vectors) go as they are into a float
+    vector corner attribute "custom_normal", free normals, as the cage had them. Otherwise a free "custom_normal" the
+    mesh has goes first: normals_split_custom_set leaves a mesh with free normals unchanged (4.5.15, 5.0.1, 5.2.3)."""
+    existing = mesh.attributes.get(CUSTOM_NORMAL_ATTRIBUTE) if NAMES_SEAMS_AND_NORMALS else None
+    if free:
+        normals = np.ascontiguousarray(normals, dtype=np.float32).reshape(-1, 3)
+        if existing is not None and (existing.data_type, existing.domain) != ('FLOAT_VECTOR', 'CORNER'):
+            mesh.attributes.remove(existing)
+            existing = None
+        if existing is None:
+            existing = mesh.attributes.new(CUSTOM_NORMAL_ATTRIBUTE, 'FLOAT_VECTOR', 'CORNER')
+        existing.data.foreach_set("vector", normals.ravel())
+        return
+    if existing is not None and existing.data_type == 'FLOAT_VECTOR':
+        mesh.attributes.remove(existing)
     shade_sharp_edges(mesh)
     if vertex_normals is not None:
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(vertex_normals, dtype=np.float32))
@@ -223,3 +339,30 @@ def clear_custom_normals(mesh, holder):
     if mesh.has_custom_normals:
         with bpy.context.temp_override(object=holder, active_object=holder):
             bpy.ops.mesh.customdata_custom_splitnormals_clear()
+
+
+# Blender 4.1 dropped Auto Smooth. Opening a file saved before 4.1, it appends a Geometry Nodes modifier "Auto Smooth"
+# (running a node group of its own making, shared by all) to every mesh object whose mesh had Auto Smooth on and no
+# custom normals (BKE_main_mesh_legacy_convert_auto_smooth): to an entry's owner after the entry, and to the entry's
+# hidden helper when the result saved had Blender's own normals (the helper's mesh took the cage's Auto Smooth, or
+# Auto Smooth at 180 degrees). Seen in 4.2.23, 4.5.15, 5.0.1 and 5.2.3 on a file saved by 3.4.1.
+_AUTO_SMOOTH_NODES = sorted((
+    "NodeGroupOutput", "NodeGroupInput", "NodeGroupInput", "GeometryNodeSetShadeSmooth", "GeometryNodeSetShadeSmooth",
+    "GeometryNodeInputMeshEdgeAngle", "GeometryNodeInputEdgeSmooth", "GeometryNodeInputShadeSmooth",
+    "FunctionNodeBooleanMath", "FunctionNodeCompare"))
+
+
+def converted_auto_smooth():
+    """Whether the file just opened had its Auto Smooth converted to modifiers: saved before 4.1, open in 4.1+."""
+    return bpy.app.version >= (4, 1, 0) and tuple(bpy.data.version) < (4, 1, 0)
+
+
+def auto_smooth_modifiers(obj):
+    """The modifiers of obj that run the node group Blender 4.1+ makes when it converts Auto Smooth on loading a file
+    (recognised by its nodes, as Blender's own is_auto_smooth_node_tree does; the "Smooth by Angle" asset that Shade
+    Auto Smooth adds is another group). Empty before 4.1."""
+    if bpy.app.version < (4, 1, 0):
+        return []
+    return [modifier for modifier in obj.modifiers
+            if modifier.type == 'NODES' and modifier.node_group is not None
+            and sorted(node.bl_idname for node in modifier.node_group.nodes) == _AUTO_SMOOTH_NODES]

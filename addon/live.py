@@ -28,7 +28,7 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
-from . import mesh_data, stack
+from . import compat, mesh_data, stack
 from .native import LoopSubError
 
 
@@ -336,6 +336,35 @@ def _on_undo(*_):
 @persistent
 def _on_load(*_):
     _caches.clear()
+    _undo_auto_smooth_conversion()
+
+
+def _undo_auto_smooth_conversion():
+    """A file saved before 4.1 and opened in 4.1+ gets "Auto Smooth" modifiers for the meshes that had Auto Smooth on
+    (compat.auto_smooth_modifiers); this takes back those that change what 3.x showed:
+
+    - on a helper (hidden from the artist, its result is the entry's alone): always;
+    - on an owner, after its entry, when the entry uses the limit surface: its result carries the limit normals as
+      custom normals, and 3.x's Auto Smooth did not split a mesh with custom normals (Blender's conversion skips
+      objects whose modifiers make custom normals for that reason), while the modifier would split the result's
+      fans at its angle and turn the limit normals (39 degrees on a cube at level 1). With Use Limit Surface off
+      the result has Blender's own normals, which 3.x split at the cage's angle: that modifier stays and keeps
+      doing so."""
+    if not compat.converted_auto_smooth():
+        return
+    for obj in bpy.data.objects:
+        modifier = stack.entry(obj)
+        if modifier is None or obj.library is not None:
+            continue
+        carrier = stack.helper(obj, modifier, create=False)
+        if carrier is not None and carrier.library is None:
+            for converted in compat.auto_smooth_modifiers(carrier):
+                carrier.modifiers.remove(converted)
+        if obj.loop_subdivision.use_limit_surface:
+            index = list(obj.modifiers).index(modifier)
+            for converted in compat.auto_smooth_modifiers(obj):
+                if list(obj.modifiers).index(converted) > index:
+                    obj.modifiers.remove(converted)
 
 
 _handlers = (

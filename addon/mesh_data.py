@@ -257,9 +257,11 @@ class Source:
         self.cone_index = cone_group_index(obj, options)
         self.cones = cone_vertices(self.group_weights, self.cone_index)
 
-        # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs.
+        # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs,
+        # and (4.5+) seams and custom normals.
         skip = ({CREASE_TAG, VERTEX_TYPE_TAG, "position", "material_index", "sharp_face", "sharp_edge"}
-                | compat.crease_attribute_names() | {uv.name for uv in mesh.uv_layers})
+                | compat.crease_attribute_names() | compat.seam_and_normal_attribute_names()
+                | {uv.name for uv in mesh.uv_layers})
         self.point, self.corner, self.face, self.edge, dropped = geometry.plan_attributes(
             [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
         if dropped:
@@ -292,6 +294,7 @@ class Source:
             self.corners.add(("attribute", name),
                              _get_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
         self.custom_normals = compat.custom_normals_in_use(mesh)
+        self.free_normals = self.custom_normals and compat.has_free_normals(mesh)  # 4.5+: the result's are free too
         if self.custom_normals:
             self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])
         # The result shades with the limit normals as custom split normals, on smooth faces; or, for the viewport,
@@ -315,7 +318,7 @@ class Source:
         """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
         stay the same, a result can be updated in place (update_mesh) instead of built anew."""
         return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names), self.custom_normals,
-                self.limit_normals, self.blender_normals,
+                self.free_normals, self.limit_normals, self.blender_normals,
                 tuple(self.edge), tuple(self.group_names), self.group_weights, self.materials, self.smooth,
                 *self.face_values, *self.edge_values, *self.edge_flags.values(), self.cage.edge_weights,
                 self.cage.vertex_weights)
@@ -349,7 +352,11 @@ class Source:
         corners = None
         if self.corners.parts:
             values = self.corners.packed()
-            corners = None if unchanged(1, values) else native.run(plan.evaluate_face_varying, values)
+            # The cage's custom normals are written on every update (update_mesh): in tangent space they are stored
+            # relative to the result's geometry, which may have moved. Free normals (4.5+) do not change when
+            # vertices move, nor does any corner value when only a UV does.
+            corners = (None if unchanged(1, values) and not self.custom_normals
+                       else native.run(plan.evaluate_face_varying, values))
         return Refined(vertex, uvs, corners, normals, plan.triangles)
 
 
@@ -474,14 +481,18 @@ def _mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp):
 
 def _write_normals(new, source, refined, auto_loops):
     """Custom split normals: the cage's own, interpolated linearly per face (normalised), where it shades with
-    them; else, with the limit surface, the limit normals (split across creases and boundaries, shared elsewhere),
-    unless the result shows Blender's own normals (Source.blender_normals), which need nothing written."""
+    them (free normals stay free, 4.5+); else, with the limit surface, the limit normals (split across creases and
+    boundaries, shared elsewhere), unless the result shows Blender's own normals (Source.blender_normals), which need
+    nothing written."""
     if source.blender_normals:
         return
     if source.custom_normals:
         normals = np.array(refined.corners[:, :, source.corners.columns["normal"]], dtype=np.float32)
         lengths = np.linalg.norm(normals, axis=2, keepdims=True)
         np.divide(normals, lengths, out=normals, where=lengths > 0)
+        if source.free_normals:
+            compat.set_custom_normals(new, normals, free=True)
+            return
     elif source.limit_normals:
         write_limit_normals(new, refined.normals, refined.triangles, auto_loops)
         return

@@ -57,8 +57,7 @@ def entry(obj):
 def helper(obj, modifier, create=True):
     """The object that carries this entry's result; a new one when the entry has none of its own (None with
     create=False)."""
-    key = compat.group_input_identifier(modifier.node_group, RESULT_SOCKET)
-    current = modifier.get(key)
+    current = compat.modifier_input(modifier, RESULT_SOCKET)
     if current is not None and current.get(OWNER_TAG) == obj:
         return current
     if not create:
@@ -66,7 +65,7 @@ def helper(obj, modifier, create=True):
     mesh = bpy.data.meshes.new(f"{obj.name} ({ENTRY_NAME})")
     carrier = bpy.data.objects.new(mesh.name, mesh)
     carrier[OWNER_TAG] = obj
-    modifier[key] = carrier
+    compat.set_modifier_input(modifier, RESULT_SOCKET, carrier)
     return carrier
 
 

@@ -7,6 +7,7 @@ raises AssertionError on any failure so that `--python-exit-code 1` fails the ru
 import argparse
 import importlib
 import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -233,6 +234,51 @@ def capture_output(function):
         text = capture.read().decode("utf-8", "replace")
     print(text, end="")
     return result, text
+
+
+# What the second Blender of run_blender runs where this one is Blender as a Python module: the steps of the program's
+# command line, in a Python that imports bpy. It ends through os._exit, as run_in_bpy.py does (bpy can hang at exit).
+_BPY_PROLOGUE = """
+import os, sys, traceback
+import bpy
+blend, script, render = sys.argv[1], sys.argv[2], sys.argv[3:]
+code = 0
+try:
+    bpy.ops.wm.open_mainfile(filepath=blend)
+    exec(compile(script, "<python-expr>", "exec"), {"__name__": "__main__"})
+    if render:
+        output, first, last = render
+        scene = bpy.context.scene
+        scene.render.filepath, scene.frame_start, scene.frame_end = output, int(first), int(last)
+        bpy.ops.render.render(animation=True)
+except BaseException:
+    traceback.print_exc()
+    code = 1
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(code)
+"""
+
+
+def run_blender(blend, script, render=None, timeout=300):
+    """Runs script in a second Blender on the saved file blend, as `blender --background --factory-startup BLEND
+    --python-exit-code 1 --python-expr SCRIPT` does; with render=(output, first, last) it then renders those frames
+    as a render farm does, `-o OUTPUT -s FIRST -e LAST -a`. Where this Blender is a Python module (PyPI's bpy:
+    bpy.app.binary_path is empty, there is no program), the second Blender is this interpreter importing bpy and
+    taking the same steps: bpy.ops.wm.open_mainfile, the script, bpy.ops.render.render(animation=True) over the
+    scene's frames set to first..last with its output path set to OUTPUT. Returns (exit code, stdout + stderr)."""
+    if bpy.app.binary_path:
+        command = [bpy.app.binary_path, "--background", "--factory-startup", blend, "--python-exit-code", "1",
+                   "--python-expr", script]
+        if render is not None:
+            output, first, last = render
+            command += ["-o", output, "-s", str(first), "-e", str(last), "-a"]
+    else:
+        command = [sys.executable, "-c", _BPY_PROLOGUE, blend, script]
+        if render is not None:
+            command += [str(value) for value in render]
+    process = subprocess.run(command, capture_output=True, text=True, timeout=timeout)
+    return process.returncode, process.stdout + process.stderr
 
 
 def is_regular_crease(vert, creases):

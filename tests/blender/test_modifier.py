@@ -7,7 +7,6 @@ What the entry shows is checked against what the apply operator writes for the s
 Blender's Subdivision Surface and OpenSubdiv by the other tests), and against Blender's own modifiers' arithmetic.
 """
 import os
-import subprocess
 import sys
 import tempfile
 import weakref
@@ -50,14 +49,6 @@ def add_entry(obj, **arguments):
 
 def plan_builds(obj):
     return addon.live.cache(obj).plan_builds
-
-
-def run_blender(blend, script):
-    """Runs a script in a second Blender process on a saved file; returns its output."""
-    process = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", blend,
-                              "--python-exit-code", "1", "--python-expr", script],
-                             capture_output=True, text=True, timeout=300)
-    return process.returncode, process.stdout + process.stderr
 
 
 # --- in the stack ---------------------------------------------------------------------------------------------------
@@ -145,7 +136,7 @@ def edits():
           and np.array_equal(after, applied(obj, levels=1)[0]),
           "moving a vertex in Object Mode updates the result with the same plan")
 
-    helper = obj.modifiers[-1].get(addon.compat.group_input_identifier(obj.modifiers[-1].node_group, "Result"))
+    helper = addon.compat.modifier_input(obj.modifiers[-1], "Result")
     mesh_pointer = helper.data.as_pointer()
     for _ in range(3):
         bpy.context.view_layer.update()
@@ -251,8 +242,7 @@ def uv_edits():
 
 
 def corner_normals(mesh):
-    mesh.calc_normals_split()
-    return support.read_array(mesh.loops, "normal", 3)
+    return addon.compat.read_corner_normals(mesh)
 
 
 def animation():
@@ -346,8 +336,9 @@ def copies():
     linked.name = "Linked"
     bpy.context.scene.collection.objects.link(linked)
     linked.loop_subdivision.levels = 2
-    key = addon.compat.group_input_identifier(obj.modifiers[-1].node_group, "Result")
-    check(linked.modifiers[-1][key] != obj.modifiers[-1][key], "a copied object gets a result of its own")
+    result = addon.compat.modifier_input
+    check(result(linked.modifiers[-1], "Result") != result(obj.modifiers[-1], "Result"),
+          "a copied object gets a result of its own")
     check(evaluated(linked)[1] == 16 * len(obj.data.polygons) and evaluated(obj)[1] == 4 * len(obj.data.polygons),
           "the copy and the original each show their own levels")
     support.remove(linked)
@@ -394,7 +385,7 @@ def saved_and_rendered():
         path = os.path.join(folder, "saved.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
         np.save(os.path.join(folder, "positions.npy"), positions)
-        code, output = run_blender(path, f"""
+        code, output = support.run_blender(path, f"""
 import addon_utils, bpy, numpy as np
 assert not any(m.__name__.startswith("loop") or m.__name__ == "addon" for m in addon_utils.modules()
                if addon_utils.check(m.__name__)[1])
@@ -419,10 +410,8 @@ def frame(scene, depsgraph):
               mesh.has_custom_normals, flush=True)
 bpy.app.handlers.frame_change_post.append(frame)
 """
-        process = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", path, "--python-expr",
-                                  record, "-o", os.path.join(folder, "frame_####"), "-s", "1", "-e", "2", "-a"],
-                                 capture_output=True, text=True, timeout=300)
-        frames = [line.split()[1:] for line in process.stdout.splitlines() if line.startswith("RENDERED")]
+        _, output = support.run_blender(path, record, render=(os.path.join(folder, "frame_####"), 1, 2))
+        frames = [line.split()[1:] for line in output.splitlines() if line.startswith("RENDERED")]
         check(len(frames) == 2 and all(int(faces_seen) == 4 * faces for _, faces_seen, _, _ in frames)
               and frames[0][2] != frames[1][2] and all(custom == "True" for *_, custom in frames)
               and os.path.exists(os.path.join(folder, "frame_0002.png")),
