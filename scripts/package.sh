@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Packs the Blender add-on (addon/ with the native module built into it) as an installable zip:
-# dist/loop_subdivision-<version>.zip. Sets the project up first (scripts/setup.sh) when the module is not built.
+# Packs the Blender add-on (addon/'s Python files and the native modules scripts/build_modules.sh builds) as an
+# installable zip: dist/loop_subdivision-<version>.zip. scripts/setup.sh runs it into build/dist/ after its build.
 #
 # Usage: scripts/package.sh [--out DIR]   (default dist/; prints the zip's path)
 #
@@ -13,10 +13,11 @@
 #    The folder is named after that id, so both versions install the same package name.
 #
 # Native modules: one per CPython ABI that Blender releases bundle (3.10: official 3.4-4.1; 3.11: Debian's 3.4 and
-# official 4.2+; 3.13 where a release bundles it), side by side, so that Python picks the matching one. Each is built
-# with the interpreter's own headers (Debian's /usr/bin/python3.X, or pyenv's), links the C++ runtime statically
-# (no GLIBCXX_ symbol: it loads next to any libstdc++), imports in its interpreter, and the newest GLIBC_ symbol it
-# needs is reported. An ABI with no interpreter here is skipped with a message, never silently.
+# official 4.2+; 3.13 where a release bundles it), side by side, so that Python picks the matching one. They are
+# built and checked by scripts/build_modules.sh (see there): with zig's clang for Blender's baseline, glibc 2.28, the
+# C++ runtime linked in and hidden (no GLIBCXX_ or CXXABI_ symbol, only PyInit__loopsub exported), each imported in
+# its interpreter, one line each with the newest GLIBC_ symbol it needs. An ABI with no interpreter here is skipped
+# with a message, never silently. tests/package/test_modules.sh runs the Python tests against each staged module.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,47 +29,13 @@ while (($#)); do
   esac
 done
 
-[ -d build ] || scripts/setup.sh  # the compiler, CMake and pybind11
-
-interpreter() {  # a CPython $1 with its headers: Debian's, else pyenv's
-  local candidate
-  for candidate in "/usr/bin/python$1" "$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")"/versions/"$1".*/bin/python"$1"; do
-    [ -x "$candidate" ] || continue
-    "$candidate" -c 'import os, sysconfig, sys; sys.exit(not os.path.isfile(os.path.join(sysconfig.get_paths()["include"], "Python.h")))' \
-      2>/dev/null && { echo "$candidate"; return; }
-  done
-}
-
 # Staged beside the build trees, not in addon/: tests that run at the same time import addon/'s own module.
 stage=build-package
 rm -rf "$stage" && mkdir -p "$stage"
-built=0
-for version in 3.10 3.11 3.13; do
-  python=$(interpreter $version)
-  if [ -z "$python" ]; then
-    echo "package: skipped CPython $version: no interpreter with its headers here (install python$version-dev or pyenv's $version)"
-    continue
-  fi
-  dir=build-py${version/./}
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DLOOPSUB_TESTS=OFF -DLOOPSUB_BENCH=OFF -DLOOPSUB_BLENDER= \
-    -DPython_EXECUTABLE="$python" -DPYTHON_EXECUTABLE="$python" \
-    -DCMAKE_MODULE_LINKER_FLAGS="-static-libstdc++ -static-libgcc" -DLOOPSUB_COPY_TO_ADDON=OFF >/dev/null
-  cmake --build "$dir" -j"$(nproc)" --target _loopsub >/dev/null
-  cp "$dir"/native/_loopsub.cpython-"${version/./}"-*.so "$stage"/
-  module=$(ls "$stage"/_loopsub.cpython-"${version/./}"-*.so)
-  if objdump -T "$module" | grep -q GLIBCXX_; then
-    echo "package: $module needs the system's libstdc++ (GLIBCXX_ symbols)" >&2; exit 1
-  fi
-  (cd "$stage" && "$python" -c 'import _loopsub; _loopsub.best_kernel()') \
-    || { echo "package: $module does not import in $python" >&2; exit 1; }
-  glibc=$(objdump -T "$module" | grep -o 'GLIBC_[0-9.]*' | sort -uV | tail -1)
-  echo "package: $(basename "$module") for CPython $version: imports, no GLIBCXX_ symbol, needs $glibc"
-  built=$((built + 1))
-done
-((built)) || { echo "package: no native module could be built" >&2; exit 1; }
+scripts/build_modules.sh "$stage"
 
-# Python's zipfile (Debian's interpreter, the one the build targets, which has tomllib) rather than the zip tool,
-# which Debian does not install by default.
+# Python's zipfile (Debian's interpreter, which has tomllib) rather than the zip tool, which Debian does not install
+# by default.
 /usr/bin/python3 - "$out" "$stage" <<'EOF'
 import os
 import platform
