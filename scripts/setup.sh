@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs what the project needs on a fresh Debian 12 machine and builds everything into build/.
-# Usage: scripts/setup.sh [--sanitize]   (--sanitize: a Debug build with ASan + UBSan into build-asan/)
+# Installs what the project needs on a fresh Debian 12 machine and builds everything into build/, then packs the
+# Blender add-on as users install it (scripts/package.sh: build/dist/*.zip, unpacked into build/packaged-addon/, which
+# the Blender tests load).
+# Usage: scripts/setup.sh [--sanitize]   (--sanitize: a Debug build with ASan + UBSan into build-asan/, no package)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,3 +22,10 @@ fi
 cmake -S . -B "$build" "${flags[@]}" >/dev/null
 cmake --build "$build" -j"$(nproc)"
 echo "setup: built into $build/"
+[ "$build" = build ] || exit 0
+
+scripts/package.sh --out build/dist
+rm -rf build/packaged-addon
+/usr/bin/python3 -c 'import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])' \
+  build/dist/*.zip build/packaged-addon
+echo "setup: the add-on as users install it: $(ls build/dist/*.zip), unpacked into build/packaged-addon/"
