@@ -8,8 +8,8 @@ import statistics
 import sys
 import time
 
-import bmesh
 import bpy
+import bmesh
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "blender"))
 import blender_test_support as support  # noqa: E402  (mesh and add-on helpers shared with the tests)

@@ -1,16 +1,32 @@
 #!/usr/bin/env bash
-# Benchmarks the add-on against Blender's Subdivision Surface in one headless Blender run (Apply, edits, playback).
-# Sets the project up first when the native module is not built.
-# Usage: scripts/bench_blender.sh [--repeat N]   (background: Apply, edits, playback)
-#        scripts/bench_blender.sh --gui          (Edit Mode with redraws, in Blender's interface under Xvfb)
+# Benchmarks the add-on against Blender's Subdivision Surface in one headless Blender run (Apply, edits, playback),
+# on the add-on as users install it (build/packaged-addon/, packed by scripts/setup.sh).
+# Usage: scripts/bench_blender.sh [--blender SERIES] [--repeat N] [--only NAME]
+#          SERIES: 3.4 (Debian's Blender, the default), a bpy series of tests/blender/bpy_versions.txt (4.2, 4.5,
+#          5.0, 5.2: Blender as a Python module, build/bpy-SERIES, made by scripts/setup_bpy.sh), or all
+#        scripts/bench_blender.sh --gui   (Edit Mode with redraws, in Blender 3.4.1's interface under Xvfb)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-compgen -G "addon/_loopsub*.so" >/dev/null || scripts/setup.sh
+addon=build/packaged-addon/loop_subdivision
+[ -d "$addon" ] || scripts/setup.sh
 if [ "${1:-}" = "--gui" ]; then
   command -v xvfb-run >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xvfb; }
   xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --python bench/blender_gui_edit_bench.py \
-    -- --addon-dir addon 2>&1 | grep -E '^gui-edit'
+    -- --addon-dir "$addon" 2>&1 | grep -E '^gui-edit'
   exit
 fi
-blender --background --factory-startup --python bench/blender_modifier_bench.py -- --addon-dir addon "$@" 2>&1 |
-  grep -E '^(Blender [0-9]|apply|edit|play)'
+series=3.4
+if [ "${1:-}" = "--blender" ]; then series=${2:?--blender needs a series}; shift 2; fi
+if [ "$series" = all ]; then
+  series="3.4 $(grep -o '^[0-9][0-9.]*' tests/blender/bpy_versions.txt | tr '\n' ' ')"
+fi
+for one in $series; do
+  if [ "$one" = 3.4 ]; then
+    blender=(blender --background --factory-startup --python)
+  else
+    [ -x "build/bpy-$one/bin/python" ] || scripts/setup_bpy.sh
+    blender=("build/bpy-$one/bin/python" tests/blender/run_in_bpy.py)
+  fi
+  "${blender[@]}" bench/blender_modifier_bench.py -- --addon-dir "$addon" "$@" 2>&1 |
+    grep -E '^(Blender [0-9]|apply|edit|play)'
+done

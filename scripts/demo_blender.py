@@ -16,8 +16,8 @@ import os
 import sys
 import time
 
-import bmesh
 import bpy
+import bmesh
 import numpy as np
 from mathutils import Matrix, Vector
 
