@@ -626,7 +626,9 @@ def _write_vertex_groups(new, source, refined_groups, holder):
                 weights = np.clip(refined_groups[:, index], 0.0, 1.0)
             attribute = _set_attribute(new, _GROUP_TRANSFER, 'POINT', 'FLOAT', weights)
             new.attributes.active = attribute
-            with bpy.context.temp_override(object=holder, active_object=holder):
+            # Convert Attribute refuses while any object is in Edit Mode (its poll reads the context's edit object,
+            # in every version): the modifier rebuilds in Edit Mode too, on a holder that is not being edited.
+            with bpy.context.temp_override(object=holder, active_object=holder, edit_object=None):
                 bpy.ops.geometry.attribute_convert(mode='VERTEX_GROUP')
             holder.vertex_groups[index].name = name
     finally:

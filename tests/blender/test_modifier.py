@@ -177,6 +177,29 @@ def edits():
     support.remove(obj)
 
 
+def edit_mode_with_vertex_groups():
+    """A cage with a vertex group, edited in Edit Mode: a topology change rebuilds the result there (vertex groups are
+    written through Convert Attribute, which refuses while an object is in Edit Mode unless given another)."""
+    obj = support.object_from_bmesh("Grouped", support.uv_sphere())
+    obj.vertex_groups.new(name="Weights").add(list(range(len(obj.data.vertices))), 0.5, 'REPLACE')
+    add_entry(obj, levels=1)
+    faces = len(obj.data.polygons)
+    bpy.ops.object.mode_set(mode='EDIT')
+    edit = bmesh.from_edit_mesh(obj.data)
+    edit.faces.ensure_lookup_table()
+    bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
+    bmesh.update_edit_mesh(obj.data)
+    _, shown = evaluated(obj)
+    helper = addon.compat.modifier_input(obj.modifiers[-1], "Result")
+    weights = {round(group.weight, 6) for vertex in helper.data.vertices for group in vertex.groups}
+    check(shown == 4 * (faces - 1) and [group.name for group in helper.vertex_groups] == ["Weights"]
+          and weights == {0.5} and all(len(vertex.groups) == 1 for vertex in helper.data.vertices),
+          f"in Edit Mode, deleting a face of a cage with a vertex group rebuilds the result ({shown} faces, "
+          f"{4 * (faces - 1)} expected) with the group's weights on every vertex")
+    bpy.ops.object.mode_set(mode='OBJECT')
+    support.remove(obj)
+
+
 def uv_edits():
     """A moved vertex and a moved UV of a cage with a UV map and a corner colour are written into the result in place,
     UVs, colours and (once the result is still) limit normals included, as Apply would write them, each alone too (an
@@ -426,6 +449,7 @@ support.clear_scene()
 entry_in_stack()
 stack_order()
 edits()
+edit_mode_with_vertex_groups()
 uv_edits()
 animation()
 errors()
