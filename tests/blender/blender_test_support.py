@@ -10,6 +10,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import textwrap
 import time
 
 import bpy
@@ -236,14 +237,18 @@ def capture_output(function):
     return result, text
 
 
+def exiting_script(body):
+    """Python for a second Blender: body, then the process ends through os._exit, 1 (with the traceback printed) if
+    body raised. Blender as a Python module can hang in its exit handlers (run_in_bpy.py)."""
+    return ("import os, sys, traceback\ncode = 0\ntry:\n" + textwrap.indent(textwrap.dedent(body).strip(), "    ")
+            + "\nexcept BaseException:\n    traceback.print_exc()\n    code = 1\n"
+            "sys.stdout.flush()\nsys.stderr.flush()\nos._exit(code)\n")
+
+
 # What the second Blender of run_blender runs where this one is Blender as a Python module: the steps of the program's
-# command line, in a Python that imports bpy. It ends through os._exit, as run_in_bpy.py does (bpy can hang at exit).
-_BPY_PROLOGUE = """
-import os, sys, traceback
-import bpy
-blend, script, render = sys.argv[1], sys.argv[2], sys.argv[3:]
-code = 0
-try:
+# command line, in a Python that imports bpy.
+_BPY_PROLOGUE = "import bpy\n" + exiting_script("""
+    blend, script, render = sys.argv[1], sys.argv[2], sys.argv[3:]
     bpy.ops.wm.open_mainfile(filepath=blend)
     exec(compile(script, "<python-expr>", "exec"), {"__name__": "__main__"})
     if render:
@@ -251,13 +256,7 @@ try:
         scene = bpy.context.scene
         scene.render.filepath, scene.frame_start, scene.frame_end = output, int(first), int(last)
         bpy.ops.render.render(animation=True)
-except BaseException:
-    traceback.print_exc()
-    code = 1
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(code)
-"""
+""")
 
 
 def run_blender(blend, script, render=None, timeout=300):

@@ -26,16 +26,14 @@ import blender_test_support as support  # noqa: E402
 
 IS_EXTENSION = bpy.app.version >= (4, 2, 0)
 
-# The second Blender: installs, enables, then subdivides a cube (12 triangles once triangulated) to level 1. Ends
-# through os._exit: Blender as a Python module can hang in its exit handlers.
+# The second Blender: installs, enables, then subdivides a cube (12 triangles once triangulated) to level 1.
 INSTALL_SCRIPT = r"""
-import os, sys, traceback
+import os, sys
 import addon_utils
 import bpy
 
 zip_path, package, user_dir, is_extension, name, version, tagline = sys.argv[sys.argv.index("--") + 1:]
-code = 0
-try:
+""" + support.exiting_script(r"""
     if is_extension == "1":
         result = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
                                                           enable_on_install=True)
@@ -59,13 +57,7 @@ try:
     faces = len(bpy.context.object.data.polygons)
     assert faces == 48, f"a cube at level 1 has {faces} faces, expected 48"
     print("INSTALLED-AND-APPLIED", loaded.__file__)
-except BaseException:
-    traceback.print_exc()
-    code = 1
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(code)
-"""
+""")
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()
