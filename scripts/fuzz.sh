@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, AddressSanitizer + UndefinedBehaviorSanitizer) into build-fuzz/ and runs them.
-# Installs clang and libfuzzer-14-dev with apt-get when missing. Every input a target fails on is kept as
+# Installs clang, libfuzzer-14-dev and libclang-rt-14-dev with apt-get when missing. Every input a target fails on is kept as
 # build-fuzz/failures/<target>-*; make it a regression test (tests/native/test_bad_input.cpp shows how).
 #
 # Usage: scripts/fuzz.sh [--seconds N] [--target fuzz_obj|fuzz_plan|fuzz_cli] [--build-only] [--run-only]
@@ -21,7 +21,7 @@ done
 
 if ((build)); then
   source scripts/packages.sh
-  install_packages clang libfuzzer-14-dev
+  install_packages clang libfuzzer-14-dev libclang-rt-14-dev  # the last: the sanitizers' and libFuzzer's runtime
   cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOOPSUB_FUZZ=ON \
     -DLOOPSUB_TESTS=OFF -DLOOPSUB_BENCH=OFF -DLOOPSUB_PYTHON=OFF -DLOOPSUB_BLENDER= >/dev/null
   cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]}"
