@@ -20,6 +20,9 @@ The viewport's shades with Blender's own normals while it changes (edits, playba
 where the limit normals split (marked sharp): Blender takes and evaluates custom normals several times slower than the
 rest of an update (mesh_data.Source.blender_normals). SETTLE_SECONDS after the last change, settle() writes the limit
 normals into it, so that a still viewport shows them too (docs/addon.md, Normals).
+
+After each update (not on frame changes), after a render, before saving and after loading, stack.collect() frees the
+helpers, results and node group that no live entry uses any more: a deleted object or a removed entry leaves nothing.
 """
 import queue
 import threading
@@ -210,24 +213,14 @@ class _PassThrough(Exception):
 
 
 def _swap(carrier, old, mesh):
+    mesh[stack.RESULT_TAG] = True  # collect() frees it once nothing uses it
     carrier.data = mesh
-    if old is not None and old != mesh and old.users == 0:
-        if _rendering:
-            _retired.append(old.name)  # a render job may still read it: removed when the render is over
-        else:
-            bpy.data.meshes.remove(old)
+    # A mesh replaced during a render stays (a render job may still read it) until collect() runs after the render.
+    # It was tracked by name once, and missed: the result that replaced it had taken its name by then (F12 in 3.4.1's
+    # interface left a zero-user "… (Loop Subdivision).001" per render).
+    if old is not None and old != mesh and old.users == 0 and not _rendering:
+        bpy.data.meshes.remove(old)
     mesh.name = carrier.name
-
-
-_retired = []  # names of helper meshes replaced during a render
-
-
-def _remove_retired():
-    for name in _retired:
-        mesh = bpy.data.meshes.get(name)
-        if mesh is not None and mesh.users == 0:
-            bpy.data.meshes.remove(mesh)
-    _retired.clear()
 
 
 def refresh_all(depsgraph=None, render=False):
@@ -247,6 +240,19 @@ def _dropped():
         del _caches[name]  # deleted, renamed or without an entry
 
 
+def _collect():
+    """Frees the helpers, results and node group that no live entry uses any more (stack.collect); not while a
+    render job may read them."""
+    global _busy
+    if _busy or _rendering:
+        return
+    _busy = True  # the updates removing data makes are not edits
+    try:
+        stack.collect()
+    finally:
+        _busy = False
+
+
 def _refresh_updated(depsgraph):
     """Refreshes the entries of the objects whose geometry this evaluation changed (edits, settings, animation)."""
     if _busy or _rendering:
@@ -260,6 +266,8 @@ def _refresh_updated(depsgraph):
 
 @persistent
 def _on_depsgraph_update(scene, depsgraph):
+    # After edits only (deleting an object or removing an entry is one), not on frame changes: playback deletes nothing.
+    _collect()
     _refresh_updated(depsgraph)
 
 
@@ -290,8 +298,8 @@ def _render_levels():
 
 
 def _viewport_levels():
-    _remove_retired()
     refresh_all()
+    _collect()
 
 
 @persistent
@@ -305,7 +313,9 @@ def _on_render_end(*_):
     # A render wrote its Render levels into the helpers: the viewport gets its levels back once it is over.
     global _rendering
     _rendering = False
-    if not bpy.app.background:
+    if threading.current_thread() is threading.main_thread():
+        _viewport_levels()  # a render from the command line or Python: the render is over, the scene is free
+    elif not bpy.app.background:
         _main_thread_work.put((_viewport_levels, None))
 
 
@@ -336,7 +346,15 @@ def _on_undo(*_):
 @persistent
 def _on_load(*_):
     _caches.clear()
+    stack.migrate()
     _undo_auto_smooth_conversion()
+    _collect()
+
+
+@persistent
+def _on_save(*_):
+    # Nothing of a deleted object, removed entry or finished render goes into the file.
+    _collect()
 
 
 def _undo_auto_smooth_conversion():
@@ -379,6 +397,7 @@ _handlers = (
     ("undo_post", _on_undo),
     ("redo_post", _on_undo),
     ("load_post", _on_load),
+    ("save_pre", _on_save),
 )
 
 
