@@ -237,6 +237,22 @@ def capture_output(function):
     return result, text
 
 
+def tiny_render_camera(distance):
+    """A camera looking down +y at the origin from distance, and the scene set to render 16 x 16 pixels with Cycles
+    at one sample: renders that exercise the add-on, not the renderer. Returns the camera."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    bpy.context.scene.collection.objects.link(camera)
+    camera.location = (0.0, -distance, 0.0)
+    camera.rotation_euler = (np.pi / 2, 0.0, 0.0)
+    scene = bpy.context.scene
+    scene.camera = camera
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 1
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = 16
+    return camera
+
+
 def exiting_script(body):
     """Python for a second Blender: body, then the process ends through os._exit, 1 (with the traceback printed) if
     body raised. Blender as a Python module can hang in its exit handlers (run_in_bpy.py)."""

@@ -143,16 +143,7 @@ def snapshot(kind):
 def base_file(folder):
     """An empty scene with a camera, rendering 16x16 pixels with one Cycles sample."""
     support.clear_scene()
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    bpy.context.scene.collection.objects.link(camera)
-    camera.location = (0.0, -8.0, 0.0)
-    camera.rotation_euler = (1.5707963, 0.0, 0.0)
-    scene = bpy.context.scene
-    scene.camera = camera
-    scene.render.engine = 'CYCLES'
-    scene.cycles.samples = 1
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x = scene.render.resolution_y = 16
+    support.tiny_render_camera(8.0)
     path = os.path.join(folder, "base.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     return path

@@ -394,16 +394,7 @@ def saved_and_rendered():
     obj.modifiers.new("Wave", 'WAVE').height = 0.3
     add_entry(obj, levels=1, render_levels=2)
     positions, faces = evaluated(obj)
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    bpy.context.scene.collection.objects.link(camera)
-    camera.location = (0.0, -6.0, 0.0)
-    camera.rotation_euler = (np.pi / 2, 0.0, 0.0)
-    scene = bpy.context.scene
-    scene.camera = camera
-    scene.render.engine = 'CYCLES'
-    scene.cycles.samples = 1
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x = scene.render.resolution_y = 16
+    camera = support.tiny_render_camera(6.0)
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "saved.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
