@@ -12,8 +12,8 @@
 #    inside a single top-level folder (both are documented); it installs the package under the manifest's id.
 #    The folder is named after that id, so both versions install the same package name.
 #
-# Native modules: one per CPython ABI that Blender releases bundle (3.10: official 3.4-4.1; 3.11: Debian's 3.4 and
-# official 4.2+; 3.13 where a release bundles it), side by side, so that Python picks the matching one. They are
+# Native modules: one per CPython ABI that Blender releases bundle (3.10: official 3.4-4.0; 3.11: Debian's 3.4 and
+# official 4.1-5.0; 3.13: 5.1 and later), side by side, so that Python picks the matching one. They are
 # built and checked by scripts/build_modules.sh (see there): with zig's clang for Blender's baseline, glibc 2.28, the
 # C++ runtime linked in and hidden (no GLIBCXX_ or CXXABI_ symbol, only PyInit__loopsub exported), each imported in
 # its interpreter, one line each with the newest GLIBC_ symbol it needs. An ABI with no interpreter here is skipped
