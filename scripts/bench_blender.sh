@@ -28,5 +28,5 @@ for one in $series; do
     blender=("build/bpy-$one/bin/python" tests/blender/run_in_bpy.py)
   fi
   "${blender[@]}" bench/blender_modifier_bench.py -- --addon-dir "$addon" "$@" 2>&1 |
-    grep -E '^(Blender [0-9]|apply|edit|play)'
+    grep -E '^(Blender [0-9.]+.*medians|apply|edit|play)'
 done
