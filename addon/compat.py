@@ -160,6 +160,52 @@ def remove_modifier_button(target, draw):
 NODES_MODIFIER_PANEL = "MOD_PT_GeometryNodes"
 
 
+def hide_carrier_fields(modifier, result_socket):
+    """Hides what the panel of a Geometry Nodes modifier draws above the Loop Subdivision settings, as far as the
+    version lets Python: returns the names of what stays shown.
+
+    3.4 (3.4.1 here) offers nothing: the modifier panel always draws the node-group picker (with its user count,
+    fake-user, copy and unlink buttons) and every group input's field ("Result"); "Output Attributes" and "Internal
+    Dependencies" are sub-panels of it registered in C, with no flag or poll a Python add-on can change.
+    4.2 and 4.5 (4.2.23 and 4.5.15 here; 4.0 and 4.1 are not installed): NodesModifier.show_group_selector hides the
+    picker, and the group input's interface socket flag hide_in_modifier hides the "Result" field (the modifier keeps
+    its value, and runs with it). "Output Attributes" is drawn only for group outputs that take an attribute name
+    (the group has one, a Geometry); the "Manage" panel (Bake, Named Attributes: the former "Internal Dependencies")
+    stays, closed by default, with no flag to hide it.
+    5.0 on (5.0.1 and 5.2.3 here): as 4.5, and NodesModifier.show_manage_panel hides "Manage" too.
+
+    A duplicate of the modifier (modifier_copy) copies these flags; the socket flag is the shared group's."""
+    shown = []
+    if hasattr(modifier, "show_group_selector"):
+        if modifier.show_group_selector:
+            modifier.show_group_selector = False
+    else:
+        shown.append("node group")
+    group = modifier.node_group
+    socket = group.interface.items_tree.get(result_socket) if hasattr(group, "interface") else None
+    if socket is not None and hasattr(socket, "hide_in_modifier"):
+        if not socket.hide_in_modifier:
+            socket.hide_in_modifier = True
+    else:
+        shown.append("Result")
+    if not hasattr(group, "interface"):
+        shown.append("Output Attributes")
+    if hasattr(modifier, "show_manage_panel"):
+        if modifier.show_manage_panel:
+            modifier.show_manage_panel = False
+    else:
+        shown.append("Internal Dependencies" if not hasattr(group, "interface") else "Manage")
+    return shown
+
+
+def subdivision_set_arguments(**arguments):
+    """The arguments Blender's object.subdivision_set (Ctrl 0-5) takes, of those given: level and relative in every
+    version, ensure_modifier (hidden: add a Subdivision Surface where there is none) from 4.5 (4.5.15 and later here;
+    3.4.1 and 4.2.23 have no such argument)."""
+    known = bpy.ops.object.subdivision_set.get_rna_type().properties.keys()
+    return {name: value for name, value in arguments.items() if name in known}
+
+
 def add_group_socket(group, in_out, socket_type, name):
     """A node group input or output ('INPUT'/'OUTPUT'): NodeTree.interface from 4.0, inputs/outputs before."""
     if hasattr(group, "interface"):

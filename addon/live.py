@@ -261,6 +261,7 @@ def _refresh_updated(depsgraph):
     updated = {update.id.original for update in depsgraph.updates
                if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
     for obj in updated:
+        stack.tidy(obj)  # a duplicated entry named as one, the carrier's fields hidden
         refresh(obj, depsgraph)
 
 

@@ -96,14 +96,20 @@ class Cage(Topology):
         bad = np.flatnonzero(~np.isfinite(self.positions).all(axis=1))
         if len(bad):
             raise LoopSubError(f"{name}: vertex {bad[0]} has a non-finite coordinate "
-                               f"({len(bad)} such vertices)")
+                               f"({counted(len(bad), 'such vertex', 'such vertices')})")
         if not topology:
             return
         degenerate = geometry.degenerate_triangles(self.triangles)
         if len(degenerate):
             face = self.triangle_polygons[degenerate[0]]
-            raise LoopSubError(f"{name}: face {face} repeats a vertex ({len(degenerate)} degenerate triangles); "
+            raise LoopSubError(f"{name}: face {face} repeats a vertex "
+                               f"({counted(len(degenerate), 'degenerate triangle')}); "
                                "Mesh ▸ Clean Up ▸ Degenerate Dissolve can fix it")
+
+
+def counted(count, singular, plural=None):
+    """A count and its noun, singular for one ("1 vertex", "2 vertices"); plural defaults to singular + "s"."""
+    return f"{count} {singular if count == 1 else (plural or singular + 's')}"
 
 
 def read_vertex_groups(mesh, num_groups):
@@ -194,20 +200,22 @@ def _notes(name, cage):
     """What an artist should be told about a cage that subdivides."""
     notes = []
     if cage.num_triangulated:
-        notes.append(('INFO', f"{name}: triangulated {cage.num_triangulated} non-triangle faces "
+        notes.append(('INFO', f"{name}: triangulated {counted(cage.num_triangulated, 'non-triangle face')} "
                               "with Blender's tessellation first"))
     loose_edges = int(np.count_nonzero(cage.edge_face_counts == 0))
     if loose_edges:
-        notes.append(('WARNING', f"{name}: {loose_edges} loose edges (in no face) are not carried over"))
+        notes.append(('WARNING', f"{name}: {counted(loose_edges, 'loose edge')} (in no face) "
+                                 f"{'is' if loose_edges == 1 else 'are'} not carried over"))
     duplicates = geometry.duplicate_triangles(cage.triangles)
     if len(duplicates):
         first, second = cage.triangle_polygons[duplicates[0]]
         notes.append(('WARNING', f"{name}: faces {first} and {second} lie on the same three vertices "
-                                 f"({len(duplicates)} such pairs); their edges are non-manifold and stay sharp, as "
-                                 "in Subdivision Surface"))
+                                 f"({counted(len(duplicates), 'such pair')}); their edges are non-manifold and "
+                                 "stay sharp, as in Subdivision Surface"))
     cracks = geometry.shared_positions(cage.positions)
     if cracks:
-        notes.append(('WARNING', f"{name}: {cracks} vertices share a position with another; the cracks "
+        notes.append(('WARNING', f"{name}: {counted(cracks, 'vertex', 'vertices')} "
+                                 f"{'shares' if cracks == 1 else 'share'} a position with another; the cracks "
                                  "stay open (Merge by Distance welds them)"))
     return notes
 
@@ -221,10 +229,6 @@ def _normal_notes(name, mesh, source):
     elif mesh.has_custom_normals and not source.custom_normals:
         notes.append(('WARNING', f"{name}: its custom split normals are not carried over (Auto Smooth is off, so "
                                  "they do not shade it)"))
-    flat = int(np.count_nonzero(~source.smooth))
-    if source.limit_normals and flat:
-        notes.append(('INFO', f"{name}: {flat} flat-shaded faces are shaded smooth to show the limit normals "
-                              "(Use Limit Surface off keeps flat shading)"))
     return notes
 
 
@@ -400,7 +404,7 @@ def build_mesh(source, plan, refined, name, holder):
         sharp = _write_edge_data(new, source, plan, new_edges)
         if source.blender_normals:
             _mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp)
-        source.auto_loops = _auto_loops(source, plan, new_edges, sharp)
+        source.auto_loops = _auto_loops(source, plan, new_edges, sharp, parents)
         _add_value_layers(new, source)
         _write_values(new, source, refined)
         new.update()
@@ -449,15 +453,22 @@ def _write_values(new, source, refined):
         _fill(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
 
-def _auto_loops(source, plan, new_edges, sharp):
-    """(T_out, 3) bool, or None: the result's corners at vertices on marked sharp edges, where the mesh shades with
-    them (Auto Smooth up to 4.0). With the limit normals, those corners keep Blender's own normal (a zero custom
-    normal), so that a marked sharp edge still shows as one."""
-    if not source.limit_normals or sharp is None or not sharp.any() or not compat.shades_sharp_edges(source.mesh):
+def _auto_loops(source, plan, new_edges, sharp, parents):
+    """(T_out, 3) bool, or None: the result's corners that keep Blender's own normal (a zero custom normal) with the
+    limit normals: those of flat faces (children of the cage's flat-shaded faces: flat, as Subdivision Surface keeps
+    them with Use Limit Surface on), and those at vertices on marked sharp edges, where the mesh shades with them (Auto
+    Smooth up to 4.0), so that a marked sharp edge still shows as one."""
+    if not source.limit_normals:
         return None
-    on_sharp = np.zeros(plan.num_output_vertices, dtype=bool)
-    on_sharp[new_edges[sharp].ravel()] = True
-    return on_sharp[plan.triangles]
+    loops = None
+    if sharp is not None and sharp.any() and compat.shades_sharp_edges(source.mesh):
+        on_sharp = np.zeros(plan.num_output_vertices, dtype=bool)
+        on_sharp[new_edges[sharp].ravel()] = True
+        loops = on_sharp[plan.triangles]
+    flat = ~source.smooth[parents]
+    if flat.any():
+        loops = np.repeat(flat[:, None], 3, axis=1) if loops is None else loops | flat[:, None]
+    return loops
 
 
 def _mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp):
@@ -505,6 +516,8 @@ def write_limit_normals(new, normals, triangles, auto_loops):
     """The limit normals (T_out, 3, 3) as custom split normals, but Blender's own at auto_loops (see _auto_loops).
     Also what the live entry writes into a result that showed Blender's normals, once it is still (live.py)."""
     if auto_loops is not None:
+        if auto_loops.all():
+            return  # every face flat: Blender's own normals are the face normals
         normals = np.where(auto_loops[:, :, None], np.float32(0), normals)
     _set_normals(new, normals, triangles, auto_loops)
 
@@ -551,15 +564,14 @@ def _write_geometry(new, positions, plan):
 
 
 def _write_face_data(new, source, parent_polygons):
-    """Per-face data comes from the parent face of the cage (through its triangle), flat/smooth shading too unless
-    the limit normals are written. Material indices go through their attribute (Blender 3.4+), many times faster than
-    MeshPolygon.material_index; like Blender, none is written when every face uses the first slot."""
+    """Per-face data comes from the parent face of the cage (through its triangle), flat/smooth shading too (with the
+    limit normals as well: they show on the smooth faces, as Subdivision Surface keeps flat faces flat). Material
+    indices go through their attribute (Blender 3.4+), many times faster than MeshPolygon.material_index; like
+    Blender, none is written when every face uses the first slot."""
     materials = source.materials[parent_polygons]
     if materials.any():
         _set_attribute(new, "material_index", 'FACE', 'INT', materials)
-    # The limit normals show on smooth faces: the result is shaded smooth then (a note says so).
-    smooth = np.ones(len(parent_polygons), dtype=bool) if source.limit_normals else source.smooth[parent_polygons]
-    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth))
+    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(source.smooth[parent_polygons]))
     for (name, domain, data_type), values in zip(source.face, source.face_values):
         _set_attribute(new, name, domain, data_type, values[parent_polygons])
 

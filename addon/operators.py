@@ -2,7 +2,7 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from . import live, mesh_data, stack
+from . import compat, live, mesh_data, stack
 from .native import LoopSubError
 from .properties import (BOUNDARY_ITEMS, LIMIT_SURFACE_DESCRIPTION, RULES_ITEMS, UV_SMOOTH_DESCRIPTION,
                          UV_SMOOTH_ITEMS)
@@ -180,6 +180,52 @@ class OBJECT_OT_loop_subdivision_refresh_tags(bpy.types.Operator):
         return {'FINISHED'} if tagged else {'CANCELLED'}
 
 
+class OBJECT_OT_loop_subdivision_set(bpy.types.Operator):
+    """Set the levels of the Loop Subdivision modifier of the selected objects that have one, and a Subdivision
+    Surface level on the others (Blender's Subdivision Set)"""
+    bl_idname = "object.loop_subdivision_set"
+    bl_label = "Subdivision Set"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    # Blender's object.subdivision_set's arguments, which the others get as they are.
+    level: IntProperty(name="Level", min=-100, max=100, soft_min=-6, soft_max=6, default=1)
+    relative: BoolProperty(name="Relative", default=False,
+                           description="Apply the subdivision surface level as an offset relative to the current level")
+    ensure_modifier: BoolProperty(name="Ensure Modifier", default=True, options={'HIDDEN'},
+                                  description="Create the corresponding modifier if it does not exist")
+
+    def execute(self, context):
+        active = context.active_object
+        if active is not None and active.mode in {'SCULPT', 'VERTEX_PAINT', 'WEIGHT_PAINT', 'TEXTURE_PAINT'}:
+            objects = [active]  # as Blender's: paint modes act on the active object
+        else:
+            objects = list(context.selected_editable_objects)
+        ours = [obj for obj in objects if stack.entry(obj) is not None]
+        others = [obj for obj in objects if obj not in ours]
+        for obj in ours:
+            settings = obj.loop_subdivision
+            levels = settings.bl_rna.properties["levels"]
+            value = settings.levels + self.level if self.relative else self.level
+            settings.levels = max(levels.hard_min, min(levels.hard_max, value))
+        if others or not ours:
+            arguments = compat.subdivision_set_arguments(level=self.level, relative=self.relative,
+                                                         ensure_modifier=self.ensure_modifier)
+            try:
+                with context.temp_override(selected_editable_objects=others):
+                    result = bpy.ops.object.subdivision_set(**arguments)
+            except RuntimeError as error:  # its poll failed (nothing selected): as Blender's own says
+                if not ours:
+                    self.report({'WARNING'}, str(error).split("Error: ", 1)[-1].strip())
+                    return {'CANCELLED'}
+                result = {'FINISHED'}
+            if not ours:
+                return result
+        return {'FINISHED'}
+
+
+_SUBDIVISION_SET_KEYS = ('ZERO', 'ONE', 'TWO', 'THREE', 'FOUR', 'FIVE')
+
+
 class VIEW3D_MT_object_loop_subdivision(bpy.types.Menu):
     """Makes the operators reachable from the Object menu, and so from F3 search"""
     bl_label = "Loop Subdivision"
@@ -202,17 +248,46 @@ classes = (
     OBJECT_OT_loop_subdivision_remove,
     OBJECT_OT_loop_subdivision_apply,
     OBJECT_OT_loop_subdivision_refresh_tags,
+    OBJECT_OT_loop_subdivision_set,
     VIEW3D_MT_object_loop_subdivision,
 )
+_keymap_items = []  # (keymap, item) of Ctrl 0-5
+
+
+def _add_keymap_items():
+    """Ctrl 0-5 in Object Mode, as Blender binds object.subdivision_set, call loop_subdivision_set (which sets a Loop
+    Subdivision modifier's levels and leaves every other object to Blender's). Add-on keymap items come before the
+    default ones. No keymaps in background mode (no window manager, or a key configuration without one for add-ons)."""
+    window_manager = bpy.context.window_manager
+    keyconfig = window_manager.keyconfigs.addon if window_manager is not None else None
+    if keyconfig is None:
+        return
+    keymap = keyconfig.keymaps.new(name="Object Mode", space_type='EMPTY')
+    for level, key in enumerate(_SUBDIVISION_SET_KEYS):
+        item = keymap.keymap_items.new(OBJECT_OT_loop_subdivision_set.bl_idname, key, 'PRESS', ctrl=True)
+        item.properties.level = level
+        item.properties.relative = False
+        _keymap_items.append((keymap, item))
+
+
+def _remove_keymap_items():
+    for keymap, item in _keymap_items:
+        try:
+            keymap.keymap_items.remove(item)
+        except (ReferenceError, RuntimeError):
+            pass  # the key configuration is gone already
+    _keymap_items.clear()
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     bpy.types.VIEW3D_MT_object.append(_object_menu)
+    _add_keymap_items()
 
 
 def unregister():
+    _remove_keymap_items()
     bpy.types.VIEW3D_MT_object.remove(_object_menu)
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -167,8 +167,34 @@ def add(obj):
     modifier = obj.modifiers.new(ENTRY_NAME, 'NODES')
     modifier.node_group = node_group()
     modifier.show_in_editmode = True
+    compat.hide_carrier_fields(modifier, RESULT_SOCKET)
     helper(obj, modifier)
     return modifier
+
+
+# What Blender names a new Geometry Nodes modifier; a duplicate of an entry (the modifier's menu ▸ Duplicate,
+# object.modifier_copy) gets it in 3.4.1 and 4.2.23 (4.5 and later keep the name, "Loop Subdivision.001").
+_NODES_DEFAULT_NAME = "GeometryNodes"
+
+
+def tidy(obj):
+    """Every Loop Subdivision modifier of obj named as one, its carrier's own fields hidden (compat): a duplicated
+    entry comes named "GeometryNodes" in some versions, and entries of files saved before the fields were hidden
+    show them. Changes nothing that is right already (the depsgraph handler runs this). Returns the renamed ones."""
+    renamed = []
+    if obj is None or obj.type != 'MESH' or obj.library is not None:
+        return renamed
+    for modifier in obj.modifiers:
+        if not is_entry(modifier):
+            continue
+        name = modifier.name
+        if name == _NODES_DEFAULT_NAME or (name.startswith(_NODES_DEFAULT_NAME + ".")
+                                           and name[len(_NODES_DEFAULT_NAME) + 1:].isdigit()):
+            modifier.name = ENTRY_NAME  # Blender makes it unique in the stack ("Loop Subdivision.001")
+            renamed.append(modifier)
+        if modifier.node_group.library is None:
+            compat.hide_carrier_fields(modifier, RESULT_SOCKET)
+    return renamed
 
 
 def is_first(obj, modifier):

@@ -1,14 +1,49 @@
 """The Loop Subdivision modifier's settings, drawn inside its panel in Properties ▸ Modifiers, laid out like
 Blender's Subdivision Surface; and the Add Loop Subdivision button under Add Modifier."""
+import textwrap
+
 import bpy
 
 from . import compat, live, stack
 
+# Estimated width of a character of the interface font, and what a label's icon and the panel's margins take, in
+# pixels at a resolution scale of 1: enough to wrap notes at about the panel's width (as Blender's own panels do
+# with a helper that measures the text).
+_CHAR_WIDTH = 6.0
+_LABEL_MARGIN = 90.0
+_MIN_COLUMNS = 20
 
-def _draw_settings(layout, obj, modifier):
-    """The entry's settings, laid out like Subdivision Surface's panel."""
+
+def note_columns(context):
+    """How many characters of a note fit on one line of the panel, estimated from the region's width; None where
+    there is no region (nothing is drawn)."""
+    region = getattr(context, "region", None)
+    if region is None or region.width <= 1:
+        return None
+    scale = context.preferences.system.ui_scale if context.preferences is not None else 0.0
+    scale = scale if scale > 0 else 1.0  # 0 in background mode
+    return max(_MIN_COLUMNS, int((region.width / scale - _LABEL_MARGIN) / _CHAR_WIDTH))
+
+
+def note_lines(text, columns):
+    """The lines a note is drawn in: split at word boundaries to at most columns characters (long words stay whole),
+    the whole note on one line when columns is None."""
+    if columns is None:
+        return [text]
+    return textwrap.wrap(text, width=columns, break_long_words=False, break_on_hyphens=False) or [text]
+
+
+def _note(layout, text, icon, columns):
+    """A note over as many labels as it takes at the panel's width, the icon on the first, the others indented."""
+    column = layout.column(align=True)
+    for index, line in enumerate(note_lines(text, columns)):
+        column.label(text=line, icon=icon if index == 0 else 'BLANK1')
+
+
+def _draw_settings(layout, obj, modifier, columns=None):
+    """The entry's settings, laid out like Subdivision Surface's panel; notes wrapped at columns characters."""
     if stack.entry(obj) != modifier:
-        layout.label(text="Only the first Loop Subdivision modifier is used", icon='ERROR')
+        _note(layout, "Only the first Loop Subdivision modifier is used", 'ERROR', columns)
         return
     settings = obj.loop_subdivision
     layout.use_property_split = True
@@ -24,9 +59,7 @@ def _draw_settings(layout, obj, modifier):
     layout.prop(settings, "use_limit_surface")
     if settings.use_limit_surface:
         # What the viewport shows (live.settle): the setting's own tooltip is Subdivision Surface's.
-        note = layout.column(align=True)
-        note.label(text="Limit normals once still,", icon='INFO')
-        note.label(text="Blender's while it changes", icon='BLANK1')
+        _note(layout, "Limit normals once still, Blender's while it changes", 'INFO', columns)
     layout.prop(settings, "uv_smooth")
     layout.prop(settings, "boundary")
     layout.prop(settings, "use_creases")
@@ -36,10 +69,10 @@ def _draw_settings(layout, obj, modifier):
 
     entry = live.cache(obj)
     if entry is not None and entry.error:
-        layout.label(text=entry.error, icon='ERROR')
+        _note(layout, entry.error, 'ERROR', columns)
     elif entry is not None:
         for level, text in entry.messages:
-            layout.label(text=text.split(": ", 1)[-1], icon='ERROR' if level == 'WARNING' else 'INFO')
+            _note(layout, text.split(": ", 1)[-1], 'ERROR' if level == 'WARNING' else 'INFO', columns)
     row = layout.row(align=True)
     row.context_pointer_set("object", obj)
     row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')
@@ -58,7 +91,7 @@ class DATA_PT_loop_subdivision(bpy.types.Panel):
     def draw(self, context):
         modifier = self.custom_data
         if modifier is not None and stack.is_entry(modifier):
-            _draw_settings(self.layout, modifier.id_data, modifier)
+            _draw_settings(self.layout, modifier.id_data, modifier, note_columns(context))
 
 
 class DATA_PT_loop_subdivision_settings(bpy.types.Panel):
@@ -73,7 +106,7 @@ class DATA_PT_loop_subdivision_settings(bpy.types.Panel):
         return stack.entry(context.object) is not None
 
     def draw(self, context):
-        _draw_settings(self.layout, context.object, stack.entry(context.object))
+        _draw_settings(self.layout, context.object, stack.entry(context.object), note_columns(context))
 
 
 def _add_button(self, context):

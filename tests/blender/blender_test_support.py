@@ -81,6 +81,14 @@ def object_from_bmesh(name, bm, triangulate=True):
     return obj
 
 
+def shade_smooth(obj):
+    """Shades every face of obj smooth (as Shade Smooth does) and returns obj: a cage whose limit normals are to show
+    (the children of flat faces stay flat, as in Subdivision Surface)."""
+    obj.data.polygons.foreach_set("use_smooth", np.ones(len(obj.data.polygons), dtype=bool))
+    obj.data.update()
+    return obj
+
+
 def remove(obj):
     """Removes an object and its mesh when nothing else uses it."""
     mesh = obj.data

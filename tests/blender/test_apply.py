@@ -94,7 +94,7 @@ def faces_and_shading():
     cage_smooth = polygon_values(mesh, "use_smooth", bool)
     name = mesh.name
     support.select_only(obj)
-    # Without the limit surface the result keeps per-face shading (with it, test_limit: every face smooth).
+    # The result keeps per-face shading with the limit surface on too (test_limit.flat_faces).
     bpy.ops.object.loop_subdivision_add(levels=2, use_limit_surface=False)
     result, output = run_apply(obj)  # no argument given: the modifier's settings count
     check(result == {'FINISHED'}, "apply finishes on a quad cube")
@@ -233,8 +233,8 @@ def loose_geometry():
     compat.write_edge_creases(obj.data, weights)
     result, output = run_apply(obj, levels=1, rules='OPENSUBDIV')
     mesh = obj.data
-    check(result == {'FINISHED'} and "1 loose edges (in no face) are not carried over" in output,
-          "a creased loose edge is left out with a warning")
+    check(result == {'FINISHED'} and "1 loose edge (in no face) is not carried over" in output,
+          "a creased loose edge is left out with a warning (one edge, in the singular)")
     check(np.allclose(support.positions(mesh)[8:11], [[3, 0, 0], [4, 0, 0], [5, 0, 0]]),
           "loose vertices keep their places and indices")
     support.remove(obj)

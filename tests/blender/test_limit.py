@@ -74,7 +74,7 @@ def script_call():
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
-    obj = support.object_from_bmesh("ScriptCall", bm)
+    obj = support.shade_smooth(support.object_from_bmesh("ScriptCall", bm))  # flat faces stay flat: flat_faces
     cage = support.positions(obj.data)
     mesh = obj.data
     mesh.calc_loop_triangles()
@@ -93,7 +93,7 @@ def script_call():
     check(obj.data.has_custom_normals and difference < NORMAL_TOLERANCE,
           f"the result shades with the core's limit normals as custom split normals (within {difference:.1e})")
     check(bool(support.read_array(obj.data.polygons, "use_smooth", dtype=bool).all()),
-          "every face of the result is shaded smooth")
+          "every face of the result is shaded smooth, as the cage's")
     if hasattr(obj.data, "use_auto_smooth"):
         check(obj.data.use_auto_smooth, "Blender 3.x: Auto Smooth is on, so the custom normals shade")
     support.remove(obj)
@@ -115,7 +115,7 @@ def creased_cube_normals():
     each side's normal at every corner of its faces is that side's plane normal (the hand check of the issue): across
     a crease the two sides' normals differ, and inside a side every corner of a vertex has the same one."""
     for rules in ('OPENSUBDIV', 'HOPPE94'):
-        obj, _ = support.creased_cube(compat)
+        obj = support.shade_smooth(support.creased_cube(compat)[0])
         obj.name = f"CreasedCube{rules}"
         result, output = run_apply(obj, levels=2, rules=rules)
         mesh = obj.data
@@ -138,9 +138,55 @@ def creased_cube_normals():
               f"{rules}: on the {creased.sum()} crease vertices the sides' normals differ (by at least "
               f"{spread[creased].min():.2f}); the corners of the other {(~creased).sum()} vertices agree (within "
               f"{spread[~creased].max():.1e})")
-        check("shaded smooth to show the limit normals" in output, f"{rules}: Apply says it shaded the flat faces "
-                                                                   "smooth")
+        check("shaded smooth" not in output and "flat" not in output,
+              f"{rules}: Apply has nothing to say about shading")
         support.remove(obj)
+
+
+def flat_faces():
+    """Flat faces stay flat with Use Limit Surface on, as in Subdivision Surface (whose result keeps each face's
+    flat/smooth shading): the children of the cage's flat faces are flat and shade with their face normals, those of
+    its smooth faces show the limit normals; Apply and the modifier alike, and no note about shading."""
+    obj = support.object_from_bmesh("HalfFlat", support.cube("HalfFlat", subdivisions=1))
+    cage_smooth = np.arange(len(obj.data.polygons)) % 2 == 0
+    obj.data.polygons.foreach_set("use_smooth", cage_smooth)
+    subsurf = support.copy_object(obj, "HalfFlat subsurf")
+    reference = support.blender_subdivision(subsurf, 2, use_limit_surface=True)
+    reference_smooth = support.read_array(reference.polygons, "use_smooth", dtype=bool)
+    support.select_only(obj)
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    triangles = support.read_array(mesh.loop_triangles, "vertices", 3, np.int32)
+    cage = support.positions(mesh)
+    _, limit_normals = core().Plan(triangles, len(cage), 2, rules="opensubdiv",
+                                   limit_surface=True).evaluate_with_normals(cage)
+    twin = support.copy_object(obj, "HalfFlat live")
+    support.select_only(twin)
+    bpy.ops.object.loop_subdivision_add(levels=2, rules='OPENSUBDIV')
+    addon.live.settle()
+    shown = twin.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    shown_smooth = support.read_array(shown.polygons, "use_smooth", dtype=bool)
+    shown_normals = corner_normals(shown)
+    result, output = run_apply(obj, levels=2, rules='OPENSUBDIV')
+    smooth = support.read_array(obj.data.polygons, "use_smooth", dtype=bool)
+    normals = corner_normals(obj.data)
+    face_normals = support.read_array(obj.data.polygons, "normal", 3)
+    check(result == {'FINISHED'} and smooth.any() and not smooth.all()
+          and np.count_nonzero(smooth) * len(reference_smooth) == np.count_nonzero(reference_smooth) * len(smooth)
+          and np.array_equal(shown_smooth, smooth),
+          f"the children of flat faces are flat, of smooth faces smooth ({np.count_nonzero(~smooth)} of "
+          f"{len(smooth)} flat; Subdivision Surface: {np.count_nonzero(~reference_smooth)} of "
+          f"{len(reference_smooth)}), Apply and the modifier alike")
+    flat_error = np.abs(normals[~smooth] - face_normals[~smooth][:, None, :]).max()
+    smooth_error = np.abs(normals[smooth] - limit_normals[smooth]).max()
+    check(flat_error < NORMAL_TOLERANCE and smooth_error < NORMAL_TOLERANCE,
+          f"flat faces shade with their face normals (within {flat_error:.1e}), smooth ones with the limit normals "
+          f"(within {smooth_error:.1e})")
+    live_error = np.abs(shown_normals - normals).max()
+    check(live_error < 1e-6, f"the settled modifier shows Apply's normals (within {live_error:.1e})")
+    check("flat" not in output and "shaded smooth" not in output, "no note about shading")
+    for other in (obj, twin, subsurf):
+        support.remove(other)
 
 
 def ringed_sphere_normals():
@@ -272,7 +318,7 @@ def modifier_settings():
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
-    obj = support.object_from_bmesh("Live", bm)
+    obj = support.shade_smooth(support.object_from_bmesh("Live", bm))
     support.select_only(obj)
     bpy.ops.object.loop_subdivision_add(levels=1, rules='OPENSUBDIV')
     settings = obj.loop_subdivision
@@ -299,6 +345,7 @@ def modifier_settings():
 support.clear_scene()
 settings_as_blender()
 script_call()
+flat_faces()
 creased_cube_normals()
 ringed_sphere_normals()
 sharp_edges_kept()

@@ -389,7 +389,7 @@ def blender_apply():
 
 
 def saved_and_rendered():
-    obj = support.object_from_bmesh("Saved", support.uv_sphere(8, 6))
+    obj = support.shade_smooth(support.object_from_bmesh("Saved", support.uv_sphere(8, 6)))  # the limit normals show
     obj.data.materials.append(bpy.data.materials.new("Paint"))
     obj.modifiers.new("Wave", 'WAVE').height = 0.3
     add_entry(obj, levels=1, render_levels=2)

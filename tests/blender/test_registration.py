@@ -30,7 +30,7 @@ builtins.__import__ = _watching_import
 addon = support.load_addon(register=False)
 check = support.Check("test_registration")
 
-OPERATORS = ("add", "remove", "apply", "refresh_tags")
+OPERATORS = ("add", "remove", "apply", "refresh_tags", "set")
 HANDLERS = ("depsgraph_update_post", "frame_change_post", "render_init", "render_pre", "render_complete",
             "render_cancel", "undo_post",
             "redo_post", "load_post")
@@ -48,7 +48,29 @@ def footprint():
         "handlers": {name: len(getattr(bpy.app.handlers, name)) for name in HANDLERS},
         "object menu entries": len(bpy.types.VIEW3D_MT_object._dyn_ui_initialize()),
         "add modifier entries": len(add_modifier_place()._dyn_ui_initialize()),
+        "keymap items": keymap_items(),
     }
+
+
+def keymap_items():
+    """The add-on key configuration's items that call the add-on's Subdivision Set, as (keymap, key, ctrl, level)."""
+    keyconfig = bpy.context.window_manager.keyconfigs.addon
+    if keyconfig is None:
+        return []
+    return sorted((keymap.name, item.type, bool(item.ctrl), item.properties.level)
+                  for keymap in keyconfig.keymaps for item in keymap.keymap_items
+                  if item.idname == "object.loop_subdivision_set")
+
+
+def blender_subdivision_keys():
+    """Where the default key configuration binds Blender's own Subdivision Set in Object Mode: Ctrl 0-5, levels 0-5
+    (keymap_data/blender_default.py, _template_items_object_subdivision_set, in 3.4.1 and 5.2.3). Background mode
+    leaves the default keymaps empty; with an interface they are read."""
+    keymap = bpy.context.window_manager.keyconfigs.default.keymaps["Object Mode"]
+    found = sorted((keymap.name, item.type, bool(item.ctrl), item.properties.level) for item in keymap.keymap_items
+                   if item.idname == "object.subdivision_set" and not item.properties.relative)
+    return found or sorted(("Object Mode", key, True, level)
+                           for level, key in enumerate(("ZERO", "ONE", "TWO", "THREE", "FOUR", "FIVE")))
 
 
 def add_modifier_place():
@@ -90,6 +112,10 @@ def registration():
             check({'REGISTER', 'UNDO'} <= set(bpy.types.Operator.bl_rna_get_subclass_py(
                 f"OBJECT_OT_loop_subdivision_{name}").bl_options) and rna.description,
                   f"round {round_}: object.loop_subdivision_{name} has REGISTER, UNDO and a description")
+        keys = blender_subdivision_keys()
+        check(full["keymap items"] == keys and len(keys) == 6,
+              f"round {round_}: Ctrl 0-5 in Object Mode call the add-on's Subdivision Set, on the keys the default "
+              f"key configuration gives Blender's ({full['keymap items']})")
         panel = bpy.types.DATA_PT_loop_subdivision
         check(panel.bl_context == "modifier" and panel.bl_parent_id == "MOD_PT_GeometryNodes",
               "the settings are drawn inside the modifier's own panel in Properties ▸ Modifiers")
@@ -144,8 +170,33 @@ def manifest():
           f"bl_info loads on Blender {bpy.app.version_string} with the manifest's name")
 
 
+def without_keymaps():
+    """Where there is no window manager (or no add-on key configuration: background mode in some builds) the add-on
+    registers without keymap items, and unregisters cleanly."""
+    operators = addon.operators
+    saved = operators.bpy
+
+    class Context:
+        window_manager = None
+
+    class Bpy:
+        context = Context()
+        utils, types, props, ops, app = saved.utils, saved.types, saved.props, saved.ops, saved.app
+
+    operators.bpy = Bpy()
+    try:
+        addon.register()
+        check(not operators._keymap_items and not keymap_items(),
+              "no window manager: the add-on registers, with no keymap items")
+        addon.unregister()
+    finally:
+        operators.bpy = saved
+    check(footprint()["operators"] == set(), "and unregisters")
+
+
 support.clear_scene()
 registration()
 fallback_panel()
+without_keymaps()
 manifest()
 check.finish()

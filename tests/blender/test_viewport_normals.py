@@ -2,7 +2,8 @@
 normals while the result changes, split where the limit normals split (those edges marked sharp), and the limit
 normals themselves once it is still (live.settle, which a timer runs in the interface), in renders and from Apply.
 
-The bounds on the angle between Blender's normals and the limit normals are measured (scripts in the commit that
+The cages are shaded smooth: the children of flat faces stay flat (as in Subdivision Surface) and show no limit
+normals. The bounds on the angle between Blender's normals and the limit normals are measured (scripts in the commit that
 added this test; docs/addon.md, Normals): a smooth icosphere at level 1 within 0.15 degrees, a creased cube's sides
 exactly, a sphere with a creased equator within 2 degrees at level 2 (OpenSubdiv rules).
 """
@@ -80,7 +81,7 @@ def smooth():
     """No crease, no boundary: nothing splits, Blender's vertex normals; Auto Smooth stays off as on the cage."""
     bm = bmesh.new()
     bmesh.ops.create_icosphere(bm, subdivisions=2, radius=1.0)
-    obj = support.object_from_bmesh("Icosphere", bm)
+    obj = support.shade_smooth(support.object_from_bmesh("Icosphere", bm))
     add_entry(obj, levels=1, rules='OPENSUBDIV')
     mesh = compare(obj, "icosphere, level 1", 0.15)
     # Auto Smooth is a setting up to 4.0 only (auto_smooth() is True from 4.1, where sharp edges always shade).
@@ -94,7 +95,7 @@ def smooth():
 def creased():
     """Crease curves: the edges on them are marked sharp (Auto Smooth on, 180 degrees), and Blender's normals split
     on the same vertices as the limit normals."""
-    obj, _ = support.creased_cube(compat)
+    obj = support.shade_smooth(support.creased_cube(compat)[0])
     add_entry(obj, levels=2, rules='OPENSUBDIV')
     mesh = compare(obj, "creased cube, level 2", 0.01)
     if hasattr(mesh, "use_auto_smooth"):
@@ -103,7 +104,7 @@ def creased():
     support.remove(obj)
 
     for rules, bound in (('OPENSUBDIV', 2.0), ('HOPPE94', 4.0)):
-        obj = support.object_from_bmesh("RingedSphere", support.uv_sphere(12, 8))
+        obj = support.shade_smooth(support.object_from_bmesh("RingedSphere", support.uv_sphere(12, 8)))
         p = support.positions(obj.data)
         e = support.edges(obj.data)
         ring = np.abs(p[:, 2]) < 1e-6
@@ -117,7 +118,7 @@ def flat_crease():
     """A crease across a flat grid: its two sides have the same limit normal there, yet the edges are marked sharp
     (found from generic positions, not these), so that the shading splits as soon as an edit bends the grid, without a
     new plan."""
-    obj = support.object_from_bmesh("FlatCrease", support.grid(6))
+    obj = support.shade_smooth(support.object_from_bmesh("FlatCrease", support.grid(6)))
     p = support.positions(obj.data)
     e = support.edges(obj.data)
     line = np.abs(p[:, 0]) < 1e-6
@@ -158,6 +159,7 @@ def settled():
             obj = support.object_from_bmesh("Settled", bm)
         else:
             obj, _ = support.creased_cube(compat)
+        support.shade_smooth(obj)
         add_entry(obj, levels=1, rules='OPENSUBDIV')
         before = auto_smooth(shown(obj))
         builds = live.cache(obj).plan_builds
@@ -185,7 +187,7 @@ def settled():
 
 def rendered():
     """A render's result carries the limit normals, as Apply writes them; the viewport gets Blender's back after."""
-    obj, _ = support.creased_cube(compat)
+    obj = support.shade_smooth(support.creased_cube(compat)[0])
     add_entry(obj, levels=1, render_levels=2, rules='OPENSUBDIV')
     depsgraph = bpy.context.evaluated_depsgraph_get()
     live.refresh(obj, depsgraph, render=True)
