@@ -380,7 +380,7 @@ def add_subsurf(obj, levels, boundary):
 
 
 def shade_smooth(obj):
-    """Blender's result shaded as an artist shades it (Shade Smooth): its own normals, from its faces."""
+    """Shade Smooth, as an artist shades a model before subdividing it."""
     obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
 
 
@@ -454,7 +454,8 @@ def build_scene(scene, mesh, matrix, levels, rules, boundary):
     cage, loop, blender = objects
 
     tags_caption = style_cage(cage, scene.collection, uv_map)
-    apply_loop(loop, levels, rules, boundary)  # shades smooth, with the limit normals
+    shade_smooth(loop)  # flat faces stay flat through both subdivisions, as in Blender's own
+    apply_loop(loop, levels, rules, boundary)  # with the limit normals
     add_subsurf(blender, levels, boundary)
     shade_smooth(blender)
     # After apply, which rebuilds the mesh.
