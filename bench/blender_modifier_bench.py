@@ -47,9 +47,11 @@ def clear():
 
 
 def mesh_object(name, build):
+    """A cage shaded smooth, as artists shade what they subdivide: flat faces stay flat through both subdivisions,
+    and with the limit surface only smooth ones get the limit normals."""
     bm = bmesh.new()
     build(bm)
-    return support.object_from_bmesh(name, bm)
+    return support.shade_smooth(support.object_from_bmesh(name, bm))
 
 
 def grid(cuts):
