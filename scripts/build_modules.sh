@@ -42,12 +42,7 @@ install_packages cmake binutils python3-venv  # binutils: objdump, nm, readelf, 
 
 # The tools' virtual environment, (re)installed when the requirements above change.
 tools=$root/build/venv-tools
-if [ ! -x "$tools/bin/python" ] || [ "$(cat "$tools/requirements.txt" 2>/dev/null)" != "${requirements[*]}" ]; then
-  echo "$name: installing ${requirements[*]} into build/venv-tools"
-  [ -x "$tools/bin/python" ] || /usr/bin/python3 -m venv "$tools"
-  "$tools/bin/python" -m pip install --quiet --disable-pip-version-check "${requirements[@]}"
-  echo "${requirements[*]}" >"$tools/requirements.txt"
-fi
+ensure_venv "$tools" /usr/bin/python3 "${requirements[@]}"
 
 # The compiler CMake is given: zig's C++ driver for the target, through a wrapper (CMake wants one executable).
 toolchain=$root/build/zig-toolchain

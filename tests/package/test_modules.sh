@@ -44,13 +44,8 @@ for module in "${modules[@]}"; do
   read -r major numpy <<<"$(numpy_for "$tag")"
   requirements=("$numpy" pytest hypothesis)
   venv=$root/build/venv-cp${tag/./}-numpy$major
-  if [ ! -x "$venv/bin/python" ] || [ "$(cat "$venv/requirements.txt" 2>/dev/null)" != "$python ${requirements[*]}" ]; then
-    echo "$name: installing ${requirements[*]} into build/$(basename "$venv") ($python)"
-    rm -rf "$venv"
-    "$python" -m venv "$venv" || { echo "$name: $python cannot make a virtual environment (python$tag-venv?)" >&2; exit 1; }
-    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check "${requirements[@]}"
-    echo "$python ${requirements[*]}" >"$venv/requirements.txt"
-  fi
+  ensure_venv "$venv" "$python" "${requirements[@]}"
+
 
   # The module alone on the path, run from a folder of its own (not the checkout, whose addon/ may hold another).
   work=$(mktemp -d)
