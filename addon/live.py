@@ -215,9 +215,8 @@ class _PassThrough(Exception):
 def _swap(carrier, old, mesh):
     mesh[stack.RESULT_TAG] = True  # collect() frees it once nothing uses it
     carrier.data = mesh
-    # A mesh replaced during a render stays (a render job may still read it) until collect() runs after the render.
-    # It was tracked by name once, and missed: the result that replaced it had taken its name by then (F12 in 3.4.1's
-    # interface left a zero-user "… (Loop Subdivision).001" per render).
+    # A mesh replaced during a render stays (a render job may still read it) until collect() runs after the render,
+    # found by its tag: not by name, which the result replacing it takes.
     if old is not None and old != mesh and old.users == 0 and not _rendering:
         bpy.data.meshes.remove(old)
     mesh.name = carrier.name
