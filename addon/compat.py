@@ -198,6 +198,28 @@ def hide_carrier_fields(modifier, result_socket):
     return shown
 
 
+HAS_WARNING_NODE = hasattr(bpy.types, "GeometryNodeWarning")
+
+
+def show_result_field(group, result_socket, show):
+    """Shows (or hides again) the group input's field in the modifier's panel, where the version hides it
+    (hide_carrier_fields) and has no Warning node to say that the add-on is missing (4.0 to 4.2): in a file saved
+    without results, the field names the placeholder object, "Enable the Loop Subdivision add-on"."""
+    socket = group.interface.items_tree.get(result_socket) if hasattr(group, "interface") else None
+    if socket is not None and hasattr(socket, "hide_in_modifier") and not HAS_WARNING_NODE:
+        socket.hide_in_modifier = not show
+
+
+def modal_operator_running(window_manager):
+    """Whether a modal operator (a grab, a rotation, a sculpt stroke) runs in any window: Window.modal_operators,
+    from 4.2 (4.2.23 here). 3.4.1 has no way to tell: False."""
+    return any(len(getattr(window, "modal_operators", ())) for window in window_manager.windows)
+
+
+# Handlers Blender runs when writing a file failed, where it has them: as after saving, the results go back.
+SAVE_FAILED_HANDLERS = tuple(name for name in ("save_post_fail",) if hasattr(bpy.app.handlers, name))
+
+
 def subdivision_set_arguments(**arguments):
     """The arguments Blender's object.subdivision_set (Ctrl 0-5) takes, of those given: level and relative in every
     version, ensure_modifier (hidden: add a Subdivision Surface where there is none) from 4.5 (4.5.15 and later here;
@@ -211,6 +233,32 @@ def add_group_socket(group, in_out, socket_type, name):
     if hasattr(group, "interface"):
         return group.interface.new_socket(name, in_out=in_out, socket_type=socket_type)
     return (group.inputs if in_out == 'INPUT' else group.outputs).new(socket_type, name)
+
+
+def enabled_sockets(sockets, *names):
+    """The sockets of a node with these names, among those its current type shows: 3.4's Switch and Compare carry
+    one socket per data type under the same name (identifiers "False_006" and the like), 4.1+'s Switch one."""
+    return [next(socket for socket in sockets if socket.enabled and socket.name == name) for name in names]
+
+
+# What Blender's own Apply gets from a Geometry Nodes modifier whose output holds no mesh: from 4.2 (4.2.23, 4.5.15,
+# 5.0.1, 5.2.3 here) it refuses ("Evaluated geometry from modifier does not contain a mesh") and leaves the object
+# as it was; 3.4.1 applies an empty mesh, so there the node group outputs its input instead (the modifier goes, the
+# mesh stays). 3.5 to 4.1 are not installed here: they get the output that is safe in both cases.
+STALE_RESULT_OUTPUT = 'NOTHING' if bpy.app.version >= (4, 2, 0) else 'INPUT'
+
+
+def add_warning(group, condition, message):
+    """A Warning node (4.3+; 4.5.15 here) on condition, which the modifier's panel shows while it holds; returns the
+    socket to use in place of condition, through which the node is evaluated. Earlier versions have no such node:
+    condition itself."""
+    if not HAS_WARNING_NODE:
+        return condition
+    warning = group.nodes.new('GeometryNodeWarning')
+    warning.warning_type = 'WARNING'
+    group.links.new(condition, warning.inputs["Show"])
+    warning.inputs["Message"].default_value = message
+    return warning.outputs["Show"]
 
 
 def group_input_identifier(group, name):

@@ -23,6 +23,7 @@ normals into it, so that a still viewport shows them too (docs/addon.md, Normals
 
 After each update (not on frame changes), after a render, before saving and after loading, stack.collect() frees the
 helpers, results and node group that no live entry uses any more: a deleted object or a removed entry leaves nothing.
+A file holds the cage and the settings, not the results (unless Store Result asks), which are made again on loading.
 """
 import queue
 import threading
@@ -95,6 +96,10 @@ def refresh(obj, depsgraph, render=False):
         mesh = evaluated.to_mesh()
         try:
             _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, carrier, options, render)
+            # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
+            # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
+            stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
+            stack.set_input_guard(carrier, len(mesh.vertices) if stacked else 0)
         finally:
             evaluated.to_mesh_clear()
     finally:
@@ -170,8 +175,10 @@ def _playing():
 
 
 def _settle_timer():
-    if _busy or _rendering or _playing():
-        return SETTLE_SECONDS  # ask again later: playback goes on, or a render holds the scene
+    # Writing the limit normals stalls the interface for seconds on large results: not while playback, a render or
+    # a modal operator (an artist holding still mid-drag) goes on, where the version lets the add-on tell.
+    if _busy or _rendering or _playing() or compat.modal_operator_running(bpy.context.window_manager):
+        return SETTLE_SECONDS  # ask again later
     settle()
     return None
 
@@ -349,11 +356,83 @@ def _on_load(*_):
     stack.migrate()
     _undo_auto_smooth_conversion()
     _collect()
+    # A file holds no results unless store_result asks (_on_save): every entry's is made anew, as Subdivision
+    # Surface's is when a file loads.
+    for obj in bpy.data.objects:
+        stack.tidy(obj)
+    refresh_all()
+    _collect()
+
+
+# The entries whose result _on_save kept out of the file, with their helpers, for _on_saved to put back; and those
+# it wrote at Render levels.
+_unsaved = []
+_stored = []
 
 
 @persistent
 def _on_save(*_):
-    # Nothing of a deleted object, removed entry or finished render goes into the file.
+    """Nothing of a deleted object, removed entry or finished render goes into the file; nor, by default, the
+    results themselves, which can be far larger than the cage (69 times at level 3): each entry points at the
+    placeholder meanwhile (stack.placeholder), so that its helper and result have no user and are not written. An
+    entry with store_result keeps its result, made at Render levels for the file (machines without the add-on, such
+    as render farms, show and render it)."""
+    global _busy
+    _collect()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    in_view_layer = {instance.original.name_full for instance in depsgraph.objects}
+    empty = None
+    for obj in bpy.data.objects:
+        modifier = stack.entry(obj)
+        if modifier is None or obj.library is not None or not obj.users:
+            continue
+        carrier = stack.helper(obj, modifier, create=False)
+        if obj.loop_subdivision.store_result:
+            if obj.name_full in in_view_layer:
+                refresh(obj, depsgraph, render=True)
+                _stored.append(obj.name)
+            continue
+        empty = empty or stack.placeholder()
+        # The helper, with no user, is not written; nor its mesh once the helper holds the placeholder's instead.
+        _unsaved.append((obj.name, carrier.name if carrier is not None else None,
+                         carrier.data.name if carrier is not None else None))
+        _busy = True
+        try:
+            compat.set_modifier_input(modifier, stack.RESULT_SOCKET, empty)
+            if carrier is not None:
+                carrier.data = empty.data
+        finally:
+            _busy = False
+    if empty is not None:
+        compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, True)
+
+
+@persistent
+def _on_saved(*_):
+    """After saving (or failing to): the entries get their results back as they were before _on_save."""
+    global _busy
+    _busy = True
+    try:
+        for name, carrier_name, result_name in _unsaved:
+            obj = bpy.data.objects.get(name)
+            modifier = stack.entry(obj)
+            carrier = bpy.data.objects.get(carrier_name) if carrier_name is not None else None
+            result = bpy.data.meshes.get(result_name) if result_name is not None else None
+            if carrier is not None and result is not None:
+                carrier.data = result
+            if modifier is not None and carrier is not None:
+                compat.set_modifier_input(modifier, stack.RESULT_SOCKET, carrier)
+        if _unsaved:
+            compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, False)
+    finally:
+        _busy = False
+    _unsaved.clear()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    for name in _stored:
+        obj = bpy.data.objects.get(name)
+        if obj is not None:
+            refresh(obj, depsgraph)
+    _stored.clear()
     _collect()
 
 
@@ -398,7 +477,8 @@ _handlers = (
     ("redo_post", _on_undo),
     ("load_post", _on_load),
     ("save_pre", _on_save),
-)
+    ("save_post", _on_saved),
+) + tuple((name, _on_saved) for name in compat.SAVE_FAILED_HANDLERS)
 
 
 def register():

@@ -4,8 +4,8 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, St
 
 from . import compat, live, mesh_data, stack
 from .native import LoopSubError
-from .properties import (BOUNDARY_ITEMS, LIMIT_SURFACE_DESCRIPTION, RULES_ITEMS, UV_SMOOTH_DESCRIPTION,
-                         UV_SMOOTH_ITEMS)
+from .properties import (BOUNDARY_ITEMS, LIMIT_SURFACE_DESCRIPTION, RULES_ITEMS, STORE_RESULT_DESCRIPTION,
+                         UV_SMOOTH_DESCRIPTION, UV_SMOOTH_ITEMS)
 
 
 def _mesh_objects(context):
@@ -38,7 +38,7 @@ class _RuleArguments:
 _LONG_APPLY_FACES = 2_000_000  # output triangles: about two seconds of applying
 
 _SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group",
-             "use_limit_surface", "uv_smooth")
+             "use_limit_surface", "uv_smooth", "store_result")
 # The arguments of Apply that override the object's settings when given.
 _APPLY_OVERRIDES = ("levels", "rules", "crease_threshold", "boundary", "use_limit_surface", "uv_smooth")
 
@@ -57,6 +57,8 @@ class OBJECT_OT_loop_subdivision_add(_RuleArguments, bpy.types.Operator):
                               description="Use mesh crease information to sharpen edges or corners")
     cone_group: StringProperty(name="Cone Group", default="", options={'SKIP_SAVE'},
                                description="Vertex group whose vertices become cones")
+    store_result: BoolProperty(name="Store Result", default=False, options={'SKIP_SAVE'},
+                               description=STORE_RESULT_DESCRIPTION)
 
     @classmethod
     def poll(cls, context):
@@ -224,6 +226,7 @@ class OBJECT_OT_loop_subdivision_set(bpy.types.Operator):
 
 
 _SUBDIVISION_SET_KEYS = ('ZERO', 'ONE', 'TWO', 'THREE', 'FOUR', 'FIVE')
+_SUBDIVISION_SET_KEYMAPS = ("Object Mode", "Mesh")  # where Blender binds them: Object Mode and Edit Mode
 
 
 class VIEW3D_MT_object_loop_subdivision(bpy.types.Menu):
@@ -255,19 +258,20 @@ _keymap_items = []  # (keymap, item) of Ctrl 0-5
 
 
 def _add_keymap_items():
-    """Ctrl 0-5 in Object Mode, as Blender binds object.subdivision_set, call loop_subdivision_set (which sets a Loop
+    """Ctrl 0-5 in Object and Edit Mode, as Blender binds object.subdivision_set, call loop_subdivision_set (which sets a Loop
     Subdivision modifier's levels and leaves every other object to Blender's). Add-on keymap items come before the
     default ones. No keymaps in background mode (no window manager, or a key configuration without one for add-ons)."""
     window_manager = bpy.context.window_manager
     keyconfig = window_manager.keyconfigs.addon if window_manager is not None else None
     if keyconfig is None:
         return
-    keymap = keyconfig.keymaps.new(name="Object Mode", space_type='EMPTY')
-    for level, key in enumerate(_SUBDIVISION_SET_KEYS):
-        item = keymap.keymap_items.new(OBJECT_OT_loop_subdivision_set.bl_idname, key, 'PRESS', ctrl=True)
-        item.properties.level = level
-        item.properties.relative = False
-        _keymap_items.append((keymap, item))
+    for name in _SUBDIVISION_SET_KEYMAPS:
+        keymap = keyconfig.keymaps.new(name=name, space_type='EMPTY')
+        for level, key in enumerate(_SUBDIVISION_SET_KEYS):
+            item = keymap.keymap_items.new(OBJECT_OT_loop_subdivision_set.bl_idname, key, 'PRESS', ctrl=True)
+            item.properties.level = level
+            item.properties.relative = False
+            _keymap_items.append((keymap, item))
 
 
 def _remove_keymap_items():

@@ -26,6 +26,9 @@ UV_SMOOTH_ITEMS = (
 LIMIT_SURFACE_DESCRIPTION = ("Place vertices at the surface that would be produced with infinite levels of "
                              "subdivision (smoothest possible shape)")
 UV_SMOOTH_DESCRIPTION = "Controls how smoothing is applied to UVs"
+STORE_RESULT_DESCRIPTION = ("Save the result at Render levels in the file, for machines without the add-on (render "
+                            "farms). Off, the file holds the cage and the settings, as with Subdivision Surface, and "
+                            "the result is made again when the file is opened")
 BOUNDARY_ITEMS = (
     ('SMOOTH', "All", "Smooth boundaries, as Boundary Smooth: All of Subdivision Surface"),
     ('KEEP_CORNERS', "Keep Corners", "Boundary vertices with a single face stay sharp corners"),
@@ -63,6 +66,10 @@ class LoopSubdivisionSettings(bpy.types.PropertyGroup):
     uv_smooth: EnumProperty(
         name="UV Smooth", items=UV_SMOOTH_ITEMS, default='PRESERVE_BOUNDARIES', update=_changed,
         description=UV_SMOOTH_DESCRIPTION)
+
+    store_result: BoolProperty(
+        name="Store Result", default=False,
+        description=STORE_RESULT_DESCRIPTION)
 
     def options(self, **overrides):
         values = {name: getattr(self, name)

@@ -40,6 +40,41 @@ def _note(layout, text, icon, columns):
         column.label(text=line, icon=icon if index == 0 else 'BLANK1')
 
 
+# What a saved file grows by per triangle of a stored result (a UV map, limit normals; measured, docs/benchmark.md),
+# uncompressed and compressed (Preferences ▸ Save & Load ▸ Compress File: on by default from 5.0).
+STORED_BYTES_PER_TRIANGLE = 100
+STORED_BYTES_PER_TRIANGLE_COMPRESSED = 30
+
+
+def stored_bytes(obj, modifier):
+    """About how much store_result adds to the file: the result's triangles at Render levels, from the viewport's
+    result where there is one (it holds what the modifiers above make), else from the object's own faces; the file
+    compressed as the preferences say new files are."""
+    settings = obj.loop_subdivision
+    carrier = stack.helper(obj, modifier, create=False)
+    entry = live.cache(obj)
+    if carrier is not None and entry is not None and not entry.error and settings.levels > 0:
+        triangles = len(carrier.data.polygons) * 4 ** (settings.render_levels - settings.levels)
+    else:
+        mesh = obj.data
+        triangles = (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** settings.render_levels
+    compressed = bpy.context.preferences.filepaths.use_file_compression
+    return triangles * (STORED_BYTES_PER_TRIANGLE_COMPRESSED if compressed else STORED_BYTES_PER_TRIANGLE)
+
+
+def _megabytes(count):
+    return f"{count / 1e9:.1f} GB" if count >= 1e9 else f"{max(count / 1e6, 0.1):.1f} MB"
+
+
+# Blender's own Apply of an entry under other modifiers (stack.set_input_guard, compat.STALE_RESULT_OUTPUT).
+_NOT_FIRST_NOTES = {
+    'NOTHING': "Modifiers above: Blender's Apply refuses here; this Apply subdivides the object's own mesh, as "
+               "Subdivision Surface's would",
+    'INPUT': "Modifiers above: Blender's Apply only removes this modifier here; this Apply subdivides the object's "
+             "own mesh, as Subdivision Surface's would",
+}
+
+
 def _draw_settings(layout, obj, modifier, columns=None):
     """The entry's settings, laid out like Subdivision Surface's panel; notes wrapped at columns characters."""
     if stack.entry(obj) != modifier:
@@ -66,6 +101,10 @@ def _draw_settings(layout, obj, modifier, columns=None):
     cones = layout.row()
     cones.active = settings.rules == 'HOPPE94'
     cones.prop_search(settings, "cone_group", obj, "vertex_groups", text="Cone Group")
+    layout.prop(settings, "store_result")
+    if settings.store_result:
+        _note(layout, f"The file keeps the Render level: about {_megabytes(stored_bytes(obj, modifier))}", 'INFO',
+              columns)
 
     entry = live.cache(obj)
     if entry is not None and entry.error:
@@ -73,6 +112,8 @@ def _draw_settings(layout, obj, modifier, columns=None):
     elif entry is not None:
         for level, text in entry.messages:
             _note(layout, text.split(": ", 1)[-1], 'ERROR' if level == 'WARNING' else 'INFO', columns)
+    if not stack.is_first(obj, modifier):
+        _note(layout, _NOT_FIRST_NOTES[compat.STALE_RESULT_OUTPUT], 'INFO', columns)
     row = layout.row(align=True)
     row.context_pointer_set("object", obj)
     row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')

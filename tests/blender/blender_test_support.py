@@ -283,6 +283,30 @@ _BPY_PROLOGUE = "import bpy\n" + exiting_script("""
 """)
 
 
+class Recorder:
+    """A layout that records the labels drawn into it (and their icons); every other call is accepted."""
+
+    def __init__(self, labels):
+        self.__dict__["labels"] = labels
+
+    def label(self, text="", icon='NONE', **_):
+        self.labels.append((text, icon))
+
+    def __getattr__(self, name):
+        return lambda *args, **kwargs: Recorder(self.labels)
+
+    def __setattr__(self, name, value):
+        pass
+
+
+def panel_labels(ui, obj, modifier):
+    """The texts of the labels the add-on's panel (the add-on's ui module) draws for obj's entry modifier, notes on
+    one line each."""
+    labels = []
+    ui._draw_settings(Recorder(labels), obj, modifier)
+    return [text for text, _ in labels]
+
+
 def run_blender(blend, script, render=None, timeout=300):
     """Runs script in a second Blender on the saved file blend, as `blender --background --factory-startup BLEND
     --python-exit-code 1 --python-expr SCRIPT` does; with render=(output, first, last) it then renders those frames

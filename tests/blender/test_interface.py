@@ -143,22 +143,6 @@ def plurals():
           "2 loose edges" and mesh_data.counted(0, "face") == "0 faces", "counted: the singular for one only")
 
 
-class Recorder:
-    """A layout that records the labels drawn into it (and their icons); every other call is accepted."""
-
-    def __init__(self, labels):
-        self.__dict__["labels"] = labels
-
-    def label(self, text="", icon='NONE', **_):
-        self.labels.append((text, icon))
-
-    def __getattr__(self, name):
-        return lambda *args, **kwargs: Recorder(self.labels)
-
-    def __setattr__(self, name, value):
-        pass
-
-
 class Region:
     def __init__(self, width):
         self.width = width
@@ -173,7 +157,7 @@ class Context:
 class Panel:
     def __init__(self, modifier, labels):
         self.custom_data = modifier
-        self.layout = Recorder(labels)
+        self.layout = support.Recorder(labels)
 
 
 def wrapping():
@@ -230,6 +214,18 @@ def subdivision_set():
     bpy.ops.object.loop_subdivision_set(level=1, relative=False)
     check(subsurf[0].levels == 1 and ours.loop_subdivision.levels == 6,
           "only an object without a Loop entry selected: Blender's Subdivision Set alone")
+    support.select_only(ours)
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.object.loop_subdivision_set(level=2, relative=False)
+    in_edit_mode = ours.loop_subdivision.levels
+    bpy.ops.object.mode_set(mode='OBJECT')
+    check(in_edit_mode == 2, "in Edit Mode too, Subdivision Set sets the Loop entry's levels")
+    keyconfig = bpy.context.window_manager.keyconfigs.addon
+    if keyconfig is not None:  # background mode may have no key configuration for add-ons
+        bound = {name for name in ("Object Mode", "Mesh") if name in keyconfig.keymaps and any(
+            item.idname == "object.loop_subdivision_set" and item.ctrl and item.type == 'THREE'
+            for item in keyconfig.keymaps[name].keymap_items)}
+        check(bound == {"Object Mode", "Mesh"}, f"Ctrl 3 is bound in Object Mode and Edit Mode ({sorted(bound)})")
     support.remove(ours)
     support.remove(plain)
 

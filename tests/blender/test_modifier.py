@@ -22,12 +22,21 @@ import blender_test_support as support  # noqa: E402
 addon = support.load_addon()
 check = support.Check("test_modifier")
 ADDON_DIR = os.path.dirname(addon.__file__)
+stack = addon.stack
 
 
-def evaluated(obj):
-    """The object's evaluated mesh as (positions, number of faces)."""
-    mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
-    return support.positions(mesh), len(mesh.polygons)
+def evaluated(obj, entry_shown=True):
+    """The object's evaluated mesh as (positions, number of faces); with entry_shown=False, its input (the entry
+    hidden in the viewport for the evaluation)."""
+    modifier = stack.entry(obj)
+    if not entry_shown:
+        modifier.show_viewport = False
+    try:
+        mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        return support.positions(mesh), len(mesh.polygons)
+    finally:
+        if modifier is not None:
+            modifier.show_viewport = True
 
 
 def applied(obj, **arguments):
@@ -393,23 +402,46 @@ def saved_and_rendered():
     obj.data.materials.append(bpy.data.materials.new("Paint"))
     obj.modifiers.new("Wave", 'WAVE').height = 0.3
     add_entry(obj, levels=1, render_levels=2)
+    cage_positions, cage_faces = evaluated(obj, entry_shown=False)
+    obj.loop_subdivision.levels = 2
+    render_positions, _ = evaluated(obj)
+    obj.loop_subdivision.levels = 1
     positions, faces = evaluated(obj)
     camera = support.tiny_render_camera(6.0)
-    with tempfile.TemporaryDirectory() as folder:
-        path = os.path.join(folder, "saved.blend")
-        bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
-        np.save(os.path.join(folder, "positions.npy"), positions)
-        code, output = support.run_blender(path, f"""
+    without_addon = f"""
 import addon_utils, bpy, numpy as np
 assert not any(m.__name__.startswith("loop") or m.__name__ == "addon" for m in addon_utils.modules()
                if addon_utils.check(m.__name__)[1])
-mesh = bpy.data.objects["Saved"].evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+obj = bpy.data.objects["Saved"]
+mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
 co = np.empty(len(mesh.vertices) * 3, np.float32); mesh.vertices.foreach_get("co", co)
-same = np.array_equal(co.reshape(-1, 3), np.load({os.path.join(folder, "positions.npy")!r}))
-print("WITHOUT-ADDON", len(mesh.polygons), same, [m.name for m in mesh.materials if m is not None])
-""")
-        check(f"WITHOUT-ADDON {faces} True ['Paint']" in output,
-              "a Blender without the add-on opens the file and shows the saved result, materials included")
+modifier = obj.modifiers["{stack.ENTRY_NAME}"]
+inputs = getattr(getattr(modifier, "properties", None), "inputs", None)
+values = ([getattr(getattr(inputs, name), "value", None) for name in dir(inputs) if name.startswith("Socket")]
+          if inputs is not None else modifier.values())
+np.save(PATH + ".seen.npy", co.reshape(-1, 3))
+print("WITHOUT-ADDON", len(mesh.polygons), [m.name for m in mesh.materials if m is not None],
+      "RESULT-FIELD", [value.name for value in values if isinstance(value, bpy.types.Object)])
+"""
+    with tempfile.TemporaryDirectory() as folder:
+        for store in (False, True):
+            obj.loop_subdivision.store_result = store
+            path = os.path.join(folder, f"saved-{store}.blend")
+            bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+            code, output = support.run_blender(path, f"PATH = {path!r}\n" + without_addon)
+            seen = np.load(path + ".seen.npy") if os.path.exists(path + ".seen.npy") else None
+            if store:
+                check(f"WITHOUT-ADDON {4 * faces} ['Paint']" in output and np.array_equal(seen, render_positions),
+                      "with Store Result, a Blender without the add-on opens the file and shows the result at "
+                      "Render levels, materials included")
+            else:
+                check(f"WITHOUT-ADDON {cage_faces} ['Paint'] RESULT-FIELD ['{stack.PLACEHOLDER_NAME}']" in output
+                      and np.array_equal(seen, cage_positions),
+                      "by default, a Blender without the add-on opens the file and shows the cage (the Wave above "
+                      "acting), the entry's Result field saying to enable the add-on")
+        obj.loop_subdivision.store_result = False
+        path = os.path.join(folder, "saved-False.blend")  # the file a render farm gets by default
+        check(np.array_equal(evaluated(obj)[0], positions), "after saving, the viewport shows its result again")
 
         # What a render farm runs: blender -b file.blend -a (frames 1 and 2), with the add-on enabled.
         record = f"""

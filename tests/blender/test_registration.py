@@ -33,7 +33,7 @@ check = support.Check("test_registration")
 OPERATORS = ("add", "remove", "apply", "refresh_tags", "set")
 HANDLERS = ("depsgraph_update_post", "frame_change_post", "render_init", "render_pre", "render_complete",
             "render_cancel", "undo_post",
-            "redo_post", "load_post")
+            "redo_post", "load_post", "save_pre", "save_post")
 CLASSES = tuple(f"OBJECT_OT_loop_subdivision_{name}" for name in OPERATORS) + (
     "LoopSubdivisionSettings", "DATA_PT_loop_subdivision", "VIEW3D_MT_object_loop_subdivision")
 
@@ -63,13 +63,14 @@ def keymap_items():
 
 
 def blender_subdivision_keys():
-    """Where the default key configuration binds Blender's own Subdivision Set in Object Mode: Ctrl 0-5, levels 0-5
-    (keymap_data/blender_default.py, _template_items_object_subdivision_set, in 3.4.1 and 5.2.3). Background mode
-    leaves the default keymaps empty; with an interface they are read."""
-    keymap = bpy.context.window_manager.keyconfigs.default.keymaps["Object Mode"]
-    found = sorted((keymap.name, item.type, bool(item.ctrl), item.properties.level) for item in keymap.keymap_items
+    """Where the default key configuration binds Blender's own Subdivision Set: Ctrl 0-5, levels 0-5, in Object Mode
+    and in Edit Mode ("Mesh") (keymap_data/blender_default.py, _template_items_object_subdivision_set, in 3.4.1 and
+    5.2.3). Background mode leaves the default keymaps empty; with an interface they are read."""
+    found = sorted((name, item.type, bool(item.ctrl), item.properties.level)
+                   for name in ("Object Mode", "Mesh")
+                   for item in bpy.context.window_manager.keyconfigs.default.keymaps[name].keymap_items
                    if item.idname == "object.subdivision_set" and not item.properties.relative)
-    return found or sorted(("Object Mode", key, True, level)
+    return found or sorted((name, key, True, level) for name in ("Object Mode", "Mesh")
                            for level, key in enumerate(("ZERO", "ONE", "TWO", "THREE", "FOUR", "FIVE")))
 
 
@@ -113,8 +114,8 @@ def registration():
                 f"OBJECT_OT_loop_subdivision_{name}").bl_options) and rna.description,
                   f"round {round_}: object.loop_subdivision_{name} has REGISTER, UNDO and a description")
         keys = blender_subdivision_keys()
-        check(full["keymap items"] == keys and len(keys) == 6,
-              f"round {round_}: Ctrl 0-5 in Object Mode call the add-on's Subdivision Set, on the keys the default "
+        check(full["keymap items"] == keys and len(keys) == 12,
+              f"round {round_}: Ctrl 0-5 in Object and Edit Mode call the add-on's Subdivision Set, on the keys the default "
               f"key configuration gives Blender's ({full['keymap items']})")
         panel = bpy.types.DATA_PT_loop_subdivision
         check(panel.bl_context == "modifier" and panel.bl_parent_id == "MOD_PT_GeometryNodes",

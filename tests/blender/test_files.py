@@ -1,0 +1,150 @@
+"""What a saved file holds with the Loop Subdivision modifier, against the same file with Blender's Subdivision
+Surface; and Blender's own Apply of an entry that is not first.
+
+- By default a file holds the cage and the settings: it is at most 1.2 times the size of the same file with
+  Subdivision Surface in place of the entry, and opening it (the add-on enabled) makes the same result again.
+- Store Result keeps the Render-level result in the file; the panel's estimate of what that costs is within a third
+  of what the file grows by.
+- A file saved by the add-on's first layout of the node group (the helper's mesh alone) opens with the current one.
+- Blender's Apply of an entry under a Mirror refuses (4.2 and later) or leaves the mesh as it was (3.4), as
+  compat.STALE_RESULT_OUTPUT says; never the mirrored result baked into the half cage under the Mirror. The panel
+  says so where the entry is not first.
+"""
+import os
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+import blender_test_support as support  # noqa: E402
+
+addon = support.load_addon()
+check = support.Check("test_files")
+stack, ui, compat = addon.stack, addon.ui, addon.compat
+
+
+def evaluated(obj):
+    mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    return support.positions(mesh), len(mesh.polygons)
+
+
+def sphere(name):
+    """A UV-mapped icosphere of 5,120 triangles, shaded smooth, as an artist starts from."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=1.0)
+    obj = bpy.context.object
+    obj.name = name
+    return support.shade_smooth(obj)
+
+
+def saved_size(folder, name):
+    path = os.path.join(folder, name + ".blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+    return path, os.path.getsize(path)
+
+
+def file_sizes(folder):
+    support.clear_scene()
+    obj = sphere("Subdivided")
+    subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
+    subsurf.levels, subsurf.render_levels = 3, 3
+    _, reference = saved_size(folder, "subsurf")
+    obj.modifiers.remove(subsurf)
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(levels=3, render_levels=3)
+    positions, faces = evaluated(obj)
+    path, lean = saved_size(folder, "lean")
+    check(lean <= 1.2 * reference,
+          f"by default the file is {lean / reference:.2f}x the size of the same file with Subdivision Surface "
+          f"({lean} against {reference} bytes; at most 1.2x)")
+    check(np.array_equal(evaluated(obj)[0], positions), "after saving, the result is shown again")
+
+    obj.loop_subdivision.store_result = True
+    estimate = ui.stored_bytes(obj, stack.entry(obj))
+    _, stored = saved_size(folder, "stored")
+    grown = stored - lean
+    check(abs(estimate - grown) <= grown / 3,
+          f"Store Result: the file grows by {grown / 1e6:.1f} MB, the panel says about {estimate / 1e6:.1f} MB")
+
+    bpy.ops.wm.open_mainfile(filepath=path)
+    obj = bpy.data.objects["Subdivided"]
+    reopened, reopened_faces = evaluated(obj)
+    check(reopened_faces == faces and np.array_equal(reopened, positions),
+          f"the file opened with the add-on shows the same result, made again ({reopened_faces} faces)")
+    check(not any(other.get(stack.PLACEHOLDER_TAG) for other in bpy.data.objects),
+          "nothing of the saving stays in the opened file")
+
+
+def first_layout(folder):
+    """The node group as the add-on's first version made it: the helper's mesh, straight to the output."""
+    support.clear_scene()
+    obj = sphere("Old")
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(levels=1)
+    positions, faces = evaluated(obj)
+    group = stack.entry(obj).node_group
+    group.nodes.clear()
+    group_input, info, group_output = (group.nodes.new(kind) for kind in
+                                       ('NodeGroupInput', 'GeometryNodeObjectInfo', 'NodeGroupOutput'))
+    info.transform_space = 'ORIGINAL'
+    group.links.new(group_input.outputs[stack.RESULT_SOCKET], info.inputs["Object"])
+    group.links.new(info.outputs["Geometry"], group_output.inputs["Geometry"])
+    group[stack.GROUP_TAG] = 1
+    path = os.path.join(folder, "first-layout.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    obj = bpy.data.objects["Old"]
+    reopened, reopened_faces = evaluated(obj)
+    check(stack.entry(obj).node_group.get(stack.GROUP_TAG) == stack.GROUP_VERSION
+          and reopened_faces == faces and np.allclose(reopened, positions, atol=1e-6),
+          "a file with the first layout of the node group opens with the current one and the same result")
+
+
+def blender_apply_not_first():
+    support.clear_scene()
+    obj = sphere("Mirrored")
+    obj.modifiers.new("Mirror", 'MIRROR')
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(levels=1)
+    cage = support.positions(obj.data)
+    _, faces = evaluated(obj)
+    check(faces == 2 * 4 * len(obj.data.polygons), "the entry subdivides what the Mirror above makes")
+    notes = support.panel_labels(ui, obj, stack.entry(obj))
+    check(any("Blender's Apply" in note for note in notes), f"the panel says what Blender's Apply does here ({notes})")
+    try:
+        with bpy.context.temp_override(object=obj, active_object=obj):
+            result = bpy.ops.object.modifier_apply(modifier=stack.entry(obj).name)
+        refused = False
+    except RuntimeError as error:
+        result, refused = str(error), True
+    kinds = [modifier.type for modifier in obj.modifiers]
+    unchanged = np.array_equal(support.positions(obj.data), cage)
+    if compat.STALE_RESULT_OUTPUT == 'NOTHING':
+        check(refused and "does not contain a mesh" in result and unchanged and kinds == ['MIRROR', 'NODES'],
+              f"Blender's Apply of an entry under a Mirror refuses and changes nothing ({result})")
+    else:
+        check(result == {'FINISHED'} and unchanged and kinds == ['MIRROR'],
+              "Blender's Apply of an entry under a Mirror leaves the mesh as it was (3.4 applies no refusal)")
+    check(evaluated(obj)[1] in (faces, 2 * len(obj.data.polygons)), "no face is doubled under the Mirror")
+
+    # With the Mirror off in the viewport the entry acts first, and Blender's Apply bakes its result.
+    support.clear_scene()
+    obj = sphere("MirrorOff")
+    obj.modifiers.new("Mirror", 'MIRROR').show_viewport = False
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(levels=1)
+    positions, faces = evaluated(obj)
+    with bpy.context.temp_override(object=obj, active_object=obj):
+        result = bpy.ops.object.modifier_apply(modifier=stack.entry(obj).name)
+    check(result == {'FINISHED'} and len(obj.data.polygons) == faces
+          and np.array_equal(support.positions(obj.data), positions),
+          "with the modifiers above off, Blender's Apply writes the result into the mesh")
+
+
+with tempfile.TemporaryDirectory() as folder:
+    file_sizes(folder)
+    first_layout(folder)
+blender_apply_not_first()
+addon.unregister()
+check.finish()
