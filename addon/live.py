@@ -78,7 +78,7 @@ def refresh(obj, depsgraph, render=False):
     or at Render levels for a render."""
     global _busy
     modifier = stack.entry(obj)
-    if modifier is None or _busy or not (modifier.show_render if render else modifier.show_viewport):
+    if modifier is None or _busy or _saving or not (modifier.show_render if render else modifier.show_viewport):
         return
     if obj.library is not None:
         return  # linked from another file: read-only here, it shows the result that file saved
@@ -250,7 +250,7 @@ def _collect():
     """Frees the helpers, results and node group that no live entry uses any more (stack.collect); not while a
     render job may read them."""
     global _busy
-    if _busy or _rendering:
+    if _busy or _rendering or _saving:
         return
     _busy = True  # the updates removing data makes are not edits
     try:
@@ -261,7 +261,7 @@ def _collect():
 
 def _refresh_updated(depsgraph):
     """Refreshes the entries of the objects whose geometry this evaluation changed (edits, settings, animation)."""
-    if _busy or _rendering:
+    if _busy or _rendering or _saving:
         return
     _dropped()
     updated = {update.id.original for update in depsgraph.updates
@@ -368,6 +368,9 @@ def _on_load(*_):
 # it wrote at Render levels.
 _unsaved = []
 _stored = []
+# From _on_save to _on_saved: the interface draws the file's thumbnail in between, which evaluates the scene (and shows
+# the cages); the handlers must not give the entries their results back before the file is written.
+_saving = False
 
 
 @persistent
@@ -377,7 +380,7 @@ def _on_save(*_):
     placeholder meanwhile (stack.placeholder), so that its helper and result have no user and are not written. An
     entry with store_result keeps its result, made at Render levels for the file (machines without the add-on, such
     as render farms, show and render it)."""
-    global _busy
+    global _busy, _saving
     _collect()
     depsgraph = bpy.context.evaluated_depsgraph_get()
     in_view_layer = {instance.original.name_full for instance in depsgraph.objects}
@@ -405,12 +408,14 @@ def _on_save(*_):
             _busy = False
     if empty is not None:
         compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, True)
+    _saving = True
 
 
 @persistent
 def _on_saved(*_):
     """After saving (or failing to): the entries get their results back as they were before _on_save."""
-    global _busy
+    global _busy, _saving
+    _saving = False
     _busy = True
     try:
         for name, carrier_name, result_name in _unsaved:
