@@ -113,6 +113,10 @@ def _write(entry, obj, evaluated, mesh, carrier, options, render):
     try:
         if options.levels == 0:
             raise _PassThrough
+        # A result no larger than the one shown fitted before; a larger one is checked against the memory left.
+        shown = len(carrier.data.polygons) if entry.result == carrier.data.name else 0
+        if (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
+            mesh_data.check_memory(mesh, options)
         # Renders get the limit normals themselves; the viewport Blender's own, split where they split.
         source = mesh_data.Source(obj, mesh, options, entry.plan_key[1] if entry.plan_key else None,
                                   exact_normals=render)
@@ -148,10 +152,34 @@ def _write(entry, obj, evaluated, mesh, carrier, options, render):
             _settle_later()
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
+        if entry.error != str(problem) and str(problem):
+            _tell(f"{obj.name}: {problem}")
         entry.error = str(problem)
         entry.plan_key = entry.result = entry.inputs = entry.limit_normals = None
         entry.exact_shown = False
         _swap(carrier, carrier.data, bpy.data.meshes.new_from_object(evaluated))
+
+
+_STATUS_SECONDS = 10.0
+
+
+def _tell(text):
+    """A refusal the artist should see beside the panel's note: in the status bar for a while (the interface), and on
+    the console (renders and scripts from the command line)."""
+    print(f"Loop Subdivision: {text}")
+    if bpy.app.background or bpy.context.window_manager is None:
+        return
+    workspaces = {window.workspace for window in bpy.context.window_manager.windows if window.workspace is not None}
+    for workspace in workspaces:
+        workspace.status_text_set(text)
+
+    def clear():
+        for workspace in workspaces:
+            try:
+                workspace.status_text_set(None)
+            except ReferenceError:
+                pass  # a workspace deleted meanwhile
+    bpy.app.timers.register(clear, first_interval=_STATUS_SECONDS)
 
 
 # The viewport's result shows Blender's normals while it changes; this long after the last change, settle() writes the

@@ -8,7 +8,7 @@ import dataclasses
 import bpy
 import numpy as np
 
-from . import compat, geometry, native
+from . import compat, geometry, memory, native
 from .native import LoopSubError
 
 CREASE_TAG = "loop_crease"
@@ -152,6 +152,21 @@ def check_object(obj):
         raise LoopSubError(f"{obj.name}: cannot apply to a mesh with shape keys")
     if mesh.is_editmode:
         raise LoopSubError(f"{obj.name} is in Edit Mode")
+
+
+def check_memory(mesh, options):
+    """Raises LoopSubError, saying what it would need and what is free, where subdividing mesh (the input) with
+    options would need more memory than this process may still use (memory.py: the peak of the whole update, the
+    core's plan, the result in Blender and its copies; the memory free, or left in the cgroup Blender runs in). A
+    request past it would otherwise get Blender killed for lack of memory, unsaved work lost."""
+    triangles = len(mesh.loops) - 2 * len(mesh.polygons)
+    required = memory.estimate_bytes(
+        len(mesh.vertices), len(mesh.edges) + triangles - len(mesh.polygons), triangles, options.levels,
+        uv_layers=len(mesh.uv_layers), limit_surface=options.use_limit_surface, version=bpy.app.version,
+        drawn=not bpy.app.background)
+    available = memory.available_bytes()
+    if not memory.fits(required, available):
+        raise LoopSubError(memory.describe(required, available, options.levels))
 
 
 class Result:

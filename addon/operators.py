@@ -126,6 +126,11 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
             if modifier is not None:
                 obj.modifiers.remove(modifier)
             return {'FINISHED'}
+        try:
+            mesh_data.check_memory(obj.data, options)
+        except LoopSubError as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
         window_manager = context.window_manager
         window_manager.progress_begin(0, len(mesh_data.STAGES))  # the counter at the mouse cursor
         # The interface does not redraw while an operator runs: a long apply redraws once to say what it does

@@ -4,7 +4,7 @@ import textwrap
 
 import bpy
 
-from . import compat, live, stack
+from . import compat, live, memory, stack
 
 # Estimated width of a character of the interface font, and what a label's icon and the panel's margins take, in
 # pixels at a resolution scale of 1: enough to wrap notes at about the panel's width (as Blender's own panels do
@@ -62,10 +62,6 @@ def stored_bytes(obj, modifier):
     return triangles * (STORED_BYTES_PER_TRIANGLE_COMPRESSED if compressed else STORED_BYTES_PER_TRIANGLE)
 
 
-def _megabytes(count):
-    return f"{count / 1e9:.1f} GB" if count >= 1e9 else f"{max(count / 1e6, 0.1):.1f} MB"
-
-
 # Blender's own Apply of an entry under other modifiers (stack.set_input_guard, compat.STALE_RESULT_OUTPUT).
 _NOT_FIRST_NOTES = {
     'NOTHING': "Modifiers above: Blender's Apply refuses here; this Apply subdivides the object's own mesh, as "
@@ -103,8 +99,8 @@ def _draw_settings(layout, obj, modifier, columns=None):
     cones.prop_search(settings, "cone_group", obj, "vertex_groups", text="Cone Group")
     layout.prop(settings, "store_result")
     if settings.store_result:
-        _note(layout, f"The file keeps the Render level: about {_megabytes(stored_bytes(obj, modifier))}", 'INFO',
-              columns)
+        _note(layout, f"The file keeps the Render level: about {memory.format_bytes(stored_bytes(obj, modifier))}",
+              'INFO', columns)
 
     entry = live.cache(obj)
     if entry is not None and entry.error:

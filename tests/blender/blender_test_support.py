@@ -5,6 +5,7 @@ Blender's own Subdivision Surface modifier for reference, and ends with check.fi
 raises AssertionError on any failure so that `--python-exit-code 1` fails the run.
 """
 import argparse
+import contextlib
 import importlib
 import os
 import subprocess
@@ -307,13 +308,53 @@ def panel_labels(ui, obj, modifier):
     return [text for text, _ in labels]
 
 
-def run_blender(blend, script, render=None, timeout=300):
+@contextlib.contextmanager
+def memory_cgroup(limit):
+    """A new memory cgroup (v2, or v1's memory controller) under this process's own, holding at most limit bytes; its
+    directory, or None where this machine lets no cgroup be made (not root, no writable hierarchy). Processes that
+    join it (run_blender's cgroup) are ended by the kernel's OOM killer past the limit, as Blender is on a desktop
+    out of memory or in a render farm's slot."""
+    made = None
+    for line in open("/proc/self/cgroup").read().splitlines():
+        hierarchy, controllers, path = line.split(":", 2)
+        if hierarchy == "0" and not controllers:
+            mount, limit_file = "/sys/fs/cgroup", "memory.max"
+        elif "memory" in controllers.split(","):
+            mount, limit_file = "/sys/fs/cgroup/memory", "memory.limit_in_bytes"
+        else:
+            continue
+        directory = os.path.join(mount + path, f"loopsub-test-{os.getpid()}")
+        try:
+            os.mkdir(directory)
+        except OSError:
+            continue
+        try:
+            with open(os.path.join(directory, limit_file), "w") as file:
+                file.write(str(limit))
+            made = directory
+            break
+        except OSError:
+            os.rmdir(directory)
+    try:
+        yield made
+    finally:
+        if made is not None:
+            for _ in range(50):  # the kernel frees a cgroup a moment after its last process ends
+                try:
+                    os.rmdir(made)
+                    break
+                except OSError:
+                    time.sleep(0.1)
+
+
+def run_blender(blend, script, render=None, timeout=300, cgroup=None):
     """Runs script in a second Blender on the saved file blend, as `blender --background --factory-startup BLEND
     --python-exit-code 1 --python-expr SCRIPT` does; with render=(output, first, last) it then renders those frames
     as a render farm does, `-o OUTPUT -s FIRST -e LAST -a`. Where this Blender is a Python module (PyPI's bpy:
     bpy.app.binary_path is empty, there is no program), the second Blender is this interpreter importing bpy and
     taking the same steps: bpy.ops.wm.open_mainfile, the script, bpy.ops.render.render(animation=True) over the
-    scene's frames set to first..last with its output path set to OUTPUT. Returns (exit code, stdout + stderr)."""
+    scene's frames set to first..last with its output path set to OUTPUT. cgroup: a directory from memory_cgroup that
+    the second Blender runs in. Returns (exit code, stdout + stderr)."""
     if bpy.app.binary_path:
         command = [bpy.app.binary_path, "--background", "--factory-startup", blend, "--python-exit-code", "1",
                    "--python-expr", script]
@@ -324,7 +365,12 @@ def run_blender(blend, script, render=None, timeout=300):
         command = [sys.executable, "-c", _BPY_PROLOGUE, blend, script]
         if render is not None:
             command += [str(value) for value in render]
-    process = subprocess.run(command, capture_output=True, text=True, timeout=timeout)
+    def join_cgroup():
+        with open(os.path.join(cgroup, "cgroup.procs"), "w") as file:
+            file.write(str(os.getpid()))
+
+    process = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
+                             preexec_fn=join_cgroup if cgroup is not None else None)
     return process.returncode, process.stdout + process.stderr
 
 

@@ -358,8 +358,9 @@ def bad_meshes():
     expect_error(obj, "a mesh with shape keys", "shape keys", levels=1)
     support.remove(obj)
 
-    obj = support.object_from_bmesh("TooFine", support.uv_sphere(64, 32))  # 3,968 triangles: ~19 GiB at level 8
-    expect_error(obj, "a level past the core's memory limit", "would need about", levels=8)
+    # 3,968 triangles: 260M at level 8, past the memory of any machine here (the message names both amounts).
+    obj = support.object_from_bmesh("TooFine", support.uv_sphere(64, 32))
+    expect_error(obj, "a level past the memory left", "Level 8 needs about", levels=8)
     support.remove(obj)
 
     obj = uv_cube("NoCone")
