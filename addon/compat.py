@@ -160,7 +160,7 @@ def remove_modifier_button(target, draw):
 NODES_MODIFIER_PANEL = "MOD_PT_GeometryNodes"
 
 
-def hide_carrier_fields(modifier, result_socket):
+def hide_geometry_nodes_fields(modifier, result_socket):
     """Hides what the panel of a Geometry Nodes modifier draws above the Loop Subdivision settings, as far as the
     version lets Python: returns the names of what stays shown.
 
@@ -203,7 +203,7 @@ HAS_WARNING_NODE = hasattr(bpy.types, "GeometryNodeWarning")
 
 def show_result_field(group, result_socket, show):
     """Shows (or hides again) the group input's field in the modifier's panel, where the version hides it
-    (hide_carrier_fields) and has no Warning node to say that the add-on is missing (4.0 to 4.2): in a file saved
+    (hide_geometry_nodes_fields) and has no Warning node to say that the add-on is missing (4.0 to 4.2): in a file saved
     without results, the field names the placeholder object, "Enable the Loop Subdivision add-on"."""
     socket = group.interface.items_tree.get(result_socket) if hasattr(group, "interface") else None
     if socket is not None and hasattr(socket, "hide_in_modifier") and not HAS_WARNING_NODE:

@@ -2,27 +2,12 @@
 
 Nothing here imports bpy or the native module, so tests load this file on its own with plain Python.
 """
-from dataclasses import dataclass
 
 import numpy as np
 
 # Blender's Subdivision Surface maps a crease weight c to an OpenSubdiv sharpness 10·c²
 # (BKE_subdiv_crease_to_sharpness_f); 10 is OpenSubdiv's "infinitely sharp".
 INFINITE_SHARPNESS = np.float32(10.0)
-
-RULES = {'HOPPE94': "hoppe94", 'OPENSUBDIV': "opensubdiv"}
-BOUNDARY = {'SMOOTH': "edges", 'KEEP_CORNERS': "edges-and-corners"}
-# Subdivision Surface's uv_smooth, mapped to OpenSubdiv's FVarLinearInterpolation as Blender maps it
-# (BKE_subdiv_fvar_interpolation_from_uv_smooth): None keeps UVs linear everywhere, All smooths them everywhere.
-UV_SMOOTH = {
-    'NONE': "all",
-    'PRESERVE_CORNERS': "corners",
-    'PRESERVE_CORNERS_AND_JUNCTIONS': "corners-plus1",
-    'PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE': "corners-plus2",
-    'PRESERVE_BOUNDARIES': "boundaries",
-    'SMOOTH_ALL': "none",
-}
-
 
 def crease_to_sharpness(weights):
     """Blender's own mapping, evaluated in float32 in the same order (c·c·10) so the sharpness is bit-identical."""
@@ -165,29 +150,6 @@ def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_ve
 
 def edge_face_counts(loop_edges, num_edges):
     return np.bincount(loop_edges, minlength=num_edges)
-
-
-@dataclass(frozen=True)
-class Options:
-    """Settings of one subdivision (the panel's, overridden by the operator's arguments)."""
-    levels: int = 1
-    rules: str = 'HOPPE94'
-    crease_threshold: float = 0.5
-    boundary: str = 'SMOOTH'
-    use_creases: bool = True
-    cone_group: str = ""
-    use_limit_surface: bool = True
-    uv_smooth: str = 'PRESERVE_BOUNDARIES'
-
-    def plan_keywords(self):
-        """Keyword arguments of _loopsub.Plan for these settings (tags, cones and UV layers come from the mesh)."""
-        return {
-            "rules": RULES[self.rules],
-            "boundary": BOUNDARY[self.boundary],
-            "crease_threshold": float(self.crease_threshold) if self.rules == 'HOPPE94' else 0.0,
-            "limit_surface": bool(self.use_limit_surface),
-            "uv_interpolation": UV_SMOOTH[self.uv_smooth],
-        }
 
 
 # How each attribute type moves through foreach_get/foreach_set: (property, components, numpy type).

@@ -1,7 +1,7 @@
 """Keeps each Loop Subdivision entry's result current: after edits (depsgraph updates), on frame changes (playback),
 before every frame a render evaluates (at Render levels), and when settings change.
 
-The input is the object evaluated up to the entry. Blender evaluates a stack as a whole and shows an add-on no
+The input is the object evaluated up to the cache. Blender evaluates a stack as a whole and shows an add-on no
 intermediate mesh, so the entry and every active modifier below it are switched off for one evaluation of the view
 layer's depsgraph, whose result is the input, and switched on again once the helper holds the new subdivision. A guard
 keeps the handlers from reacting to the updates this makes.
@@ -63,7 +63,7 @@ _busy = False
 _rendering = False
 
 
-def cache(obj):
+def cache_of(obj):
     return _caches.get(obj.name)
 
 
@@ -84,7 +84,7 @@ def refresh(obj, depsgraph, render=False):
         return  # linked from another file: read-only here, it shows the result that file saved
     settings = obj.loop_subdivision
     options = settings.options(levels=settings.render_levels if render else settings.levels)
-    carrier = stack.helper(obj, modifier)
+    helper = stack.helper_of(obj, modifier)
     index = list(obj.modifiers).index(modifier)
     switched = [other for other in obj.modifiers[index:] if other.show_viewport]
     _busy = True
@@ -95,11 +95,11 @@ def refresh(obj, depsgraph, render=False):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
-            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, carrier, options, render)
+            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options, render)
             # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
             # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
             stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
-            stack.set_input_guard(carrier, len(mesh.vertices) if stacked else 0)
+            stack.set_input_guard(helper, len(mesh.vertices) if stacked else 0)
         finally:
             evaluated.to_mesh_clear()
     finally:
@@ -109,55 +109,55 @@ def refresh(obj, depsgraph, render=False):
         _busy = False
 
 
-def _write(entry, obj, evaluated, mesh, carrier, options, render):
+def _write(cache, obj, evaluated, mesh, helper, options, render):
     try:
         if options.levels == 0:
             raise _PassThrough
         # A result no larger than the one shown fitted before; a larger one is checked against the memory left.
-        shown = len(carrier.data.polygons) if entry.result == carrier.data.name else 0
+        shown = len(helper.data.polygons) if cache.result == helper.data.name else 0
         if (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
             mesh_data.check_memory(mesh, options)
         # Renders get the limit normals themselves; the viewport Blender's own, split where they split.
-        source = mesh_data.Source(obj, mesh, options, entry.plan_key[1] if entry.plan_key else None,
+        source = mesh_data.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None,
                                   exact_normals=render)
         plan_key = source.plan_key()
-        if not _equal(entry.plan_key, plan_key):
+        if not _equal(cache.plan_key, plan_key):
             # The old plan is of another topology: it goes (with the normals that view its triangles) before the new
             # one is built, so that a large result's two plans are never held at once, and the new one reuses its memory.
-            entry.plan = entry.plan_key = entry.limit_normals = None
-            entry.plan, entry.plan_key, entry.inputs = source.plan(), plan_key, None
-            entry.plan_builds += 1
-            entry.messages = source.messages
+            cache.plan = cache.plan_key = cache.limit_normals = None
+            cache.plan, cache.plan_key, cache.inputs = source.plan(), plan_key, None
+            cache.plan_builds += 1
+            cache.messages = source.messages
         inputs = source.inputs()
         layout_key = source.layout_key()
-        in_place = (entry.result == carrier.data.name and _equal(entry.layout_key, layout_key)
-                    and len(carrier.data.vertices) == entry.plan.num_output_vertices)
-        if in_place and _equal(entry.inputs, inputs):
+        in_place = (cache.result == helper.data.name and _equal(cache.layout_key, layout_key)
+                    and len(helper.data.vertices) == cache.plan.num_output_vertices)
+        if in_place and _equal(cache.inputs, inputs):
             return
-        refined = source.refine(entry.plan, written=entry.inputs if in_place else None)
+        refined = source.refine(cache.plan, written=cache.inputs if in_place else None)
         if in_place:
-            if entry.exact_shown:
-                mesh_data.show_blender_normals(carrier.data, carrier, entry.blender_shading)
-            mesh_data.update_mesh(carrier.data, source, refined, entry.auto_loops)
+            if cache.exact_shown:
+                mesh_data.show_blender_normals(helper.data, helper, cache.blender_shading)
+            mesh_data.update_mesh(helper.data, source, refined, cache.auto_loops)
         else:
-            old = carrier.data
-            _swap(carrier, old, mesh_data.build_mesh(source, entry.plan, refined, carrier.name, carrier))
-            entry.result, entry.layout_key, entry.auto_loops = carrier.data.name, layout_key, source.auto_loops
-            entry.blender_shading = mesh_data.shading_state(carrier.data)
-        entry.exact_shown = False
-        entry.limit_normals = (refined.normals, refined.triangles) if source.blender_normals else None
-        entry.inputs = inputs
-        entry.error = ""
-        if entry.limit_normals is not None:
+            old = helper.data
+            _swap(helper, old, mesh_data.build_mesh(source, cache.plan, refined, helper.name, helper))
+            cache.result, cache.layout_key, cache.auto_loops = helper.data.name, layout_key, source.auto_loops
+            cache.blender_shading = mesh_data.shading_state(helper.data)
+        cache.exact_shown = False
+        cache.limit_normals = (refined.normals, refined.triangles) if source.blender_normals else None
+        cache.inputs = inputs
+        cache.error = ""
+        if cache.limit_normals is not None:
             _settle_later()
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
-        if entry.error != str(problem) and str(problem):
+        if cache.error != str(problem) and str(problem):
             _tell(f"{obj.name}: {problem}")
-        entry.error = str(problem)
-        entry.plan_key = entry.result = entry.inputs = entry.limit_normals = None
-        entry.exact_shown = False
-        _swap(carrier, carrier.data, bpy.data.meshes.new_from_object(evaluated))
+        cache.error = str(problem)
+        cache.plan_key = cache.result = cache.inputs = cache.limit_normals = None
+        cache.exact_shown = False
+        _swap(helper, helper.data, bpy.data.meshes.new_from_object(evaluated))
 
 
 _STATUS_SECONDS = 10.0
@@ -221,18 +221,18 @@ def settle():
     # and the evaluation below, which the handlers skip, holds no edit.
     depsgraph = bpy.context.evaluated_depsgraph_get()
     written = 0
-    for name, entry in _caches.items():
+    for name, cache in _caches.items():
         obj = bpy.data.objects.get(name)
         modifier = stack.entry(obj)
-        carrier = stack.helper(obj, modifier, create=False) if modifier is not None else None
-        if entry.limit_normals is None or carrier is None:
+        helper = stack.helper_of(obj, modifier, create=False) if modifier is not None else None
+        if cache.limit_normals is None or helper is None:
             continue
-        normals, triangles = entry.limit_normals
-        if carrier.data.name != entry.result or len(carrier.data.loops) != normals.size // 3:
+        normals, triangles = cache.limit_normals
+        if helper.data.name != cache.result or len(helper.data.loops) != normals.size // 3:
             continue
-        mesh_data.write_limit_normals(carrier.data, normals, triangles, entry.auto_loops)
-        carrier.data.update()
-        entry.limit_normals, entry.exact_shown = None, True
+        mesh_data.write_limit_normals(helper.data, normals, triangles, cache.auto_loops)
+        helper.data.update()
+        cache.limit_normals, cache.exact_shown = None, True
         written += 1
     if written:
         _busy = True  # the updates this makes are not edits
@@ -247,14 +247,14 @@ class _PassThrough(Exception):
     """Levels 0: the entry shows its input."""
 
 
-def _swap(carrier, old, mesh):
+def _swap(helper, old, mesh):
     mesh[stack.RESULT_TAG] = True  # collect() frees it once nothing uses it
-    carrier.data = mesh
+    helper.data = mesh
     # A mesh replaced during a render stays (a render job may still read it) until collect() runs after the render,
     # found by its tag: not by name, which the result replacing it takes.
     if old is not None and old != mesh and old.users == 0 and not _rendering:
         bpy.data.meshes.remove(old)
-    mesh.name = carrier.name
+    mesh.name = helper.name
 
 
 def refresh_all(depsgraph=None, render=False):
@@ -295,7 +295,7 @@ def _refresh_updated(depsgraph):
     updated = {update.id.original for update in depsgraph.updates
                if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
     for obj in updated:
-        stack.tidy(obj)  # a duplicated entry named as one, the carrier's fields hidden
+        stack.tidy(obj)  # a duplicated entry named as one, the helper's fields hidden
         refresh(obj, depsgraph)
 
 
@@ -374,8 +374,8 @@ def _serve():
 @persistent
 def _on_undo(*_):
     # Undo restores the helpers' meshes as they were: build the next result anew rather than write into one.
-    for entry in _caches.values():
-        entry.result = entry.inputs = None
+    for cache in _caches.values():
+        cache.result = cache.inputs = None
 
 
 @persistent
@@ -417,7 +417,7 @@ def _on_save(*_):
         modifier = stack.entry(obj)
         if modifier is None or obj.library is not None or not obj.users:
             continue
-        carrier = stack.helper(obj, modifier, create=False)
+        helper = stack.helper_of(obj, modifier, create=False)
         if obj.loop_subdivision.store_result:
             if obj.name_full in in_view_layer:
                 refresh(obj, depsgraph, render=True)
@@ -425,13 +425,13 @@ def _on_save(*_):
             continue
         empty = empty or stack.placeholder()
         # The helper, with no user, is not written; nor its mesh once the helper holds the placeholder's instead.
-        _unsaved.append((obj.name, carrier.name if carrier is not None else None,
-                         carrier.data.name if carrier is not None else None))
+        _unsaved.append((obj.name, helper.name if helper is not None else None,
+                         helper.data.name if helper is not None else None))
         _busy = True
         try:
             compat.set_modifier_input(modifier, stack.RESULT_SOCKET, empty)
-            if carrier is not None:
-                carrier.data = empty.data
+            if helper is not None:
+                helper.data = empty.data
         finally:
             _busy = False
     if empty is not None:
@@ -446,15 +446,15 @@ def _on_saved(*_):
     _saving = False
     _busy = True
     try:
-        for name, carrier_name, result_name in _unsaved:
+        for name, helper_name, result_name in _unsaved:
             obj = bpy.data.objects.get(name)
             modifier = stack.entry(obj)
-            carrier = bpy.data.objects.get(carrier_name) if carrier_name is not None else None
+            helper = bpy.data.objects.get(helper_name) if helper_name is not None else None
             result = bpy.data.meshes.get(result_name) if result_name is not None else None
-            if carrier is not None and result is not None:
-                carrier.data = result
-            if modifier is not None and carrier is not None:
-                compat.set_modifier_input(modifier, stack.RESULT_SOCKET, carrier)
+            if helper is not None and result is not None:
+                helper.data = result
+            if modifier is not None and helper is not None:
+                compat.set_modifier_input(modifier, stack.RESULT_SOCKET, helper)
         if _unsaved:
             compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, False)
     finally:
@@ -486,10 +486,10 @@ def _undo_auto_smooth_conversion():
         modifier = stack.entry(obj)
         if modifier is None or obj.library is not None:
             continue
-        carrier = stack.helper(obj, modifier, create=False)
-        if carrier is not None and carrier.library is None:
-            for converted in compat.auto_smooth_modifiers(carrier):
-                carrier.modifiers.remove(converted)
+        helper = stack.helper_of(obj, modifier, create=False)
+        if helper is not None and helper.library is None:
+            for converted in compat.auto_smooth_modifiers(helper):
+                helper.modifiers.remove(converted)
         if obj.loop_subdivision.use_limit_surface:
             index = list(obj.modifiers).index(modifier)
             for converted in compat.auto_smooth_modifiers(obj):

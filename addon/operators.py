@@ -1,11 +1,10 @@
 """Operators: add, remove and apply the Loop Subdivision modifier, and write the crease tags."""
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, IntProperty
 
-from . import compat, live, mesh_data, stack
+from . import compat, live, mesh_data, settings, stack
 from .native import LoopSubError
-from .properties import (BOUNDARY_ITEMS, LIMIT_SURFACE_DESCRIPTION, RULES_ITEMS, STORE_RESULT_DESCRIPTION,
-                         UV_SMOOTH_DESCRIPTION, UV_SMOOTH_ITEMS)
+from .properties import bpy_property
 
 
 def _mesh_objects(context):
@@ -20,45 +19,27 @@ def _overrides(operator, names):
     return {name: getattr(operator, name) for name in names if operator.properties.is_property_set(name)}
 
 
-class _RuleArguments:
-    """Arguments both add and apply take, named as the settings (SKIP_SAVE: see _overrides)."""
-    rules: EnumProperty(name="Rules", items=RULES_ITEMS, default='HOPPE94', options={'SKIP_SAVE'},
-                        description="How crease weights shape the surface")
-    crease_threshold: FloatProperty(name="Crease Threshold", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
-                                    options={'SKIP_SAVE'},
-                                    description="Crease weights at or above this value make creases and corners")
-    boundary: EnumProperty(name="Boundary Smooth", items=BOUNDARY_ITEMS, default='SMOOTH', options={'SKIP_SAVE'},
-                           description="Controls how open boundaries are smoothed")
-    use_limit_surface: BoolProperty(name="Use Limit Surface", default=True, options={'SKIP_SAVE'},
-                                    description=LIMIT_SURFACE_DESCRIPTION)
-    uv_smooth: EnumProperty(name="UV Smooth", items=UV_SMOOTH_ITEMS, default='PRESERVE_BOUNDARIES',
-                            options={'SKIP_SAVE'}, description=UV_SMOOTH_DESCRIPTION)
+def _arguments(names, **changes):
+    """Operator arguments named as the settings, made from their table (settings.py), SKIP_SAVE (see _overrides);
+    changes: per name, what differs from the setting."""
+    return {name: bpy_property(settings.BY_NAME[name], options={'SKIP_SAVE'}, **changes.get(name, {}))
+            for name in names}
 
 
 _LONG_APPLY_FACES = 2_000_000  # output triangles: about two seconds of applying
 
-_SETTINGS = ("levels", "render_levels", "rules", "crease_threshold", "boundary", "use_creases", "cone_group",
-             "use_limit_surface", "uv_smooth", "store_result")
-# The arguments of Apply that override the object's settings when given.
+# The arguments of Add (every setting) and of Apply (those that shape one subdivision), which override the object's
+# settings when given.
+_ADD_ARGUMENTS = tuple(setting.name for setting in settings.SETTINGS)
 _APPLY_OVERRIDES = ("levels", "rules", "crease_threshold", "boundary", "use_limit_surface", "uv_smooth")
 
 
-class OBJECT_OT_loop_subdivision_add(_RuleArguments, bpy.types.Operator):
+class OBJECT_OT_loop_subdivision_add(bpy.types.Operator):
     """Add a Loop Subdivision modifier to the end of the active object's modifier stack"""
     bl_idname = "object.loop_subdivision_add"
     bl_label = "Add Loop Subdivision"
     bl_options = {'REGISTER', 'UNDO'}
-
-    levels: IntProperty(name="Levels Viewport", default=1, min=0, max=6, soft_max=3, options={'SKIP_SAVE'},
-                        description="Number of subdivisions to perform in the 3D viewport, and when applying")
-    render_levels: IntProperty(name="Render", default=2, min=0, max=8, soft_max=4, options={'SKIP_SAVE'},
-                               description="Number of subdivisions to perform when rendering")
-    use_creases: BoolProperty(name="Use Creases", default=True, options={'SKIP_SAVE'},
-                              description="Use mesh crease information to sharpen edges or corners")
-    cone_group: StringProperty(name="Cone Group", default="", options={'SKIP_SAVE'},
-                               description="Vertex group whose vertices become cones")
-    store_result: BoolProperty(name="Store Result", default=False, options={'SKIP_SAVE'},
-                               description=STORE_RESULT_DESCRIPTION)
+    __annotations__ = _arguments(_ADD_ARGUMENTS)
 
     @classmethod
     def poll(cls, context):
@@ -72,14 +53,14 @@ class OBJECT_OT_loop_subdivision_add(_RuleArguments, bpy.types.Operator):
 
     def execute(self, context):
         obj = context.object
-        settings = obj.loop_subdivision
-        for name, value in _overrides(self, _SETTINGS).items():
-            setattr(settings, name, value)
+        own = obj.loop_subdivision
+        for name, value in _overrides(self, _ADD_ARGUMENTS).items():
+            setattr(own, name, value)
         stack.add(obj)
         live.refresh(obj, context.evaluated_depsgraph_get())
-        entry = live.cache(obj)
-        if entry is not None and entry.error:
-            self.report({'WARNING'}, entry.error)
+        cache = live.cache_of(obj)
+        if cache is not None and cache.error:
+            self.report({'WARNING'}, cache.error)
         return {'FINISHED'}
 
 
@@ -98,15 +79,15 @@ class OBJECT_OT_loop_subdivision_remove(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class OBJECT_OT_loop_subdivision_apply(_RuleArguments, bpy.types.Operator):
+class OBJECT_OT_loop_subdivision_apply(bpy.types.Operator):
     """Replace the active object's mesh with its Loop subdivision, and remove its Loop Subdivision modifier.
 Non-triangle faces are triangulated first. Arguments that are set override the modifier's settings"""
     bl_idname = "object.loop_subdivision_apply"
     bl_label = "Apply Loop Subdivision"
     bl_options = {'REGISTER', 'UNDO'}
 
-    levels: IntProperty(name="Levels", default=1, min=1, max=8, soft_max=5, options={'SKIP_SAVE'},
-                        description="Number of subdivisions to perform")
+    __annotations__ = _arguments(_APPLY_OVERRIDES, levels=dict(
+        name="Levels", min=1, max=8, soft_max=5, description="Number of subdivisions to perform"))
 
     @classmethod
     def poll(cls, context):
@@ -210,10 +191,10 @@ class OBJECT_OT_loop_subdivision_set(bpy.types.Operator):
         ours = [obj for obj in objects if stack.entry(obj) is not None]
         others = [obj for obj in objects if obj not in ours]
         for obj in ours:
-            settings = obj.loop_subdivision
-            levels = settings.bl_rna.properties["levels"]
-            value = settings.levels + self.level if self.relative else self.level
-            settings.levels = max(levels.hard_min, min(levels.hard_max, value))
+            own = obj.loop_subdivision
+            levels = own.bl_rna.properties["levels"]
+            value = own.levels + self.level if self.relative else self.level
+            own.levels = max(levels.hard_min, min(levels.hard_max, value))
         if others or not ours:
             arguments = compat.subdivision_set_arguments(level=self.level, relative=self.relative,
                                                          ensure_modifier=self.ensure_modifier)

@@ -108,12 +108,12 @@ def _build_nodes(group):
         node.location = (250 * (column % 6), -200 * (column // 6))
 
 
-def set_input_guard(carrier, input_points):
+def set_input_guard(helper, input_points):
     """What the node group checks its input against (_build_nodes): the number of vertices of the input the
-    carrier's result was made from, or 0 for no check (what a new helper has). Kept in the helper's location, which
+    helper's result was made from, or 0 for no check (what a new helper has). Kept in the helper's location, which
     nothing else reads (Object Info in original space does not move the geometry by it); exact up to 2^24."""
-    if carrier.location.x != input_points:
-        carrier.location.x = input_points
+    if helper.location.x != input_points:
+        helper.location.x = input_points
 
 
 def is_entry(modifier):
@@ -132,24 +132,24 @@ def is_helper(obj):
     return obj is not None and OWNER_TAG in obj
 
 
-def owner_name(carrier):
+def owner_name(helper):
     """The name of the object a helper serves. Files saved before the owner became a name hold the owner itself."""
-    owner = carrier.get(OWNER_TAG)
+    owner = helper.get(OWNER_TAG)
     return owner.name if isinstance(owner, bpy.types.ID) else owner
 
 
-def _serves(carrier, obj):
-    """Whether carrier is (or may become) the helper of obj's entry: it names obj, or it names no object whose entry
+def _serves(helper, obj):
+    """Whether helper is (or may become) the helper of obj's entry: it names obj, or it names no object whose entry
     uses it (its owner was renamed, or deleted and a linked duplicate remains)."""
-    name = owner_name(carrier)
+    name = owner_name(helper)
     if name == obj.name:
         return True
     owner = bpy.data.objects.get(name) if isinstance(name, str) else None
     owner_entry = entry(owner) if owner is not None and owner != obj and owner.users else None
-    return owner_entry is None or compat.modifier_input(owner_entry, RESULT_SOCKET) != carrier
+    return owner_entry is None or compat.modifier_input(owner_entry, RESULT_SOCKET) != helper
 
 
-def helper(obj, modifier, create=True):
+def helper_of(obj, modifier, create=True):
     """The object that carries this entry's result; the object's unused helper, or a new one, when the entry has none
     of its own (None with create=False)."""
     current = compat.modifier_input(modifier, RESULT_SOCKET)
@@ -159,16 +159,16 @@ def helper(obj, modifier, create=True):
         return current
     if not create:
         return None
-    carrier = next((other for other in bpy.data.objects
+    helper = next((other for other in bpy.data.objects
                     if is_helper(other) and other.library is None and owner_name(other) == obj.name
                     and not other.users), None)
-    if carrier is None:
+    if helper is None:
         mesh = bpy.data.meshes.new(f"{obj.name} ({ENTRY_NAME})")
         mesh[RESULT_TAG] = True
-        carrier = bpy.data.objects.new(mesh.name, mesh)
-    carrier[OWNER_TAG] = obj.name
-    compat.set_modifier_input(modifier, RESULT_SOCKET, carrier)
-    return carrier
+        helper = bpy.data.objects.new(mesh.name, mesh)
+    helper[OWNER_TAG] = obj.name
+    compat.set_modifier_input(modifier, RESULT_SOCKET, helper)
+    return helper
 
 
 def placeholder():
@@ -192,9 +192,9 @@ def _in_use():
             continue
         for modifier in obj.modifiers:
             if is_entry(modifier):
-                carrier = compat.modifier_input(modifier, RESULT_SOCKET)
-                if carrier is not None:
-                    used.add(carrier.name_full)
+                helper = compat.modifier_input(modifier, RESULT_SOCKET)
+                if helper is not None:
+                    used.add(helper.name_full)
     return used
 
 
@@ -206,12 +206,12 @@ def collect():
     used = _in_use()
     # Found unused by what entries point at, not by user counts: 5.2.3 keeps counting a user of an object that a
     # modifier input pointed at before (modifier.properties.inputs).
-    for carrier in [obj for obj in bpy.data.objects
+    for helper in [obj for obj in bpy.data.objects
                     if (is_helper(obj) or obj.get(PLACEHOLDER_TAG)) and obj.library is None]:
-        if carrier.name_full in used:
+        if helper.name_full in used:
             continue
-        mesh = carrier.data
-        bpy.data.objects.remove(carrier)
+        mesh = helper.data
+        bpy.data.objects.remove(helper)
         removed += 1
         if mesh is not None and mesh.users == 0 and mesh.library is None:
             bpy.data.meshes.remove(mesh)
@@ -232,10 +232,10 @@ def migrate():
     kept alive (deleted, or a deleted linked duplicate that kept its mesh multi-user) is freed, as Blender would have
     freed it on deletion. Returns how many owners it freed."""
     owners = []
-    for carrier in bpy.data.objects:
-        owner = carrier.get(OWNER_TAG) if carrier.library is None else None
+    for helper in bpy.data.objects:
+        owner = helper.get(OWNER_TAG) if helper.library is None else None
         if isinstance(owner, bpy.types.ID):
-            carrier[OWNER_TAG] = owner.name
+            helper[OWNER_TAG] = owner.name
             owners.append(owner.name_full)
     for group in bpy.data.node_groups:
         if group.get(GROUP_TAG) in GROUP_VERSIONS and group.get(GROUP_TAG) != GROUP_VERSION and group.library is None:
@@ -258,8 +258,8 @@ def add(obj):
     modifier = obj.modifiers.new(ENTRY_NAME, 'NODES')
     modifier.node_group = node_group()
     modifier.show_in_editmode = True
-    compat.hide_carrier_fields(modifier, RESULT_SOCKET)
-    helper(obj, modifier)
+    compat.hide_geometry_nodes_fields(modifier, RESULT_SOCKET)
+    helper_of(obj, modifier)
     return modifier
 
 
@@ -269,7 +269,7 @@ _NODES_DEFAULT_NAME = "GeometryNodes"
 
 
 def tidy(obj):
-    """Every Loop Subdivision modifier of obj named as one, its carrier's own fields hidden (compat): a duplicated
+    """Every Loop Subdivision modifier of obj named as one, its helper's own fields hidden (compat): a duplicated
     entry comes named "GeometryNodes" in some versions, and entries of files saved before the fields were hidden
     show them. Changes nothing that is right already (the depsgraph handler runs this). Returns the renamed ones."""
     renamed = []
@@ -284,7 +284,7 @@ def tidy(obj):
             modifier.name = ENTRY_NAME  # Blender makes it unique in the stack ("Loop Subdivision.001")
             renamed.append(modifier)
         if modifier.node_group.library is None:
-            compat.hide_carrier_fields(modifier, RESULT_SOCKET)
+            compat.hide_geometry_nodes_fields(modifier, RESULT_SOCKET)
     return renamed
 
 

@@ -51,10 +51,10 @@ def stored_bytes(obj, modifier):
     result where there is one (it holds what the modifiers above make), else from the object's own faces; the file
     compressed as the preferences say new files are."""
     settings = obj.loop_subdivision
-    carrier = stack.helper(obj, modifier, create=False)
-    entry = live.cache(obj)
-    if carrier is not None and entry is not None and not entry.error and settings.levels > 0:
-        triangles = len(carrier.data.polygons) * 4 ** (settings.render_levels - settings.levels)
+    helper = stack.helper_of(obj, modifier, create=False)
+    cache = live.cache_of(obj)
+    if helper is not None and cache is not None and not cache.error and settings.levels > 0:
+        triangles = len(helper.data.polygons) * 4 ** (settings.render_levels - settings.levels)
     else:
         mesh = obj.data
         triangles = (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** settings.render_levels
@@ -102,11 +102,11 @@ def _draw_settings(layout, obj, modifier, columns=None):
         _note(layout, f"The file keeps the Render level: about {memory.format_bytes(stored_bytes(obj, modifier))}",
               'INFO', columns)
 
-    entry = live.cache(obj)
-    if entry is not None and entry.error:
-        _note(layout, entry.error, 'ERROR', columns)
-    elif entry is not None:
-        for level, text in entry.messages:
+    cache = live.cache_of(obj)
+    if cache is not None and cache.error:
+        _note(layout, cache.error, 'ERROR', columns)
+    elif cache is not None:
+        for level, text in cache.messages:
             _note(layout, text.split(": ", 1)[-1], 'ERROR' if level == 'WARNING' else 'INFO', columns)
     if not stack.is_first(obj, modifier):
         _note(layout, _NOT_FIRST_NOTES[compat.STALE_RESULT_OUTPUT], 'INFO', columns)

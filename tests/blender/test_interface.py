@@ -1,4 +1,4 @@
-"""The Loop Subdivision modifier as its panel and keys present it: the Geometry Nodes carrier's own fields hidden
+"""The Loop Subdivision modifier as its panel and keys present it: the Geometry Nodes modifier's own fields hidden
 where the Blender version lets an add-on hide them, notes in the singular for one and wrapped at the panel's width,
 a duplicated entry named and working as one, and Ctrl 0-5 setting a Loop entry's levels (Blender's Subdivision Set
 for objects without one).
@@ -40,10 +40,10 @@ def edited(obj):
     bpy.context.evaluated_depsgraph_get().update()
 
 
-# --- 1. the carrier's own fields ------------------------------------------------------------------------------------
+# --- 1. the Geometry Nodes fields -------------------------------------------------------------------------------------
 
 def expected_shown():
-    """What each installed version still shows above the settings (compat.hide_carrier_fields)."""
+    """What each installed version still shows above the settings (compat.hide_geometry_nodes_fields)."""
     if bpy.app.version < (4, 0, 0):
         return ["node group", "Result", "Output Attributes", "Internal Dependencies"]
     if bpy.app.version < (5, 0, 0):
@@ -51,7 +51,7 @@ def expected_shown():
     return []
 
 
-def carrier_fields():
+def geometry_nodes_fields():
     obj = support.object_from_bmesh("Fields", support.cube("Fields"))
     modifier = add_entry(obj, levels=1)
     socket = (modifier.node_group.interface.items_tree[stack.RESULT_SOCKET]
@@ -68,7 +68,7 @@ def carrier_fields():
              + (["Manage panel"] if bpy.app.version >= (5, 0, 0) else []))
     check(all(done for _, done in hidden) and [name for name, _ in hidden] == flags,
           f"a new entry hides what this version lets it hide: {[name for name, _ in hidden]}")
-    shown = compat.hide_carrier_fields(modifier, stack.RESULT_SOCKET)
+    shown = compat.hide_geometry_nodes_fields(modifier, stack.RESULT_SOCKET)
     check(shown == expected_shown(),
           f"Blender {bpy.app.version_string}: what the modifier panel still shows above the settings: {shown}")
     check(faces_shown(obj) == 4 * 12 and compat.modifier_input(modifier, stack.RESULT_SOCKET) is not None,
@@ -113,8 +113,8 @@ def duplicated():
 # --- 2. notes: plurals and wrapping ---------------------------------------------------------------------------------
 
 def notes_of(obj):
-    entry = live.cache(obj)
-    return [text for _, text in entry.messages] if entry is not None else []
+    cache = live.cache_of(obj)
+    return [text for _, text in cache.messages] if cache is not None else []
 
 
 def plurals():
@@ -164,7 +164,7 @@ def wrapping():
     obj = support.object_from_bmesh("Wrapped", support.cube("Wrapped"))
     modifier = add_entry(obj, levels=1)
     obj.loop_subdivision.cone_group = "a vertex group of a very long name that no object of this file has at all"
-    error = live.cache(obj).error
+    error = live.cache_of(obj).error
     for width in (300, 600):
         labels = []
         ui.DATA_PT_loop_subdivision.draw(Panel(modifier, labels), Context(width))
@@ -231,7 +231,7 @@ def subdivision_set():
 
 
 support.clear_scene()
-carrier_fields()
+geometry_nodes_fields()
 duplicated()
 plurals()
 wrapping()

@@ -323,7 +323,7 @@ def modifier_settings():
     bpy.ops.object.loop_subdivision_add(levels=1, rules='OPENSUBDIV')
     settings = obj.loop_subdivision
     for name, value in (("use_limit_surface", False), ("uv_smooth", 'SMOOTH_ALL'), ("use_limit_surface", True)):
-        builds = addon.live.cache(obj).plan_builds
+        builds = addon.live.cache_of(obj).plan_builds
         setattr(settings, name, value)
         addon.live.settle()  # the limit normals, as a still viewport shows them (test_viewport_normals: before it)
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
@@ -336,7 +336,7 @@ def modifier_settings():
                     twin.data.has_custom_normals)
         support.remove(twin)
         support.select_only(obj)
-        check(addon.live.cache(obj).plan_builds == builds + 1 and np.array_equal(shown[0], expected[0])
+        check(addon.live.cache_of(obj).plan_builds == builds + 1 and np.array_equal(shown[0], expected[0])
               and np.array_equal(shown[1], expected[1]) and shown[2] == expected[2] == settings.use_limit_surface,
               f"modifier: {name} = {value!r} builds a new plan and shows what Apply writes")
     support.remove(obj)

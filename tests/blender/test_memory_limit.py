@@ -44,7 +44,7 @@ REFUSALS = SCRIPT + """
 assert bpy.ops.object.loop_subdivision_add(levels=1) == {'FINISHED'}
 say("ADDED", faces(obj) == 4 * cage)
 obj.loop_subdivision.levels = 5
-say("VIEWPORT", faces(obj) == cage, "|", live.cache(obj).error)
+say("VIEWPORT", faces(obj) == cage, "|", live.cache_of(obj).error)
 obj.loop_subdivision.levels = 1
 say("BACK", faces(obj) == 4 * cage)
 
@@ -70,7 +70,7 @@ except RuntimeError as error:
 bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=6, location=(3, 0, 0))
 other = bpy.context.object
 bpy.ops.object.loop_subdivision_add(levels=5)
-say("ADD", faces(other) == cage, "|", live.cache(other).error)
+say("ADD", faces(other) == cage, "|", live.cache_of(other).error)
 say("SURVIVED")
 """
 
@@ -111,7 +111,8 @@ with support.memory_cgroup(LIMIT) as cgroup, tempfile.TemporaryDirectory() as fo
     check(apply_.startswith("APPLY True") and need in apply_,
           f"Apply at level 5: refused with the message, the mesh untouched ({apply_})")
     added = line(output, "ADD")
-    check(added.startswith("ADD True") and need in added, f"adding an entry at level 5: refused, the input shown ({added})")
+    check(added.startswith("ADD True") and need in added,
+          f"adding an entry at level 5: refused, the input shown ({added})")
 
     code, output = support.run_blender(blend, UNCHECKED, cgroup=cgroup, timeout=600)
     check("ASKING" in output and "SURVIVED" not in output and code != 0,

@@ -57,7 +57,7 @@ def add_entry(obj, **arguments):
 
 
 def plan_builds(obj):
-    return addon.live.cache(obj).plan_builds
+    return addon.live.cache_of(obj).plan_builds
 
 
 # --- in the stack ---------------------------------------------------------------------------------------------------
@@ -161,7 +161,7 @@ def edits():
     check(plan_builds(obj) == builds and not np.array_equal(in_edit, after),
           "in Edit Mode a vertex move shows in the result, with the same plan")
     edit.faces.ensure_lookup_table()
-    old_plan = weakref.ref(addon.live.cache(obj).plan)
+    old_plan = weakref.ref(addon.live.cache_of(obj).plan)
     old_gone_when_built = []
     build_plan = addon.mesh_data.Source.plan
 
@@ -321,13 +321,13 @@ def errors():
     obj.data.vertices[1].co.x = float("nan")
     obj.data.update()
     _, faces = evaluated(obj)
-    error = addon.live.cache(obj).error
+    error = addon.live.cache_of(obj).error
     check(faces == len(obj.data.polygons) and "non-finite" in error,
           f"a bad input passes through unchanged and the panel says why ({error})")
     obj.data.vertices[1].co.x = 0.0
     obj.data.update()
     _, faces = evaluated(obj)
-    check(faces == 4 * len(obj.data.polygons) and not addon.live.cache(obj).error, "fixed, it subdivides again")
+    check(faces == 4 * len(obj.data.polygons) and not addon.live.cache_of(obj).error, "fixed, it subdivides again")
     support.remove(obj)
 
 

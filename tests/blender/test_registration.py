@@ -115,8 +115,8 @@ def registration():
                   f"round {round_}: object.loop_subdivision_{name} has REGISTER, UNDO and a description")
         keys = blender_subdivision_keys()
         check(full["keymap items"] == keys and len(keys) == 12,
-              f"round {round_}: Ctrl 0-5 in Object and Edit Mode call the add-on's Subdivision Set, on the keys the default "
-              f"key configuration gives Blender's ({full['keymap items']})")
+              f"round {round_}: Ctrl 0-5 in Object and Edit Mode call the add-on's Subdivision Set, on the keys the "
+              f"default key configuration gives Blender's ({full['keymap items']})")
         panel = bpy.types.DATA_PT_loop_subdivision
         check(panel.bl_context == "modifier" and panel.bl_parent_id == "MOD_PT_GeometryNodes",
               "the settings are drawn inside the modifier's own panel in Properties ▸ Modifiers")

@@ -124,7 +124,7 @@ def as_the_core(obj):
     for mode in ('NONE', 'PRESERVE_BOUNDARIES', 'SMOOTH_ALL'):
         for limit in (False, True):
             expected = core.subdivide(support.positions(mesh), triangles, 2, rules="opensubdiv",
-                                      limit_surface=limit, uv_interpolation=addon.geometry.UV_SMOOTH[mode],
+                                      limit_surface=limit, uv_interpolation=addon.settings.core_name("uv_smooth", mode),
                                       face_varying=uvs)["face_varying"]
             result = ours(obj, 2, mode, limit)
             got = support.read_array(result.data.uv_layers["UVMap"].data, "uv", 2).reshape(-1, 3, 2)

@@ -243,7 +243,7 @@ def check_edits(label, obj):
         mesh.uv_layers[0].data, "uv", 2).tolist())]
     alone = [corner for corner, key in enumerate(keys) if keys.count(key) == 1]
     assert len(alone) >= EDITS // 2
-    builds = addon.live.cache(obj).plan_builds
+    builds = addon.live.cache_of(obj).plan_builds
     failures = []
     for edit in range(EDITS):
         moves_vertex = edit % 2 == 0
@@ -261,12 +261,12 @@ def check_edits(label, obj):
         raised = raised.strip().splitlines()[-1] if "Traceback" in raised else ""
         worst, storage, length_error = custom_normal_error(obj)
         followed = not np.array_equal(edited_values(evaluated_mesh(obj), moves_vertex), before)
-        problem = (addon.live.cache(obj).error or raised or ("" if followed else "the result did not follow")
+        problem = (addon.live.cache_of(obj).error or raised or ("" if followed else "the result did not follow")
                    or ("" if within(worst, storage, length_error)
                        else f"{worst:.3f} degrees, lengths within {length_error:.1e} of 1"))
         if problem:
             failures.append(f"edit {edit + 1} ({what}): {problem}")
-    builds = addon.live.cache(obj).plan_builds - builds
+    builds = addon.live.cache_of(obj).plan_builds - builds
     check(not failures and builds == 0,
           f"{label}, modifier: {EDITS} edits in a row (a vertex, a UV), each followed in place ({builds} new plans), "
           f"still shaded with the cage's custom normals, nothing raised ({failures[:3] or 'none'})")
@@ -388,7 +388,7 @@ unsettled = cage("Unsettled", True)
 addon.live.refresh_all()
 for obj in shown:
     save_normals(obj)
-helper = addon.stack.helper(unsettled, addon.stack.entry(unsettled), create=False)
+helper = addon.stack.helper_of(unsettled, addon.stack.entry(unsettled), create=False)
 assert not helper.data.has_custom_normals, "the Unsettled result should hold Blender's normals"
 bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "auto_smooth_34.blend"))
 addon.live.settle()

@@ -86,7 +86,7 @@ def smooth():
     mesh = compare(obj, "icosphere, level 1", 0.15)
     # Auto Smooth is a setting up to 4.0 only (auto_smooth() is True from 4.1, where sharp edges always shade).
     check(not getattr(mesh, "use_auto_smooth", False) and not sharp_edges(mesh)
-          and live.cache(obj).limit_normals is not None,
+          and live.cache_of(obj).limit_normals is not None,
           "nothing splits: no sharp edges, Auto Smooth off as on the cage (up to 4.0), the limit normals kept for "
           "settle()")
     support.remove(obj)
@@ -130,7 +130,7 @@ def flat_crease():
     marked = np.array(sorted(sharp_edges(mesh)))
     check(len(marked) and on_line[marked].all() and len(marked) == np.count_nonzero(on_line) - 1,
           f"flat: the crease's {len(marked)} child edges are marked sharp, and only they")
-    builds = live.cache(obj).plan_builds
+    builds = live.cache_of(obj).plan_builds
     p[:, 2] = 0.4 * np.abs(p[:, 0])  # a V along the crease
     obj.data.vertices.foreach_set("co", p.ravel())
     obj.data.update()
@@ -140,7 +140,7 @@ def flat_crease():
     inner = on_line[loops] & (np.abs(support.positions(mesh)[loops, 1]) < 0.9)
     sides = np.sign(support.positions(mesh)[:, 0][loops.reshape(-1, 3)].sum(axis=1)).repeat(3)
     left, right = normals[inner & (sides < 0)], normals[inner & (sides > 0)]
-    check(live.cache(obj).plan_builds == builds and len(left) and len(right)
+    check(live.cache_of(obj).plan_builds == builds and len(left) and len(right)
           and left[:, 0].min() > 0.3 and right[:, 0].max() < -0.3,
           "bent along the crease, without a new plan: each side of it shades with its own normal "
           f"(x components at least {left[:, 0].min():.2f} and at most {right[:, 0].max():.2f})")
@@ -162,7 +162,7 @@ def settled():
         support.shade_smooth(obj)
         add_entry(obj, levels=1, rules='OPENSUBDIV')
         before = auto_smooth(shown(obj))
-        builds = live.cache(obj).plan_builds
+        builds = live.cache_of(obj).plan_builds
         written = live.settle()
         mesh = shown(obj)
         twin = applied(obj)
@@ -173,7 +173,7 @@ def settled():
         obj.data.vertices[0].co.z += 0.2
         obj.data.update()
         mesh = shown(obj)
-        check(not mesh.has_custom_normals and auto_smooth(mesh) == before and live.cache(obj).plan_builds == builds,
+        check(not mesh.has_custom_normals and auto_smooth(mesh) == before and live.cache_of(obj).plan_builds == builds,
               f"{name}: the next edit shows Blender's normals again (custom normals gone, Auto Smooth "
               f"{'on' if before else 'off'} as before), on the same plan")
         compare(obj, f"{name}, edited", bound, levels=1)
@@ -209,7 +209,7 @@ def limit_off():
     obj, _ = support.creased_cube(compat)
     add_entry(obj, levels=1, rules='OPENSUBDIV', use_limit_surface=False)
     mesh = shown(obj)
-    check(not mesh.has_custom_normals and not sharp_edges(mesh) and live.cache(obj).limit_normals is None
+    check(not mesh.has_custom_normals and not sharp_edges(mesh) and live.cache_of(obj).limit_normals is None
           and live.settle() == 0, "limit surface off: no custom normals, no sharp marks, nothing to settle")
     support.remove(obj)
 

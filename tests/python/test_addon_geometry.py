@@ -1,4 +1,4 @@
-"""The add-on's bpy-free helpers (addon/geometry.py), loaded by path with plain Python: no Blender needed."""
+"""The add-on's bpy-free helpers (addon/geometry.py and addon/settings.py), loaded by path with plain Python: no Blender needed."""
 import importlib.util
 import os
 
@@ -11,6 +11,10 @@ _PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "geometry.p
 _spec = importlib.util.spec_from_file_location("loop_subdivision_geometry", _PATH)
 geometry = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(geometry)
+_SETTINGS_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "settings.py")
+_settings_spec = importlib.util.spec_from_file_location("loop_subdivision_settings", _SETTINGS_PATH)
+settings = importlib.util.module_from_spec(_settings_spec)
+_settings_spec.loader.exec_module(settings)
 
 
 def test_crease_to_sharpness_is_blenders_float32_mapping():
@@ -58,7 +62,7 @@ def test_tags_are_accepted_by_the_module():
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
     edges = np.array([[1, 2], [0, 1]], np.int32)
     for rules in ('HOPPE94', 'OPENSUBDIV'):
-        options = geometry.Options(levels=2, rules=rules, boundary='KEEP_CORNERS')
+        options = settings.Options(levels=2, rules=rules, boundary='KEEP_CORNERS')
         tags = geometry.crease_tags(edges, np.array([1.0, 0.6], np.float32), np.zeros(4, np.float32), rules, 0.5)
         plan = _loopsub.Plan(triangles, 4, 2, **tags, **options.plan_keywords())
         assert plan.evaluate(positions).shape == (plan.num_output_vertices, 3)
@@ -136,25 +140,34 @@ def test_inherit_edge_values():
 
 
 def test_options_keywords():
-    assert geometry.Options(rules='OPENSUBDIV', boundary='KEEP_CORNERS', crease_threshold=0.7).plan_keywords() == {
+    assert settings.Options(rules='OPENSUBDIV', boundary='KEEP_CORNERS', crease_threshold=0.7).plan_keywords() == {
         "rules": "opensubdiv", "boundary": "edges-and-corners", "crease_threshold": 0.0, "limit_surface": True,
         "uv_interpolation": "boundaries"}
-    assert geometry.Options(crease_threshold=0.7, use_limit_surface=False, uv_smooth='NONE').plan_keywords() == {
+    assert settings.Options(crease_threshold=0.7, use_limit_surface=False, uv_smooth='NONE').plan_keywords() == {
         "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7), "limit_surface": False,
         "uv_interpolation": "all"}
 
 
 def test_uv_smooth_is_blenders_mapping():
     # BKE_subdiv_fvar_interpolation_from_uv_smooth: None is linear everywhere, All smooth everywhere.
-    assert geometry.UV_SMOOTH == {
+    uv_smooth = {choice.identifier: choice.core for choice in settings.BY_NAME["uv_smooth"].choices}
+    assert uv_smooth == {
         'NONE': "all", 'PRESERVE_CORNERS': "corners", 'PRESERVE_CORNERS_AND_JUNCTIONS': "corners-plus1",
         'PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE': "corners-plus2", 'PRESERVE_BOUNDARIES': "boundaries",
         'SMOOTH_ALL': "none"}
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
-    for smooth in geometry.UV_SMOOTH:
-        options = geometry.Options(rules='OPENSUBDIV', uv_smooth=smooth)
+    for smooth in uv_smooth:
+        options = settings.Options(rules='OPENSUBDIV', uv_smooth=smooth)
         plan = _loopsub.Plan(triangles, 4, 1, face_varying_indices=[triangles], **options.plan_keywords())
-        assert plan.uv_interpolation == geometry.UV_SMOOTH[smooth] and plan.limit_surface
+        assert plan.uv_interpolation == uv_smooth[smooth] and plan.limit_surface
+
+
+def test_options_are_the_settings_of_one_subdivision():
+    options = settings.Options()
+    assert "render_levels" not in vars(options) and "store_result" not in vars(options)
+    assert all(getattr(options, name) == settings.BY_NAME[name].default for name in settings.SUBDIVISION)
+    assert all(setting.default in [choice.identifier for choice in setting.choices]
+               for setting in settings.SETTINGS if setting.choices)
 
 
 def test_weld_corner_values():
@@ -178,7 +191,7 @@ def test_weld_corner_values():
     indices, values = geometry.weld_corner_values(triangles, np.zeros((2, 3, 2), np.float32))
     assert len(values) == 4 and indices[0, 1] == indices[1, 0] and indices[0, 2] == indices[1, 2]
     # The layer refines through the core: a constant UV stays that constant in every mode.
-    for interpolation in geometry.UV_SMOOTH.values():
+    for interpolation in ("all", "corners", "corners-plus1", "corners-plus2", "boundaries", "none"):
         plan = _loopsub.Plan(triangles, 4, 2, rules="opensubdiv", uv_interpolation=interpolation,
                              face_varying_indices=[indices], limit_surface=True)
         refined = plan.evaluate_face_varying(values + 0.25, layer=0)[plan.face_varying_indices(0)]

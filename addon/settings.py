@@ -1,0 +1,107 @@
+"""The settings of a Loop Subdivision entry, in one table. The panel's properties (properties.py), the operators'
+arguments (operators.py) and the options of one subdivision (Options, which the core's keyword arguments come from)
+are all made from it, so that a name, a default, a limit or a description is written once.
+
+No bpy here: tests load this file with plain Python.
+"""
+from dataclasses import dataclass, field, make_dataclass
+
+
+@dataclass(frozen=True)
+class Choice:
+    """One item of a setting with a list of choices: Blender's identifier, name and description, and the name the
+    core gives it (None where the core does not take it)."""
+    identifier: str
+    name: str
+    description: str
+    core: str = None
+
+
+@dataclass(frozen=True)
+class Setting:
+    name: str
+    label: str
+    default: object
+    description: str
+    choices: tuple = ()
+    limits: dict = field(default_factory=dict)  # min, max, soft_min, soft_max, subtype: as bpy.props takes them
+    live: bool = True  # a change updates the viewport's result (Render levels and Store Result do not)
+
+
+SETTINGS = (
+    Setting("levels", "Levels Viewport", 1,
+            "Number of subdivisions to perform in the 3D viewport, and when applying",
+            limits=dict(min=0, max=6, soft_max=3)),
+    Setting("render_levels", "Render", 2, "Number of subdivisions to perform when rendering",
+            limits=dict(min=0, max=8, soft_max=4), live=False),
+    Setting("rules", "Rules", 'HOPPE94', "How crease weights shape the surface", choices=(
+        Choice('HOPPE94', "Hoppe 94 (sharp creases, cones)",
+               "The rules of Hoppe et al. 94, as in the GDC'99 talk: creases stay sharp, with dart, crease, corner "
+               "and cone vertices. Edges whose crease weight reaches the threshold are creases", "hoppe94"),
+        Choice('OPENSUBDIV', "OpenSubdiv (as Subdivision Surface)",
+               "OpenSubdiv's Loop rules, which Blender's Subdivision Surface uses: crease weights give semi-sharp "
+               "creases", "opensubdiv"),
+    )),
+    Setting("crease_threshold", "Crease Threshold", 0.5,
+            "Edges and vertices with a crease weight at or above this value are creases and corners",
+            limits=dict(min=0.0, max=1.0, subtype='FACTOR')),
+    Setting("boundary", "Boundary Smooth", 'SMOOTH', "Controls how open boundaries are smoothed", choices=(
+        Choice('SMOOTH', "All", "Smooth boundaries, as Boundary Smooth: All of Subdivision Surface", "edges"),
+        Choice('KEEP_CORNERS', "Keep Corners", "Boundary vertices with a single face stay sharp corners",
+               "edges-and-corners"),
+    )),
+    Setting("use_creases", "Use Creases", True, "Use mesh crease information to sharpen edges or corners"),
+    Setting("cone_group", "Cone Group", "",
+            "Vertex group whose vertices become cones: the surface comes to a point there"),
+    Setting("use_limit_surface", "Use Limit Surface", True,
+            "Place vertices at the surface that would be produced with infinite levels of subdivision (smoothest "
+            "possible shape)"),
+    # Subdivision Surface's own identifiers, names and descriptions, with the core's face-varying interpolation for
+    # each as Blender maps it (BKE_subdiv_fvar_interpolation_from_uv_smooth): None keeps UVs linear everywhere, All
+    # smooths them everywhere.
+    Setting("uv_smooth", "UV Smooth", 'PRESERVE_BOUNDARIES', "Controls how smoothing is applied to UVs", choices=(
+        Choice('NONE', "None", "UVs are not smoothed, boundaries are kept sharp", "all"),
+        Choice('PRESERVE_CORNERS', "Keep Corners", "UVs are smoothed, corners on discontinuous boundary are kept "
+               "sharp", "corners"),
+        Choice('PRESERVE_CORNERS_AND_JUNCTIONS', "Keep Corners, Junctions",
+               "UVs are smoothed, corners on discontinuous boundary and junctions of 3 or more regions are kept "
+               "sharp", "corners-plus1"),
+        Choice('PRESERVE_CORNERS_JUNCTIONS_AND_CONCAVE', "Keep Corners, Junctions, Concave",
+               "UVs are smoothed, corners on discontinuous boundary, junctions of 3 or more regions and darts and "
+               "concave corners are kept sharp", "corners-plus2"),
+        Choice('PRESERVE_BOUNDARIES', "Keep Boundaries", "UVs are smoothed, boundaries are kept sharp",
+               "boundaries"),
+        Choice('SMOOTH_ALL', "All", "UVs and boundaries are smoothed", "none"),
+    )),
+    Setting("store_result", "Store Result", False,
+            "Save the result at Render levels in the file, for machines without the add-on (render farms). Off, "
+            "the file holds the cage and the settings, as with Subdivision Surface, and the result is made again "
+            "when the file is opened", live=False),
+)
+BY_NAME = {setting.name: setting for setting in SETTINGS}
+
+# What one subdivision reads: the settings but the Render levels (a render passes them as levels) and Store Result.
+SUBDIVISION = tuple(setting.name for setting in SETTINGS if setting.name not in ("render_levels", "store_result"))
+
+
+def core_name(name, identifier):
+    """The core's name of a choice of the setting called name ("boundaries" for uv_smooth 'PRESERVE_BOUNDARIES')."""
+    return next(choice.core for choice in BY_NAME[name].choices if choice.identifier == identifier)
+
+
+def _plan_keywords(self):
+    """Keyword arguments of _loopsub.Plan for these options (tags, cones and UV layers come from the mesh)."""
+    return {
+        "rules": core_name("rules", self.rules),
+        "boundary": core_name("boundary", self.boundary),
+        "crease_threshold": float(self.crease_threshold) if self.rules == 'HOPPE94' else 0.0,
+        "limit_surface": bool(self.use_limit_surface),
+        "uv_interpolation": core_name("uv_smooth", self.uv_smooth),
+    }
+
+
+# Options(levels=2, rules='OPENSUBDIV', ...): one subdivision's settings, the defaults the table's.
+Options = make_dataclass(
+    "Options", [(name, type(BY_NAME[name].default), field(default=BY_NAME[name].default)) for name in SUBDIVISION],
+    namespace={"plan_keywords": _plan_keywords, "__doc__": "Settings of one subdivision (the panel's, overridden "
+               "by the operator's arguments)."})
