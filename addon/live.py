@@ -18,7 +18,7 @@ again and written into the result in place.
 With Use Limit Surface, a render's result carries the limit normals as custom split normals, as Apply writes them.
 The viewport's shades with Blender's own normals while it changes (edits, playback), smooth and split along the edges
 where the limit normals split (marked sharp): Blender takes and evaluates custom normals several times slower than the
-rest of an update (mesh_data.Source.blender_normals). SETTLE_SECONDS after the last change, settle() writes the limit
+rest of an update (cage.Source.blender_normals). SETTLE_SECONDS after the last change, settle() writes the limit
 normals into it, so that a still viewport shows them too (docs/addon.md, Normals).
 
 After each update (not on frame changes), after a render, before saving and after loading, stack.collect() frees the
@@ -32,7 +32,7 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
-from . import compat, mesh_data, stack
+from . import cage, compat, normals, result, stack
 from .native import LoopSubError
 
 
@@ -45,7 +45,7 @@ class Cache:
         self.layout_key = None
         self.result = None  # name of the helper mesh built for plan_key and layout_key
         self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
-        self.auto_loops = None  # the result's corners that keep Blender's own normal (mesh_data.build_mesh)
+        self.auto_loops = None  # the result's corners that keep Blender's own normal (result.build_mesh)
         # A result showing Blender's normals in place of the limit normals (the viewport): the limit normals and
         # triangles it was refined with, for settle() to write once the result is still; the shading to go back to.
         self.limit_normals = None
@@ -116,9 +116,9 @@ def _write(cache, obj, evaluated, mesh, helper, options, render):
         # A result no larger than the one shown fitted before; a larger one is checked against the memory left.
         shown = len(helper.data.polygons) if cache.result == helper.data.name else 0
         if (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
-            mesh_data.check_memory(mesh, options)
+            cage.check_memory(mesh, options)
         # Renders get the limit normals themselves; the viewport Blender's own, split where they split.
-        source = mesh_data.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None,
+        source = cage.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None,
                                   exact_normals=render)
         plan_key = source.plan_key()
         if not _equal(cache.plan_key, plan_key):
@@ -137,13 +137,13 @@ def _write(cache, obj, evaluated, mesh, helper, options, render):
         refined = source.refine(cache.plan, written=cache.inputs if in_place else None)
         if in_place:
             if cache.exact_shown:
-                mesh_data.show_blender_normals(helper.data, helper, cache.blender_shading)
-            mesh_data.update_mesh(helper.data, source, refined, cache.auto_loops)
+                normals.show_blender_normals(helper.data, helper, cache.blender_shading)
+            result.update_mesh(helper.data, source, refined, cache.auto_loops)
         else:
             old = helper.data
-            _swap(helper, old, mesh_data.build_mesh(source, cache.plan, refined, helper.name, helper))
+            _swap(helper, old, result.build_mesh(source, cache.plan, refined, helper.name, helper))
             cache.result, cache.layout_key, cache.auto_loops = helper.data.name, layout_key, source.auto_loops
-            cache.blender_shading = mesh_data.shading_state(helper.data)
+            cache.blender_shading = normals.shading_state(helper.data)
         cache.exact_shown = False
         cache.limit_normals = (refined.normals, refined.triangles) if source.blender_normals else None
         cache.inputs = inputs
@@ -227,10 +227,10 @@ def settle():
         helper = stack.helper_of(obj, modifier, create=False) if modifier is not None else None
         if cache.limit_normals is None or helper is None:
             continue
-        normals, triangles = cache.limit_normals
-        if helper.data.name != cache.result or len(helper.data.loops) != normals.size // 3:
+        limit_normals, triangles = cache.limit_normals
+        if helper.data.name != cache.result or len(helper.data.loops) != limit_normals.size // 3:
             continue
-        mesh_data.write_limit_normals(helper.data, normals, triangles, cache.auto_loops)
+        normals.write_limit_normals(helper.data, limit_normals, triangles, cache.auto_loops)
         helper.data.update()
         cache.limit_normals, cache.exact_shown = None, True
         written += 1

@@ -5,8 +5,6 @@ load. Every error of the core becomes a LoopSubError, which the operators turn i
 """
 import numpy as np
 
-from . import geometry
-
 
 class LoopSubError(Exception):
     """A problem the artist can act on; the message is shown as a Blender report."""

@@ -2,7 +2,7 @@
 import bpy
 from bpy.props import BoolProperty, IntProperty
 
-from . import compat, live, mesh_data, settings, stack
+from . import cage, compat, live, result, settings, stack, tags
 from .native import LoopSubError
 from .properties import bpy_property
 
@@ -108,12 +108,12 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
                 obj.modifiers.remove(modifier)
             return {'FINISHED'}
         try:
-            mesh_data.check_memory(obj.data, options)
+            cage.check_memory(obj.data, options)
         except LoopSubError as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
         window_manager = context.window_manager
-        window_manager.progress_begin(0, len(mesh_data.STAGES))  # the counter at the mouse cursor
+        window_manager.progress_begin(0, len(result.STAGES))  # the counter at the mouse cursor
         # The interface does not redraw while an operator runs: a long apply redraws once to say what it does
         # (a redraw costs milliseconds on a GPU, half a second with software OpenGL).
         status = None
@@ -126,7 +126,7 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
             window_manager.progress_update(stage)
 
         try:
-            result = mesh_data.subdivide(obj, options, progress)
+            subdivided = result.subdivide(obj, options, progress)
         except LoopSubError as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
@@ -134,10 +134,10 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
             window_manager.progress_end()
             if status is not None:
                 status.status_text_set(None)
-        mesh_data.replace_mesh(obj, result)
+        result.replace_mesh(obj, subdivided)
         if modifier is not None:
             obj.modifiers.remove(modifier)
-        for level, text in result.messages:
+        for level, text in subdivided.messages:
             self.report({level}, text)
         self.report({'INFO'}, f"Applied Loop subdivision to {obj.name}")
         return {'FINISHED'}
@@ -161,7 +161,7 @@ class OBJECT_OT_loop_subdivision_refresh_tags(bpy.types.Operator):
         tagged = 0
         for obj in _mesh_objects(context):
             try:
-                mesh_data.tag_object(obj, obj.loop_subdivision.options())
+                tags.tag_object(obj, obj.loop_subdivision.options())
                 tagged += 1
             except LoopSubError as error:
                 self.report({'ERROR'}, str(error))
@@ -200,14 +200,14 @@ class OBJECT_OT_loop_subdivision_set(bpy.types.Operator):
                                                          ensure_modifier=self.ensure_modifier)
             try:
                 with context.temp_override(selected_editable_objects=others):
-                    result = bpy.ops.object.subdivision_set(**arguments)
+                    outcome = bpy.ops.object.subdivision_set(**arguments)
             except RuntimeError as error:  # its poll failed (nothing selected): as Blender's own says
                 if not ours:
                     self.report({'WARNING'}, str(error).split("Error: ", 1)[-1].strip())
                     return {'CANCELLED'}
-                result = {'FINISHED'}
+                outcome = {'FINISHED'}
             if not ours:
-                return result
+                return outcome
         return {'FINISHED'}
 
 

@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
-stack, compat, ui, live, mesh_data = addon.stack, addon.compat, addon.ui, addon.live, addon.mesh_data
+stack, compat, ui, live, cage = addon.stack, addon.compat, addon.ui, addon.live, addon.cage
 check = support.Check("test_interface")
 
 
@@ -133,14 +133,14 @@ def plurals():
     corner = bm.verts[0].co.copy()  # a triangle with one vertex where a corner of the cube is: one crack
     bm.faces.new((bm.verts.new(corner), bm.verts.new((3, 0, 0)), bm.verts.new((3, 1, 0))))
     obj = support.object_from_bmesh("Crack", bm)
-    cracks = mesh_data.geometry.shared_positions(support.positions(obj.data))
+    cracks = addon.geometry.shared_positions(support.positions(obj.data))
     add_entry(obj)
     notes = notes_of(obj)
     expected = (f"{cracks} vertex shares a position" if cracks == 1 else f"{cracks} vertices share a position")
     check(cracks >= 1 and any(expected in note for note in notes), f"split vertices: \"{expected}\" ({notes})")
     support.remove(obj)
-    check(mesh_data.counted(1, "vertex", "vertices") == "1 vertex" and mesh_data.counted(2, "loose edge") ==
-          "2 loose edges" and mesh_data.counted(0, "face") == "0 faces", "counted: the singular for one only")
+    check(cage.counted(1, "vertex", "vertices") == "1 vertex" and cage.counted(2, "loose edge") ==
+          "2 loose edges" and cage.counted(0, "face") == "0 faces", "counted: the singular for one only")
 
 
 class Region:

@@ -163,19 +163,19 @@ def edits():
     edit.faces.ensure_lookup_table()
     old_plan = weakref.ref(addon.live.cache_of(obj).plan)
     old_gone_when_built = []
-    build_plan = addon.mesh_data.Source.plan
+    build_plan = addon.cage.Source.plan
 
     def watched_build(source, *arguments, **keywords):
         old_gone_when_built.append(old_plan() is None)
         return build_plan(source, *arguments, **keywords)
 
-    addon.mesh_data.Source.plan = watched_build
+    addon.cage.Source.plan = watched_build
     try:
         bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
         bmesh.update_edit_mesh(obj.data)
         _, faces = evaluated(obj)
     finally:
-        addon.mesh_data.Source.plan = build_plan
+        addon.cage.Source.plan = build_plan
     check(plan_builds(obj) == builds + 1 and faces == 4 * (len(obj.data.polygons) - 1),
           "in Edit Mode deleting a face builds a new plan")
     check(old_gone_when_built == [True],

@@ -1,0 +1,233 @@
+"""Building the subdivided mesh from a Source and its plan: a new data-block for Apply and the live entry, or new
+values written into one already built (update_mesh).
+
+Apply builds the subdivided mesh completely in a new data-block and only then swaps it in, so any error leaves the
+object's mesh untouched.
+"""
+import bpy
+import numpy as np
+
+from . import compat, geometry, normals, tags
+from .cage import Source, check_object
+from .mesh_data import add_attribute, fill_attribute
+
+# Temporary name of a float point attribute on its way to becoming a vertex group.
+_GROUP_TRANSFER = "loop_subdivision_group_transfer"
+
+
+class Result:
+    """A subdivided mesh data-block, built but not yet on the object, and what the artist should be told."""
+
+    def __init__(self, mesh, messages, group_names, group_locks, active_group):
+        self.mesh = mesh
+        self.messages = messages
+        self.group_names = group_names
+        self.group_locks = group_locks
+        self.active_group = active_group
+
+
+# The long stages of subdivide, in order (the progress counter at the cursor counts them).
+STAGES = ("Reading the mesh", "Building the plan", "Refining", "Writing the new mesh")
+
+
+def subdivide(obj, options, progress):
+    """Builds the subdivided copy of obj's own mesh (for Apply). progress(k) is called as stage STAGES[k] begins."""
+    check_object(obj)
+    progress(0)
+    source = Source(obj, obj.data, options)
+    progress(1)
+    plan = source.plan()
+    progress(2)
+    refined = source.refine(plan)
+    progress(3)
+    new = build_mesh(source, plan, refined, obj.data.name, None)
+    locks = [group.lock_weight for group in obj.vertex_groups]
+    return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
+
+
+def build_mesh(source, plan, refined, name, holder):
+    """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
+    groups, tags. refined: source.refine(plan). holder: an object whose data the new mesh may become while vertex
+    groups are written (None: a temporary one). Sets source.auto_loops, which update_mesh takes."""
+    mesh, cage, options = source.mesh, source.cage, source.options
+    vertex = source.vertex
+    new = bpy.data.meshes.new(name)
+    try:
+        for material in mesh.materials:
+            # An evaluated input lists evaluated copies of its materials, which a saved file cannot keep.
+            new.materials.append(material.original if material is not None else None)
+        compat.copy_shading_settings(mesh, new)
+        if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
+            compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
+        new_edges, triangle_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], plan)
+        parents = cage.triangle_polygons[plan.parent_triangles]
+        _write_face_data(new, source, parents)
+        _write_creases(new, cage, plan, options, new_edges)
+        sharp = _write_edge_data(new, source, plan, new_edges)
+        if source.blender_normals:
+            normals.mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp)
+        source.auto_loops = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
+        _add_value_layers(new, source)
+        _write_values(new, source, refined)
+        new.update()
+        normals.write_normals(new, source, refined, source.auto_loops)
+        _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
+        tags.write_plan_tags(new, plan, new_edges)
+    except Exception:
+        bpy.data.meshes.remove(new)
+        raise
+    return new
+
+
+def update_mesh(new, source, refined, auto_loops):
+    """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
+    positions, point attributes, UVs, corner attributes and normals (what moving vertices in Edit Mode or animation
+    changes). auto_loops: the source.auto_loops of that build."""
+    new.vertices.foreach_set("co", np.ascontiguousarray(refined.vertex[:, source.vertex.columns["position"]]).ravel())
+    _write_values(new, source, refined)
+    new.update()
+    normals.write_normals(new, source, refined, auto_loops)  # nothing to write with Blender's normals: they follow
+
+
+def _add_value_layers(new, source):
+    """The layers that _write_values fills, empty: point and corner attributes, and the UV maps with the cage's
+    active and render choices."""
+    for name, domain, data_type in (*source.point, *source.corner):
+        new.attributes.new(name, data_type, domain)
+    mesh = source.mesh
+    for uv in mesh.uv_layers:
+        new.uv_layers.new(name=uv.name, do_init=False).active_render = uv.active_render
+    new.uv_layers.active_index = mesh.uv_layers.active_index
+    _restore_color_choice(new, mesh)
+
+
+def _write_values(new, source, refined):
+    """The refined values besides positions, into their layers: point attributes (back to their types), UV maps and
+    corner attributes (one value per loop, 3 per triangle)."""
+    vertex, corners = source.vertex, source.corners
+    for name, _, data_type in source.point:
+        fill_attribute(new.attributes[name], data_type,
+              geometry.from_refined(refined.vertex[:, vertex.columns["attribute", name]], data_type))
+    for uv_name, uvs in zip(source.uv_names, refined.uvs):
+        if uvs is not None:
+            new.uv_layers[uv_name].data.foreach_set("uv", np.ascontiguousarray(uvs).ravel())
+    for name, _, data_type in source.corner if refined.corners is not None else ():
+        fill_attribute(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
+
+
+def _write_geometry(new, positions, plan):
+    """Vertices, edges and triangles. The edges come numbered from the core's refinement (geometry.output_edges), so
+    Blender need not find them, nor the add-on read them back. Returns (edge_vertices, triangle_edges)."""
+    triangles = plan.triangles
+    num_triangles = len(triangles)
+    edges, triangle_edges = geometry.output_edges(triangles, plan.level_edges(plan.levels - 1),
+                                                  plan.level_num_vertices(plan.levels - 1))
+    new.vertices.add(len(positions))
+    new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
+    new.edges.add(len(edges))
+    new.edges.foreach_set("vertices", edges.ravel())
+    new.loops.add(3 * num_triangles)
+    new.loops.foreach_set("vertex_index", np.ascontiguousarray(triangles, dtype=np.int32).ravel())
+    new.loops.foreach_set("edge_index", triangle_edges.ravel())
+    new.polygons.add(num_triangles)
+    compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
+    new.update()
+    return edges, triangle_edges
+
+
+def _write_face_data(new, source, parent_polygons):
+    """Per-face data comes from the parent face of the cage (through its triangle), flat/smooth shading too (with the
+    limit normals as well: they show on the smooth faces, as Subdivision Surface keeps flat faces flat). Material
+    indices go through their attribute (Blender 3.4+), many times faster than MeshPolygon.material_index; like
+    Blender, none is written when every face uses the first slot."""
+    materials = source.materials[parent_polygons]
+    if materials.any():
+        add_attribute(new, "material_index", 'FACE', 'INT', materials)
+    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(source.smooth[parent_polygons]))
+    for (name, domain, data_type), values in zip(source.face, source.face_values):
+        add_attribute(new, name, domain, data_type, values[parent_polygons])
+
+
+def _write_creases(new, cage, plan, options, new_edges):
+    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
+    num_vertices = len(new.vertices)
+    edge_weights = np.zeros(len(new_edges), dtype=np.float32)
+    found = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
+    edge_weights[found[found >= 0]] = geometry.child_crease_weights(plan.crease_sharpness[found >= 0], options.rules)
+    if len(found) or cage.edge_weights.any():
+        compat.write_edge_creases(new, edge_weights)
+    vertex_weights = np.zeros(num_vertices, dtype=np.float32)
+    vertex_weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
+    if compat.has_vertex_creases(new):
+        compat.write_vertex_creases(new, vertex_weights)
+
+
+def _write_edge_data(new, source, plan, new_edges):
+    """Seam and sharp marks and edge attributes pass to the child edges that lie on a cage edge; edges inside a cage
+    face get none (zero, false). Returns the child edges' sharp marks (None when there are none)."""
+    flags = {prop: values for prop, values in source.edge_flags.items() if values.any()}
+    if not flags and not source.edge:
+        return None
+    cage = source.cage
+    parents = geometry.parent_edges(new_edges, [plan.level_edges(level) for level in range(plan.levels)],
+                                    [plan.level_num_vertices(level) for level in range(plan.levels)],
+                                    cage.edge_vertices, cage.num_vertices)
+    inherited = {prop: geometry.inherit_edge_values(values, parents) for prop, values in flags.items()}
+    for prop, values in inherited.items():
+        new.edges.foreach_set(prop, values)
+    for (name, domain, data_type), values in zip(source.edge, source.edge_values):
+        add_attribute(new, name, domain, data_type, geometry.inherit_edge_values(values, parents))
+    return inherited.get("use_edge_sharp")
+
+
+def _restore_color_choice(new, mesh):
+    colors = new.color_attributes
+    active = mesh.color_attributes.active_color
+    if active is not None and active.name in colors:
+        colors.active_color = colors[active.name]
+    if mesh.color_attributes.default_color_name in colors:
+        colors.render_color_index = colors.find(mesh.color_attributes.default_color_name)
+
+
+def _write_vertex_groups(new, source, refined_groups, holder):
+    """Vertex groups through Blender's Convert Attribute operator, which writes the weights in C (the API has no
+    bulk setter); it works on an object, the holder (a temporary one when None). The cone group holds tags, not
+    weights: it stays on the cage's vertices, which keep their indices."""
+    if not source.group_names:
+        return
+    temporary = holder is None
+    if temporary:
+        holder = bpy.data.objects.new("Loop Subdivision (temporary)", new)
+    else:
+        holder.data = new
+    try:
+        holder.vertex_groups.clear()
+        for index, name in enumerate(source.group_names):
+            if index == source.cone_index:
+                weights = np.zeros(len(new.vertices), dtype=np.float32)
+                weights[:len(source.group_weights)] = source.group_weights[:, index]
+            else:
+                weights = np.clip(refined_groups[:, index], 0.0, 1.0)
+            attribute = add_attribute(new, _GROUP_TRANSFER, 'POINT', 'FLOAT', weights)
+            new.attributes.active = attribute
+            # Convert Attribute refuses while any object is in Edit Mode (its poll reads the context's edit object,
+            # in every version): the modifier rebuilds in Edit Mode too, on a holder that is not being edited.
+            with bpy.context.temp_override(object=holder, active_object=holder, edit_object=None):
+                bpy.ops.geometry.attribute_convert(mode='VERTEX_GROUP')
+            holder.vertex_groups[index].name = name
+    finally:
+        if temporary:
+            bpy.data.objects.remove(holder)
+
+
+def replace_mesh(obj, result):
+    """Swaps the built mesh in; the old data-block goes when nothing else uses it (undo brings it back)."""
+    old = obj.data
+    name = old.name
+    obj.data = result.mesh
+    for group, lock in zip(obj.vertex_groups, result.group_locks):
+        group.lock_weight = lock
+    obj.vertex_groups.active_index = result.active_group
+    if old.users == 0:
+        bpy.data.meshes.remove(old)
+    result.mesh.name = name
