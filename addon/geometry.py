@@ -238,21 +238,27 @@ def split_normal_edges(triangle_edges, corner_normals, edge_vertices, triangles)
 
     triangle_edges (T, 3): edge i of triangle t joins corners i and i + 1 (output_edges); corner_normals (T, 3, 3);
     edge_vertices (E, 2); triangles (T, 3)."""
-    triangle_edges = np.asarray(triangle_edges, dtype=np.int64).reshape(-1, 3)
-    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    triangle_edges = np.asarray(triangle_edges, dtype=np.int32).reshape(-1, 3)
+    triangles = np.asarray(triangles, dtype=np.int32).reshape(-1, 3)
     normals = np.asarray(corner_normals, dtype=np.float32).reshape(-1, 3, 3)
-    edge_vertices = np.asarray(edge_vertices, dtype=np.int64).reshape(-1, 2)
-    # Each triangle edge twice, once per end: (edge, which end of the edge, the normal of that corner).
-    edges = np.concatenate([triangle_edges.ravel(), triangle_edges.ravel()])
-    ends = np.concatenate([triangles.ravel(), np.roll(triangles, -1, axis=1).ravel()])
-    values = np.concatenate([normals.reshape(-1, 3), np.roll(normals, -1, axis=1).reshape(-1, 3)])
-    second = (ends == edge_vertices[edges, 1]).astype(np.int64)
-    slot = 2 * edges + second
-    first_seen = np.zeros((2 * len(edge_vertices), 3), dtype=np.float32)
-    first_seen[slot] = values  # one of the corners at each end of each edge
-    differs = (first_seen[slot] != values).any(axis=1)
-    split = np.zeros(len(edge_vertices), dtype=bool)
-    split[edges[differs]] = True
+    second_ends = np.asarray(edge_vertices, dtype=np.int32).reshape(-1, 2)[:, 1]
+    # Each triangle edge is seen from both its corners: slot 2e + (which end of edge e the corner is). One normal per
+    # slot is kept, then every corner's normal is compared with its slot's: the edge splits where any differs. One
+    # (side, end) of the triangles at a time, so that the temporaries are a few bytes a triangle (int32 indices):
+    # all at once in int64 they held some 150 bytes a corner, the peak of a large viewport update.
+    def sides():
+        for side in range(3):
+            edges = triangle_edges[:, side]
+            for corner in (side, (side + 1) % 3):
+                slots = 2 * edges + (triangles[:, corner] == second_ends[edges])
+                yield edges, slots, normals[:, corner]
+
+    kept = np.zeros((2 * len(second_ends), 3), dtype=np.float32)
+    for _, slots, values in sides():
+        kept[slots] = values
+    split = np.zeros(len(second_ends), dtype=bool)
+    for edges, slots, values in sides():
+        split[edges[(kept[slots] != values).any(axis=1)]] = True
     return split
 
 
