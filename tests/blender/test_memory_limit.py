@@ -5,7 +5,7 @@ render, the add-on's Apply, and adding an entry. Each is refused with a message 
 free, the input shows meanwhile, and the process lives to the end.
 
 The control: the same Blender with the add-on's memory check taken out (its estimate of the memory left made
-unknown) and asked for level 4 is killed, so the cgroup is a real limit and the check is what saves Blender.
+unknown) and asked for level 5 is killed, so the cgroup is a real limit and the check is what saves Blender.
 Skipped (exit code 77) where no memory cgroup can be made.
 """
 import os
@@ -77,7 +77,7 @@ say("SURVIVED")
 UNCHECKED = SCRIPT + """
 addon.memory.available_bytes = lambda root="/": None
 say("ASKING")
-bpy.ops.object.loop_subdivision_add(levels=4)
+bpy.ops.object.loop_subdivision_add(levels=5)
 say("SURVIVED")
 """
 
@@ -116,5 +116,5 @@ with support.memory_cgroup(LIMIT) as cgroup, tempfile.TemporaryDirectory() as fo
 
     code, output = support.run_blender(blend, UNCHECKED, cgroup=cgroup, timeout=600)
     check("ASKING" in output and "SURVIVED" not in output and code != 0,
-          f"control: without the check, level 4 gets the same Blender killed (exit {code})")
+          f"control: without the check, level 5 gets the same Blender killed (exit {code})")
 check.finish()
