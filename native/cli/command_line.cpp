@@ -1,6 +1,5 @@
 #include "command_line.h"
 
-#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -61,6 +60,15 @@ float parse_nonnegative_float(std::string_view flag, std::string_view text) {
     return value;
 }
 
+// One of the option's names (loopsub::option_names).
+template <typename Option>
+Option parse_name(std::string_view flag, const std::string& text) {
+    Option value{};
+    if (!parse_option(text, value))
+        throw UsageError(std::string(flag) + " expects " + option_names<Option>().listed() + ", got '" + text + "'");
+    return value;
+}
+
 }  // namespace
 
 Command parse_command_line(int argc, char** argv) {
@@ -95,33 +103,18 @@ Command parse_command_line(int argc, char** argv) {
             command.options.levels = int(parse_integer(arg, value(), 0, loopsub::kMaxLevels));
             levels_given = true;
         } else if (arg == "--rules") {
-            std::string rules = value();
-            if (rules == "hoppe94") command.options.rules = Rules::Hoppe94;
-            else if (rules == "opensubdiv") command.options.rules = Rules::OpenSubdiv;
-            else throw UsageError("--rules expects hoppe94 or opensubdiv, got '" + rules + "'");
+            command.options.rules = parse_name<Rules>(arg, value());
         } else if (arg == "--crease-threshold") {
             command.options.crease_threshold = parse_nonnegative_float(arg, value());
         } else if (arg == "--boundary") {
-            std::string boundary = value();
-            if (boundary == "edges") command.boundary = Boundary::EdgesOnly;
-            else if (boundary == "edges-and-corners") command.boundary = Boundary::EdgesAndCorners;
-            else if (boundary == "none") command.boundary = Boundary::None;
-            else throw UsageError("--boundary expects edges, edges-and-corners or none, got '" + boundary + "'");
+            command.boundary = parse_name<Boundary>(arg, value());
         } else if (arg == "--limit") {
             no_value();
             command.options.limit_surface = true;
         } else if (arg == "--uv-interpolation") {
-            const std::string mode = value();
-            const char* const names[] = {"none", "corners", "corners-plus1", "corners-plus2", "boundaries", "all"};
-            const auto found = std::find(std::begin(names), std::end(names), mode);
-            if (found == std::end(names))
-                throw UsageError("--uv-interpolation expects none, corners, corners-plus1, corners-plus2, boundaries or all, got '" + mode + "'");
-            command.face_varying = FaceVaryingInterpolation(found - std::begin(names));
+            command.face_varying = parse_name<FaceVaryingInterpolation>(arg, value());
         } else if (arg == "--crease-method") {
-            std::string method = value();
-            if (method == "uniform") command.crease_method = CreaseMethod::Uniform;
-            else if (method == "chaikin") command.crease_method = CreaseMethod::Chaikin;
-            else throw UsageError("--crease-method expects uniform or chaikin, got '" + method + "'");
+            command.crease_method = parse_name<CreaseMethod>(arg, value());
         } else if (arg == "--threads") {
             command.options.threads = int(parse_integer(arg, value(), 1, loopsub::kMaxThreads));
         } else if (arg == "--scalar") {

@@ -1,6 +1,5 @@
 // loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
 // Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
-#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -18,35 +17,6 @@ using loopsub::cli::Command;
 using loopsub::cli::kUsage;
 using loopsub::cli::UsageError;
 using loopsub::cli::parse_command_line;
-
-// Per-corner values (normals) as an OBJ writes them: corners of the same vertex with the same value share one
-// entry, differing values keep their own. Corners are grouped by vertex with a counting sort, so this is linear in
-// their number.
-void share_per_vertex(const std::vector<float>& corner_values, int width, int num_vertices,
-                      const std::vector<std::int32_t>& triangles, std::vector<float>& values, std::vector<std::int32_t>& indices) {
-    const std::size_t num_corners = triangles.size(), w = std::size_t(width);
-    std::vector<std::int32_t> bucket_start(std::size_t(num_vertices) + 1, 0);
-    for (std::int32_t v : triangles) ++bucket_start[std::size_t(v) + 1];
-    for (std::size_t v = 1; v < bucket_start.size(); ++v) bucket_start[v] += bucket_start[v - 1];
-    std::vector<std::int32_t> corners_by_vertex(num_corners);
-    {
-        std::vector<std::int32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
-        for (std::size_t c = 0; c < num_corners; ++c) corners_by_vertex[std::size_t(fill[std::size_t(triangles[c])]++)] = std::int32_t(c);
-    }
-    values.clear();
-    indices.assign(num_corners, 0);
-    for (std::size_t v = 0; v + 1 < bucket_start.size(); ++v) {
-        const std::size_t first_of_vertex = values.size() / w;
-        for (std::int32_t i = bucket_start[v]; i < bucket_start[v + 1]; ++i) {
-            const std::size_t corner = std::size_t(corners_by_vertex[std::size_t(i)]);
-            const float* value = &corner_values[w * corner];
-            std::size_t k = first_of_vertex;
-            while (k < values.size() / w && !std::equal(value, value + w, values.begin() + std::ptrdiff_t(w * k))) ++k;
-            if (k == values.size() / w) values.insert(values.end(), value, value + w);
-            indices[corner] = std::int32_t(k);
-        }
-    }
-}
 
 int run(const Command& command) {
     const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
@@ -80,7 +50,13 @@ int run(const Command& command) {
     if (options.limit_surface) {
         std::vector<float> corner_normals(out.triangles.size() * 3);
         plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3), corner_normals.data());
-        share_per_vertex(corner_normals, 3, plan.num_output_vertices(), out.triangles, out.normals, out.triangle_normals);
+        // As an OBJ writes them: the corners of a vertex with the same normal share one vn.
+        const int num_triangles = plan.num_output_triangles();
+        out.triangle_normals.resize(out.triangles.size());
+        const int num_normals = loopsub::weld_corner_values(out.triangle_normals.data(), out.triangles.data(), num_triangles,
+                                                            plan.num_output_vertices(), corner_normals.data(), 3);
+        out.normals.resize(std::size_t(num_normals) * 3);
+        loopsub::gather_welded_values(out.normals.data(), out.triangle_normals.data(), num_triangles, corner_normals.data(), 3);
     } else {
         plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
     }

@@ -1,7 +1,8 @@
-// Reading and writing Wavefront OBJ with OpenSubdiv's tags (the format of its regression shapes):
+// Reading (obj_read.cpp) and writing (obj_write.cpp) Wavefront OBJ with OpenSubdiv's tags (the format of its
+// regression shapes):
 //   t crease 2/1/0 A B S          edge A-B (0-based) has sharpness S
 //   t corner 1/1/0 V S            vertex V has corner sharpness S
-//   t interpolateboundary 1/0/0 M RenderMan numbering: 1 edges and corners, 2 edges only (0 is refused)
+//   t interpolateboundary 1/0/0 M RenderMan numbering: 0 none, 1 edges and corners, 2 edges only
 //   t creasemethod 0/0/1 chaikin  Chaikin decay of semi-sharp creases (or "uniform")
 //   t cone 1/0/0 V                vertex V is a cone (Hoppe94 rules)
 #pragma once
@@ -33,7 +34,7 @@ ObjMesh read_obj(const std::string& path);
 ObjMesh parse_obj(const std::string& text, const std::string& name = "<string>");
 
 // Writes v, vt (if any), vn (if any), f and the tags. With threads > 1, the v, vt, vn and f lines are formatted in
-// chunks of 8,192 lines on that many threads (the caller among them), which also writes them in order: the file's
+// chunks of 8,192 lines on that many threads (the caller among them) and written in order: the file's
 // bytes are the same for any number. Up to 16 chunks a thread are held (about 0.25 MB of text each).
 void write_obj(const std::string& path, const ObjMesh& mesh, int threads = 1);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "loopsub/loopsub.h"
+
 namespace loopsub::detail {
 
 std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channels) {
@@ -27,6 +29,10 @@ std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channel
     return add(kept, mul(2, largest_transient));  // a child level is built while its parent still lives
 }
 
+}  // namespace loopsub::detail
+
+namespace loopsub {
+
 std::string describe_bytes(std::uint64_t bytes) {
     char text[64];
     const bool gib = bytes >= (std::uint64_t(1) << 30);
@@ -35,4 +41,4 @@ std::string describe_bytes(std::uint64_t bytes) {
     return text;
 }
 
-}  // namespace loopsub::detail
+}  // namespace loopsub

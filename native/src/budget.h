@@ -4,7 +4,6 @@
 
 #include <cstdint>
 #include <limits>
-#include <string>
 
 namespace loopsub::detail {
 
@@ -21,7 +20,5 @@ struct LevelCounts {
 
 // Bytes a plan of `levels` levels from a level with these counts, and one evaluation of num_channels, hold at most.
 std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channels);
-
-std::string describe_bytes(std::uint64_t bytes);
 
 }  // namespace loopsub::detail

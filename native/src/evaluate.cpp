@@ -22,11 +22,10 @@ using Clock = detail::Clock;
 
 namespace {
 
-// A level of a frame is cut into this many pieces per thread, which the threads take in turn (Team::run): on this
-// shared machine, where another process holds a core up now and then, two-thread frames were 0-8 % faster (medians
-// of 300, interleaved with fixed halves in one process; 8 pieces: up to 21 % in a busy stretch, but slower when quiet).
-// The plan's passes keep fixed halves, as pieces made them no faster, but where two kinds of work share a step
-// (fill_tables_from_parent).
+// A level of a frame is cut into this many pieces per thread, which the threads take in turn (Team::run): where
+// another process holds a core up now and then, a held-up thread's share goes to the other (docs/benchmark.md,
+// "Threads"). The plan's passes keep fixed halves, as pieces made them no faster, but where two kinds of work share a
+// step (fill_tables_from_parent).
 constexpr int kPiecesPerThread = 4;
 
 // Floats per element in the scratch levels (see run_passes).
@@ -37,10 +36,10 @@ std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : (std::size
 //
 // Passes run on quads: an element's channels side by side, padded with zeros to a multiple of four, so that a kernel
 // fetches every channel of a neighbour with one 16-byte load (kernels_quads.h); with gathers from planar arrays each
-// channel of each neighbour is a load of its own, measured 1.7x slower (docs/benchmark.md). The padding refines like
-// a channel (zeros stay zeros). Three channels (positions) are not padded: a 16-byte load then also reads the next
-// element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a quad
-// of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the last
+// channel of each neighbour is a load of its own (docs/benchmark.md, "Why the kernels evaluate in quads"). The padding
+// refines like a channel (zeros stay zeros). Three channels (positions) are not padded: a 16-byte load then also reads
+// the next element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a
+// quad of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the last
 // pass's source stays there for the limit normals.
 template <typename Load>
 void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
@@ -55,11 +54,11 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
     std::size_t needed[2] = {0, std::size_t(counts[0])};
     for (int i = 0; i + 1 < n; ++i) needed[i % 2] = std::max(needed[i % 2], std::size_t(counts[i + 1]));
     for (int b = 0; b < 2; ++b) {
-        p.scratch[b].resize(needed[b] * padded + 4);
-        std::fill(p.scratch[b].end() - 4, p.scratch[b].end(), 0.0f);
+        p.frame.scratch[b].resize(needed[b] * padded + 4);
+        std::fill(p.frame.scratch[b].end() - 4, p.frame.scratch[b].end(), 0.0f);
     }
-    auto quads = [&](int buffer) { return ChannelsView<float>{p.scratch[buffer].data(), int(padded), 1, padded}; };
-    float* first = p.scratch[1].data();
+    auto quads = [&](int buffer) { return ChannelsView<float>{p.frame.scratch[buffer].data(), int(padded), 1, padded}; };
+    float* first = p.frame.scratch[1].data();
     for (int v = 0; v < counts[0]; ++v)
         for (std::size_t c = 0; c < padded; ++c) first[v * padded + c] = c < std::size_t(channels) ? load(v, int(c)) : 0.0f;
 
@@ -112,7 +111,7 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         run_passes(p, passes, counts, channels,
                    [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out);
     }
-    p.evaluate_ms = ms_since(start);
+    p.frame.evaluate_ms = ms_since(start);
 }
 
 int Plan::num_face_varying_layers() const { return int(impl_->face_varying.size()); }
@@ -156,9 +155,9 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     // The last level's refined points: the limit pass's source, still in scratch.
     const int levels = p.options.levels;
     const std::size_t padded = scratch_stride(in.num_channels);
-    const ChannelsView<const float> last{p.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
+    const ChannelsView<const float> last{p.frame.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
     p.limit_normals(last, corner_normals);
-    p.evaluate_ms += ms_since(start);
+    p.frame.evaluate_ms += ms_since(start);
 }
 
 void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) const {

@@ -1,6 +1,7 @@
 #include "face_varying.h"
 
 #include <algorithm>
+#include <cassert>
 #include <numeric>
 #include <string>
 
@@ -26,8 +27,9 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
     for (std::size_t x = 0; x < items; ++x) grouped[cursor[vertex_of[x]]++] = Index(x);
 }
 
-// Each target's special mask among `specials` (sorted by target), or null, as a table: one pass over the list, then
-// a load per value or edge (a binary search per value and per edge was a third of a creased plan with a UV layer).
+// Each target's special mask among `specials` (sorted by target), or null, as a table: one pass over the list, then a
+// load per value or edge, not a binary search per value and per edge (docs/benchmark.md, "Measurements behind the
+// code").
 template <typename Special, typename Key>
 std::vector<const Special*> specials_by_target(const std::vector<Special>& specials, int targets, Key key) {
     std::vector<const Special*> table(std::size_t(targets), nullptr);
@@ -35,7 +37,11 @@ std::vector<const Special*> specials_by_target(const std::vector<Special>& speci
     return table;
 }
 
-SpecialVertex copy_of(Index x) { return {x, x, x, 1.0f, 0.0f, 0.0f, 0.0f}; }
+// A value that stays where it is: the corner mask.
+SpecialVertex copy_of(Index x) {
+    const VertexMask corner = corner_vertex_mask();
+    return {x, x, x, float(corner.self), float(corner.ring), float(corner.crease), float(corner.crease)};
+}
 
 }  // namespace
 
@@ -57,8 +63,8 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
 
     // One layer vertex per (vertex, value) pair: a value index the caller shares between vertices becomes one
     // value per vertex, as in OpenSubdiv from level 1 on.
-    // The corners in (vertex, value) order: grouped by vertex, then each vertex's few sorted by value (a comparison
-    // sort of all corners was 3 % of a plan with a UV layer).
+    // The corners in (vertex, value) order: grouped by vertex, then each vertex's few sorted by value (not a
+    // comparison sort of all corners: docs/benchmark.md, "Measurements behind the code").
     std::vector<Index> offsets, order;
     group_by_vertex(mesh.triangles, corners, mesh.num_vertices, offsets, order);
     auto value_of = [&](Index c) { return input.corner_values[c]; };
@@ -100,15 +106,17 @@ void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
 // face by face. So a child value lies on its parent value's vertex or its layer edge's midpoint, a half of layer edge
 // e is the half of e's edge at the same end, and an edge inside a face is the same edge inside the same face of the
 // vertex mesh; the seams' halves are seams, the edges inside faces never are. This spares a pass over the child's
-// corners (scattered writes to arrays a level's size, 12 % of a plan with a UV layer).
+// corners, scattered writes to arrays a level's size (docs/benchmark.md, "Measurements behind the code").
 void FaceVaryingBuilder::inherit_mapping(const Topology& t) {
     const Index nx = values_.num_vertices, layer_edges = values_.num_edges(), nv = t.num_vertices, ne = t.num_edges();
     const std::size_t inside = 3 * std::size_t(t.num_faces());
     std::vector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + inside);
     std::copy(vertex_of_.begin(), vertex_of_.end(), vertex_of.begin());
+    assert(values_.num_faces() == t.num_faces());
     for (Index e = 0; e < layer_edges; ++e) {
         const Index edge = edge_of_[e];
         const bool same_way = vertex_of_[values_.edge_vertices[2 * std::size_t(e)]] == t.edge_vertices[2 * std::size_t(edge)];
+        assert(vertex_of_[values_.edge_vertices[2 * std::size_t(e) + (same_way ? 1 : 0)]] == t.edge_vertices[2 * std::size_t(edge) + 1]);
         vertex_of[std::size_t(nx) + e] = nv + edge;
         edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
         edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
@@ -304,7 +312,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
             s.special_vertices.push_back(copy_of(x));
             continue;
         }
-        double vertex_weight = 0.75, end_weight = 0.125;
+        VertexMask mask = crease_vertex_mask();
         if (tag.semi_sharp) {
             // The weight of the held position, from the features that decayed this level: the value's own span,
             // or its sibling's when it was held for the sibling.
@@ -321,10 +329,9 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
             }
             const float w = transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
                                               parent_edges.data(), child_edges.data(), int(inner.size()));
-            vertex_weight = 0.75 * (1.0 - w) + w;
-            end_weight = 0.125 * (1.0 - w);
+            mask = blend(corner_vertex_mask(), w, mask);  // held (a corner) by w, the seam's crease the rest
         }
-        s.special_vertices.push_back({x, ends[0], ends[1], float(vertex_weight), 0.0f, float(end_weight), float(end_weight)});
+        s.special_vertices.push_back({x, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
     }
 
     // Edge points: midpoints along seams, the edge's own mask elsewhere. Their children on a seam follow it (smooth
@@ -335,7 +342,8 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     for (Index e = 0; e < ne; ++e) {
         const Index edge = edge_of_[e];
         if (split_[edge] || mode == Mode::All) {
-            s.special_edges.push_back({e, 0.5f, 0.5f, 0.0f});
+            const EdgeMask mask = crease_edge_mask();  // the midpoint
+            s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
             if (planned_further) child_tags[std::size_t(nx) + e] = {true, !linear_boundaries(mode)};
             continue;
         }
@@ -367,8 +375,8 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         if (child_not_built) s.ring_offsets = values_.vertex_edge_offsets, s.edge_ends = values_.edge_vertices;
         else s.ring_offsets = std::move(values_.vertex_edge_offsets), s.edge_ends = std::move(values_.edge_vertices);
         s.ring = std::move(values_.vertex_vertices);
-        s.edge_c = std::move(values_.edge_opposite_c);
-        s.edge_d = std::move(values_.edge_opposite_d);
+        s.edge_wing_c = std::move(values_.edge_wing_c);
+        s.edge_wing_d = std::move(values_.edge_wing_d);
         if (child_not_built) parent_values_ = std::move(values_);
     }
     values_built_ = !child_not_built;
@@ -406,6 +414,7 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
 }
 
 FaceVaryingPlan FaceVaryingBuilder::finish() {
+    assert(std::all_of(plan_.passes.begin(), plan_.passes.end(), follows_table_layout));
     plan_.output_corner_values = std::move(values_.face_vertices);
     return std::move(plan_);
 }

@@ -133,8 +133,8 @@ inline EdgePairIndices next_edges_indices(const StencilView& t, int e) {
     EdgePairIndices i;
     load_index_pair(ends, i.a[0], i.b[0]);
     load_index_pair(ends + 2, i.a[1], i.b[1]);
-    load_index_pair(t.edge_c + (e - t.edge_base), i.c[0], i.c[1]);
-    load_index_pair(t.edge_d + (e - t.edge_base), i.d[0], i.d[1]);
+    load_index_pair(t.edge_wing_c + (e - t.edge_base), i.c[0], i.c[1]);
+    load_index_pair(t.edge_wing_d + (e - t.edge_base), i.d[0], i.d[1]);
     return i;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <vector>
 
@@ -68,8 +69,8 @@ template <typename Visit>
 void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& cones, const VertexNeighbourhood& around,
                              Visit visit, int parts = 1) {
     // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that gathering them needs
-    // no search per incident edge. A pair is two indices, written in place: built as structs of pointers and pushed
-    // one at a time they took 11-12 us a level of the creased benchmark mesh, sorted three times as many bytes.
+    // no search per incident edge. A pair is two indices, written in place: structs of pointers pushed one at a time
+    // cost more and sorted three times as many bytes (docs/benchmark.md, "Measurements behind the code").
     struct Touch {
         Index vertex;
         Index feature;  // k >= 0: edge feature k; -2 - k: vertex feature k (the vertex itself); -1: a cone
@@ -84,8 +85,8 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     for (Index v : cones) if (v < level.topology.num_vertices) *next++ = {v, -1};
     touches.resize(std::size_t(next - touches.data()));
     if (touches.empty()) return;
-    // By vertex, a byte of the index at a time (stable, which the runs do not need): a comparison sort of these was
-    // a seventh of what creases add to a plan.
+    // By vertex, a byte of the index at a time (stable, which the runs do not need), not by comparisons
+    // (docs/benchmark.md, "Measurements behind the code").
     LargeVector<Touch> sorted(touches.size());
     for (int shift = 0; shift < 32 && (std::uint32_t(level.topology.num_vertices) - 1) >> shift; shift += 8) {
         std::size_t count[257] = {};
@@ -119,6 +120,7 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
                 if (touch->feature < 0) continue;
                 const Feature& edge = level.edges[std::size_t(touch->feature)];
                 const std::size_t k = std::size_t(std::find(edges.begin(), edges.end(), edge.index) - edges.begin());
+                assert(k < edges.size());  // the feature's ends, carried from level to level, name this vertex
                 sharpness[k] = edge.sharpness;
                 tags[k] = edge.tag;
                 edge_features[k] = &edge;
@@ -135,7 +137,8 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     });
 }
 
-// Hoppe94's class of a vertex (RULES.md section 1) from OpenSubdiv's rule and the cone tag.
+// Hoppe 94's class of a vertex (hoppe94_vertex_type; docs/rules.md, "Vertex classes") from OpenSubdiv's rule and the
+// cone tag, with the fan of a crease vertex read through `around`.
 VertexType classify_vertex(SdcRule rule, const FeatureVertex& vertex, const VertexNeighbourhood& around);
 
 }  // namespace loopsub::detail

@@ -1,7 +1,7 @@
 // The limit surface: where the last level's vertices land when subdivision goes on forever, and the surface's
-// normals there. Planned once (plan_limit: the limit masks as one more vertex-only pass for the kernels, the rings
-// put in counter-clockwise order, the sides of every crease), evaluated per frame (the pass runs with the
-// refinement in Plan::evaluate; limit_normals applies the tangent masks).
+// normals there. Planned once (PlanBuilder::plan_limit: the limit masks as one more vertex-only pass for the kernels,
+// the rings put in counter-clockwise order, the sides of every crease), evaluated per frame (the pass runs with the
+// refinement in Plan::evaluate; PlanImpl::limit_normals applies the tangent masks).
 //
 // Normals follow the seed's attribute table: smooth edges have continuous normals at the limit, crease edges
 // discontinuous ones. A vertex whose fan is a disk of smooth edges (smooth, dart and cone vertices) has one normal,
@@ -12,16 +12,14 @@
 
 #include "level_state.h"
 #include "parallel.h"
-#include "plan_data.h"
+#include "plan_builder.h"
+#include "triangle_corners.h"
 
 namespace loopsub {
 
 using detail::Index;
 
 namespace {
-
-inline int next_corner(int corner) { return corner == 2 ? 0 : corner + 1; }
-inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
 
 Index slot_of(const detail::LargeVector<Index>& ring, Index first, Index last, Index vertex) {
     for (Index k = first; k < last; ++k)
@@ -44,40 +42,40 @@ void scale_to_at_most_unit_sum(std::vector<float>& weights) {
 
 }  // namespace
 
-void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& parent) {
-    detail::Topology& t = level.topology;
+void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) {
+    Topology& t = level.topology;
     const int nv = t.num_vertices;
-    limit = std::make_unique<detail::LimitTables>();
-    detail::LimitTables& lt = *limit;
-    detail::LevelStencils& s = lt.positions;
+    plan_.limit = std::make_unique<LimitTables>();
+    LimitTables& lt = *plan_.limit;
+    LevelStencils& s = lt.positions;
     s.num_vertices = nv;
     s.num_edges = 0;
     const int max_valence = t.max_valence;
-    max_summed_terms = std::max(max_summed_terms, std::max(max_valence, 2));
-    detail::set_smooth_masks(s, max_valence, detail::smooth_limit_mask);
+    plan_.max_summed_terms = std::max(plan_.max_summed_terms, std::max(max_valence, 2));
+    set_smooth_masks(s, max_valence, smooth_limit_mask);
     lt.smooth_t1.resize(max_valence + 1);
     lt.smooth_t2.resize(max_valence + 1);
     for (int n = 0; n <= max_valence; ++n) {
-        detail::smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
+        smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
         scale_to_at_most_unit_sum(lt.smooth_t1[n]), scale_to_at_most_unit_sum(lt.smooth_t2[n]);
     }
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
     struct Classified {
         Index vertex;
-        detail::SdcRule rule;
+        SdcRule rule;
         int valence;
         Index crease[2];
     };
     std::vector<Classified> classified;
-    detail::LargeVector<VertexType>& types = level_vertex_types.emplace_back(nv, VertexType::Smooth);
+    LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
-    const detail::VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &level_num_vertices, base_for_walks);
-    detail::for_each_feature_vertex(level, cones, around, [&](const detail::FeatureVertex& vertex, int) {
-        const detail::SdcRule rule = detail::sdc_vertex_rule(vertex.own_sharpness(), vertex.sharp_edges);
-        types[vertex.vertex] = detail::classify_vertex(rule, vertex, around);
+    const VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &plan_.level_num_vertices, base_for_walks_);
+    for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
+        const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.sharp_edges);
+        types[vertex.vertex] = classify_vertex(rule, vertex, around);
         classified.push_back({vertex.vertex, rule, int(vertex.edges.size()), {vertex.crease[0], vertex.crease[1]}});
-        lt.by_side[vertex.vertex] = rule == detail::SdcRule::Crease || rule == detail::SdcRule::Corner;
+        lt.by_side[vertex.vertex] = normal_per_side(rule);
     });
     for (const Classified& c : classified) {
         const Index v = c.vertex;
@@ -87,27 +85,25 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
             const Index e = c.crease[k], other = t.other_end(e, v);
             ends[k] = other;
             const bool v_first = t.edge_vertices[2 * e] == v;
-            const detail::EdgeMask edge = rules->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
-                                                            v_first ? types[other] : types[v], around.edge_face_count(e), true});
-            // A crease edge ending at a Hoppe94 dart is refined as a smooth edge, and the limit there depends on the
-            // surface beyond: the crease's own B-spline weight stands in.
-            if (edge.wings == 0.0) vertex_weight[k] = v_first ? edge.a : edge.b;
+            const EdgeMask edge = rules_->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
+                                                     v_first ? types[other] : types[v], around.edge_face_count(e), true});
+            vertex_weight[k] = crease_end_weight(edge, v_first);
         }
-        const detail::VertexSituation situation{types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0,
-                                                {c.crease[0], c.crease[1]}, {-1, -1}};
-        const detail::LimitMask mask = rules->limit_mask(situation, vertex_weight[0], vertex_weight[1]);
-        const detail::LimitMask smooth = detail::smooth_limit_mask(c.valence);
+        const VertexSituation situation{types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0,
+                                        {c.crease[0], c.crease[1]}, {-1, -1}};
+        const LimitMask mask = rules_->limit_mask(situation, vertex_weight[0], vertex_weight[1]);
+        const LimitMask smooth = smooth_limit_mask(c.valence);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.end_a != 0.0 || mask.end_b != 0.0)
             s.special_vertices.push_back({v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
     }
 
     s.ring_offsets = std::move(t.vertex_edge_offsets);
     s.ring = std::move(t.vertex_vertices);
-    const detail::LargeVector<Index>& tri = t.face_vertices;
+    const LargeVector<Index>& tri = t.face_vertices;
     const std::size_t corners = tri.size();
 
     // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v.
-    detail::LargeVector<Index> follower(s.ring.size(), -1);
+    LargeVector<Index> follower(s.ring.size(), -1);
     for (std::size_t c = 0; c < corners; ++c) {
         const Index v = tri[c];
         if (lt.by_side[v]) continue;
@@ -159,7 +155,7 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
         next.assign(n, -1);
         previous.assign(n, -1);
         for (int i = 0; i < n; ++i) {
-            if (detail::is_sharp(level.edge_sharpness(fan[i].edge_b))) continue;
+            if (is_sharp(level.edge_sharpness(fan[i].edge_b))) continue;
             for (int j = 0; j < n; ++j) {
                 if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
                     next[i] = j, previous[j] = i;
@@ -170,7 +166,7 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
         placed.assign(n, 0);
         auto add_side = [&](int start, bool closed) {
             const Index side = Index(lt.sides.size());
-            detail::LimitTables::Side& entry = lt.sides.emplace_back();
+            LimitTables::Side& entry = lt.sides.emplace_back();
             entry.vertex = fan[start].vertex;
             entry.first = Index(lt.side_points.size());
             entry.closed = closed;
@@ -198,7 +194,7 @@ void PlanImpl::plan_limit(detail::LevelState& level, const detail::Topology& par
     lt.side_t1.resize(max_side_faces + 1);
     lt.side_t2.resize(max_side_faces + 1);
     for (int faces = 1; faces <= max_side_faces; ++faces) {
-        detail::side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
+        side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
         scale_to_at_most_unit_sum(lt.side_t1[faces]), scale_to_at_most_unit_sum(lt.side_t2[faces]);
     }
 }
@@ -260,8 +256,10 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
     };
 
     // Three phases, each split among the threads: vertex normals, side normals, then the corners that read them.
-    lt.vertex_normals.resize(3 * std::size_t(s.num_vertices));
-    lt.side_normals.resize(3 * lt.sides.size());
+    std::vector<float>& vertex_normals = frame.vertex_normals;
+    std::vector<float>& side_normals = frame.side_normals;
+    vertex_normals.resize(3 * std::size_t(s.num_vertices));
+    side_normals.resize(3 * lt.sides.size());
     const std::size_t corners = output_triangles.size();
     detail::run_levels(std::max(1, options.threads), 3, [&](int phase, int part, int parts) {
         // Tangents a batch at a time, then their normals.
@@ -285,7 +283,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                 const Index first = s.ring_offsets[v];
                 const int valence = s.ring_offsets[v + 1] - first;
                 tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
-            }, lt.vertex_normals.data());
+            }, vertex_normals.data());
         } else if (phase == 1) {
             const auto [begin, end] = detail::part_of(lt.sides.size(), part, parts);
             in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
@@ -293,17 +291,17 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                 const Index* points = lt.side_points.data() + side.first;
                 if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
                 else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
-            }, lt.side_normals.data());
+            }, side_normals.data());
         } else {
             const auto [begin, end] = detail::part_of(corners, part, parts);
             for (std::size_t c = begin; c < end; ++c) {
-                const float* n = &lt.vertex_normals[3 * std::size_t(output_triangles[c])];
+                const float* n = &vertex_normals[3 * std::size_t(output_triangles[c])];
                 corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
             }
             // The corners on sides overwrite theirs, in the same part of the corner range.
             const auto first = std::lower_bound(lt.corner_sides.begin(), lt.corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
             for (auto it = first; it != lt.corner_sides.end() && std::size_t(it->first) < end; ++it) {
-                const float* n = &lt.side_normals[3 * std::size_t(it->second)];
+                const float* n = &side_normals[3 * std::size_t(it->second)];
                 const std::size_t c = std::size_t(it->first);
                 corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
             }

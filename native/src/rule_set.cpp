@@ -10,7 +10,7 @@ namespace {
 // follow the vertex classes, cones and the {5,3} edge rule included.
 class Hoppe94Rules final : public RuleSet {
 public:
-    explicit Hoppe94Rules(float crease_threshold) : threshold_(crease_threshold) {}
+    Hoppe94Rules(Boundary boundary, float crease_threshold) : RuleSet(boundary), threshold_(crease_threshold) {}
 
     bool has_cones() const override { return true; }
     float edge_sharpness_from_tag(float tag) const override {
@@ -66,7 +66,7 @@ private:
 // levels.
 class OpenSubdivRules final : public RuleSet {
 public:
-    explicit OpenSubdivRules(CreaseMethod method) : method_(method) {}
+    OpenSubdivRules(Boundary boundary, CreaseMethod method) : RuleSet(boundary), method_(method) {}
 
     bool has_cones() const override { return false; }
     float edge_sharpness_from_tag(float tag) const override { return std::min(tag, kInfiniteSharpness); }
@@ -124,8 +124,8 @@ private:
 }  // namespace
 
 std::unique_ptr<RuleSet> make_rule_set(const Options& options) {
-    if (options.rules == Rules::Hoppe94) return std::make_unique<Hoppe94Rules>(options.crease_threshold);
-    return std::make_unique<OpenSubdivRules>(options.crease_method);
+    if (options.rules == Rules::Hoppe94) return std::make_unique<Hoppe94Rules>(options.boundary, options.crease_threshold);
+    return std::make_unique<OpenSubdivRules>(options.boundary, options.crease_method);
 }
 
 }  // namespace loopsub::detail

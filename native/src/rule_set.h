@@ -1,7 +1,8 @@
-// The decisions in which the two rule sets differ, each in one place (OpenSubdiv's Sdc::Scheme in spirit): how tags
-// become sharpness, how sharpness decays from level to level, which mask a vertex point and an edge point take. The
-// plan builder asks these and owns everything the rule sets share (connectivity, boundaries and non-manifold
-// features, classification by sharp-edge count, the stencil tables).
+// The rules layer's interface to the plan builder (OpenSubdiv's Sdc::Scheme in spirit): every decision of the
+// subdivision rules, each in one place. What both rule sets share is here (the sharpness the topology imposes on the
+// base level); what differs is virtual: how tags become sharpness, how sharpness decays from level to level, which
+// mask a vertex point, an edge point and a limit point take. The masks and the vertex classes themselves are the pure
+// functions of rules.h. The builder gathers the local quantities (connectivity, sharpness, classes) and asks.
 #pragma once
 
 #include <memory>
@@ -13,7 +14,7 @@ namespace loopsub::detail {
 
 // A vertex as the builder has classified it on one level.
 struct VertexSituation {
-    VertexType type;  // Hoppe94's class (RULES.md section 1); OpenSubdiv's rule is `rule`
+    VertexType type;  // Hoppe 94's class (hoppe94_vertex_type); OpenSubdiv's rule is `rule`
     SdcRule rule;     // from the vertex's own sharpness and its sharp-edge count
     int valence;
     float sharpness, child_sharpness;  // the vertex's own, on this level and the next
@@ -35,11 +36,40 @@ struct EdgeSituation {
 
 class RuleSet {
 public:
+    explicit RuleSet(Boundary boundary) : boundary_(boundary) {}
     virtual ~RuleSet() = default;
 
+    // ---- Shared by both rule sets (Far's prepareComponentTagsAndSharpness for OpenSubdiv) ----
+    // An edge's sharpness on the base level: boundary and non-manifold edges are infinitely sharp, whatever their tag.
+    float base_edge_sharpness(float tag, int face_count, bool non_manifold) const {
+        if (face_count < 2 || non_manifold) return kInfiniteSharpness;
+        return tag == 0.0f ? 0.0f : edge_sharpness_from_tag(tag);
+    }
+    // A vertex's on the base level: infinitely sharp where it is non-manifold, unless it sits on exactly two edges
+    // with more than two faces (a non-manifold crease; OpenSubdiv 3.5 does not count edges that are non-manifold by
+    // their winding alone), and, with Boundary::EdgesAndCorners, where it is a boundary vertex with a single face.
+    // `count_faces()` gives {the sum of its edges' face counts, its edges with more than two faces}; it is called
+    // only where the cheaper facts leave the answer open (most vertices are regular and untagged).
+    template <typename CountFaces>
+    float base_vertex_sharpness(float tag, bool non_manifold, int valence, CountFaces count_faces) const {
+        const bool corners_kept = boundary_ == Boundary::EdgesAndCorners;
+        if (non_manifold || (corners_kept && valence == 2)) {
+            const auto [edge_faces, fins] = count_faces();
+            if (corners_kept && valence == 2 && edge_faces == 2) return kInfiniteSharpness;
+            if (non_manifold && fins != 2) return kInfiniteSharpness;
+        }
+        return tag == 0.0f ? 0.0f : vertex_sharpness_from_tag(tag);
+    }
+    // Boundary::None: a boundary edge that its tag does not make infinitely sharp takes every face at its two ends
+    // out of the surface.
+    bool boundary_edge_removes_faces(float tag, int face_count) const {
+        return face_count == 1 && boundary_ == Boundary::None && !is_infinite(edge_sharpness_from_tag(tag));
+    }
+
+    // ---- Where the rule sets differ ----
     virtual bool has_cones() const = 0;
-    // Sharpness of a tagged edge or vertex on the base level (boundaries and non-manifold features come on top); a
-    // zero tag is always zero sharpness (the base level passes untagged edges and vertices over).
+    // Sharpness of a tagged edge or vertex on the base level (boundaries and non-manifold features come on top); asked
+    // of nonzero tags only, a zero tag being zero sharpness under every rule set.
     virtual float edge_sharpness_from_tag(float tag) const = 0;
     virtual float vertex_sharpness_from_tag(float tag) const = 0;
     // One level down: the half of an edge at a vertex, given the sharpness of every edge there; a vertex.
@@ -54,6 +84,9 @@ public:
     // Where a vertex of the last level lies on the limit surface; end_a / end_b weight the other ends of
     // vertex.crease[0] / [1]. `vertex_weight_a` / `_b`: the vertex's weight in the edge points of those two edges.
     virtual LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a, double vertex_weight_b) const = 0;
+
+private:
+    Boundary boundary_;
 };
 
 std::unique_ptr<RuleSet> make_rule_set(const Options& options);

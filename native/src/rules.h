@@ -55,6 +55,12 @@ LimitMask corner_limit_mask();
 // 1/2, or 3/8 and 5/8 under the {5,3} rule) followed by the stationary mask of its child, whose crease neighbours
 // are regular: (1, 4, 1) / 6 at a regular crease vertex, (1, 3, 1) / 5 at an irregular one (Hoppe et al. 94).
 LimitMask hoppe94_crease_limit_mask(bool regular, double vertex_weight_a, double vertex_weight_b);
+// The weight a crease vertex keeps in the edge point of one of its crease edges (`edge`, whose end A it is or not), as
+// the crease limit reads it. Where the edge is refined as a smooth edge (Hoppe 94's crease edge ending at a dart) the
+// limit there depends on the surface beyond, and the crease's own B-spline weight, 1/2, stands in.
+inline double crease_end_weight(const EdgeMask& edge, bool vertex_is_a) {
+    return edge.wings == 0.0 ? (vertex_is_a ? edge.a : edge.b) : 0.5;
+}
 
 // Limit tangents (OpenSubdiv's Sdc::Scheme<SCHEME_LOOP> masks; Hoppe et al. 94's). Around a smooth vertex with
 // its neighbours p_0 .. p_{n-1} counter-clockwise: t1 = sum cos(2 pi i / n) p_i, t2 = sum sin(2 pi i / n) p_i.
@@ -67,6 +73,8 @@ void side_tangent_weights(int faces, std::vector<float>& t1, std::vector<float>&
 // OpenSubdiv's creasing (Sdc::Crease), single precision as OpenSubdiv computes it.
 enum class SdcRule { Smooth, Dart, Crease, Corner };
 SdcRule sdc_vertex_rule(float vertex_sharpness, int sharp_edge_count);
+// Where a vertex's limit normal is one per side of its sharp edges rather than one for its whole fan.
+inline bool normal_per_side(SdcRule rule) { return rule == SdcRule::Crease || rule == SdcRule::Corner; }
 float decrement_sharpness(float sharpness);  // uniform decay: s - 1, 0 below 1, infinite stays infinite
 // Chaikin decay of one edge's sharpness at one of its end vertices, given the sharpness of all edges there.
 float chaikin_sharpness_at_vertex(float edge_sharpness, const float* incident_sharpness, int incident_count);
@@ -77,5 +85,36 @@ float transition_weight(CreaseMethod method, float parent_vertex_sharpness, floa
 inline bool is_sharp(float sharpness) { return sharpness > 0.0f; }
 inline bool is_infinite(float sharpness) { return sharpness >= kInfiniteSharpness; }
 inline bool is_semi_sharp(float sharpness) { return sharpness > 0.0f && sharpness < kInfiniteSharpness; }
+
+// ---- Hoppe 94's vertex classes (docs/rules.md, "Vertex classes"), reported under both rule sets ---------------
+// What the regular-crease test reads of the fan around a crease vertex.
+struct CreaseFan {
+    int valence;
+    bool has_fin;              // one of its edges has more than two faces
+    bool on_boundary;          // one of its edges has a single face
+    bool creases_on_boundary;  // both its crease edges have a single face
+    int faces_on_one_side;     // faces met walking round from one crease edge to the other (interior fans only)
+};
+// Interior with valence 6 and three faces on each side of its crease, or on the boundary with valence 4 and its
+// two crease edges the boundary edges.
+inline bool is_regular_crease(const CreaseFan& fan) {
+    if (fan.has_fin) return false;
+    if (fan.on_boundary) return fan.valence == 4 && fan.creases_on_boundary;
+    return fan.valence == 6 && fan.faces_on_one_side == 3;
+}
+// The class from OpenSubdiv's rule for the vertex (its own sharpness and its sharp-edge count) and its cone tag;
+// `crease_fan()` is called for a crease vertex only.
+template <typename CreaseFanOf>
+VertexType hoppe94_vertex_type(SdcRule rule, bool tagged_cone, CreaseFanOf crease_fan) {
+    switch (rule) {
+        case SdcRule::Smooth: return tagged_cone ? VertexType::Cone : VertexType::Smooth;
+        case SdcRule::Dart: return tagged_cone ? VertexType::Cone : VertexType::Dart;
+        case SdcRule::Crease:
+            if (tagged_cone) return VertexType::Corner;
+            return is_regular_crease(crease_fan()) ? VertexType::RegularCrease : VertexType::IrregularCrease;
+        case SdcRule::Corner: break;
+    }
+    return VertexType::Corner;
+}
 
 }  // namespace loopsub::detail

@@ -32,6 +32,24 @@ struct SpecialEdge {
     float wa, wb, wcd;
 };
 
+// A level's tables (one per level of a plan, then the limit's pass; a face-varying layer has its own). They take one of
+// four forms, which the plan builder chooses (PlanBuilder::choose_table_forms and hand_over_tables; how their speed and
+// memory compare: docs/benchmark.md, "Stored or derived tables"; docs/architecture.md, "Level tables"):
+//   stored    ring_offsets, ring, edge_ends and edge_wing_c / _d hold every vertex and edge. The base level's; the limit
+//             pass's; the built levels of a face-varying layer.
+//   fans      stored, with fan_first_midpoint / fan_midpoints set: the midpoints' rings are laid out so that the fan
+//             kernels compute a midpoint and its two halves from one fan of loads. Every stored level of the vertex
+//             plan past the base.
+//   interior  fans, with the edges inside the parent's faces read from those faces (`interior`) rather than stored: a
+//             level that is not built, whose tables are filled from its parent (fill_tables_from_parent) with the
+//             last level's triangles beside them. The level before the last where the builder skips it
+//             (skip_level_before_last_: two levels or more, no limit surface), in the vertex plan unless its tables
+//             are derived, and in a face-varying layer unless the layer is linear everywhere.
+//   derived   nothing stored but the parent level's connectivity (`derived_from`): the kernels derive the tables a
+//             chunk at a time as they run. Every level of the vertex plan past the base where the builder derives
+//             tables (derive_tables_: Options::level_tables Derived, or Auto past 128 MiB of stored tables of the
+//             level before the last; only where that level is skipped and there is no face-varying layer).
+// The special masks (special_vertices, special_edges) and the smooth masks by valence are stored in every form.
 struct LevelStencils {
     int num_vertices = 0;  // of this level; output vertex i < num_vertices is vertex i repositioned
     int num_edges = 0;     // output vertex num_vertices + e is edge e bisected
@@ -44,18 +62,18 @@ struct LevelStencils {
     std::vector<float> smooth_ring;
     std::vector<SpecialVertex> special_vertices;  // sorted by vertex
 
-    // Edge points: the endpoints A, B (pairs: the level's own edge list, taken over rather than copied) and the
-    // opposite vertices C, D of the edge's first two faces (one array each). Where a face is missing, C / D
+    // Edge points: the endpoints A, B (pairs: the level's own edge list, taken over rather than copied) and the wings
+    // C, D, the vertices opposite the edge in its first two faces (one array each). Where a face is missing, C / D
     // repeat A / B (the edge is then special, with wcd == 0, so the smooth pass's value is overwritten).
     LargeVector<std::int32_t> edge_ends;  // 2 per edge: A, B
-    LargeVector<std::int32_t> edge_c, edge_d;
+    LargeVector<std::int32_t> edge_wing_c, edge_wing_d;
     std::vector<SpecialEdge> special_edges;  // sorted by edge
 
-    // Edges inside the parent's faces, read from the faces (a level not built whose tables are stored: the level
-    // before the last, PlanImpl::skip_level_before_last). Edge first_edge + 3f + k joins the midpoints of parent face
-    // f's edges k and k + 1, opposite the face's corner k + 1 and the midpoint of its edge k - 1 (the vertex of parent
-    // edge e is parent_vertices + e). Then edge_ends, edge_c and edge_d hold the edges before first_edge only: a kernel
-    // reads three edges' ends and wings from six indices rather than twelve, and the plan writes none of them.
+    // Form "interior": the edges inside the parent's faces, read from the faces. Edge first_edge + 3f + k joins the
+    // midpoints of parent face f's edges k and k + 1, opposite the face's corner k + 1 and the midpoint of its edge
+    // k - 1 (the vertex of parent edge e is parent_vertices + e). Then edge_ends, edge_wing_c and edge_wing_d hold the
+    // edges before first_edge only: a kernel reads three edges' ends and wings from six indices rather than twelve,
+    // and the plan writes none of them.
     struct InteriorFaces {
         int first_edge = 0;
         std::int32_t parent_vertices = 0;
@@ -69,15 +87,15 @@ struct LevelStencils {
     };
     std::unique_ptr<InteriorFaces> interior;
 
-    // Set on a level past the base whose tables are stored: its vertices from fan_first_midpoint on are the midpoints
-    // of its parent's fan_midpoints edges (edge e's is fan_first_midpoint + e), its edges 2e and 2e + 1 the halves of
-    // parent edge e, and a midpoint's ring is its edge's ends, then its halves' wings face by face (refine_topology,
+    // Forms "fans" and "interior": its vertices from fan_first_midpoint on are the midpoints of its parent's
+    // fan_midpoints edges (edge e's is fan_first_midpoint + e), its edges 2e and 2e + 1 the halves of parent edge e,
+    // and a midpoint's ring is its edge's ends, then its halves' wings face by face (refine_topology,
     // fill_tables_from_parent): a kernel computes the midpoint and both halves from it (FanFn, kernels.h).
     int fan_first_midpoint = 0, fan_midpoints = 0;
 
-    // Set for a level whose tables above are not stored (Options::level_tables = Derived: every level past the base):
-    // its rings and edges are derived from its parent level's connectivity through the numbering, a chunk at a time
-    // as the kernels run (write_child_rings, child_edges, in refine_part). The plan then holds connectivity only.
+    // Form "derived": the level's rings and edges are derived from its parent level's connectivity through the
+    // numbering, a chunk at a time as the kernels run (write_child_rings, child_edges, in refine_part). The plan then
+    // holds connectivity only.
     std::unique_ptr<Topology> derived_from;
 
     // The ends of edge e wherever the level keeps them: its tables, its parent's faces (interior) or its parent's
@@ -94,19 +112,24 @@ struct LevelStencils {
     }
 };
 
-// The stencil tables of a level that is not built (the level before the last: PlanImpl::skip_level_before_last, and
-// the face-varying layers' own), from its parent's connectivity, as refine_topology would have written them
-// (Refined::ForStencils) but in one pass and with its edges inside the parent's faces left to `interior`, whose faces
-// the caller hands over from the parent; and the faces of the last level after it (48 indices per parent face). The
-// parent must hold its edge faces and vertex edges. `s.num_vertices` is set; `threads` share the work.
+// Whether a level's tables hold what their form says: the arrays' sizes, every index inside the level, the fans'
+// layout and the interior edges' parent faces. Walks the tables: Debug builds (the sanitizer run) assert it of every
+// level a plan keeps.
+bool follows_table_layout(const LevelStencils& s);
+
+// The tables of a level that is not built (form "interior", in the vertex plan and in face-varying layers), from its
+// parent's connectivity, as refine_topology would have written them (Refined::ForStencils) but in one pass and with its
+// edges inside the parent's faces left to `interior`, whose faces the caller hands over from the parent; and the faces
+// of the last level after it (48 indices per parent face). The parent must hold its edge faces and vertex edges.
+// `s.num_vertices` is set; `threads` share the work.
 void fill_tables_from_parent(const Topology& parent, LevelStencils& s, std::int32_t* last_faces, int threads);
 
 // The index tables of one kernel run, as plain pointers: a stored level's own (bases 0), or a derived level's for a
 // chunk, filled just before the run. Vertex i's ring is ring[ring_offsets[i - vertex_base] ..
 // ring_offsets[i - vertex_base + 1]); edge e's ends are edge_ends[2 (e - edge_base)] and the next, its wings
-// edge_c[e - edge_base] and edge_d[e - edge_base].
+// edge_wing_c[e - edge_base] and edge_wing_d[e - edge_base].
 struct StencilView {
-    const std::int32_t *ring_offsets, *ring, *edge_ends, *edge_c, *edge_d;
+    const std::int32_t *ring_offsets, *ring, *edge_ends, *edge_wing_c, *edge_wing_d;
     int vertex_base = 0, edge_base = 0;
 
     // Vertex i's ring: ring[ring_first(i) .. ring_first(i) + valence(i)).
@@ -114,12 +137,12 @@ struct StencilView {
     int valence(int i) const { return ring_offsets[i - vertex_base + 1] - ring_offsets[i - vertex_base]; }
     // Edge e's ends A (0) and B (1), and its wings C and D.
     std::int32_t end(int e, int which) const { return edge_ends[2 * (e - edge_base) + which]; }
-    std::int32_t wing_c(int e) const { return edge_c[e - edge_base]; }
-    std::int32_t wing_d(int e) const { return edge_d[e - edge_base]; }
+    std::int32_t wing_c(int e) const { return edge_wing_c[e - edge_base]; }
+    std::int32_t wing_d(int e) const { return edge_wing_d[e - edge_base]; }
 };
 
 inline StencilView stored_view(const LevelStencils& s) {
-    return {s.ring_offsets.data(), s.ring.data(), s.edge_ends.data(), s.edge_c.data(), s.edge_d.data(), 0, 0};
+    return {s.ring_offsets.data(), s.ring.data(), s.edge_ends.data(), s.edge_wing_c.data(), s.edge_wing_d.data(), 0, 0};
 }
 
 // Fills the smooth pass's weights for valences 0 .. max_valence from `mask(n)` (the refinement's or the limit's

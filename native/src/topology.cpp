@@ -1,6 +1,7 @@
 #include "topology.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 #include <numeric>
 #include <utility>
@@ -10,13 +11,11 @@
 #endif
 
 #include "parallel.h"
+#include "triangle_corners.h"
 
 namespace loopsub::detail {
 
 namespace {
-
-inline int next_corner(int corner) { return corner == 2 ? 0 : corner + 1; }
-inline int prev_corner(int corner) { return corner == 0 ? 2 : corner - 1; }
 
 // Where edge e sits in face f's edges (edge k runs from corner k to corner k + 1).
 inline int local_edge(const Index* face_edges, Index e) { return face_edges[0] == e ? 0 : face_edges[1] == e ? 1 : 2; }
@@ -230,7 +229,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
                     t.edge_face_offsets[e] = offset;
                     offset += corners_of_edge[e];
                     // Where the second face is missing, the edge's second end stands in for the vertex opposite it.
-                    if (corners_of_edge[e] < 2) t.edge_opposite_d[e] = t.edge_vertices[2 * std::size_t(e) + 1];
+                    if (corners_of_edge[e] < 2) t.edge_wing_d[e] = t.edge_vertices[2 * std::size_t(e) + 1];
                     ++edges_at_vertex[part][t.edge_vertices[2 * std::size_t(e)]];
                     ++edges_at_vertex[part][t.edge_vertices[2 * std::size_t(e) + 1]];
                 }
@@ -242,7 +241,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
                     const Index e = t.face_edges[c], f = c / 3;
                     t.edge_faces[t.edge_face_offsets[e] + rank[c]] = f;
                     if (rank[c] > 1) continue;
-                    (rank[c] == 0 ? t.edge_opposite_c : t.edge_opposite_d)[e] = t.opposite_vertex(f, e);
+                    (rank[c] == 0 ? t.edge_wing_c : t.edge_wing_d)[e] = t.opposite_vertex(f, e);
                 }
                 LargeVector<Index> place(num_vertices);
                 part_places(edges_at_vertex, part, place.data(), part == 0 ? t.vertex_edge_offsets.data() : nullptr);
@@ -261,8 +260,8 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
     const std::size_t num_edges = std::size_t(sum_before(part_edges, parts));
     t.edge_vertices.resize(2 * num_edges);
     t.edge_face_offsets.resize(num_edges + 1);
-    t.edge_opposite_c.resize(num_edges);
-    t.edge_opposite_d.resize(num_edges);
+    t.edge_wing_c.resize(num_edges);
+    t.edge_wing_d.resize(num_edges);
     t.vertex_edges.resize(2 * num_edges);
     t.vertex_vertices.resize(2 * num_edges);
     corners_of_edge.resize(num_edges);
@@ -302,7 +301,8 @@ void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std
         _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 6), row[2]);
         _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 10), _mm_setr_epi32(interior + 1, interior + 2, 0, 0));
         if (!places) continue;
-        // write_places in two stores (x86 is little-endian): built byte by byte, the twelve bytes cost twice the rest.
+        // write_places in two stores (x86 is little-endian), not twelve byte by byte (docs/benchmark.md, "Measurements
+        // behind the code").
         std::uint32_t parent;
         std::memcpy(&parent, &p.face_edge_places[3 * std::size_t(f)], sizeof parent);
         const std::uint64_t p0 = parent & 0xff, p1 = parent >> 8 & 0xff, p2 = parent >> 16 & 0xff;
@@ -327,136 +327,227 @@ void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std
     }
 }
 
-}  // namespace
+// The relations a child of each Refined form holds (face_vertices always).
+struct ChildRelations {
+    bool edges;          // edge_vertices, face_edges and vertex_edge_offsets: every form but FacesOnly
+    bool incidence;      // edge faces and vertex edges: Full and Connectivity
+    bool neighbourhood;  // the winged-edge neighbourhood, vertex_vertices and edge_wing_c / _d: Full and ForStencils
+    bool places;         // face_edge_places: Full
+};
 
-Topology refine_topology(const Topology& p, Refined what, int threads) {
+ChildRelations relations_of(Refined what) {
+    return {what != Refined::FacesOnly, what == Refined::Full || what == Refined::Connectivity,
+            what == Refined::Full || what == Refined::ForStencils, what == Refined::Full};
+}
+
+// The child with every array of its relations sized (each is then filled in parts, a slot by exactly one parent
+// element), and its maxima, which follow from the parent's in closed form.
+Topology sized_child(const Topology& p, const ChildRelations& has) {
     const int nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
-    const bool faces_only = what == Refined::FacesOnly;
-    const bool full = what == Refined::Full || what == Refined::Connectivity;  // edge faces and vertex edges
-    const bool neighbourhood = what == Refined::Full || what == Refined::ForStencils;
-    const bool places = what == Refined::Full;
     Topology c;
     c.num_vertices = nv + ne;
     c.max_valence = child_max_valence(p);
     c.max_edge_face_count = child_max_edge_face_count(p);
-    const Index interior_base = 2 * ne;
-    const std::size_t child_edges = 2 * std::size_t(ne) + 3 * std::size_t(nf);
-
-    // Every array is sized first; then each thread fills its share of faces, edges and vertices. Each child slot
-    // is written by exactly one parent element, and every offset has a closed form in the parent's, so the parts
-    // need no synchronisation.
     c.face_vertices.resize(12 * std::size_t(nf));
-    // (A FacesOnly child's parent may lack its edge faces and vertex edges: it was refined ForStencils.)
-    const std::size_t ring_entries =
-        faces_only ? 0 : std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]);
-    if (!faces_only) {
-        c.edge_vertices.resize(2 * child_edges);
-        c.face_edges.resize(12 * std::size_t(nf));
-        if (places) c.face_edge_places.resize(12 * std::size_t(nf));
-        // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two
-        // halves and, per face of e, the two interior edges that meet it.
-        c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
-        if (neighbourhood) {
-            c.edge_opposite_c.resize(child_edges);
-            c.edge_opposite_d.resize(child_edges);
-            c.vertex_vertices.resize(ring_entries);
-        }
-        if (full) {
-            // A half of parent edge e has e's faces; an interior edge has two.
-            c.edge_face_offsets.resize(child_edges + 1);
-            c.edge_faces.resize(2 * std::size_t(p.edge_face_offsets[ne]) + 6 * std::size_t(nf));
-            c.vertex_edges.resize(ring_entries);
+    if (!has.edges) return c;  // a FacesOnly child's parent may lack its edge faces and vertex edges (refined ForStencils)
+    const std::size_t child_edges = 2 * std::size_t(ne) + 3 * std::size_t(nf);
+    // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two halves
+    // and, per face of e, the two interior edges that meet it.
+    const std::size_t ring_entries = std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]);
+    c.edge_vertices.resize(2 * child_edges);
+    c.face_edges.resize(12 * std::size_t(nf));
+    if (has.places) c.face_edge_places.resize(12 * std::size_t(nf));
+    c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
+    c.vertex_edge_offsets[c.num_vertices] = Index(ring_entries);
+    if (has.neighbourhood) {
+        c.edge_wing_c.resize(child_edges);
+        c.edge_wing_d.resize(child_edges);
+        c.vertex_vertices.resize(ring_entries);
+    }
+    if (has.incidence) {
+        // A half of parent edge e has e's faces; an interior edge has two.
+        c.edge_face_offsets.resize(child_edges + 1);
+        c.edge_face_offsets[child_edges] = 2 * p.edge_face_offsets[ne] + 6 * nf;
+        c.edge_faces.resize(2 * std::size_t(p.edge_face_offsets[ne]) + 6 * std::size_t(nf));
+        c.vertex_edges.resize(ring_entries);
+    }
+    return c;
+}
+
+// Child faces 4f + k of parent faces [f0, f1): their corners (corner child k = (v_k, m_k, m_{k-1}), the middle child
+// (m_0, m_1, m_2)) and, past FacesOnly, their edges.
+void populate_child_faces(const Topology& p, Topology& c, const ChildRelations& has, int f0, int f1) {
+    const Index nv = p.num_vertices;
+    for (int f = f0; f < f1; ++f) {
+        const Index* v = &p.face_vertices[3 * f];
+        const Index m0 = nv + p.face_edges[3 * f], m1 = nv + p.face_edges[3 * f + 1], m2 = nv + p.face_edges[3 * f + 2];
+        Index* out = &c.face_vertices[12 * std::size_t(f)];
+        out[0] = v[0], out[1] = m0, out[2] = m2;
+        out[3] = v[1], out[4] = m1, out[5] = m0;
+        out[6] = v[2], out[7] = m2, out[8] = m1;
+        out[9] = m0, out[10] = m1, out[11] = m2;
+    }
+    if (has.edges) write_child_face_edges(p, f0, f1, c.face_edges.data(), has.places ? c.face_edge_places.data() : nullptr);
+}
+
+// Interior edges 2E + 3f + k of parent faces [f0, f1): their ends, their wings, and their two faces (the corner child
+// k + 1 and the middle child).
+void populate_interior_edges(const Topology& p, Topology& c, const ChildRelations& has, int f0, int f1) {
+    const Index interior_base = 2 * p.num_edges();
+    const std::size_t first = std::size_t(interior_base) + 3 * std::size_t(f0);
+    if (has.neighbourhood) {  // child_edges stores a face's three at a time, ends and wings
+        child_edges(p, int(first), interior_base + 3 * f1, c.edge_vertices.data() + 2 * first, c.edge_wing_c.data() + first,
+                    c.edge_wing_d.data() + first);
+    } else {
+        for (int f = f0; f < f1; ++f)
+            for (int k = 0; k < 3; ++k) child_edge_ends(p, interior_base + 3 * f + k, &c.edge_vertices[2 * (std::size_t(interior_base) + 3 * f + k)]);
+    }
+    if (!has.incidence) return;
+    const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
+    for (int f = f0; f < f1; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const Index at = faces_of_halves + 2 * (3 * f + k);
+            c.edge_face_offsets[interior_base + 3 * f + k] = at;
+            c.edge_faces[at] = 4 * f + next_corner(k);
+            c.edge_faces[at + 1] = 4 * f + 3;
         }
     }
-    const Index faces_of_halves = faces_only ? 0 : 2 * p.edge_face_offsets[ne];
+}
 
+// Halves 2e (at e's first end) and 2e + 1 of parent edges [e0, e1): their ends and, with the neighbourhood, their
+// wings, which each of parent faces [f0, f1) puts in place for its edges (write_half_wings). Their faces come with
+// the midpoints' rings (populate_midpoints).
+void populate_halves(const Topology& p, Topology& c, const ChildRelations& has, int e0, int e1, int f0, int f1) {
+    write_half_ends(p, e0, e1, c.edge_vertices.data() + 4 * std::size_t(e0));
+    if (has.neighbourhood) write_half_wings(p, f0, f1, e0, e1, c.edge_wing_c.data(), c.edge_wing_d.data());
+}
+
+// Old vertices [v0, v1): each keeps its parent's offset, its edges become their halves at it, its ring the midpoints
+// of its edges.
+void populate_old_vertices(const Topology& p, Topology& c, const ChildRelations& has, int v0, int v1) {
+    // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end (or the
+    // arrays empty, when no vertex has an edge).
+    if (has.neighbourhood) write_child_rings(p, v0, v1, c.vertex_vertices.data() + p.vertex_edge_offsets[v0]);
+    for (int v = v0; v < v1; ++v) {
+        c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
+        if (!has.incidence) continue;
+        Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
+    }
+}
+
+// The midpoints nv + e of parent edges [e0, e1): offsets, edges (its halves, then per face of e the two interior edges
+// that meet it) and rings; and the faces of e's halves. One look at each face of e (where e sits in it) gives all of
+// them, rather than a pass per relation that each look again (docs/benchmark.md, "Measurements behind the code").
+void populate_midpoints(const Topology& p, Topology& c, const ChildRelations& has, int e0, int e1) {
+    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
+    if (!has.incidence) {
+        for (int e = e0; e < e1; ++e) c.vertex_edge_offsets[nv + e] = child_ring_offset(p, nv + e);
+        if (has.neighbourhood) write_child_rings(p, nv + e0, nv + e1, c.vertex_vertices.data() + child_ring_offset(p, nv + e0));
+        return;
+    }
+    for (int e = e0; e < e1; ++e) {
+        const Index first_face = p.edge_face_offsets[e], count = p.edge_face_count(e);
+        c.edge_face_offsets[2 * e] = 2 * first_face;
+        c.edge_face_offsets[2 * e + 1] = 2 * first_face + count;
+        Index* at_a = &c.edge_faces[2 * std::size_t(first_face)];
+        Index* at_b = at_a + count;
+        const Index first = child_ring_offset(p, nv + e);
+        c.vertex_edge_offsets[nv + e] = first;
+        Index* edges = c.vertex_edges.data() + first;
+        Index* ring = has.neighbourhood ? c.vertex_vertices.data() + first : nullptr;
+        const Index a = p.edge_vertices[2 * e];
+        *edges++ = 2 * e, *edges++ = 2 * e + 1;
+        if (ring) ring = midpoint_ring_ends(p, e, ring);
+        for (Index k = first_face; k < first_face + count; ++k) {
+            const Index f = p.edge_faces[k];
+            const Index* fe = &p.face_edges[3 * f];
+            const int local = local_edge(fe, e);
+            // A half of parent edge e lies in the corner child, at its end, of each face of e.
+            const bool a_first = p.face_vertices[3 * f + local] == a;
+            *at_a++ = 4 * f + (a_first ? local : next_corner(local));
+            *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
+            midpoint_face_edges(interior_base, f, local, a_first, edges);
+            edges += 2;
+            if (ring) ring = midpoint_ring_face(nv, fe, local, a_first, ring);
+        }
+    }
+}
+
+}  // namespace
+
+Topology refine_topology(const Topology& p, Refined what, int threads) {
+    const ChildRelations has = relations_of(what);
+    Topology c = sized_child(p, has);
+    // Each part fills its share of the parent's faces, edges and vertices: every child slot is written by exactly one
+    // parent element, and every offset has a closed form in the parent's, so the parts need no synchronisation.
     run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
-        const auto [f0, f1] = part_of(nf, part, parts);
-        const auto [e0, e1] = part_of(ne, part, parts);
-        const auto [v0, v1] = part_of(nv, part, parts);
-
-        for (int f = f0; f < f1; ++f) {
-            const Index* v = &p.face_vertices[3 * f];
-            const Index m0 = nv + p.face_edges[3 * f], m1 = nv + p.face_edges[3 * f + 1], m2 = nv + p.face_edges[3 * f + 2];
-            Index* out = &c.face_vertices[12 * std::size_t(f)];
-            out[0] = v[0], out[1] = m0, out[2] = m2;
-            out[3] = v[1], out[4] = m1, out[5] = m0;
-            out[6] = v[2], out[7] = m2, out[8] = m1;
-            out[9] = m0, out[10] = m1, out[11] = m2;
-        }
-        if (faces_only) return;
-
-        write_half_ends(p, e0, e1, c.edge_vertices.data() + 4 * std::size_t(e0));
-        // Interior edges: child_edges stores them a face at a time; a level without wings needs their ends only.
-        const std::size_t first_interior = std::size_t(interior_base) + 3 * std::size_t(f0);
-        if (neighbourhood) {
-            detail::child_edges(p, int(first_interior), interior_base + 3 * f1, c.edge_vertices.data() + 2 * first_interior,
-                                c.edge_opposite_c.data() + first_interior, c.edge_opposite_d.data() + first_interior);
-        } else {
-            for (int f = f0; f < f1; ++f) {
-                for (int k = 0; k < 3; ++k) child_edge_ends(p, interior_base + 3 * f + k, &c.edge_vertices[2 * (std::size_t(interior_base) + 3 * f + k)]);
-            }
-        }
-        write_child_face_edges(p, f0, f1, c.face_edges.data(), places ? c.face_edge_places.data() : nullptr);
-
-        // Edge faces: a half of parent edge e lies in the corner child, at its end, of each face of e; interior
-        // edge k of face f lies in the corner child k + 1 and the middle child.
-        if (neighbourhood) write_half_wings(p, f0, f1, e0, e1, c.edge_opposite_c.data(), c.edge_opposite_d.data());
-        for (int f = f0; f < f1 && full; ++f) {
-            for (int k = 0; k < 3; ++k) {
-                const Index first = faces_of_halves + 2 * (3 * f + k);
-                c.edge_face_offsets[interior_base + 3 * f + k] = first;
-                c.edge_faces[first] = 4 * f + next_corner(k);
-                c.edge_faces[first + 1] = 4 * f + 3;
-            }
-        }
-        if (full && part + 1 == parts) c.edge_face_offsets[child_edges] = faces_of_halves + 6 * nf;
-
-        // Pointer arithmetic, not &vector[i]: a loose vertex has no ring, and its offset may be the arrays' end (or the
-        // arrays empty, when no vertex has an edge).
-        if (neighbourhood) write_child_rings(p, v0, v1, c.vertex_vertices.data() + p.vertex_edge_offsets[v0]);
-        for (int v = v0; v < v1; ++v) {
-            c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
-            if (!full) continue;
-            Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
-            for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
-        }
-        if (!full) {
-            for (int e = e0; e < e1; ++e) c.vertex_edge_offsets[nv + e] = child_ring_offset(p, nv + e);
-            if (neighbourhood) write_child_rings(p, nv + e0, nv + e1, c.vertex_vertices.data() + child_ring_offset(p, nv + e0));
-        }
-        // Per parent edge, one look at each of its faces (where the edge sits in it) gives the faces of its halves, and
-        // the edges and ring of its midpoint (as write_child_rings), rather than three passes that each look (the split
-        // from level 1 to 2 of the icosphere 0.82-0.90 -> 0.74-0.75 ms).
-        for (int e = e0; e < e1 && full; ++e) {
-            const Index first_face = p.edge_face_offsets[e], count = p.edge_face_count(e);
-            c.edge_face_offsets[2 * e] = 2 * first_face;
-            c.edge_face_offsets[2 * e + 1] = 2 * first_face + count;
-            Index* at_a = &c.edge_faces[2 * std::size_t(first_face)];
-            Index* at_b = at_a + count;
-            const Index first = child_ring_offset(p, nv + e);
-            c.vertex_edge_offsets[nv + e] = first;
-            Index* edges = c.vertex_edges.data() + first;
-            Index* ring = neighbourhood ? c.vertex_vertices.data() + first : nullptr;
-            const Index a = p.edge_vertices[2 * e];
-            *edges++ = 2 * e, *edges++ = 2 * e + 1;
-            if (ring) ring = midpoint_ring_ends(p, e, ring);
-            for (Index k = first_face; k < first_face + count; ++k) {
-                const Index f = p.edge_faces[k];
-                const Index* fe = &p.face_edges[3 * f];
-                const int local = local_edge(fe, e);
-                // A half of parent edge e lies in the corner child, at its end, of each face of e.
-                const bool a_first = p.face_vertices[3 * f + local] == a;
-                *at_a++ = 4 * f + (a_first ? local : next_corner(local));
-                *at_b++ = 4 * f + (a_first ? next_corner(local) : local);
-                midpoint_face_edges(interior_base, f, local, a_first, edges);
-                edges += 2;
-                if (ring) ring = midpoint_ring_face(nv, fe, local, a_first, ring);
-            }
-        }
-        if (part + 1 == parts) c.vertex_edge_offsets[c.num_vertices] = Index(ring_entries);
+        const auto [f0, f1] = part_of(p.num_faces(), part, parts);
+        const auto [e0, e1] = part_of(p.num_edges(), part, parts);
+        const auto [v0, v1] = part_of(p.num_vertices, part, parts);
+        populate_child_faces(p, c, has, f0, f1);
+        if (!has.edges) return;
+        populate_interior_edges(p, c, has, f0, f1);
+        populate_halves(p, c, has, e0, e1, f0, f1);
+        populate_old_vertices(p, c, has, v0, v1);
+        populate_midpoints(p, c, has, e0, e1);
     });
+    assert(follows_split_numbering(p, c));
     return c;
+}
+
+bool follows_split_numbering(const Topology& p, const Topology& c) {
+    const Index nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
+    if (c.num_vertices != nv + ne || c.num_faces() != 4 * nf) return false;
+    for (Index f = 0; f < nf; ++f) {
+        const Index* v = &p.face_vertices[3 * f];
+        const Index* fe = &p.face_edges[3 * f];
+        const Index* children = &c.face_vertices[12 * std::size_t(f)];
+        for (int k = 0; k < 3; ++k) {
+            const Index corner_child[3] = {v[k], nv + fe[k], nv + fe[prev_corner(k)]};
+            if (!std::equal(corner_child, corner_child + 3, children + 3 * k) || children[9 + k] != nv + fe[k]) return false;
+        }
+    }
+    if (c.edge_vertices.empty()) return true;  // FacesOnly
+    const int child_edges = 2 * ne + 3 * nf;
+    if (c.num_edges() != child_edges) return false;
+    for (Index e = 0; e < child_edges; ++e) {
+        Index ends[2];
+        child_edge_ends(p, e, ends);
+        if (ends[0] != c.edge_vertices[2 * e] || ends[1] != c.edge_vertices[2 * e + 1]) return false;
+    }
+    // Edge i of a face joins its corners i and i + 1; the places say which end the face starts it at.
+    for (std::size_t corner = 0; corner < c.face_vertices.size(); ++corner) {
+        const Index e = c.face_edges[corner], from = c.face_vertices[corner];
+        const Index to = c.face_vertices[corner - corner % 3 + std::size_t(next_corner(int(corner % 3)))];
+        const Index a = c.edge_vertices[2 * e], b = c.edge_vertices[2 * e + 1];
+        if (!((a == from && b == to) || (a == to && b == from))) return false;
+        if (!c.face_edge_places.empty() && (c.face_edge_places[corner] & 1) != (a == from ? 1 : 0)) return false;
+    }
+    for (Index v = 0; v <= c.num_vertices; ++v)
+        if (c.vertex_edge_offsets[v] != child_ring_offset(p, v)) return false;
+    if (!c.edge_wing_c.empty()) {
+        std::vector<Index> ends(2 * std::size_t(child_edges)), wing_c(child_edges), wing_d(child_edges), ring(c.vertex_vertices.size());
+        detail::child_edges(p, 0, child_edges, ends.data(), wing_c.data(), wing_d.data());
+        write_child_rings(p, 0, c.num_vertices, ring.data());
+        if (!std::equal(wing_c.begin(), wing_c.end(), c.edge_wing_c.begin()) ||
+            !std::equal(wing_d.begin(), wing_d.end(), c.edge_wing_d.begin()) ||
+            !std::equal(ring.begin(), ring.end(), c.vertex_vertices.begin()))
+            return false;
+    }
+    if (!c.vertex_edges.empty()) {
+        for (Index v = 0; v < c.num_vertices; ++v)
+            for (Index k = c.vertex_edge_offsets[v]; k < c.vertex_edge_offsets[v + 1]; ++k) {
+                const Index e = c.vertex_edges[k];
+                if (c.edge_vertices[2 * e] != v && c.edge_vertices[2 * e + 1] != v) return false;
+            }
+        for (Index e = 0; e < child_edges; ++e)
+            for (Index k = c.edge_face_offsets[e]; k < c.edge_face_offsets[e + 1]; ++k) {
+                const Index* face_edges = &c.face_edges[3 * std::size_t(c.edge_faces[k])];
+                if (std::find(face_edges, face_edges + 3, e) == face_edges + 3) return false;
+            }
+    }
+    return true;
 }
 
 void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
@@ -645,7 +736,7 @@ void grandchild_faces_sse2(const Topology& p, int f0, int f1, Index* out) {
 }  // namespace
 
 void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
-    // The places spare a read of each edge's ends from far away: 81,920 parent faces in 0.73-0.94 ms, not 1.15-1.35.
+    // The places spare a read of each edge's ends from far away (docs/benchmark.md, "Measurements behind the code").
     if (p.face_edge_places.empty()) return grandchild_faces<false>(p, f0, f1, out);
 #if defined(__SSE2__)
     const int vector_end = std::clamp(p.num_faces() - 1, f0, f1);  // the vector loads read into the next face
@@ -658,9 +749,9 @@ void write_grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
 std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
     // Consistently wound neighbours run along a shared edge in opposite directions. An edge's first face runs along it
     // from its first end (the edge took its ends from that corner), so an edge of two faces winds inconsistently where
-    // its second face does so too: a place byte of 0b11 (second face, starts the edge). One pass over the place bytes;
-    // counting directions per corner instead read each corner's edge ends (17.5 us against 9.5 on a base level of
-    // 5,120 triangles, in a plan's serial part).
+    // its second face does so too: a place byte of 0b11 (second face, starts the edge). One pass over the place bytes,
+    // rather than counting directions per corner, which reads each corner's edge ends (docs/benchmark.md, "Measurements
+    // behind the code").
     std::vector<std::uint8_t> flags(t.num_edges(), 0);
     // Plain pointers: a byte store may alias anything, so the vectors' data pointers would be read again each time.
     std::uint8_t* flag = flags.data();
@@ -777,14 +868,19 @@ int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
         const int made = int(std::upper_bound(history_->begin(), history_->end(), int(v)) - history_->begin());
         const Index e = v - (*history_)[made - 1];
         const Index a = from >> (level - made), b = to >> (level - made);
-        if ((a ^ b) == 1 && a >> 1 == e) return 3;
+        if ((a ^ b) == 1 && a >> 1 == e) {
+            assert(parent_ || detail::faces_between(level_, v, from, to) == 3);
+            return 3;
+        }
     }
     // A base vertex keeps its fan through every split (a corner child per face, a half per edge, the faces of a half
     // in its edge's order), so the count is the base's between the edges the two descend from: a walk over the base's
-    // small arrays rather than this level's (walks of base vertices were 2.5 % of a creased plan's time).
+    // small arrays rather than this level's (docs/benchmark.md, "Measurements behind the code").
     if (base_ && v < history_->front()) {
         const int splits = int(history_->size()) - 1;
-        return detail::faces_between(*base_, v, from >> splits, to >> splits);
+        const int faces = detail::faces_between(*base_, v, from >> splits, to >> splits);
+        assert(parent_ || detail::faces_between(level_, v, from, to) == faces);
+        return faces;
     }
     if (!parent_) return detail::faces_between(level_, v, from, to);
     // An old vertex's fan is its parent's, a child face per parent face; a midpoint sees three child faces of

@@ -1,8 +1,9 @@
-// Mesh connectivity as flat index arrays with offsets (OpenSubdiv's Vtr in spirit): the seed's winged-edge
-// information (slides 18-19) — per edge its vertices and faces, per vertex its edges — and no more.
+// Mesh connectivity as flat index arrays with offsets (OpenSubdiv's Vtr in spirit): the winged-edge information the
+// rules read (docs/rules.md, "Connectivity") — per edge its vertices and faces, per vertex its edges — and no more.
 #pragma once
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <vector>
 
@@ -21,10 +22,10 @@ struct Topology {
     LargeVector<Index> edge_face_offsets, edge_faces;
     // Edges of vertex v: vertex_edges[vertex_edge_offsets[v] .. vertex_edge_offsets[v + 1]).
     LargeVector<Index> vertex_edge_offsets, vertex_edges;
-    // The winged-edge neighbourhood the masks read (seed slide 19): vertex_vertices[k] is the other end of
-    // vertex_edges[k]; edge_opposite_c / _d[e] are the vertices opposite edge e in its first and second face
-    // (its own first / second vertex where the face is missing).
-    LargeVector<Index> vertex_vertices, edge_opposite_c, edge_opposite_d;
+    // The winged-edge neighbourhood the masks read: vertex_vertices[k] is the other end of vertex_edges[k] (the rings);
+    // edge_wing_c / _d[e] are the wings of edge e, the vertices opposite it in its first and second face (its own first
+    // / second vertex where the face is missing).
+    LargeVector<Index> vertex_vertices, edge_wing_c, edge_wing_d;
     // Beside face_edges, per corner k of face f: bit 0 set where corner k is the first vertex of edge k, the bits
     // above the face's place among that edge's faces (0 or 1; 2 for any after the first two). What a pass in face
     // order needs to put a face's share of its edges' wings in place without looking the face up in each edge's
@@ -52,20 +53,28 @@ struct Topology {
 // triangles and their corners in order. Large lists are split among `threads` parts (on the team in scope).
 Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads = 1);
 
-// Child connectivity of one Loop split, derived from the parent without any search: vertex v stays v, edge e
-// gives vertex (num_vertices + e) and child edges 2e (at its first vertex) and 2e + 1; face f gives child faces
-// 4f + k (corner k for k < 3, the middle one last) and interior edges 2 * num_edges + 3f + k joining the
-// midpoints of face edges k and k + 1. The winged-edge neighbourhood follows from the same numbering, without
-// lookups.
+// Child connectivity of one Loop split, derived from the parent without any search. The split's numbering, which
+// everything that reads a child through its parent relies on (child_edge_ends, child_edges, write_child_rings,
+// write_grandchild_faces, VertexNeighbourhood, the fan kernels, face-varying layers, Plan::output_parent_triangles):
+//   vertices  old vertex v stays v; the midpoint of parent edge e is vertex num_vertices + e
+//   edges     the halves of parent edge e (ends a, b) are 2e = (a, m) and 2e + 1 = (m, b); the interior edges of parent
+//             face f are 2 * num_edges + 3f + k, joining the midpoints of its edges k and k + 1
+//   faces     parent face f (corners v_k, edge k from v_k to v_k+1, its midpoint m_k) gives the corner children
+//             4f + k = (v_k, m_k, m_k-1) for k < 3 and the middle child 4f + 3 = (m_0, m_1, m_2)
+// The winged-edge neighbourhood follows from the same numbering, without lookups.
 enum class Refined {
     Full,          // everything
-    Connectivity,  // no winged-edge neighbourhood (vertex_vertices, edge_opposite_c / _d): a level whose stencils are
+    Connectivity,  // no winged-edge neighbourhood (vertex_vertices, edge_wing_c / _d): a level whose stencils are
                    // derived from its parent (LevelStencils::derived_from)
     ForStencils,   // no edge faces or vertex edges: a level whose vertices need no classification or further split
     FacesOnly      // face_vertices only: the last level
 };
 // `threads` share the work (each writes its own slice of every array).
 Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
+// Whether `child`, a split of `parent` in any Refined form, holds the numbering above in every array it has, exactly as
+// the derivations from the parent give it. Walks the whole level: Debug builds (the sanitizer run) assert it after
+// each split. The parent must hold its edge faces and vertex edges unless the child has faces only.
+bool follows_split_numbering(const Topology& parent, const Topology& child);
 
 // The ends of child edge e, from the parent alone.
 void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
@@ -99,6 +108,7 @@ public:
     Index child_edge_at(Index e, Index v) const {
         Index ends[2];
         edge_ends(e, ends);
+        assert(ends[0] == v || ends[1] == v);
         return 2 * e + (ends[0] == v ? 0 : 1);
     }
     // The edges of v, in the order of its vertex_vertices.
@@ -118,11 +128,10 @@ private:
     const Topology* base_;
 };
 
-// A child level known through its parent's numbering instead of stored: the level before the last without the limit
-// surface (the vertex mesh's, and a face-varying layer's), whose tables are filled from its parent
-// (fill_tables_from_parent), and with derived tables every level past the base (LevelStencils::derived_from), whose
-// tables are derived a chunk at a time as the kernels run; exactly as refine_topology would have written them. The parent must hold its edge faces and
-// vertex edges (Refined::Full, or the base).
+// A child level known through its parent's numbering instead of stored, exactly as refine_topology would have written
+// it: the tables of forms "interior" (filled from the parent) and "derived" (a chunk at a time as the kernels run;
+// LevelStencils explains the forms) are written by the functions below. The parent must hold its edge faces and vertex
+// edges (Refined::Full or Connectivity, or the base).
 // Where child vertex v's one-ring starts in refine_topology's vertex_vertices, for v from 0 to the number of child
 // vertices: an old vertex keeps its parent's offset, after them each midpoint has its ends and two per face.
 inline Index child_ring_offset(const Topology& parent, Index v) {
@@ -135,14 +144,14 @@ inline Index child_ring_offset(const Topology& parent, Index v) {
 // vertex v's at child_ring_offset(v) - child_ring_offset(begin).
 void write_child_rings(const Topology& parent, int begin, int end, Index* ring);
 // Ends (A, B) and the vertices opposite (C, D) of child edges [begin, end), as refine_topology's edge_vertices (2 per
-// edge) and edge_opposite_c / _d give them; written from index 0 of each array.
+// edge) and edge_wing_c / _d give them; written from index 0 of each array.
 void child_edges(const Topology& parent, int begin, int end, Index* ends, Index* c, Index* d);
 // The ends of the halves of parent edges [e0, e1) (child edges 2 e0 .. 2 e1), written from ends[0].
 void write_half_ends(const Topology& parent, int e0, int e1, Index* ends);
 // The vertices opposite the halves of the parent's edges (C, D of child edges 0 .. 2 x parent edges, as child_edges
 // writes them into c[e], d[e]): each of faces [f0, f1) writes its share, and each of edges [e0, e1) with fewer than
-// two faces what a missing face leaves (its own ends). Needs the parent's face_edge_places; twice as fast as
-// child_edges' edge order at the level before the last (0.28 against 0.74 ms with the ends).
+// two faces what a missing face leaves (its own ends). Needs the parent's face_edge_places; faster than child_edges'
+// edge order, which waits on faces read from far away (docs/benchmark.md, "Measurements behind the code").
 void write_half_wings(const Topology& parent, int f0, int f1, int e0, int e1, Index* c, Index* d);
 // Ends (A, B) and wings (C, D) of the child edge inside a parent face that joins the midpoints of its edges k and
 // k + 1 (face: the parent face's corners and edges, 3 each; the midpoint of parent edge e is child vertex nv + e):
@@ -166,7 +175,10 @@ inline int child_max_edge_face_count(const Topology& parent) {
     return parent.num_faces() > 0 ? std::max(parent.max_edge_face_count, 2) : parent.max_edge_face_count;
 }
 // Child edge of parent edge e at its end vertex v.
-inline Index child_edge_at(const Topology& parent, Index e, Index v) { return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1); }
+inline Index child_edge_at(const Topology& parent, Index e, Index v) {
+    assert(parent.edge_vertices[2 * e] == v || parent.edge_vertices[2 * e + 1] == v);
+    return 2 * e + (parent.edge_vertices[2 * e] == v ? 0 : 1);
+}
 
 // An edge is non-manifold when it has more than two faces, or two faces that run along it the same way. Of a base
 // level (it reads face_edge_places as build_base_topology numbers them).

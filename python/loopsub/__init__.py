@@ -6,10 +6,11 @@ non-contiguous views) and converts each array once to the core's types before th
 """
 import numpy as np
 
-from ._loopsub import INFINITE_SHARPNESS, VERTEX_TYPES, Plan, best_kernel
+from ._loopsub import INFINITE_SHARPNESS, VERTEX_TYPES, Plan, best_kernel, option_names, weld_corner_values
 from ._loopsub import subdivide as _subdivide_strict
 
-__all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "Plan", "best_kernel", "subdivide"]
+__all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "Plan", "best_kernel", "option_names", "subdivide",
+           "weld_corner_values"]
 
 _INDEX_ARGUMENTS = ("crease_edges", "corner_vertices", "cone_vertices", "hole_triangles")
 _VALUE_ARGUMENTS = ("crease_sharpness", "corner_sharpness")

@@ -1,4 +1,4 @@
-// Rules::Hoppe94 (the seed's rules, RULES.md section 1) against OpenSubdiv with infinitely sharp creases.
+// Rules::Hoppe94 (the seed's rules, docs/rules.md) against OpenSubdiv with infinitely sharp creases.
 //
 // The two rule sets share the smooth, crease and corner vertex masks, the smooth edge mask and the midpoint rule
 // for sharp edges. They differ only
@@ -345,7 +345,7 @@ TEST(Hoppe94VsOpenSubdiv, DartEndedCreaseEdgeUsesSmoothMask) {
 }
 
 // (c) A tagged cone with no crease edge: centre weight 3/8 + b(n), the rest (5/8 - b(n)) shared by the n
-// neighbours (RULES.md: c0 = n / (5/8 - b(n)) - n, ci = 1). Valences 3 to 12 at a bipyramid's apex.
+// neighbours (docs/rules.md: c0 = n / (5/8 - b(n)) - n, ci = 1). Valences 3 to 12 at a bipyramid's apex.
 TEST(Hoppe94VsOpenSubdiv, ConeVertexMask) {
     for (int n : {3, 4, 5, 6, 8, 12}) {
         SCOPED_TRACE("valence " + std::to_string(n));
@@ -406,7 +406,7 @@ TEST(Hoppe94VsOpenSubdiv, ConeOnCreaseBecomesCorner) {
 
 enum class SeedClass { Smooth, Dart, RegularCrease, IrregularCrease, Corner };
 
-// RULES.md section 1: s = crease edges at the vertex (boundary edges count); 0 smooth, 1 dart, 2 crease, >= 3 or
+// docs/rules.md, "Vertex classes": s = crease edges at the vertex (boundary edges count); 0 smooth, 1 dart, 2 crease, >= 3 or
 // tagged corner. A crease vertex is regular when interior with valence 6 and three faces on each side of its
 // crease, or on the boundary with valence 4 (three faces) and its crease edges the boundary edges.
 // For manifold meshes only.

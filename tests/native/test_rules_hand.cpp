@@ -1,4 +1,4 @@
-// The seed's rules (Rules::Hoppe94, RULES.md section 1) on tiny hand-built meshes, one level at a time. Every
+// The seed's rules (Rules::Hoppe94, docs/rules.md) on tiny hand-built meshes, one level at a time. Every
 // expected value is a weighted sum written out here from the rule tables, never computed by the project's code.
 //
 // Meshes:

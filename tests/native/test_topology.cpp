@@ -1,6 +1,7 @@
 // The connectivity a level carries for passes in face order (Topology::face_edge_places) and what those passes
-// write (the halves' wings): each checked against the same thing found by looking faces up edge by edge, on closed, open and non-manifold
-// meshes through three refinements, split between threads or not.
+// write (the halves' wings): each checked against the same thing found by looking faces up edge by edge, on closed,
+// open and non-manifold meshes through three refinements, split between threads or not. And the split's numbering
+// that reading a level through its parent relies on (follows_split_numbering, VertexNeighbourhood's shortcuts).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -111,8 +112,8 @@ void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
                 if (face_edges[3 * f + k] == e) return mesh.triangles[3 * f + (k + 2) % 3];
             return Index(-1);
         };
-        EXPECT_EQ(t.edge_opposite_c[e], opposite(faces[0])) << "edge " << e;
-        EXPECT_EQ(t.edge_opposite_d[e], faces.size() > 1 ? opposite(faces[1]) : edge_vertices[2 * e + 1]) << "edge " << e;
+        EXPECT_EQ(t.edge_wing_c[e], opposite(faces[0])) << "edge " << e;
+        EXPECT_EQ(t.edge_wing_d[e], faces.size() > 1 ? opposite(faces[1]) : edge_vertices[2 * e + 1]) << "edge " << e;
     }
     // Non-manifold edges: more than two faces, or two whose corners run along the edge the same way.
     std::vector<int> direction(edge_faces.size(), 0);
@@ -155,6 +156,40 @@ TEST(Topology, BaseLevelMatchesLookups) {
     }
     for (const TestMesh& mesh : {icosphere(4), grid_with_fins, hemisphere(4), soup, open_fan(40), fin_on_grid(), bowtie(5)})
         for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
+}
+
+// Every form of a split, on one thread or two, holds the numbering its derivations from the parent read
+// (follows_split_numbering, which Debug builds assert after each split); and the check sees a child whose faces, edge
+// ends, wings or rings are off.
+TEST(Topology, SplitsFollowTheirNumbering) {
+    using namespace loopsub::testing;
+    using loopsub::detail::Refined;
+    using loopsub::detail::follows_split_numbering;
+    using loopsub::detail::refine_topology;
+    for (const TestMesh& mesh : {icosphere(2), grid(4, 3), open_fan(7), fin_on_grid(), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        Topology level = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        for (int split = 1; split <= 2; ++split) {
+            for (Refined form : {Refined::Full, Refined::Connectivity, Refined::ForStencils, Refined::FacesOnly})
+                for (int threads : {1, 2})
+                    EXPECT_TRUE(follows_split_numbering(level, refine_topology(level, form, threads)))
+                        << "split " << split << ", form " << int(form) << ", threads " << threads;
+            Topology child = refine_topology(level, Refined::Full, 1);
+            Topology off = child;
+            std::swap(off.face_vertices[0], off.face_vertices[1]);
+            EXPECT_FALSE(follows_split_numbering(level, off));
+            off = child;
+            std::swap(off.edge_vertices[0], off.edge_vertices[1]);
+            EXPECT_FALSE(follows_split_numbering(level, off));
+            off = child;
+            ++off.edge_wing_d.back();
+            EXPECT_FALSE(follows_split_numbering(level, off));
+            off = child;
+            ++off.vertex_vertices.back();
+            EXPECT_FALSE(follows_split_numbering(level, off));
+            level = std::move(child);
+        }
+    }
 }
 
 // The mesh split three times (Refined::Full): per level past the base, `check` gets the levels so far, their vertex

@@ -56,5 +56,9 @@ try:
 except (TypeError, ValueError) as exception:
     check(True, f"Plan stays strict: int64 faces are refused, not copied ({exception})")
 
+check(set(loopsub.__all__) >= {"Plan", "subdivide", "option_names", "weld_corner_values"}
+      and loopsub.option_names()["rules"] == ("hoppe94", "opensubdiv"),
+      "the package offers the core's option names and its corner welding")
+
 print(f"{passed} passed, {len(failed)} failed")
 sys.exit(1 if failed else 0)

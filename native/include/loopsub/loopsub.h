@@ -22,6 +22,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -161,7 +162,7 @@ struct MeshData {
     MeshView view() const;  // valid while this mesh lives and is not modified
 };
 
-// Vertex classes of RULES.md section 1 (Hoppe94) and Sdc::Crease::Rule (OpenSubdiv: smooth, dart, crease, corner).
+// Vertex classes of docs/rules.md, "Vertex classes" (Hoppe94) and Sdc::Crease::Rule (OpenSubdiv: smooth, dart, crease, corner).
 enum class VertexType : std::uint8_t { Smooth = 0, Dart = 1, RegularCrease = 2, IrregularCrease = 3, Corner = 4, Cone = 5 };
 
 // A view of per-vertex float data: value of channel c at vertex i is data[c * channel_stride + i * element_stride].
@@ -279,7 +280,63 @@ private:
 const char* kernel_name(Kernel kernel);
 Kernel best_kernel();  // the widest kernel this CPU runs
 
-// The seed's coefficient constants (RULES.md section 1), exposed so that tests can check the seed's worked example.
+// The names of an option's values, as the command line (--rules hoppe94), the Python module (rules="hoppe94") and the
+// add-on spell them, in the order of the option's enum: names[i] names Option(i).
+struct OptionNames {
+    const char* const* names;
+    int count;
+
+    const char* const* begin() const { return names; }
+    const char* const* end() const { return names + count; }
+    // The names for a message, each between `quote`s: "a, b or c".
+    std::string listed(const char* quote = "") const;
+};
+
+// One table for each of Rules (hoppe94 opensubdiv), Boundary (edges edges-and-corners none), CreaseMethod (uniform
+// chaikin), FaceVaryingInterpolation (none corners corners-plus1 corners-plus2 boundaries all) and LevelTables (auto
+// stored derived).
+template <typename Option>
+OptionNames option_names();
+
+// option_name(Boundary::EdgesAndCorners) is "edges-and-corners".
+template <typename Option>
+const char* option_name(Option value) {
+    return option_names<Option>().names[int(value)];
+}
+
+// Sets `value` to the value `name` names and returns true; false, leaving `value` as it was, for any other text.
+template <typename Option>
+bool parse_option(std::string_view name, Option& value) {
+    const OptionNames table = option_names<Option>();
+    for (int i = 0; i < table.count; ++i) {
+        if (name == table.names[i]) {
+            value = Option(i);
+            return true;
+        }
+    }
+    return false;
+}
+
+// Per-corner values welded into shared ones, as a face-varying layer (FaceVaryingLayer) and an OBJ's vt and vn indices
+// take them: the corners of a vertex whose values are equal (bit for bit, -0.0 and 0.0 alike) share one value, and
+// where they differ each keeps its own (a seam). In the manner of meshoptimizer's vertex remap, in two steps:
+//
+// weld_corner_values writes each corner's value index into corner_value_indices (3 * num_triangles) and returns the
+// number of values. triangles: 3 * num_triangles vertex indices in [0, num_vertices) (InputError otherwise);
+// corner_values: num_channels floats per corner, 3 * num_triangles * num_channels in all. Values are numbered vertex
+// by vertex, and within a vertex in the order of their first corner: the numbers change only where corners join or
+// leave a value, not when values move. Linear in the number of corners.
+int weld_corner_values(std::int32_t* corner_value_indices, const std::int32_t* triangles, int num_triangles,
+                       int num_vertices, const float* corner_values, int num_channels);
+// gather_welded_values writes the values (num_channels floats for each of weld_corner_values' count): each is the
+// value of its first corner.
+void gather_welded_values(float* values, const std::int32_t* corner_value_indices, int num_triangles,
+                          const float* corner_values, int num_channels);
+
+// A size as MemoryLimitError's messages give it: "467.00 MiB (489684798 bytes)", in GiB from 1 GiB.
+std::string describe_bytes(std::uint64_t bytes);
+
+// The seed's coefficient constants (docs/rules.md, "One level"), exposed so that tests can check the seed's worked example.
 double loop_b(int valence);  // (3 + 2 cos(2 pi / n)) / 8
 double loop_a(int valence);  // 5/8 - b(n)^2
 

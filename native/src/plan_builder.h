@@ -1,0 +1,83 @@
+// Building a Plan: all topology work for N levels, done once (the per-frame work is evaluate.cpp's). The builder holds
+// what only building needs and fills a PlanImpl, the product (plan_data.h), step by step:
+//   base_level           the input's connectivity and features: sharpness from the tags and the topology (the rules)
+//   check_memory         the estimate against Options::memory_limit_bytes and 32-bit indices
+//   choose_table_forms   which form each level's tables take (LevelStencils, stencils.h)
+//   per level, plan_level:
+//     start_tables             the level's tables: counts and the smooth masks by valence
+//     plan_feature_vertices    around the features only: vertex classes, vertex masks, the child's features
+//     classify_last_midpoints  the classes of the last level's midpoints on sharp edges
+//     refine_child             the child's connectivity, in the least form its use needs
+//     plan_edge_masks          the masks of sharp edges
+//     hand_over_tables         the level's arrays the tables keep, moved rather than copied
+//   then retire_parent: the level before, done with, gives its arrays to the tables that read them
+//   plan_limit           the limit pass and the normals' tables (limit.cpp)
+//   drop_holes, collect_output_tags
+// Every rule decision is the rule set's (rule_set.h, rules.h): the builder gathers the local facts and asks.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "budget.h"
+#include "level_state.h"
+#include "plan_data.h"
+#include "rule_set.h"
+
+namespace loopsub::detail {
+
+class PlanBuilder {
+public:
+    // Validates the options and the mesh (InputError), checks the memory estimate (MemoryLimitError) and builds.
+    static std::unique_ptr<PlanImpl> build(const MeshView& mesh, const Options& options);
+
+private:
+    struct Step;
+    struct PartOutput;
+    struct HalvesOfFeatures;
+    struct ChildOfVertex;
+
+    PlanBuilder(const MeshView& mesh, PlanImpl& plan);
+    void run();
+
+    LevelState base_level();
+    // Returns the bytes the plan is estimated to need.
+    std::uint64_t check_memory(const Topology& base) const;
+    void choose_table_forms(const Topology& base, bool face_varying_layers);
+    LevelCounts base_counts(const Topology& base) const;
+
+    void plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level);
+    LevelStencils& start_tables(const VertexNeighbourhood& around, int num_vertices);
+    void plan_feature_vertices(Step& step, HalvesOfFeatures& halves) const;
+    ChildOfVertex decay_into_child(const Step& step, const FeatureVertex& vertex, PartOutput& out,
+                                   HalvesOfFeatures& halves) const;
+    void add_vertex_mask(const Step& step, const FeatureVertex& vertex, SdcRule rule, const ChildOfVertex& child,
+                         std::vector<SpecialVertex>& specials) const;
+    void join_parts(Step& step, std::vector<PartOutput>& parts, const HalvesOfFeatures& halves) const;
+    void classify_last_midpoints(const Step& step, const HalvesOfFeatures& halves) const;
+    void refine_child(Step& step) const;
+    void plan_edge_masks(Step& step, const HalvesOfFeatures& halves) const;
+    void hand_over_tables(Step& step) const;
+    void retire_parent(Topology& parent, int level);
+
+    void plan_limit(LevelState& last, const Topology& parent);  // limit.cpp
+    void drop_holes();
+    void collect_output_tags(const LevelState& last);
+
+    const MeshView& mesh_;
+    PlanImpl& plan_;
+    const Options& options_;  // the plan's
+    std::unique_ptr<RuleSet> rules_;
+    std::vector<Index> cones_;  // Hoppe94: the vertices tagged as cones, sorted
+    // Past the first split: the base level's faces and edge faces, for the walks around base vertices
+    // (VertexNeighbourhood); the tables' own copy where they keep the base whole (derived tables).
+    Topology kept_base_;
+    const Topology* base_for_walks_ = nullptr;
+    // The table forms (choose_table_forms; LevelStencils explains them). skip_level_before_last_: the level before
+    // the last is not built, its tables are filled from its parent. derive_tables_: Options::level_tables resolved,
+    // the tables of levels 1 .. levels - 1 are derived as an evaluation runs.
+    bool skip_level_before_last_ = false;
+    bool derive_tables_ = false;
+};
+
+}  // namespace loopsub::detail
