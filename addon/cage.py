@@ -257,8 +257,9 @@ class Source:
         # UV maps: face-varying layers with their own topology (a seam splits the value, not the vertex), refined as
         # UV Smooth says, to the limit with the limit surface.
         self.uv_names = [uv.name for uv in mesh.uv_layers]
-        self.uv_layers = [geometry.weld_corner_values(cage.triangles, read_array(uv.data, "uv", cage.num_loops, 2,
-                                                                          np.float32)[cage.triangle_loops])
+        self.uv_layers = [native.weld_corner_values(cage.triangles, cage.num_vertices,
+                                                    read_array(uv.data, "uv", cage.num_loops, 2, np.float32)
+                                                    [cage.triangle_loops])
                           for uv in mesh.uv_layers]
 
         # Corner channels refined linearly per face: corner attributes, and custom split normals where the mesh

@@ -192,34 +192,6 @@ def plan_attributes(attributes, skip):
     return point, corner, face, edge, dropped
 
 
-def weld_corner_values(corner_vertices, corner_values):
-    """One face-varying layer from per-corner values (a UV map read per triangle corner): the corners of a vertex
-    whose values are equal bit for bit (-0.0 and 0.0 alike) share one value, different values make a seam there.
-
-    corner_vertices (T, 3) int; corner_values (T, 3, C) float32. Returns (indices (T, 3) int32, values (V, C)
-    float32): the value index of each corner, as _loopsub.Plan's face_varying_indices takes it, and the values.
-    Values are numbered in the order of their first corner, so that the indices change only where corners join or
-    leave a value: a UV dragged without splitting or joining keeps the plan (the live entry's key)."""
-    corner_vertices = np.asarray(corner_vertices).reshape(-1)
-    values = np.asarray(corner_values, dtype=np.float32)
-    width = values.shape[-1]
-    values = values.reshape(-1, width) + np.float32(0.0)  # -0.0 + 0.0 is 0.0: equal values, equal bits
-    if not len(values):
-        return np.zeros((0, 3), np.int32), np.zeros((0, width), np.float32)
-    bits = np.ascontiguousarray(values).view(np.uint32)
-    order = np.lexsort(tuple(bits[:, k] for k in reversed(range(width))) + (corner_vertices,))
-    keys = np.column_stack([corner_vertices[order], bits[order]])
-    first = np.ones(len(order), dtype=bool)
-    first[1:] = (keys[1:] != keys[:-1]).any(axis=1)
-    group = np.cumsum(first, dtype=np.int64) - 1  # of each corner in `order`
-    first_corner = np.minimum.reduceat(order, np.flatnonzero(first))  # of each group
-    rank = np.empty(len(first_corner), dtype=np.int64)
-    rank[np.argsort(first_corner)] = np.arange(len(first_corner))
-    index = np.empty(len(order), dtype=np.int32)
-    index[order] = rank[group]
-    return index.reshape(-1, 3), np.ascontiguousarray(values[np.sort(first_corner)])
-
-
 def shared_vertex_normals(triangles, corner_normals, num_vertices):
     """The normal of each vertex, (V, 3), when every corner of every vertex has the same one (bit for bit; no crease
     splits them): Blender then takes one normal per vertex, six times fewer values than one per corner. None when

@@ -24,7 +24,7 @@ def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, fa
 
     tags: the dict of geometry.crease_tags (empty arrays when creases are off); cone_vertices: int32 indices, used by
     the seed's rules only (OpenSubdiv has no cones); face_varying_indices: one (M, 3) int32 array per UV map
-    (geometry.weld_corner_values), refined by the options' UV Smooth.
+    (weld_corner_values), refined by the options' UV Smooth.
     """
     if options.rules != 'HOPPE94':
         cone_vertices = np.zeros(0, dtype=np.int32)
@@ -35,6 +35,13 @@ def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, fa
     # The bindings raise ValueError/TypeError for bad input, RuntimeError/MemoryError for limits.
     except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
         raise LoopSubError(str(error)) from error
+
+
+def weld_corner_values(triangles, num_vertices, corner_values):
+    """One face-varying layer from per-corner values (a UV map read per triangle corner, (T, 3, C) float32): the
+    core's weld. Returns (indices (T, 3) int32, values (V, C) float32). Corners of a vertex with equal values share
+    one; a value dragged without splitting or joining corners keeps every index, so the live entry keeps its plan."""
+    return run(load().weld_corner_values, triangles, num_vertices, np.ascontiguousarray(corner_values, np.float32))
 
 
 def run(call, *args, **keywords):

@@ -170,34 +170,6 @@ def test_options_are_the_settings_of_one_subdivision():
                for setting in settings.SETTINGS if setting.choices)
 
 
-def test_weld_corner_values():
-    # Two triangles sharing the edge 1-2; vertex 2 has the same UV on both (welded, -0.0 and 0.0 alike), vertex 1
-    # different ones (a seam).
-    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
-    uvs = np.array([[[0, 0], [1, 0], [0, 1]], [[5, 0], [5, 1], [-0.0, 1]]], np.float32)
-    indices, values = geometry.weld_corner_values(triangles, uvs)
-    assert indices.dtype == np.int32 and indices.shape == (2, 3) and values.dtype == np.float32
-    assert len(values) == 5
-    assert indices[0, 2] == indices[1, 2] and indices[0, 1] != indices[1, 0]
-    assert np.array_equal(values[indices], uvs + 0.0)
-    # A value moved without splitting or joining corners keeps every index (the live entry keeps its plan), whether
-    # it now sorts before or after the vertex's other values.
-    for moved in ([0.5, 0.5], [9, 9]):
-        dragged = uvs.copy()
-        dragged[1, 0] = moved
-        dragged_indices, dragged_values = geometry.weld_corner_values(triangles, dragged)
-        assert np.array_equal(dragged_indices, indices) and np.array_equal(dragged_values[indices], dragged + 0.0)
-    # Equal UVs on different vertices stay different values.
-    indices, values = geometry.weld_corner_values(triangles, np.zeros((2, 3, 2), np.float32))
-    assert len(values) == 4 and indices[0, 1] == indices[1, 0] and indices[0, 2] == indices[1, 2]
-    # The layer refines through the core: a constant UV stays that constant in every mode.
-    for interpolation in ("all", "corners", "corners-plus1", "corners-plus2", "boundaries", "none"):
-        plan = _loopsub.Plan(triangles, 4, 2, rules="opensubdiv", uv_interpolation=interpolation,
-                             face_varying_indices=[indices], limit_surface=True)
-        refined = plan.evaluate_face_varying(values + 0.25, layer=0)[plan.face_varying_indices(0)]
-        assert refined.shape == (plan.num_output_triangles, 3, 2) and np.allclose(refined, 0.25)
-
-
 def test_shared_positions():
     positions = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1], [1, 1, 1]], np.float32)
     assert geometry.shared_positions(positions) == 1
@@ -268,3 +240,9 @@ def test_split_normal_edges_on_a_plan_follow_its_creases():
         midpoint = 7 + next(k for k, pair in enumerate(cage_edges) if sorted(pair) == [a, b])
         expected |= {tuple(sorted((a, midpoint))), tuple(sorted((midpoint, b)))}
     assert {tuple(sorted(pair)) for pair in edges[split].tolist()} == expected
+
+
+def test_every_choice_names_an_option_of_the_core():
+    core = _loopsub.option_names()
+    for keyword, setting in (("rules", "rules"), ("boundary", "boundary"), ("uv_interpolation", "uv_smooth")):
+        assert {choice.core for choice in settings.BY_NAME[setting].choices} <= set(core[keyword])
