@@ -126,8 +126,10 @@ def check_memory(mesh, options):
     core's plan, the result in Blender and its copies; the memory free, or left in the cgroup Blender runs in). A
     request past it would otherwise get Blender killed for lack of memory, unsaved work lost."""
     triangles = len(mesh.loops) - 2 * len(mesh.polygons)
+    edges = len(mesh.edges) + triangles - len(mesh.polygons)
     required = memory.estimate_bytes(
-        len(mesh.vertices), len(mesh.edges) + triangles - len(mesh.polygons), triangles, options.levels,
+        len(mesh.vertices), edges, triangles, options.levels,
+        native.estimate_plan_bytes(len(mesh.vertices), edges, triangles, options.levels),
         uv_layers=len(mesh.uv_layers), limit_surface=options.use_limit_surface, version=bpy.app.version,
         drawn=not bpy.app.background)
     available = memory.available_bytes()

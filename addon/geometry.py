@@ -94,38 +94,6 @@ def duplicate_triangles(triangles):
     return np.stack([first[inverse.ravel()[later]], later], axis=1)
 
 
-def output_edges(triangles, last_edges, last_num_vertices):
-    """The edges of a plan's output in the core's own numbering (loopsub.h, topology.h), so that a mesh needs no edge
-    search: (edge_vertices (E_out, 2), triangle_edges (T_out, 3)), where triangle edge i joins corners i and i + 1.
-
-    last_edges (E, 2) and last_num_vertices V: the plan's level_edges and level_num_vertices of the level before the
-    output. Edge e of that level gives output edges 2e = (a, V + e) and 2e + 1 = (V + e, b); its face f gives the
-    interior edges 2E + 3f + k joining the midpoints of its edges k and k + 1, and the output triangles 4f + k =
-    (v_k, m_k, m_{k-1}) for k < 3 and 4f + 3 = (m_0, m_1, m_2), with m_k = V + (edge k of f)."""
-    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 4, 3)
-    ends = np.asarray(last_edges, dtype=np.int64).reshape(-1, 2)
-    num_edges, num_faces = len(ends), len(triangles)
-    face_edges = triangles[:, 3, :] - last_num_vertices  # (F, 3): edge k of face f, from its middle child
-    midpoints = last_num_vertices + np.arange(num_edges)
-    halves = np.stack([ends[:, 0], midpoints, midpoints, ends[:, 1]], axis=1).reshape(-1, 2)
-    interior_base = 2 * num_edges + 3 * np.arange(num_faces)[:, None]  # (F, 1)
-    interior = np.stack([triangles[:, 3, :], np.roll(triangles[:, 3, :], -1, axis=1)], axis=2).reshape(-1, 2)
-    edge_vertices = np.concatenate([halves, interior]).astype(np.int32)
-
-    corners = triangles[:, :3, 0]  # v_k of each corner child
-    previous = np.roll(face_edges, 1, axis=1)  # edge k - 1
-
-    def half_at(edge, vertex):  # the half of a parent edge at one of its ends
-        return 2 * edge + (ends[edge, 0] != vertex)
-
-    triangle_edges = np.empty((num_faces, 4, 3), dtype=np.int64)
-    triangle_edges[:, :3, 0] = half_at(face_edges, corners)
-    triangle_edges[:, :3, 1] = interior_base + np.roll(np.arange(3), 1)  # interior edge k - 1
-    triangle_edges[:, :3, 2] = half_at(previous, corners)
-    triangle_edges[:, 3, :] = interior_base + np.arange(3)
-    return edge_vertices, triangle_edges.reshape(-1, 3).astype(np.int32)
-
-
 def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
     """For each edge (a, b) of the last level, the cage edge it lies on (index into cage_edges), -1 for edges inside
     a cage face.

@@ -149,22 +149,6 @@ def output_counts(vertices, edges, triangles, levels):
     return vertices, edges, triangles
 
 
-def core_bytes(vertices, edges, triangles, levels, vertex_channels=3):
-    """The core's own estimate of a plan and one evaluation (estimate_for_counts in native/src/budget.cpp, which the
-    module does not expose): per level its stencils and edges, twice its largest building level (a child is built
-    while its parent lives), the output's triangles and channels, and two scratch levels of padded channels."""
-    kept = largest_transient = 0
-    previous = (vertices, edges, triangles)
-    for _ in range(levels):
-        kept += 32 * edges + 5 * vertices
-        largest_transient = max(largest_transient, 36 * triangles + 20 * edges + 12 * vertices)
-        previous = (vertices, edges, triangles)
-        vertices, edges, triangles = output_counts(vertices, edges, triangles, 1)
-    padded = (vertex_channels + 3) // 4 * 4
-    kept += 16 * triangles + 4 * vertex_channels * vertices + 4 * padded * 2 * previous[0]
-    return kept + 2 * largest_transient
-
-
 class _Bytes:
     """Bytes per output vertex, edge, corner and triangle (three corners a triangle), and per corner of each UV map."""
 
@@ -194,14 +178,14 @@ _NONE = _Bytes()
 #   Blender 3.4.1, interface, level 4, limit on / off:  measured 4,333 / 3,044     estimated 5,573 / 3,458
 #   bpy 4.5.15, icosphere level 5, limit on / off:      measured 15,075 / 4,822    estimated 16,884 / 5,104
 
-# (a) The core's plan beyond core_bytes: each UV map's output indices, with the limit surface its limit stencils.
+# (a) The core's plan beyond its own estimate (plan_bytes): each UV map's output indices, with the limit surface its limit stencils.
 _CORE_UV = _Bytes(uv=4)
 _CORE_UV_LIMIT = _Bytes(uv=10)
 
 # (b) The add-on's numpy arrays. Held through the update: the refined values (4 bytes a channel of a vertex or
 # corner; UV maps, with the copy of their indices that places them), with the limit surface the normals per corner,
 # which the viewport's result keeps for settle(). Temporaries, at two moments: laying out the result's edges
-# (geometry.output_edges), before the mesh exists; with the limit surface, finding where the limit normals split
+# (Plan.output_edges), before the mesh exists; with the limit surface, finding where the limit normals split
 # (geometry.split_normal_edges on a probe's normals), once the mesh has its geometry. That search held some 150 bytes
 # a corner when calibrated and about 20 since (int32, a side at a time: the peak of level 4 with the limit surface
 # fell from 3,853 to 1,804 MiB in 4.5, from 3,905 to 3,460 in 3.4); its constant stays the calibrated one, on the
@@ -241,10 +225,11 @@ _FIXED = 48 << 20
 _FIXED_DRAWN = 64 << 20
 
 
-def estimate_bytes(vertices, edges, triangles, levels, uv_layers=0, corner_channels=0, vertex_channels=3,
+def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, uv_layers=0, corner_channels=0, vertex_channels=3,
                    limit_surface=True, version=(4, 5, 0), drawn=True):
     """Peak bytes one update of an entry adds at `levels`, from the cage's counts (edges and triangles after
-    triangulation: the mesh's edges plus its triangles minus its faces). corner_channels: floats per corner refined
+    triangulation: the mesh's edges plus its triangles minus its faces) and the core's own estimate of its plan and
+    one evaluation of the vertex channels (plan_bytes: _loopsub.estimate_plan_bytes). corner_channels: floats per corner refined
     linearly (colour attributes, the cage's own custom normals); vertex_channels: floats per vertex (3 for positions,
     plus point attributes and vertex groups); drawn: False in background mode, which has no viewport.
 
@@ -267,7 +252,7 @@ def estimate_bytes(vertices, edges, triangles, levels, uv_layers=0, corner_chann
         held, split = _LIMIT_NORMALS, _SPLIT
         write_normals = _WRITE_NORMALS_3_4 if old else _WRITE_NORMALS
 
-    core = core_bytes(vertices, edges, triangles, levels, vertex_channels) + core_uv.of(counts, uv_layers)
+    core = plan_bytes + core_uv.of(counts, uv_layers)
     build = refined.of(counts, uv_layers) + max(_LAYOUT.of(counts), (stored + split).of(counts, uv_layers))
     shown = (held + caches).of(counts) + stored.of(counts, uv_layers) * (1 + (_COPIES_3_4 if old else 0))
     fixed = _FIXED

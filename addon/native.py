@@ -44,6 +44,11 @@ def weld_corner_values(triangles, num_vertices, corner_values):
     return run(load().weld_corner_values, triangles, num_vertices, np.ascontiguousarray(corner_values, np.float32))
 
 
+def estimate_plan_bytes(vertices, edges, triangles, levels, vertex_channels=3):
+    """The core's own estimate of a plan for these counts and one evaluation of vertex_channels floats a vertex."""
+    return run(load().estimate_plan_bytes, vertices, triangles, levels, vertex_channels, edges)
+
+
 def run(call, *args, **keywords):
     """Calls a plan method, turning the core's errors into LoopSubError."""
     try:

@@ -7,7 +7,7 @@ object's mesh untouched.
 import bpy
 import numpy as np
 
-from . import compat, geometry, normals, tags
+from . import compat, geometry, native, normals, tags
 from .cage import Source, check_object
 from .mesh_data import add_attribute, fill_attribute
 
@@ -116,12 +116,11 @@ def _write_values(new, source, refined):
 
 
 def _write_geometry(new, positions, plan):
-    """Vertices, edges and triangles. The edges come numbered from the core's refinement (geometry.output_edges), so
+    """Vertices, edges and triangles. The edges come numbered from the core's refinement (Plan.output_edges), so
     Blender need not find them, nor the add-on read them back. Returns (edge_vertices, triangle_edges)."""
     triangles = plan.triangles
     num_triangles = len(triangles)
-    edges, triangle_edges = geometry.output_edges(triangles, plan.level_edges(plan.levels - 1),
-                                                  plan.level_num_vertices(plan.levels - 1))
+    edges, triangle_edges = native.run(plan.output_edges)
     new.vertices.add(len(positions))
     new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
     new.edges.add(len(edges))

@@ -81,6 +81,20 @@ PYBIND11_MODULE(_loopsub, m) {
     m.def("best_kernel", [] { return loopsub::kernel_name(loopsub::best_kernel()); },
           "best_kernel()\n\nName of the widest evaluation kernel this CPU runs ('avx2', 'sse4.1' or 'scalar').");
 
+    m.def(
+        "estimate_plan_bytes",
+        [](int num_vertices, int num_triangles, int levels, int num_channels, std::int64_t num_edges) {
+            if (num_vertices < 0 || num_triangles < 0 || levels < 0 || num_channels < 1)
+                throw py::value_error("estimate_plan_bytes: counts must not be negative and num_channels at least 1");
+            return loopsub::Plan::estimate_bytes(num_vertices, num_triangles, levels, num_channels, num_edges);
+        },
+        py::arg("num_vertices"), py::arg("num_triangles"), py::arg("levels"), py::arg("num_channels") = 3,
+        py::arg("num_edges") = -1,
+        "estimate_plan_bytes(num_vertices, num_triangles, levels, num_channels=3, num_edges=-1)\n\nBytes a plan of "
+        "this input and one evaluation of num_channels floats per vertex would hold: the estimate the memory check "
+        "compares with memory_limit_bytes (MemoryError.required_bytes, for 3 channels). num_edges < 0: unknown, a "
+        "closed mesh's count (3/2 per triangle) stands in.");
+
     // Index = the uint8 value of Plan.level_vertex_types() (loopsub::VertexType).
     m.attr("VERTEX_TYPES") = py::make_tuple("smooth", "dart", "regular_crease", "irregular_crease", "corner", "cone");
     m.attr("INFINITE_SHARPNESS") = loopsub::kInfiniteSharpness;

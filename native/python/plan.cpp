@@ -482,6 +482,29 @@ void bind_plan(py::module_& m) {
             py::arg("level"),
             "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k of level L+1.")
         .def(
+            "output_edges",
+            [](PyPlan& p) {
+                int num_edges = 0;
+                try {
+                    num_edges = p.plan.num_output_edges();
+                } catch (const std::logic_error& error) {
+                    throw py::value_error(error.what());
+                }
+                py::array_t<std::int32_t> edge_vertices({py::ssize_t(num_edges), py::ssize_t(2)});
+                py::array_t<std::int32_t> triangle_edges({py::ssize_t(p.plan.num_output_triangles()), py::ssize_t(3)});
+                std::int32_t* ends = edge_vertices.mutable_data();
+                std::int32_t* sides = triangle_edges.mutable_data();
+                {
+                    py::gil_scoped_release nogil;
+                    p.plan.output_edges(ends, sides);
+                }
+                return py::make_tuple(edge_vertices, triangle_edges);
+            },
+            "output_edges()\n\n(edge_vertices (E_out, 2) int32, triangle_edges (M_out, 3) int32): the output's edges as the "
+            "last split numbers them (the halves of edge e of level levels - 1 are 2e and 2e + 1, the edges inside its "
+            "face f are 2E + 3f + k), and each output triangle's edges (edge k joins corners k and k + 1): a mesh "
+            "without an edge search. New arrays. ValueError for a plan of no levels or with holes.")
+        .def(
             "level_num_vertices",
             [](PyPlan& p, int level) {
                 if (level < 0 || level > p.plan.levels())

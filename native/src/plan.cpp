@@ -86,10 +86,10 @@ const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
     return copy;
 }
 
-std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels) {
-    // Before the edges are known, a closed manifold's count stands in: three halves per triangle.
-    const LevelCounts counts{std::uint64_t(std::max(num_vertices, 0)), std::uint64_t(std::max(num_triangles, 0)) * 3 / 2,
-                             std::uint64_t(std::max(num_triangles, 0))};
+std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels, std::int64_t num_edges) {
+    const std::uint64_t triangles = std::uint64_t(std::max(num_triangles, 0));
+    const LevelCounts counts{std::uint64_t(std::max(num_vertices, 0)),
+                             num_edges < 0 ? triangles * 3 / 2 : std::uint64_t(num_edges), triangles};
     return estimate_for_counts(counts, levels, num_channels);
 }
 

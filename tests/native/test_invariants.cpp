@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <functional>
@@ -166,6 +167,37 @@ TEST_P(Invariants, CountsAndEulerCharacteristic) {
     const EdgeCounts counts = count_edges(tris, int(f));
     EXPECT_EQ((long long)counts.faces.size(), e);
     EXPECT_EQ(v - (long long)counts.faces.size() + f, euler);
+}
+
+// Plan::output_edges: every distinct edge of the output triangles once (non-manifold ones included), each
+// triangle's edge k joining its corners k and k + 1, the halves of edge e of the level before at 2e and 2e + 1.
+TEST_P(Invariants, OutputEdgesAreTheTrianglesEdgesNumberedBySplit) {
+    const Plan& plan = *plan_;
+    const int num_edges = plan.num_output_edges();
+    std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), sides(3 * std::size_t(plan.num_output_triangles()));
+    plan.output_edges(ends.data(), sides.data());
+    std::vector<std::array<std::int32_t, 2>> listed;
+    for (int e = 0; e < num_edges; ++e) listed.push_back({std::min(ends[2 * e], ends[2 * e + 1]), std::max(ends[2 * e], ends[2 * e + 1])});
+    std::vector<std::array<std::int32_t, 2>> sorted = listed;
+    std::sort(sorted.begin(), sorted.end());
+    const std::vector<std::int32_t> triangles(plan.output_triangles(), plan.output_triangles() + sides.size());
+    ASSERT_EQ(sorted, unique_edges(triangles));
+    for (std::size_t t = 0; t < sides.size() / 3; ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const std::int32_t a = triangles[3 * t + k], b = triangles[3 * t + (k + 1) % 3];
+            ASSERT_EQ(listed[std::size_t(sides[3 * t + k])], (std::array<std::int32_t, 2>{std::min(a, b), std::max(a, b)}))
+                << "triangle " << t << ", edge " << k;
+        }
+    }
+    const std::vector<std::int32_t>& before = plan.level_edges(GetParam().levels - 1);
+    const std::int32_t first_midpoint = plan.level_num_vertices(GetParam().levels - 1);
+    for (std::size_t e = 0; e < before.size() / 2; ++e) {
+        const std::int32_t midpoint = first_midpoint + std::int32_t(e);
+        ASSERT_EQ(ends[4 * e], before[2 * e]);
+        ASSERT_EQ(ends[4 * e + 1], midpoint);
+        ASSERT_EQ(ends[4 * e + 2], midpoint);
+        ASSERT_EQ(ends[4 * e + 3], before[2 * e + 1]);
+    }
 }
 
 // A closed manifold stays one: every edge in exactly two faces, which traverse it in opposite directions (so the

@@ -176,27 +176,6 @@ def test_shared_positions():
     assert geometry.shared_positions(positions[:4]) == 0
 
 
-@pytest.mark.parametrize("levels", [1, 2, 3])
-def test_output_edges_number_every_output_edge_once(levels):
-    # A closed octahedron and an open strip: every triangle edge i joins corners i and i + 1, every edge is used,
-    # none twice, and the counts obey Euler's formula (V - E + F = 2 on the closed one).
-    for triangles, num_vertices, closed in (
-            (np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4], [1, 0, 5], [2, 1, 5], [3, 2, 5], [0, 3, 5]],
-                      np.int32), 6, True),
-            (np.array([[0, 1, 2], [2, 1, 3], [2, 3, 4]], np.int32), 5, False)):
-        plan = _loopsub.Plan(triangles, num_vertices, levels, rules="opensubdiv")
-        t = plan.triangles
-        edges, triangle_edges = geometry.output_edges(t, plan.level_edges(levels - 1),
-                                                      plan.level_num_vertices(levels - 1))
-        joined = edges[triangle_edges]  # (T, 3, 2)
-        for i in range(3):
-            assert np.array_equal(np.sort(joined[:, i], axis=1), np.sort(t[:, [i, (i + 1) % 3]], axis=1))
-        assert len(np.unique(np.sort(edges, axis=1), axis=0)) == len(edges)
-        assert np.array_equal(np.unique(triangle_edges), np.arange(len(edges)))
-        if closed:
-            assert plan.num_output_vertices - len(edges) + len(t) == 2
-
-
 def test_shared_vertex_normals():
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
     up = np.tile(np.array([0, 0, 1], np.float32), (2, 3, 1))
@@ -231,7 +210,7 @@ def test_split_normal_edges_on_a_plan_follow_its_creases():
     creases = np.array([[0, 1], [0, 4]], np.int32)
     plan = _loopsub.Plan(triangles, 7, 1, rules="opensubdiv", limit_surface=True, crease_edges=creases)
     _, normals = plan.evaluate_with_normals(np.random.default_rng(1).random((7, 3), dtype=np.float32))
-    edges, triangle_edges = geometry.output_edges(plan.triangles, plan.level_edges(0), plan.level_num_vertices(0))
+    edges, triangle_edges = plan.output_edges()
     split = geometry.split_normal_edges(triangle_edges, normals, edges, plan.triangles)
     # Edge e of the cage has the midpoint 7 + e; its halves join that midpoint to its ends.
     cage_edges = np.asarray(plan.level_edges(0)).tolist()

@@ -222,3 +222,37 @@ def test_derived_level_tables_give_the_stored_result():
         np.testing.assert_array_equal(stored, derived)
     with pytest.raises(ValueError, match="level_tables must be 'auto', 'stored' or 'derived'"):
         _loopsub.Plan(triangles, len(positions), levels=2, level_tables="lean")
+
+
+@pytest.mark.parametrize("levels", [1, 2, 3])
+def test_output_edges_number_every_output_edge_once(levels):
+    # A closed octahedron and an open strip: every triangle edge i joins corners i and i + 1, every edge is used,
+    # none twice, the counts obey Euler's formula (V - E + F = 2 on the closed one), and the halves of edge e of the
+    # level before are 2e and 2e + 1 (the numbering the API promises).
+    for triangles, num_vertices, closed in (
+            (np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4], [1, 0, 5], [2, 1, 5], [3, 2, 5], [0, 3, 5]],
+                      np.int32), 6, True),
+            (np.array([[0, 1, 2], [2, 1, 3], [2, 3, 4]], np.int32), 5, False)):
+        plan = _loopsub.Plan(triangles, num_vertices, levels, rules="opensubdiv")
+        t = plan.triangles
+        edges, triangle_edges = plan.output_edges()
+        assert edges.dtype == np.int32 and triangle_edges.dtype == np.int32 and triangle_edges.shape == t.shape
+        joined = edges[triangle_edges]  # (T, 3, 2)
+        for i in range(3):
+            assert np.array_equal(np.sort(joined[:, i], axis=1), np.sort(t[:, [i, (i + 1) % 3]], axis=1))
+        assert len(np.unique(np.sort(edges, axis=1), axis=0)) == len(edges)
+        assert np.array_equal(np.unique(triangle_edges), np.arange(len(edges)))
+        if closed:
+            assert plan.num_output_vertices - len(edges) + len(t) == 2
+        before = plan.level_edges(levels - 1)
+        midpoints = plan.level_num_vertices(levels - 1) + np.arange(len(before))
+        assert np.array_equal(edges[0:2 * len(before):2], np.column_stack([before[:, 0], midpoints]))
+        assert np.array_equal(edges[1:2 * len(before):2], np.column_stack([midpoints, before[:, 1]]))
+
+
+def test_output_edges_need_a_level_and_no_holes():
+    p, t = icosahedron()
+    with pytest.raises(ValueError, match="no levels"):
+        _loopsub.Plan(t, len(p), 0).output_edges()
+    with pytest.raises(ValueError, match="holes"):
+        _loopsub.Plan(t, len(p), 1, hole_triangles=np.array([0], np.int32)).output_edges()

@@ -230,6 +230,14 @@ public:
     // (number of level-L vertices + k) of level L+1.
     const std::vector<std::int32_t>& level_edges(int level) const;
     int level_num_vertices(int level) const;  // 0 <= level <= levels()
+    // The output's edges as the last split numbers them (docs/architecture.md, "The split's numbering"), so that a
+    // caller building a mesh needs no edge search. With E edges and F faces in level levels() - 1: the halves of
+    // edge e are output edges 2e and 2e + 1, the edges inside face f are 2E + 3f + k. Writes
+    // 2 * num_output_edges() vertex indices (each edge's ends) and 3 * num_output_triangles() edge indices (edge k
+    // of a triangle joins its corners k and k + 1). For plans of at least one level and without holes
+    // (std::logic_error otherwise: a hole's inner edges have no triangle to be read from).
+    int num_output_edges() const;
+    void output_edges(std::int32_t* edge_vertices, std::int32_t* triangle_edges) const;
     // Class of each vertex of level L (0 <= L <= levels()) under the chosen rules: what the repositioning at level L
     // used; for the last level, the class its vertices would take at the next level (with the limit surface: what
     // the limit used). The one classification an application needs to tag the output. (With no levels and no limit
@@ -271,7 +279,9 @@ public:
     double last_evaluate_ms() const;
 
     // Bytes the plan and one evaluation of C channels would hold for a given input: what the memory check uses.
-    static std::uint64_t estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels);
+    // num_edges < 0: not known yet, a closed manifold's count (three halves per triangle) stands in.
+    static std::uint64_t estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels,
+                                        std::int64_t num_edges = -1);
 
 private:
     std::unique_ptr<PlanImpl> impl_;

@@ -1,0 +1,57 @@
+// The output's edges, read off the last split's numbering: the halves of each edge of the level before, and the
+// three edges inside each of its faces, which the middle child's corners (the midpoints) name.
+#include <stdexcept>
+
+#include "plan_data.h"
+#include "triangle_corners.h"
+
+namespace loopsub {
+
+namespace {
+
+void require_edges(const PlanImpl& p) {
+    if (p.options.levels < 1) throw std::logic_error("output_edges: a plan of no levels has the input's edges");
+    if (!p.holes.empty()) throw std::logic_error("output_edges: the plan has holes, whose inner edges no triangle gives");
+}
+
+}  // namespace
+
+int Plan::num_output_edges() const {
+    require_edges(*impl_);
+    return 2 * int(level_edges(levels() - 1).size() / 2) + 3 * num_output_triangles() / 4;
+}
+
+void Plan::output_edges(std::int32_t* edge_vertices, std::int32_t* triangle_edges) const {
+    require_edges(*impl_);
+    const std::vector<Index>& ends = level_edges(levels() - 1);  // (a, b) per edge of the level before
+    const Index nv = level_num_vertices(levels() - 1), ne = Index(ends.size() / 2);
+    const Index nf = Index(num_output_triangles() / 4);
+    const Index* children = output_triangles();
+    for (Index e = 0; e < ne; ++e) {
+        const Index a = ends[2 * std::size_t(e)], b = ends[2 * std::size_t(e) + 1], midpoint = nv + e;
+        Index* out = edge_vertices + 4 * std::size_t(e);
+        out[0] = a, out[1] = midpoint, out[2] = midpoint, out[3] = b;
+    }
+    // The half of parent edge e at its end v.
+    auto half_at = [&ends](Index e, Index v) { return 2 * e + Index(ends[2 * std::size_t(e)] != v); };
+    for (Index f = 0; f < nf; ++f) {
+        const Index* middle = children + 3 * (4 * std::size_t(f) + 3);  // m_0, m_1, m_2
+        const Index inner = 2 * ne + 3 * f;
+        Index fe[3];
+        for (int k = 0; k < 3; ++k) {
+            Index* out = edge_vertices + 2 * std::size_t(inner + k);
+            out[0] = middle[k], out[1] = middle[detail::next_corner(k)];
+            fe[k] = middle[k] - nv;
+        }
+        for (int k = 0; k < 3; ++k) {  // corner child (v_k, m_k, m_k-1)
+            const Index v = children[3 * (4 * std::size_t(f) + k)];
+            Index* out = triangle_edges + 3 * (4 * std::size_t(f) + k);
+            const int before = detail::prev_corner(k);
+            out[0] = half_at(fe[k], v), out[1] = inner + before, out[2] = half_at(fe[before], v);
+        }
+        Index* out = triangle_edges + 3 * (4 * std::size_t(f) + 3);
+        out[0] = inner, out[1] = inner + 1, out[2] = inner + 2;
+    }
+}
+
+}  // namespace loopsub
