@@ -123,7 +123,8 @@ def _write(cache, obj, evaluated, mesh, helper, options, render):
         plan_key = source.plan_key()
         if not _equal(cache.plan_key, plan_key):
             # The old plan is of another topology: it goes (with the normals that view its triangles) before the new
-            # one is built, so that a large result's two plans are never held at once, and the new one reuses its memory.
+            # one is built, so that a large result's two plans are never held at once, and the new one reuses its
+            # memory.
             cache.plan = cache.plan_key = cache.limit_normals = None
             cache.plan, cache.plan_key, cache.inputs = source.plan(), plan_key, None
             cache.plan_builds += 1

@@ -178,7 +178,8 @@ _NONE = _Bytes()
 #   Blender 3.4.1, interface, level 4, limit on / off:  measured 4,333 / 3,044     estimated 5,573 / 3,458
 #   bpy 4.5.15, icosphere level 5, limit on / off:      measured 15,075 / 4,822    estimated 16,884 / 5,104
 
-# (a) The core's plan beyond its own estimate (plan_bytes): each UV map's output indices, with the limit surface its limit stencils.
+# (a) The core's plan beyond its own estimate (plan_bytes): each UV map's output indices, with the limit surface its
+# limit stencils.
 _CORE_UV = _Bytes(uv=4)
 _CORE_UV_LIMIT = _Bytes(uv=10)
 
@@ -229,9 +230,10 @@ def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, uv_layers=0, 
                    limit_surface=True, version=(4, 5, 0), drawn=True):
     """Peak bytes one update of an entry adds at `levels`, from the cage's counts (edges and triangles after
     triangulation: the mesh's edges plus its triangles minus its faces) and the core's own estimate of its plan and
-    one evaluation of the vertex channels (plan_bytes: _loopsub.estimate_plan_bytes). corner_channels: floats per corner refined
-    linearly (colour attributes, the cage's own custom normals); vertex_channels: floats per vertex (3 for positions,
-    plus point attributes and vertex groups); drawn: False in background mode, which has no viewport.
+    one evaluation of the vertex channels (plan_bytes: _loopsub.estimate_plan_bytes). corner_channels: floats per
+    corner refined linearly (colour attributes, the cage's own custom normals); vertex_channels: floats per vertex
+    (3 for positions, plus point attributes and vertex groups); drawn: False in background mode, which has no
+    viewport.
 
     The peak comes either while the update builds the result (the refined values, then the larger of two moments'
     temporaries), or once it is shown (the result with its caches and evaluated copies, the draw cache) and, with the

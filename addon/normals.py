@@ -66,8 +66,9 @@ def write_normals(new, source, refined, auto_loops):
 
 
 def write_limit_normals(new, normals, triangles, auto_loops):
-    """The limit normals (T_out, 3, 3) as custom split normals, but Blender's own at auto_loops (see blender_normal_corners).
-    Also what the live entry writes into a result that showed Blender's normals, once it is still (live.py)."""
+    """The limit normals (T_out, 3, 3) as custom split normals, but Blender's own at auto_loops (see
+    blender_normal_corners). Also what the live entry writes into a result that showed Blender's normals, once it is
+    still (live.py)."""
     if auto_loops is not None:
         if auto_loops.all():
             return  # every face flat: Blender's own normals are the face normals

@@ -244,9 +244,10 @@ _keymap_items = []  # (keymap, item) of Ctrl 0-5
 
 
 def _add_keymap_items():
-    """Ctrl 0-5 in Object and Edit Mode, as Blender binds object.subdivision_set, call loop_subdivision_set (which sets a Loop
-    Subdivision modifier's levels and leaves every other object to Blender's). Add-on keymap items come before the
-    default ones. No keymaps in background mode (no window manager, or a key configuration without one for add-ons)."""
+    """Ctrl 0-5 in Object and Edit Mode, as Blender binds object.subdivision_set, call loop_subdivision_set (which sets
+    a Loop Subdivision modifier's levels and leaves every other object to Blender's). Add-on keymap items come before
+    the default ones. No keymaps in background mode (no window manager, or a key configuration without one for
+    add-ons)."""
     window_manager = bpy.context.window_manager
     keyconfig = window_manager.keyconfigs.addon if window_manager is not None else None
     if keyconfig is None:

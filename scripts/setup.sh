@@ -19,6 +19,9 @@ if [ "${1:-}" = "--sanitize" ]; then
   # the module stays out of addon/, and Blender out of the run).
   flags=(-DCMAKE_BUILD_TYPE=Debug -DLOOPSUB_SANITIZE=ON -DLOOPSUB_COPY_TO_ADDON=OFF -DLOOPSUB_BLENDER= -DLOOPSUB_BENCH=OFF)
 fi
+# The linter the tests run (lint.ruff; its rules in pyproject.toml), pinned: a newer ruff may add findings.
+source scripts/interpreters.sh
+ensure_venv build/venv-lint /usr/bin/python3 ruff==0.17.6
 cmake -S . -B "$build" "${flags[@]}" >/dev/null
 cmake --build "$build" -j"$(nproc)"
 echo "setup: built into $build/"

@@ -13,8 +13,6 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bpy  # noqa: E402
-import bmesh  # noqa: E402
-import numpy as np  # noqa: E402
 
 import blender_test_support as support  # noqa: E402
 

@@ -241,7 +241,7 @@ def sharp_edges_kept():
     support.remove(obj)
 
 
-# --- custom normals the mesh had ---------------------------------------------------------------------------------------
+# --- custom normals the mesh had --------------------------------------------------------------------------------
 
 def custom_normals_carried():
     for limit in (True, False):

@@ -3,8 +3,8 @@ normals while the result changes, split where the limit normals split (those edg
 normals themselves once it is still (live.settle, which a timer runs in the interface), in renders and from Apply.
 
 The cages are shaded smooth: the children of flat faces stay flat (as in Subdivision Surface) and show no limit
-normals. The bounds on the angle between Blender's normals and the limit normals are measured (scripts in the commit that
-added this test; docs/addon.md, Normals): a smooth icosphere at level 1 within 0.15 degrees, a creased cube's sides
+normals. The bounds on the angle between Blender's normals and the limit normals are measured (scripts in the commit
+that added this test; docs/addon.md, Normals): a smooth icosphere at level 1 within 0.15 degrees, a creased cube's sides
 exactly, a sphere with a creased equator within 2 degrees at level 2 (OpenSubdiv rules).
 """
 import os

@@ -1,4 +1,5 @@
-"""The add-on's bpy-free helpers (addon/geometry.py and addon/settings.py), loaded by path with plain Python: no Blender needed."""
+"""The add-on's bpy-free helpers (addon/geometry.py and addon/settings.py), loaded by path with plain Python: no Blender
+needed."""
 import importlib.util
 import os
 
@@ -95,8 +96,8 @@ def test_parent_edges_follow_the_cage_edges():
     plan = _loopsub.Plan(triangles, 4, levels, rules="opensubdiv")
     t = plan.triangles
     pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
-    parents = geometry.parent_edges(pairs, [plan.level_edges(l) for l in range(levels)],
-                                    [plan.level_num_vertices(l) for l in range(levels)], cage_edges, 4)
+    parents = geometry.parent_edges(pairs, [plan.level_edges(level) for level in range(levels)],
+                                    [plan.level_num_vertices(level) for level in range(levels)], cage_edges, 4)
     # Placed linearly (positions as face-varying data), a child edge lies on the cage edge it names, and on none
     # when it names none: checked against the unit square's geometry, not the numbering.
     square = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float64)

@@ -1,6 +1,6 @@
 """Generated hostile arguments (Hypothesis): every call into the module either gives a valid result or raises one of
-its documented exceptions (TypeError, ValueError, IndexError, MemoryError). It never crashes: a crash in the native module takes
-the artist's Blender session down with it.
+its documented exceptions (TypeError, ValueError, IndexError, MemoryError). It never crashes: a crash in the native
+module takes the artist's Blender session down with it.
 
 The arguments start from a small random mesh and its options, each argument replaced at random by something hostile:
 a wrong dtype, shape, stride, byte order or type, a read-only or aliased output, indices out of range, degenerate or
@@ -80,7 +80,8 @@ def options(draw, num_vertices, num_triangles):
     vertex = st.one_of(st.integers(0, max(num_vertices - 1, 0)), st.sampled_from([-1, num_vertices, 2**31 - 1]))
     def indices(width):  # (k, width) vertex indices; (k,) for width 1
         k = draw(st.integers(0, 4))
-        rows = np.array(draw(st.lists(st.tuples(*[vertex] * width), min_size=k, max_size=k)), np.int32).reshape(k, width)
+        rows = np.array(draw(st.lists(st.tuples(*[vertex] * width), min_size=k, max_size=k)), np.int32)
+        rows = rows.reshape(k, width)
         return rows if width > 1 else rows.reshape(k)
     def sharpness(k):
         return np.array(draw(st.lists(FLOATS, min_size=k, max_size=k)), np.float32)
@@ -117,7 +118,8 @@ def options(draw, num_vertices, num_triangles):
 def bounded_address_space():
     """An allocation nobody planned (the core checks every size against memory_limit_bytes first) fails here as a
     MemoryError without required_bytes, a test failure, instead of taking the machine's memory. Under the sanitizer,
-    whose shadow memory needs terabytes of address space, its own cap per allocation stands in (tests/CMakeLists.txt)."""
+    whose shadow memory needs terabytes of address space, its own cap per allocation stands in
+    (tests/CMakeLists.txt)."""
     if "asan" in os.environ.get("LD_PRELOAD", ""):
         yield
         return

@@ -186,7 +186,8 @@ def test_output_counts_and_the_plan_estimate_are_the_cores(levels):
     # The core refuses past its limit and says how much it would need: its own estimate, for 3 channels.
     with pytest.raises(MemoryError) as refused:
         _loopsub.Plan(triangles, len(positions), levels, memory_limit_bytes=1)
-    assert _loopsub.estimate_plan_bytes(counts[0], counts[2], levels, num_edges=counts[1]) == refused.value.required_bytes
+    vertices, edges, triangles = counts
+    assert _loopsub.estimate_plan_bytes(vertices, triangles, levels, num_edges=edges) == refused.value.required_bytes
 
 
 @pytest.mark.parametrize("limit_surface", [True, False])

@@ -11,7 +11,7 @@ import pytest
 
 import _loopsub
 from conftest import (assert_same_point_sets, boundary_fan, edge_point_rows, edges_of, hexagon_disk, icosahedron,
-                      loop_a, loop_b, reference_loop_mesh, smooth_loop_reference, tetrahedron)
+                      loop_b, reference_loop_mesh, smooth_loop_reference, tetrahedron)
 
 RULES = ["hoppe94", "opensubdiv"]
 TOL = 2e-6  # float32 arithmetic on coordinates of size ~1
@@ -391,7 +391,8 @@ def test_vertex_data_uses_the_position_weights(rules):
 
 def test_vertex_data_dict_and_single_channel():
     p, t = tetrahedron()
-    r = _loopsub.subdivide(p, t, 2, vertex_data={"x": np.ascontiguousarray(p[:, 0]), "one": np.ones((4, 1), np.float32)})
+    data = {"x": np.ascontiguousarray(p[:, 0]), "one": np.ones((4, 1), np.float32)}
+    r = _loopsub.subdivide(p, t, 2, vertex_data=data)
     assert set(r["vertex_data"]) == {"x", "one"}
     assert r["vertex_data"]["x"].shape == (len(r["positions"]),)
     np.testing.assert_allclose(r["vertex_data"]["x"], r["positions"][:, 0], atol=1e-6)
@@ -474,7 +475,8 @@ def test_scalar_and_simd_and_threads_agree(rules, channels):
     few thousand outputs per level on, hence level 5) give the scalar reference kernel's values."""
     p, t = icosahedron()
     values = np.ascontiguousarray(np.tile(p, 5)[:, :channels] * np.linspace(1, 2, channels, dtype=np.float32))
-    creases = dict(crease_edges=np.array([[0, 11], [11, 5]], np.int32), crease_sharpness=np.array([10, 1.5], np.float32))
+    creases = dict(crease_edges=np.array([[0, 11], [11, 5]], np.int32),
+                   crease_sharpness=np.array([10, 1.5], np.float32))
     scalar_plan = _loopsub.Plan(t, len(p), 5, rules=rules, scalar=True, **creases)
     assert scalar_plan.kernel == "scalar"
     reference = scalar_plan.evaluate(values)
@@ -534,7 +536,8 @@ def test_face_varying_layer_by_indices_equals_the_welded_corners():
     # A seam: triangle 0 has its own copies of its three values.
     indices = np.array([[4, 5, 6], [0, 2, 3], [0, 3, 1], [1, 3, 2]], np.int32)
     values = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [2, 2], [3, 2], [2, 3]], np.float32)
-    plan = _loopsub.Plan(t, len(p), 2, rules="opensubdiv", face_varying_indices=[indices], uv_interpolation="boundaries")
+    plan = _loopsub.Plan(t, len(p), 2, rules="opensubdiv", face_varying_indices=[indices],
+                         uv_interpolation="boundaries")
     assert plan.num_face_varying_layers == 1
     refined = plan.evaluate_face_varying(values, layer=0)
     per_corner = refined[plan.face_varying_indices(0)]
