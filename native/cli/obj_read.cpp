@@ -518,8 +518,8 @@ private:
 }  // namespace
 
 // A file is read in blocks of this size into one buffer (larger when a line is longer), and its whole lines are
-// handed to the reader block by block: reading it into a buffer of its own size cost as much again in first
-// touches of fresh pages (44 ms against 12.5 ms for 52 MB).
+// handed to the reader block by block: reading it into a buffer of its own size cost more in first touches of fresh
+// pages than the copy itself (docs/benchmark.md, "CLI I/O").
 constexpr std::size_t kReadBlock = 1 << 20;
 
 ObjMesh parse_obj(const std::string& text, const std::string& name) {

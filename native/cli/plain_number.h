@@ -1,9 +1,8 @@
-// Numbers as the OBJ reader's fast path reads them: what std::from_chars reads, in about half its time, for the plain
-// forms that this writer and most exporters write. libstdc++ 12's std::from_chars takes about 8 ns an integer and
-// 13-17 ns a float; read_float and read_integer try the plain forms first (eight digits at a time, floats by
-// Clinger's exact method), give the same value and end as std::from_chars, and hand it everything else. Reading the
-// 52 MB OBJ of docs/benchmark.md ("CLI I/O") with std::from_chars alone took the CLI about 6 % longer. The fast and
-// general paths of the reader must read a line alike: tests/native/test_obj_io_fast.cpp compares them.
+// Numbers as the OBJ reader's fast path reads them: what std::from_chars reads, in less time than libstdc++ 12's
+// (docs/benchmark.md, "CLI I/O"), for the plain forms that this writer and most exporters write. read_float and
+// read_integer try the plain forms first (eight digits at a time, floats by Clinger's exact method), give the same
+// value and end as std::from_chars, and hand it everything else. The fast and general paths of the reader must read
+// a line alike: tests/native/test_obj_io_fast.cpp compares them.
 #pragma once
 
 #include <cfloat>

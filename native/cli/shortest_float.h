@@ -1,7 +1,6 @@
-// Floats as the OBJ writer writes them: what std::to_chars writes (the shortest form that reads back exactly), in about
-// two thirds of its time. libstdc++ 12's std::to_chars(float) takes about 29 ns a call; put_float writes the same
-// characters (the same shortest digits, the same choice between fixed and scientific notation) in about 20 ns: on
-// the level-4 icosphere of docs/benchmark.md the CLI took 12-15 % longer with std::to_chars. It was compared with
+// Floats as the OBJ writer writes them: what std::to_chars writes (the shortest form that reads back exactly), in
+// less time than libstdc++ 12's std::to_chars(float) (docs/benchmark.md, "CLI I/O"): the same characters, the same
+// shortest digits, the same choice between fixed and scientific notation. It was compared with
 // std::to_chars on all 2^32 floats, and tests/native/test_obj_io_fast.cpp compares a sample of them. Inline: it runs
 // once per number, inside the writer's line loops.
 #pragma once

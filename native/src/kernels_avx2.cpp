@@ -2,8 +2,8 @@
 // the layout Plan::evaluate refines in. SIMD runs across channels, two outputs per 256-bit register: a
 // neighbour's four channels are one 16-byte load; the low half of a register works on output i and the high half
 // on output i + 1. Each lane adds its ring in the reference's order; FMA in the final weighting changes the last
-// bit. (Gathers across eight outputs from planar arrays were measured 1.7x slower: one load per channel and
-// neighbour; docs/benchmark.md.) Other layouts run the reference. Special vertices and edges are recomputed
+// bit. (Gathers across eight outputs from planar arrays were measured slower: one load per channel and neighbour;
+// docs/benchmark.md.) Other layouts run the reference. Special vertices and edges are recomputed
 // afterwards (kernels_specials.h).
 #include <immintrin.h>
 
@@ -99,7 +99,7 @@ inline __m256 next_edges_pair(const Tables& t, const QuadSource<Step>& in, int e
 }
 
 // The pairs' arithmetic on one point (the fans, the interior edges): the same bits per lane.
-// Lambdas, so that the passes given them as arguments inline them (as function pointers they did not: 35 % slower).
+// Lambdas, so that the passes given them as arguments inline them (as function pointers they were not, and slower).
 constexpr auto smooth_vertex = [](__m128 self, __m128 ring_sum, float w_self, float w_ring) {
     return _mm_fmadd_ps(_mm_set1_ps(w_ring), ring_sum, _mm_mul_ps(_mm_set1_ps(w_self), self));
 };

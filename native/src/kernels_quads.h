@@ -87,8 +87,7 @@ struct PackedRows3 {
         _mm_store_ss(q + 2, _mm_movehl_ps(v, v));
     }
     // Four rows at once (points p0 .. p3, each in a quad whose last lane is unused): three 16-byte stores where
-    // one row at a time takes eight. Evaluation 1.84-1.91 -> 1.76-1.82 ms with AVX2, 1.87-1.89 -> 1.78-1.81 ms
-    // with SSE4.1 (icosphere to level 4, fastest of 401).
+    // one row at a time takes eight (docs/benchmark.md, "rows of three stored four at a time").
     void store_four(std::size_t element, __m128 p0, __m128 p1, __m128 p2, __m128 p3) const {
         float* q = data + element * 3;
         const __m128 z0_x1 = _mm_shuffle_ps(p0, p1, _MM_SHUFFLE(0, 0, 2, 2));      // z0 z0 x1 x1

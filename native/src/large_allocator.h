@@ -2,8 +2,8 @@
 // touch, which measured as more time than the topology work itself; asking the kernel for transparent huge
 // pages (2 MiB) on large blocks cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode).
 // Huge pages also make a plan's speed steady: with 4 KiB pages the physical placement of the arrays the passes read
-// side by side changes from process to process, and the plan's time with it (4.5 to 7.4 ms for the same plan,
-// docs/benchmark.md); so arrays from 1 MiB up get whole huge pages. Elsewhere large blocks are just aligned to 2 MiB.
+// side by side changes from process to process, and the plan's time with it (docs/benchmark.md); so arrays from
+// 1 MiB up get whole huge pages. Elsewhere large blocks are just aligned to 2 MiB.
 //
 // Freed blocks of 16 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built
 // again (the modifier after an edit that changes the topology, a benchmark loop) then finds its arrays already
@@ -111,7 +111,7 @@ struct LargeAllocator {
     // Arrays do not start at their block's start but a different number of cache lines past it, one of 64 in turn,
     // where the block has that much room to spare (almost always: the last huge page or 64 KiB is rarely full):
     // arrays read and written side by side (a level's edge ends and wings) then do not start at the same offset
-    // within 64 KiB, a placement measured to make a pass over them up to 2.3x slower (docs/benchmark.md).
+    // within 64 KiB, a placement measured to make a pass over them several times slower (docs/benchmark.md).
     static constexpr std::size_t kColourRoom = 4096;
     static std::size_t next_colour() {
         static std::atomic<unsigned> counter{0};

@@ -37,8 +37,8 @@ std::pair<Count, Count> part_of(Count n, int part, int parts) {
 }
 
 // A thread arriving at a meeting point waits awake a while, yielding (the thread still to arrive may share its core),
-// then sleeps: the parts of a level end close together, and waking a thread that went to sleep costs tens of
-// microseconds (measured 50-90 us on a virtual machine's idle core, about what a level of a frame takes).
+// then sleeps: the parts of a level end close together, and waking a thread that went to sleep costs about what a
+// level of a frame takes (docs/benchmark.md, "Threads").
 template <typename Done>
 void wait_awake_then_sleep(std::mutex& mutex, std::condition_variable& changed, const Done& done,
                            std::chrono::microseconds awake = std::chrono::microseconds(200)) {
@@ -49,8 +49,8 @@ void wait_awake_then_sleep(std::mutex& mutex, std::condition_variable& changed, 
 }
 
 // Threads kept for stretches of work with many parallel steps and short serial ones between them: a plan's build, a
-// frame's levels. A thread starts in 60 us on average here (mean of 800 starts); a team starts its threads once, and
-// between steps they wait awake for up to 1 ms before they sleep. A thread the system refuses to start costs
+// frame's levels. Starting a thread costs a good part of a frame; a team starts its threads once, and between steps
+// they wait awake for up to 1 ms before they sleep. A thread the system refuses to start costs
 // parallelism, never the process: the caller then runs its part too.
 class Team {
 public:
@@ -151,8 +151,8 @@ private:
 // The team run_levels uses on this thread while a TeamScope is alive: the one already in scope if it has as many
 // parts, else the team the process keeps if no other thread holds it, else one started for this scope (another thread
 // evaluating at the same time, or more threads than the machine has). The kept team makes back-to-back frames and
-// plans start no thread: a frame's evaluation on two threads was 0.91-1.21 ms (medians of 1,001) with a start per
-// frame, 0.70-0.79 ms with the kept team; its idle worker waits awake 1 ms after a frame, then sleeps.
+// plans start no thread (docs/benchmark.md, "threads kept between frames"); its idle worker waits awake 1 ms after
+// a frame, then sleeps.
 class TeamScope {
 public:
     explicit TeamScope(int threads) : previous_(current_) {
@@ -180,7 +180,7 @@ private:
     // made by fork() has none of its parent's threads, so it makes its own team (the parent's is left as it is).
     struct Kept {
         static Team* lease(int threads) {
-            // Asked once: glibc reads the count from /sys each time (6-33 us here, a twentieth of a frame).
+            // Asked once: glibc reads the count from /sys each time, a noticeable part of a small frame.
             static const unsigned cores = std::max(2u, std::thread::hardware_concurrency());
             if (unsigned(threads) > cores) return nullptr;
             Kept& kept = instance();

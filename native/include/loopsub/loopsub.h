@@ -71,8 +71,8 @@ enum class Kernel { Auto, Scalar, SSE41, AVX2 };
 
 // The stencil tables of the refined levels (docs/benchmark.md, "Stored or derived tables"). Stored, an evaluation
 // reads them. Derived, the plan holds the levels' connectivity only and an evaluation works the tables out from it,
-// chunk by chunk: a plan then builds in about half the time and holds about 45 % less besides its output, an
-// evaluation takes about 2.5x as long. Derived applies only where nothing but vertex values is refined (no limit
+// chunk by chunk: a plan then builds faster and holds less besides its output, and each evaluation takes longer
+// (the measured ratios are in that section). Derived applies only where nothing but vertex values is refined (no limit
 // surface, no face-varying layers) over two levels or more; elsewhere the tables are stored.
 enum class LevelTables {
     Auto,    // derived past 128 MiB of tables of the level before the last (a level-6 result of 20 M triangles)
