@@ -19,7 +19,7 @@
 # Each module is checked, and the script fails on the first that does not pass: objdump -T names no GLIBC_ version
 # past 2.28 and no GLIBCXX_ or CXXABI_ symbol, it needs no C++ runtime library, nm -D exports PyInit__loopsub alone,
 # it imports in its interpreter, and its best_kernel() is the one /proc/cpuinfo says this CPU runs (zig's
-# compiler-rt only stubs __builtin_cpu_supports, which the core therefore does not use: native/src/cpu_features.cpp).
+# compiler-rt only stubs __builtin_cpu_supports, which the core therefore does not use: native/src/kernels/cpu_features.cpp).
 # One line a module says so. An ABI with no
 # interpreter here is skipped with a message, never silently.
 set -euo pipefail
@@ -66,7 +66,7 @@ write_if_changed "$toolchain/module.map" <<'EOF'
 EOF
 link_flags="-Wl,--version-script=$toolchain/module.map"
 
-# The kernel the core must pick here: the widest this CPU runs (its dispatch, native/src/kernels_dispatch.cpp).
+# The kernel the core must pick here: the widest this CPU runs (its dispatch, native/src/kernels/kernels_dispatch.cpp).
 cpu_flags=" $(grep -m1 '^flags' /proc/cpuinfo | cut -d: -f2 || true) "
 expected_kernel=scalar
 if [ "$arch" = x86_64 ]; then

@@ -14,7 +14,7 @@
 #include "obj_file.h"
 #include "obj_io.h"
 #include "plain_number.h"
-#include "triangle_corners.h"
+#include "topology/triangle_corners.h"
 #include "triangulate.h"
 
 namespace loopsub::obj {

@@ -12,7 +12,7 @@
 
 #include "obj_file.h"
 #include "obj_io.h"
-#include "parallel.h"
+#include "base/parallel.h"
 #include "shortest_float.h"
 
 namespace loopsub::obj {

@@ -17,10 +17,10 @@
 #include <unistd.h>
 #endif
 
-#include "large_allocator.h"
+#include "base/large_allocator.h"
 #include "loopsub/loopsub.h"
 #include "mesh_gen.h"
-#include "parallel.h"
+#include "base/parallel.h"
 
 namespace {
 

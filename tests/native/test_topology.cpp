@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "mesh_gen.h"
-#include "parallel.h"
-#include "topology.h"
+#include "base/parallel.h"
+#include "topology/topology.h"
 
 namespace {
 

@@ -14,9 +14,9 @@
 #include <memory>
 #include <vector>
 
-#include "large_allocator.h"
-#include "rules.h"
-#include "topology.h"
+#include "base/large_allocator.h"
+#include "rules/rules.h"
+#include "topology/topology.h"
 
 namespace loopsub::detail {
 

@@ -5,7 +5,7 @@
 #include <cstddef>
 
 #include "loopsub/loopsub.h"
-#include "stencils.h"
+#include "tables/stencils.h"
 
 namespace loopsub::detail {
 

@@ -2,8 +2,8 @@
 // three edges inside each of its faces, which the middle child's corners (the midpoints) name.
 #include <stdexcept>
 
-#include "plan_data.h"
-#include "triangle_corners.h"
+#include "plan/plan_data.h"
+#include "topology/triangle_corners.h"
 
 namespace loopsub {
 

@@ -1,4 +1,4 @@
-#include "cpu_features.h"
+#include "kernels/cpu_features.h"
 
 #if defined(LOOPSUB_X86_SIMD)
 #if defined(_MSC_VER)

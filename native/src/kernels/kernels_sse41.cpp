@@ -10,9 +10,9 @@
 
 #include <type_traits>
 
-#include "kernels.h"
-#include "kernels_quads.h"
-#include "kernels_specials.h"
+#include "kernels/kernels.h"
+#include "kernels/kernels_quads.h"
+#include "kernels/kernels_specials.h"
 
 namespace loopsub::detail {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <string>
 
-#include "budget.h"
-#include "plan_builder.h"
+#include "plan/budget.h"
+#include "plan/plan_builder.h"
 
 namespace loopsub {
 

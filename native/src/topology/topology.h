@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "large_allocator.h"
+#include "base/large_allocator.h"
 
 namespace loopsub::detail {
 

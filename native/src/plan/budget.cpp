@@ -1,4 +1,4 @@
-#include "budget.h"
+#include "plan/budget.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -16,7 +16,7 @@
 #include <type_traits>
 
 #include "loopsub/loopsub.h"
-#include "stencils.h"
+#include "tables/stencils.h"
 
 namespace loopsub::detail {
 namespace {

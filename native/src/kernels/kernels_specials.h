@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <utility>
 
-#include "kernels.h"
+#include "kernels/kernels.h"
 
 namespace loopsub::detail {
 namespace {

@@ -1,4 +1,4 @@
-#include "topology.h"
+#include "topology/topology.h"
 
 #include <algorithm>
 #include <cassert>
@@ -10,8 +10,8 @@
 #include <emmintrin.h>
 #endif
 
-#include "parallel.h"
-#include "triangle_corners.h"
+#include "base/parallel.h"
+#include "topology/triangle_corners.h"
 
 namespace loopsub::detail {
 

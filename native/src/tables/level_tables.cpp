@@ -5,8 +5,8 @@
 #include <memory>
 #include <utility>
 
-#include "parallel.h"
-#include "stencils.h"
+#include "base/parallel.h"
+#include "tables/stencils.h"
 
 namespace loopsub::detail {
 

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "common.h"
-#include "kernels.h"
-#include "parallel.h"
-#include "plan_data.h"
-#include "validation.h"
+#include "base/common.h"
+#include "kernels/kernels.h"
+#include "base/parallel.h"
+#include "plan/plan_data.h"
+#include "plan/validation.h"
 
 namespace loopsub {
 

@@ -1,4 +1,4 @@
-#include "rule_set.h"
+#include "rules/rule_set.h"
 
 #include <algorithm>
 

@@ -1,10 +1,10 @@
-#include "validation.h"
+#include "plan/validation.h"
 
 #include <cmath>
 #include <string>
 
-#include "common.h"
-#include "topology.h"
+#include "base/common.h"
+#include "topology/topology.h"
 
 namespace loopsub::detail {
 

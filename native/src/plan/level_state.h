@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "large_allocator.h"
+#include "base/large_allocator.h"
 #include "loopsub/loopsub.h"
-#include "parallel.h"
-#include "rules.h"
-#include "topology.h"
+#include "base/parallel.h"
+#include "rules/rules.h"
+#include "topology/topology.h"
 
 namespace loopsub::detail {
 

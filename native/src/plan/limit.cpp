@@ -10,10 +10,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "level_state.h"
-#include "parallel.h"
-#include "plan_builder.h"
-#include "triangle_corners.h"
+#include "plan/level_state.h"
+#include "base/parallel.h"
+#include "plan/plan_builder.h"
+#include "topology/triangle_corners.h"
 
 namespace loopsub {
 

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "cpu_features.h"
-#include "kernels.h"
-#include "parallel.h"
+#include "kernels/cpu_features.h"
+#include "kernels/kernels.h"
+#include "base/parallel.h"
 
 namespace loopsub::detail {
 

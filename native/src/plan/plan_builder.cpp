@@ -1,16 +1,16 @@
-#include "plan_builder.h"
+#include "plan/plan_builder.h"
 
 #include <algorithm>
 #include <cassert>
 #include <limits>
 #include <string>
 
-#include "budget.h"
-#include "common.h"
-#include "kernels.h"
-#include "parallel.h"
-#include "rules.h"
-#include "validation.h"
+#include "plan/budget.h"
+#include "base/common.h"
+#include "kernels/kernels.h"
+#include "base/parallel.h"
+#include "rules/rules.h"
+#include "plan/validation.h"
 
 namespace loopsub::detail {
 

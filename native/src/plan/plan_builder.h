@@ -19,10 +19,10 @@
 #include <memory>
 #include <vector>
 
-#include "budget.h"
-#include "level_state.h"
-#include "plan_data.h"
-#include "rule_set.h"
+#include "plan/budget.h"
+#include "plan/level_state.h"
+#include "plan/plan_data.h"
+#include "rules/rule_set.h"
 
 namespace loopsub::detail {
 

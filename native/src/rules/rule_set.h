@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "loopsub/loopsub.h"
-#include "rules.h"
+#include "rules/rules.h"
 
 namespace loopsub::detail {
 

@@ -1,6 +1,6 @@
 // The scalar reference kernel: one output at a time, every channel, exactly the masks of stencils.h.
-#include "kernels.h"
-#include "kernels_specials.h"
+#include "kernels/kernels.h"
+#include "kernels/kernels_specials.h"
 
 namespace loopsub::detail {
 

@@ -8,11 +8,11 @@
 #include <utility>
 #include <vector>
 
-#include "face_varying.h"
-#include "large_allocator.h"
+#include "plan/face_varying.h"
+#include "base/large_allocator.h"
 #include "loopsub/loopsub.h"
-#include "stencils.h"
-#include "topology.h"
+#include "tables/stencils.h"
+#include "topology/topology.h"
 
 namespace loopsub {
 

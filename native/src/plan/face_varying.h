@@ -16,8 +16,8 @@
 
 #include <vector>
 
-#include "level_state.h"
-#include "stencils.h"
+#include "plan/level_state.h"
+#include "tables/stencils.h"
 
 namespace loopsub::detail {
 

@@ -1,11 +1,11 @@
-#include "face_varying.h"
+#include "plan/face_varying.h"
 
 #include <algorithm>
 #include <cassert>
 #include <numeric>
 #include <string>
 
-#include "common.h"
+#include "base/common.h"
 
 namespace loopsub::detail {
 
