@@ -397,6 +397,8 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
     const LimitMask crease = crease_limit_mask();
     const auto special_vertex = specials_by_target(vertex_limit.special_vertices, vertex_limit.num_vertices,
                                                    [](const SpecialVertex& sv) { return sv.vertex; });
+    const auto ring_weighted = specials_by_target(vertex_limit.ring_weighted_vertices, vertex_limit.num_vertices,
+                                                  [](const RingWeightedVertex& rv) { return rv.vertex; });
     for (Index x = 0; x < nx; ++x) {
         const Tag& tag = tags_[x];
         Index ends[2];
@@ -406,6 +408,15 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
             s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
         } else if (const SpecialVertex* m = special_vertex[vertex_of_[x]]) {
             s.special_vertices.push_back(on_layer(x, *m));
+        } else if (const RingWeightedVertex* m = ring_weighted[vertex_of_[x]]) {
+            // Without a seam at the vertex, the value's ring is the vertex's, value for neighbour, in its own order.
+            const Index v = m->vertex, first = vertex_limit.ring_offsets[v], last = vertex_limit.ring_offsets[v + 1];
+            s.ring_weighted_vertices.push_back({x, Index(s.ring_weights.size()), m->w_self});
+            for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
+                const Index neighbour = vertex_of_[values_.vertex_vertices[k]];
+                const Index slot = Index(std::find(&vertex_limit.ring[first], &vertex_limit.ring[first] + (last - first), neighbour) - &vertex_limit.ring[first]);
+                s.ring_weights.push_back(slot < last - first ? vertex_limit.ring_weights[m->first + slot] : 0.0f);
+            }
         }
     }
     s.ring_offsets = values_.vertex_edge_offsets;
