@@ -12,7 +12,9 @@
 // is refined in closed form at plan time (spend, RuleSet::refine_until_spent), and the masks that apply once they are
 // spent are pulled back to masks over the last level's ring (pull_back_spent). Only infinitely sharp edges part sides.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <utility>
 
 #include "level_state.h"
 #include "parallel.h"
@@ -270,9 +272,13 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
             for (int i = 0; i < count; ++i) mask[x.slot(points[i])] += w[i], mask[0] -= w[i];
             pull_back(x);
             std::vector<float> weights(count);
-            for (int i = 0; i < count; ++i) weights[i] = float(pulled[x.slot(points[i])]);
+            for (int i = 0; i < count; ++i) weights[i] = float(std::exchange(pulled[x.slot(points[i])], 0.0));
+            // A side's points refine among themselves (its sharp edges' wings weigh nothing), so nothing of a side's
+            // tangent falls on the ring's other points.
+            assert(std::all_of(pulled.begin() + 1, pulled.end(), [](double w) { return std::fabs(w) < 1e-9; }));
             scale_to_at_most_unit_sum(weights);
-            (tangent == 0 ? lt.own_t1 : lt.own_t2).insert((tangent == 0 ? lt.own_t1 : lt.own_t2).end(), weights.begin(), weights.end());
+            std::vector<float>& to = tangent == 0 ? lt.own_t1 : lt.own_t2;
+            to.insert(to.end(), weights.begin(), weights.end());
         }
         return first;
     };
