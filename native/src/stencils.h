@@ -70,7 +70,7 @@ struct LevelStencils {
     std::vector<float> smooth_self;
     std::vector<float> smooth_ring;
     std::vector<SpecialVertex> special_vertices;  // sorted by vertex
-    std::vector<RingWeightedVertex> ring_weighted_vertices;  // sorted by vertex; the limit's pass only
+    std::vector<RingWeightedVertex> ring_weighted_vertices;  // sorted by vertex; limit passes only
     std::vector<float> ring_weights;
 
     // Edge points: the endpoints A, B (pairs: the level's own edge list, taken over rather than copied) and the wings
