@@ -240,7 +240,7 @@ detail::PlanBuilder::Spent detail::PlanBuilder::spend(const LevelState& level, c
         // The half at the other end decays by the edges there (Chaikin).
         const float sharpness = vertex.sharpness[k];
         far_sharpness.assign(1, sharpness);
-        if (is_semi_sharp(sharpness)) {
+        if (is_semi_sharp(sharpness) && rules_->decay_reads_other_edges()) {
             around.edges(out.neighbours[k], far_edges);
             far_sharpness.clear();
             for (Index f : far_edges) far_sharpness.push_back(level.edge_sharpness(f));

@@ -19,6 +19,7 @@ public:
     float vertex_sharpness_from_tag(float tag) const override { return tag > 0.0f ? kInfiniteSharpness : 0.0f; }
     float child_edge_sharpness(float sharpness, const float*, int) const override { return sharpness; }
     float child_vertex_sharpness(float sharpness) const override { return sharpness; }
+    bool decay_reads_other_edges() const override { return false; }
     float child_tag(float tag, float) const override { return tag; }
 
     VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const override {
@@ -76,6 +77,7 @@ public:
                                                 : decrement_sharpness(sharpness);
     }
     float child_vertex_sharpness(float sharpness) const override { return decrement_sharpness(sharpness); }
+    bool decay_reads_other_edges() const override { return method_ == CreaseMethod::Chaikin; }
     float child_tag(float tag, float child_sharpness) const override { return tag == 0.0f ? tag : child_sharpness; }
 
     VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const override {
@@ -168,11 +170,15 @@ SpentRing RuleSet::refine_until_spent(const RingSituation& ring) const {
             row[ring.wings[2 * k]] += e.wings;
             row[ring.wings[2 * k + 1]] += e.wings;
         }
+        // An edge point weighs at most four points of the ring: the product skips the rest.
+        std::fill(product.begin(), product.end(), 0.0);
         for (int i = 0; i < size; ++i)
-            for (int j = 0; j < size; ++j) {
-                double sum = 0.0;
-                for (int m = 0; m < size; ++m) sum += step[std::size_t(i) * size + m] * out.refinement[std::size_t(m) * size + j];
-                product[std::size_t(i) * size + j] = sum;
+            for (int m = 0; m < size; ++m) {
+                const double w = step[std::size_t(i) * size + m];
+                if (w == 0.0) continue;
+                const double* from = &out.refinement[std::size_t(m) * size];
+                double* to = &product[std::size_t(i) * size];
+                for (int j = 0; j < size; ++j) to[j] += w * from[j];
             }
         out.refinement.swap(product);
         // The next level: the far end of edge k is the midpoint of this level's edge k, where only its two halves can

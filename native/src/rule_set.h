@@ -98,6 +98,8 @@ public:
     // One level down: the half of an edge at a vertex, given the sharpness of every edge there; a vertex.
     virtual float child_edge_sharpness(float sharpness, const float* at_vertex, int count) const = 0;
     virtual float child_vertex_sharpness(float sharpness) const = 0;
+    // Whether child_edge_sharpness reads the other edges at the vertex (Chaikin), or only the edge's own sharpness.
+    virtual bool decay_reads_other_edges() const = 0;
     // The tag a child carries into the output, so that refining the output goes on where this refinement stops.
     virtual float child_tag(float tag, float child_sharpness) const = 0;
     // The vertex point's mask; `ends` receives the edges its crease neighbours lie on (when mask.crease != 0).
