@@ -207,8 +207,8 @@ INSTANTIATE_TEST_SUITE_P(Shapes, LimitAgainstBfr, ::testing::ValuesIn(cases()), 
 // UVs at vertices that still have semi-sharp features on the last level go where Bfr's face-varying surface goes: a
 // value without a seam there takes the vertex's mask, a value held on a seam is held until the features in its span are
 // spent and then follows the seam. Before issue 23 they were up to 3.9e-2 off. The modes whose seams are smooth or
-// linear; with CORNERS_PLUS1 / _PLUS2, a seam value held for its sibling's features (two values at the vertex) can
-// still be off (1.7e-3 on this mesh, at one vertex).
+// linear: with CORNERS_PLUS1 / _PLUS2, Bfr differs (1.7e-3 on this mesh, at one vertex, a seam value held for its
+// sibling's features) from the refinement itself carried four levels further, which ours equals there.
 TEST(FaceVaryingLimitAgainstBfr, ValuesAtSemiSharpVertices) {
     TestMesh mesh = icosphere(2);
     jitter(mesh, 61, 0.01f);
