@@ -196,6 +196,7 @@ TEST_P(LimitAgainstBfr, PositionsAndNormalsAreTheTrueLimits) {
         std::ostringstream where;
         where << GetParam().name << " level " << levels << ": position error " << errors.position << " of the diagonal (vertex "
               << errors.worst_vertex << "), normal " << errors.angle << " rad (corner " << errors.worst_corner << ")";
+        // The errors themselves, for a report of how close each shape comes.
         if (std::getenv("LOOPSUB_PRINT_BFR_ERRORS")) std::printf("%s\n", where.str().c_str());
         EXPECT_LE(errors.position, 1e-5) << where.str();
         EXPECT_LE(errors.angle, kNormalAngle) << where.str();
