@@ -272,6 +272,27 @@ MappedReference OsdReference::map(const Plan& plan) const {
     return out;
 }
 
+OsdReference::DescendantLimits OsdReference::descendant_limits(const MappedReference& mapped, int level) const {
+    const Far::TopologyRefiner& refiner = *impl_->refiner;
+    DescendantLimits out;
+    const std::vector<std::int32_t>& ours = mapped.our_to_osd.at(level);
+    const Far::TopologyLevel& last = refiner.GetLevel(impl_->levels);
+    for (std::int32_t v : ours) {
+        for (int l = level; l < impl_->levels; ++l) v = refiner.GetLevel(l).GetVertexChildVertex(v);
+        const double* a = impl_->tangent1[v].x;
+        const double* b = impl_->tangent2[v].x;
+        const double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; ++k) {
+            out.positions.push_back(impl_->limit[v].x[k]);
+            out.normals.push_back(length > 0.0 ? n[k] / length : 0.0);
+        }
+        const Sdc::Crease::Rule rule = last.GetVertexRule(v);
+        out.smooth.push_back(rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART);
+    }
+    return out;
+}
+
 std::string OsdReference::describe_origin(const Plan& plan, const MappedReference& mapped, int level, int v) const {
     std::ostringstream s;
     if (level <= 0) {

@@ -91,6 +91,16 @@ public:
     // The result in the Plan's numbering, for levels 0 .. min(plan.levels(), levels()).
     MappedReference map(const Plan& plan) const;
 
+    // Far::PrimvarRefiner::Limit on the reference's last level at the descendants (vertex children) of our vertices of
+    // `level` (mapped from a plan of that many levels): the limit the refinement tends to, when the reference has
+    // refined until the semi-sharp features are spent. 3 per vertex: positions, unit normals tan1 x tan2; and whether
+    // the rule there is smooth or dart (one normal per vertex).
+    struct DescendantLimits {
+        std::vector<double> positions, normals;
+        std::vector<std::uint8_t> smooth;
+    };
+    DescendantLimits descendant_limits(const MappedReference& mapped, int level) const;
+
     // For failure messages: what our vertex v of `level` (>= 1) is the child of, and OpenSubdiv's tags there
     // (rule, valence, sharpness of the parent vertex or edge and of the edge's ends).
     std::string describe_origin(const Plan& plan, const MappedReference& mapped, int level, int v) const;

@@ -39,12 +39,14 @@ struct ExactCase {
 // gtest prints a parameter with this (instead of its bytes) when a case fails.
 void PrintTo(const ExactCase& c, std::ostream* os) { *os << c.name; }
 
+bool is_semi(float sharpness) { return sharpness > 0.0f && sharpness < kInfiniteSharpness; }
+
 std::string level_suffix(int level) { return "_L" + std::to_string(level); }
 
 // Our per-corner UVs (2 per corner of each output triangle) against OpenSubdiv's for the same oriented face, corner by
 // corner; "" when all are within 1e-5.
 std::string compare_face_uvs(const Plan& plan, const MappedReference& mapped, const std::vector<float>& ours,
-                             const std::vector<double>& expected_uvs) {
+                             const std::vector<double>& expected_uvs, const std::vector<std::uint8_t>* skipped_vertices = nullptr) {
     std::map<std::array<std::int32_t, 3>, int> osd_face;
     for (std::size_t f = 0; 3 * f < mapped.triangles.size(); ++f) {
         const std::int32_t* t = &mapped.triangles[3 * f];
@@ -63,6 +65,7 @@ std::string compare_face_uvs(const Plan& plan, const MappedReference& mapped, co
         const int theirs_rotation = canonical_rotation(u[0], u[1], u[2]);
         for (int k = 0; k < 3; ++k) {
             const int our_corner = (k + ours_rotation) % 3, their_corner = (k + theirs_rotation) % 3;
+            if (skipped_vertices && (*skipped_vertices)[t[our_corner]]) continue;
             for (int c = 0; c < 2; ++c) {
                 const double got = ours[6 * f + 2 * our_corner + c];
                 const double expected = expected_uvs[6 * g + 2 * their_corner + c];
@@ -142,7 +145,13 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     }
 
     // The limit surface: positions against Far::PrimvarRefiner::Limit, and at OpenSubdiv's smooth and dart vertices
-    // (one normal per vertex) every corner's normal against tan1 x tan2 of its limit tangents.
+    // (one normal per vertex) every corner's normal against tan1 x tan2 of its limit tangents. Limit takes semi-sharp
+    // features left on the last level for infinitely sharp ones, where the limit surface refines on until they are
+    // spent (issue 23): vertices next to them are left to test_limit_bfr.cpp, against the true limit.
+    std::vector<std::uint8_t> semi_sharp(mapped.vertex_tags.size(), 0);
+    for (std::size_t v = 0; v < semi_sharp.size(); ++v) semi_sharp[v] = is_semi(mapped.vertex_tags[v].sharpness);
+    for (const MappedReference::EdgeTag& tag : mapped.edge_tags)
+        if (is_semi(tag.sharpness)) semi_sharp[tag.a] = semi_sharp[tag.b] = 1;
     {
         Options limit_options = options;
         limit_options.limit_surface = true;
@@ -151,6 +160,7 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
         int bad_positions = 0, bad_normals = 0, smooth_corners = 0;
         std::ostringstream limit_report;
         for (int v = 0; v < limit_plan.num_output_vertices(); ++v) {
+            if (semi_sharp[v]) continue;
             double distance = 0.0;
             for (int k = 0; k < 3; ++k) distance = std::max(distance, std::abs(limit[3 * v + k] - mapped.limit_positions[3 * v + k]));
             if (!(distance <= tolerance) && bad_positions++ < 5)
@@ -159,7 +169,7 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
         const std::int32_t* tris = limit_plan.output_triangles();
         for (int c = 0; c < 3 * limit_plan.num_output_triangles(); ++c) {
             const int v = tris[c];
-            if (!mapped.limit_smooth[v]) continue;
+            if (!mapped.limit_smooth[v] || semi_sharp[v]) continue;
             ++smooth_corners;
             double distance = 0.0;
             for (int k = 0; k < 3; ++k) distance = std::max(distance, std::abs(normals[3 * c + k] - mapped.limit_normals[3 * v + k]));
@@ -197,7 +207,9 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
             const MappedReference mode_mapped = mode_reference.map(layer_plan);
             ASSERT_TRUE(mode_mapped.errors.empty()) << mode_mapped.errors.front();
             const std::vector<float> per_corner = layer_per_corner(layer_plan, mesh.uvs);
-            const std::string report = compare_face_uvs(layer_plan, mode_mapped, per_corner, limit ? mode_mapped.face_uvs_limit : mode_mapped.face_uvs);
+            // LimitFaceVarying stops short at semi-sharp vertices as Limit does; the values there go where the vertex goes.
+            const std::string report = limit ? compare_face_uvs(layer_plan, mode_mapped, per_corner, mode_mapped.face_uvs_limit, &semi_sharp)
+                                             : compare_face_uvs(layer_plan, mode_mapped, per_corner, mode_mapped.face_uvs);
             EXPECT_TRUE(report.empty()) << "face-varying mode " << m << (limit ? " at the limit" : "") << " differs from OpenSubdiv:\n" << report;
         }
     }

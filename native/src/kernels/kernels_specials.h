@@ -45,6 +45,18 @@ inline void apply_specials(const LevelStencils& s, const StencilView& t, Channel
                 v->w_crease_a * p[v->crease_a * ie] + v->w_crease_b * p[v->crease_b * ie];
         }
     }
+    const auto [rv_begin, rv_end] =
+        specials_in_range(s.ring_weighted_vertices, vertices, [](const RingWeightedVertex& v) { return v.vertex; });
+    for (const RingWeightedVertex* v = rv_begin; v != rv_end; ++v) {
+        const int first = t.ring_first(v->vertex), valence = t.valence(v->vertex);
+        const float* w = s.ring_weights.data() + v->first;
+        for (int c = 0; c < in.num_channels; ++c) {
+            const float* p = in.data + c * in.channel_stride;
+            float sum = v->w_self * p[v->vertex * ie];
+            for (int k = 0; k < valence; ++k) sum += w[k] * p[t.ring[first + k] * ie];
+            out.data[c * out.channel_stride + v->vertex * oe] = sum;
+        }
+    }
     for (const SpecialEdge* e = se_begin; e != se_end; ++e) {
         const std::size_t a = t.end(e->edge, 0) * ie, b = t.end(e->edge, 1) * ie;
         const std::size_t c = t.wing_c(e->edge) * ie, d = t.wing_d(e->edge) * ie;

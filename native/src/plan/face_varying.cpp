@@ -152,6 +152,23 @@ bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2]) const {
     return found == 2;
 }
 
+template <typename InnerSemi>
+void FaceVaryingBuilder::release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi) {
+    for (int i = 0; i < n; ++i) {
+        Tag& tag = *child_tags[i];
+        if (!tag.semi_sharp) continue;
+        if (child_semi_edges && (tag.dep_sharp || inner_semi(i))) continue;
+        tag.crease = true;
+        tag.semi_sharp = tag.dep_sharp = false;
+    }
+    if (n == 2 && dependent_sharpness(mode)) {
+        Tag& first = *child_tags[0];
+        Tag& second = *child_tags[1];
+        if (first.dep_sharp && !second.semi_sharp) first.dep_sharp = false;
+        else if (second.dep_sharp && !first.semi_sharp) second.dep_sharp = false;
+    }
+}
+
 SpecialVertex FaceVaryingBuilder::on_layer(Index x, const SpecialVertex& m) const {
     const Index a = m.w_crease_a != 0.0f ? neighbour_at_vertex(x, m.crease_a) : x;
     const Index b = m.w_crease_b != 0.0f ? neighbour_at_vertex(x, m.crease_b) : x;
@@ -262,6 +279,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     child_tags.reserve(std::size_t(nx) + (planned_further ? ne : 0));
     child_tags.assign(tags_.begin(), tags_.end());
     std::vector<Index> offsets, at_vertex, inner, around;
+    std::vector<Tag*> value_tags;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex);
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
     for (int v = 0; v < t.num_vertices && mode != Mode::All; ++v) {
@@ -275,24 +293,12 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
                                  std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
         if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
         const bool child_semi_edges = std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
-        for (int i = 0; i < n; ++i) {
-            Tag& tag = child_tags[values[i]];
-            if (!tag.semi_sharp) continue;
-            if (child_semi_edges && !tag.dep_sharp) {
-                inner_edges(values[i], inner);
-                if (std::any_of(inner.begin(), inner.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); })) continue;
-            } else if (child_semi_edges) {
-                continue;
-            }
-            tag.crease = true;
-            tag.semi_sharp = tag.dep_sharp = false;
-        }
-        if (n == 2 && dependent_sharpness(mode)) {
-            Tag& first = child_tags[values[0]];
-            Tag& second = child_tags[values[1]];
-            if (first.dep_sharp && !second.semi_sharp) first.dep_sharp = false;
-            else if (second.dep_sharp && !first.semi_sharp) second.dep_sharp = false;
-        }
+        value_tags.clear();
+        for (int i = 0; i < n; ++i) value_tags.push_back(&child_tags[values[i]]);
+        release_held_values(mode, value_tags.data(), n, child_semi_edges, [&](int i) {
+            inner_edges(values[i], inner);
+            return std::any_of(inner.begin(), inner.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
+        });
     }
 
     // Value points.
@@ -385,7 +391,107 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     plan_.counts.push_back(values_.num_vertices);
 }
 
-void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
+void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const {
+    const Mode mode = options_.face_varying;
+    if (mode == Mode::All) return;
+    std::vector<Index> offsets, at_vertex, edges, inner;
+    group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex);
+    std::vector<std::vector<int>> inner_slots;
+    std::vector<float> sharpness, child_sharpness, parent_inner, child_inner;
+    std::vector<Tag> tags, child_tags;
+    std::vector<Tag*> value_tags;
+    struct Held {
+        Index value, ends[2];
+        double refinement[3][3];  // (value, end a, end b) down to where it follows the seam, or for good
+        bool released;
+    };
+    std::vector<Held> held;
+    for (int v = 0; v < last.topology.num_vertices; ++v) {
+        const int n = offsets[v + 1] - offsets[v];
+        const Index* values = at_vertex.data() + offsets[v];
+        if (!std::any_of(values, values + n, [&](Index x) { return tags_[x].mismatch && tags_[x].semi_sharp; })) continue;
+        // The vertex's edges (every one lies in some value's span) and each value's inner edges among them.
+        edges.clear();
+        for (int i = 0; i < n; ++i)
+            for (Index e : edges_at(values[i])) edges.push_back(edge_of_[e]);
+        std::sort(edges.begin(), edges.end());
+        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+        inner_slots.assign(n, {});
+        for (int i = 0; i < n; ++i) {
+            inner_edges(values[i], inner);
+            for (Index e : inner) inner_slots[i].push_back(int(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin()));
+        }
+        sharpness.clear();
+        for (Index e : edges) sharpness.push_back(last.edge_sharpness(e));
+        float vertex_sharpness = last.vertex_sharpness(v);
+        tags.assign(n, Tag{});
+        for (int i = 0; i < n; ++i) tags[i] = tags_[values[i]];
+        const std::size_t first_held = held.size();
+        for (int i = 0; i < n; ++i) {
+            Held h{values[i], {-1, -1}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, false};
+            if (tags[i].semi_sharp && seam_ends(values[i], h.ends)) held.push_back(h);
+        }
+        // Level after level as plan_level goes, until every held value follows its seam or nothing decays any more.
+        auto is_semi_slot = [](const std::vector<float>& of, const std::vector<int>& slots) {
+            return std::any_of(slots.begin(), slots.end(), [&](int k) { return is_semi_sharp(of[k]); });
+        };
+        auto all_released = [&] { return std::all_of(held.begin() + first_held, held.end(), [](const Held& h) { return h.released; }); };
+        while (!all_released() && (is_semi_sharp(vertex_sharpness) || std::any_of(sharpness.begin(), sharpness.end(), is_semi_sharp))) {
+            const float child_vertex = rules.child_vertex_sharpness(vertex_sharpness);
+            child_sharpness.resize(sharpness.size());
+            for (std::size_t k = 0; k < sharpness.size(); ++k)
+                child_sharpness[k] = rules.child_edge_sharpness(sharpness[k], sharpness.data(), int(sharpness.size()));
+            child_tags = tags;
+            if (!is_sharp(child_vertex)) {
+                value_tags.clear();
+                for (Tag& tag : child_tags) value_tags.push_back(&tag);
+                release_held_values(mode, value_tags.data(), n, std::any_of(child_sharpness.begin(), child_sharpness.end(), is_semi_sharp),
+                                    [&](int i) { return is_semi_slot(child_sharpness, inner_slots[i]); });
+            }
+            for (std::size_t h = first_held; h < held.size(); ++h) {
+                Held& value = held[h];
+                if (value.released) continue;
+                const int i = int(std::find(values, values + n, value.value) - values);
+                VertexMask mask = corner_vertex_mask();
+                if (child_tags[i].crease) {
+                    mask = crease_vertex_mask();
+                    // Blended with the hold by what decayed in its span, or its sibling's (plan_level's weight).
+                    const int span = tags[i].dep_sharp && n == 2 ? 1 - i : i;
+                    parent_inner.clear();
+                    child_inner.clear();
+                    for (int k : inner_slots[span]) parent_inner.push_back(sharpness[k]), child_inner.push_back(child_sharpness[k]);
+                    const float w = transition_weight(options_.crease_method, vertex_sharpness, child_vertex, parent_inner.data(),
+                                                      child_inner.data(), int(parent_inner.size()));
+                    if (tags[i].semi_sharp) mask = blend(corner_vertex_mask(), w, mask);
+                    value.released = true;
+                }
+                // The seam's midpoints are its next ends.
+                const EdgeMask seam = crease_edge_mask();
+                const double step[3][3] = {{mask.self, mask.crease, mask.crease}, {seam.a, seam.b, 0.0}, {seam.a, 0.0, seam.b}};
+                double product[3][3];
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c)
+                        product[r][c] = step[r][0] * value.refinement[0][c] + step[r][1] * value.refinement[1][c] + step[r][2] * value.refinement[2][c];
+                std::copy(&product[0][0], &product[0][0] + 9, &value.refinement[0][0]);
+            }
+            tags.swap(child_tags);
+            sharpness.swap(child_sharpness);
+            vertex_sharpness = child_vertex;
+        }
+    }
+    // A released value goes to its seam's limit, one held for good stays.
+    for (const Held& h : held) {
+        const LimitMask limit = h.released ? crease_limit_mask() : corner_limit_mask();
+        const double r[3] = {limit.self, limit.end_a, limit.end_b};
+        double pulled[3];
+        for (int c = 0; c < 3; ++c) pulled[c] = r[0] * h.refinement[0][c] + r[1] * h.refinement[1][c] + r[2] * h.refinement[2][c];
+        s.special_vertices.push_back({h.value, h.ends[0], h.ends[1], float(pulled[0]), 0.0f, float(pulled[1]), float(pulled[2])});
+    }
+    std::sort(s.special_vertices.begin(), s.special_vertices.end(),
+              [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
+}
+
+void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const LevelState& last, const RuleSet& rules) {
     const Mode mode = options_.face_varying;
     const int nx = values_.num_vertices;
     LevelStencils& s = plan_.passes.emplace_back();
@@ -397,17 +503,35 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit) {
     const LimitMask crease = crease_limit_mask();
     const auto special_vertex = specials_by_target(vertex_limit.special_vertices, vertex_limit.num_vertices,
                                                    [](const SpecialVertex& sv) { return sv.vertex; });
-    for (Index x = 0; x < nx; ++x) {
+    const auto ring_weighted = specials_by_target(vertex_limit.ring_weighted_vertices, vertex_limit.num_vertices,
+                                                  [](const RingWeightedVertex& rv) { return rv.vertex; });
+    // Values held by semi-sharp features that outlast the last level (plan_held_limits) first.
+    plan_held_limits(last, rules, s);
+    const std::size_t held = s.special_vertices.size();
+    for (Index x = 0, next_held = 0; x < nx; ++x) {
         const Tag& tag = tags_[x];
         Index ends[2];
-        if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends)))) {
+        if (std::size_t(next_held) < held && s.special_vertices[std::size_t(next_held)].vertex == x) {
+            ++next_held;
+        } else if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends)))) {
             s.special_vertices.push_back(copy_of(x));
         } else if (tag.mismatch) {
             s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
         } else if (const SpecialVertex* m = special_vertex[vertex_of_[x]]) {
             s.special_vertices.push_back(on_layer(x, *m));
+        } else if (const RingWeightedVertex* m = ring_weighted[vertex_of_[x]]) {
+            // Without a seam at the vertex, the value's ring is the vertex's, value for neighbour, in its own order.
+            const Index v = m->vertex, first = vertex_limit.ring_offsets[v], last = vertex_limit.ring_offsets[v + 1];
+            s.ring_weighted_vertices.push_back({x, Index(s.ring_weights.size()), m->w_self});
+            for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
+                const Index neighbour = vertex_of_[values_.vertex_vertices[k]];
+                const Index slot = Index(std::find(&vertex_limit.ring[first], &vertex_limit.ring[first] + (last - first), neighbour) - &vertex_limit.ring[first]);
+                s.ring_weights.push_back(slot < last - first ? vertex_limit.ring_weights[m->first + slot] : 0.0f);
+            }
         }
     }
+    std::inplace_merge(s.special_vertices.begin(), s.special_vertices.begin() + std::ptrdiff_t(held), s.special_vertices.end(),
+                       [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
     s.ring_offsets = values_.vertex_edge_offsets;
     s.ring = values_.vertex_vertices;
     plan_.counts.push_back(nx);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "plan/level_state.h"
+#include "rules/rule_set.h"
 #include "tables/stencils.h"
 
 namespace loopsub::detail {
@@ -31,14 +32,17 @@ struct FaceVaryingPlan {
 
 class FaceVaryingBuilder {
 public:
+    using Mode = FaceVaryingInterpolation;
+
     // `base` is the vertex plan's level 0 (full topology, sharpness set).
     FaceVaryingBuilder(const MeshView& mesh, int layer, const Options& options, const LevelState& base);
     // Plans one level: `level` (its features, and its faces and edges unless it was not built: then they are read
     // through `level_parent`, the level before it), the vertex plan's stencils for it, and the child level's features.
     void plan_level(const LevelState& level, const Topology* level_parent, const LevelStencils& vertex_stencils,
                     const LevelState& child, bool last);
-    // The limit pass over the last level, from the vertex plan's limit stencils.
-    void plan_limit(const LevelStencils& vertex_limit);
+    // The limit pass over the last level (`last`: its features), from the vertex plan's limit stencils; `rules` decays
+    // the sharpness that outlasts the last level.
+    void plan_limit(const LevelStencils& vertex_limit, const LevelState& last, const RuleSet& rules);
     FaceVaryingPlan finish();
 
 private:
@@ -65,6 +69,13 @@ private:
     Index neighbour_at_vertex(Index x, Index vertex) const;  // x's neighbour value lying on `vertex`, or -1
     // A vertex's mask `m` for value x on that vertex: its crease neighbours read through the layer.
     SpecialVertex on_layer(Index x, const SpecialVertex& m) const;
+    // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and whose
+    // own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the features
+    // inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
+    template <typename InnerSemi>
+    static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi);
+    // Where a value held on the last level goes: held until its features are spent, then along its seam.
+    void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
 
     Options options_;
     FaceVaryingPlan plan_;

@@ -7,8 +7,14 @@
 // discontinuous ones. A vertex whose fan is a disk of smooth edges (smooth, dart and cone vertices) has one normal,
 // t1 x t2 of OpenSubdiv's smooth tangent masks. Elsewhere each corner takes the normal of its side: the faces
 // between two sharp edges, with the sharp edges as that side's boundary (OpenSubdiv's boundary tangent masks).
+//
+// Where semi-sharp features outlast the last level, the surface refines on until they are spent: such a vertex's ring
+// is refined in closed form at plan time (spend, RuleSet::refine_until_spent), and the masks that apply once they are
+// spent are pulled back to masks over the last level's ring (pull_back_spent). Only infinitely sharp edges part sides.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <utility>
 
 #include "plan/level_state.h"
 #include "base/parallel.h"
@@ -68,12 +74,20 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         Index crease[2];
     };
     std::vector<Classified> classified;
+    std::vector<Spent> spent;  // by vertex
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
     const VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &plan_.level_num_vertices, base_for_walks_);
+    std::vector<Index> far_edges;
+    std::vector<float> far_sharpness;
     for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
         const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.sharp_edges);
         types[vertex.vertex] = classify_vertex(rule, vertex, around);
+        if (is_semi_sharp(vertex.own_sharpness()) || std::any_of(vertex.sharpness.begin(), vertex.sharpness.end(), is_semi_sharp)) {
+            spent.push_back(spend(level, around, vertex, far_edges, far_sharpness));
+            lt.by_side[vertex.vertex] = normal_per_side(spent.back().ring.rule);
+            return;
+        }
         classified.push_back({vertex.vertex, rule, int(vertex.edges.size()), {vertex.crease[0], vertex.crease[1]}});
         lt.by_side[vertex.vertex] = normal_per_side(rule);
     });
@@ -155,7 +169,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         next.assign(n, -1);
         previous.assign(n, -1);
         for (int i = 0; i < n; ++i) {
-            if (is_sharp(level.edge_sharpness(fan[i].edge_b))) continue;
+            // Semi-sharp edges are smooth at the limit (their vertices were spent): only infinitely sharp ones part sides.
+            if (is_infinite(level.edge_sharpness(fan[i].edge_b))) continue;
             for (int j = 0; j < n; ++j) {
                 if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
                     next[i] = j, previous[j] = i;
@@ -170,6 +185,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             entry.vertex = fan[start].vertex;
             entry.first = Index(lt.side_points.size());
             entry.closed = closed;
+            entry.own = -1;
             int faces = 0, i = start, last = start;
             do {
                 placed[i] = 1;
@@ -196,6 +212,102 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     for (int faces = 1; faces <= max_side_faces; ++faces) {
         side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
         scale_to_at_most_unit_sum(lt.side_t1[faces]), scale_to_at_most_unit_sum(lt.side_t2[faces]);
+    }
+    if (!spent.empty()) pull_back_spent(spent, lt);
+}
+
+// A vertex whose semi-sharp features outlast the last level: its ring refined on until they are spent (the rules'
+// refine_until_spent), read through the winged-edge neighbourhood of the last level.
+detail::PlanBuilder::Spent detail::PlanBuilder::spend(const LevelState& level, const VertexNeighbourhood& around,
+                                                      const FeatureVertex& vertex, std::vector<Index>& far_edges,
+                                                      std::vector<float>& far_sharpness) const {
+    const Topology& t = level.topology;
+    const Index v = vertex.vertex;
+    const int n = int(vertex.edges.size());
+    Spent out;
+    out.vertex = v;
+    out.neighbours.resize(n);
+    for (int k = 0; k < n; ++k) out.neighbours[k] = around.other_end(vertex.edges[k], v);
+    std::vector<float> far(n);
+    std::vector<int> faces(n);
+    std::vector<std::int32_t> wings(2 * std::size_t(n));
+    for (int k = 0; k < n; ++k) {
+        const Index e = vertex.edges[k];
+        faces[k] = around.edge_face_count(e);
+        // A missing face's wing repeats an end, weighted 0 as the edge is sharp.
+        wings[2 * k] = std::max(0, out.slot(t.edge_wing_c[e]));
+        wings[2 * k + 1] = std::max(0, out.slot(t.edge_wing_d[e]));
+        // The half at the other end decays by the edges there (Chaikin).
+        const float sharpness = vertex.sharpness[k];
+        far_sharpness.assign(1, sharpness);
+        if (is_semi_sharp(sharpness) && rules_->decay_reads_other_edges()) {
+            around.edges(out.neighbours[k], far_edges);
+            far_sharpness.clear();
+            for (Index f : far_edges) far_sharpness.push_back(level.edge_sharpness(f));
+        }
+        far[k] = rules_->child_edge_sharpness(sharpness, far_sharpness.data(), int(far_sharpness.size()));
+    }
+    out.ring = rules_->refine_until_spent({n, vertex.own_sharpness(), vertex.sharpness.data(), far.data(), faces.data(), wings.data()});
+    return out;
+}
+
+// The masks that apply where the semi-sharp features are spent, pulled back to the last level through the spent
+// ring's refinement: limit positions as masks over the ring (ring_weighted_vertices), tangents as weights of their own
+// over a vertex's ring or a side's points. The limit pass and the normals then cost what they cost elsewhere.
+void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, LimitTables& lt) const {
+    LevelStencils& s = lt.positions;
+    std::vector<double> mask, pulled;
+    auto pull_back = [&](const Spent& x) {
+        const int size = int(x.neighbours.size()) + 1;
+        pulled.assign(size, 0.0);
+        for (int i = 0; i < size; ++i)
+            for (int j = 0; j < size; ++j) pulled[j] += mask[i] * x.ring.refinement[std::size_t(i) * size + j];
+    };
+    // Tangent weights sum to zero: the vertex's is what its points' leave, and only the points' are kept.
+    auto own_tangents = [&](const Spent& x, const Index* points, int count, const float* w1, const float* w2) {
+        const Index first = Index(lt.own_t1.size());
+        for (int tangent = 0; tangent < 2; ++tangent) {
+            const float* w = tangent == 0 ? w1 : w2;
+            mask.assign(x.neighbours.size() + 1, 0.0);
+            for (int i = 0; i < count; ++i) mask[x.slot(points[i])] += w[i], mask[0] -= w[i];
+            pull_back(x);
+            std::vector<float> weights(count);
+            for (int i = 0; i < count; ++i) weights[i] = float(std::exchange(pulled[x.slot(points[i])], 0.0));
+            // A side's points refine among themselves (its sharp edges' wings weigh nothing), so nothing of a side's
+            // tangent falls on the ring's other points.
+            assert(std::all_of(pulled.begin() + 1, pulled.end(), [](double w) { return std::fabs(w) < 1e-9; }));
+            scale_to_at_most_unit_sum(weights);
+            std::vector<float>& to = tangent == 0 ? lt.own_t1 : lt.own_t2;
+            to.insert(to.end(), weights.begin(), weights.end());
+        }
+        return first;
+    };
+    for (const Spent& x : spent) {
+        const Index v = x.vertex;
+        const int n = int(x.neighbours.size());
+        const LimitMask limit = rules_->limit_mask({VertexType::Smooth, x.ring.rule, n, 0.0f, 0.0f, nullptr, nullptr, 0,
+                                                    {x.ring.crease[0], x.ring.crease[1]}, {-1, -1}},
+                                                   0.5, 0.5);
+        mask.assign(n + 1, limit.ring);
+        mask[0] = limit.self;
+        if (x.ring.crease[0] >= 0) mask[1 + x.ring.crease[0]] += limit.end_a;
+        if (x.ring.crease[1] >= 0) mask[1 + x.ring.crease[1]] += limit.end_b;
+        pull_back(x);
+        const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
+        s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(pulled[0])});
+        for (Index k = first; k < last; ++k) s.ring_weights.push_back(float(pulled[x.slot(s.ring[k])]));
+        // Smooth once spent, its ring counter-clockwise: one normal.
+        if (!lt.by_side[v]) {
+            lt.own_vertex_tangents.push_back({v, own_tangents(x, &s.ring[first], n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
+        }
+    }
+    for (LimitTables::Side& side : lt.sides) {
+        const auto found = std::lower_bound(spent.begin(), spent.end(), side.vertex, [](const Spent& x, Index v) { return x.vertex < v; });
+        if (found == spent.end() || found->vertex != side.vertex) continue;
+        const Index* points = &lt.side_points[side.first];
+        side.own = side.closed ? own_tangents(*found, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data())
+                               : own_tangents(*found, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
+                                              lt.side_t2[side.faces].data() + 1);
     }
 }
 
@@ -278,10 +390,17 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
         };
         if (phase == 0) {
             const auto [begin, end] = detail::part_of(std::size_t(s.num_vertices), part, parts);
+            // The vertices with tangents of their own, met in vertex order.
+            auto own = std::lower_bound(lt.own_vertex_tangents.begin(), lt.own_vertex_tangents.end(), std::pair<Index, Index>(Index(begin), -1));
             in_batches(begin, end, [&](std::size_t v, Vec3& t1, Vec3& t2) {
                 if (lt.by_side[v]) return;  // zero: its corners take their sides' normals
                 const Index first = s.ring_offsets[v];
                 const int valence = s.ring_offsets[v + 1] - first;
+                if (own != lt.own_vertex_tangents.end() && std::size_t(own->first) == v) {
+                    tangents(Index(v), s.ring.data() + first, valence, lt.own_t1.data() + own->second, lt.own_t2.data() + own->second, t1, t2);
+                    ++own;
+                    return;
+                }
                 tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
             }, vertex_normals.data());
         } else if (phase == 1) {
@@ -289,7 +408,8 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
             in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
                 const detail::LimitTables::Side& side = lt.sides[i];
                 const Index* points = lt.side_points.data() + side.first;
-                if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
+                if (side.own >= 0) tangents(side.vertex, points, side.closed ? side.faces : side.faces + 1, lt.own_t1.data() + side.own, lt.own_t2.data() + side.own, t1, t2);
+                else if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
                 else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
             }, side_normals.data());
         } else {

@@ -129,7 +129,7 @@ void PlanBuilder::run() {
     }
     if (options_.limit_surface) plan_limit(level, parent);
     for (FaceVaryingBuilder& layer : layers) {
-        if (options_.limit_surface) layer.plan_limit(plan_.limit->positions);
+        if (options_.limit_surface) layer.plan_limit(plan_.limit->positions, level, *rules_);
         plan_.face_varying.push_back(layer.finish());
     }
     if (options_.levels > 0 && !skip_level_before_last_) hand_over_edges_and_offsets(parent, plan_.stencils.back());

@@ -16,6 +16,7 @@
 // Every rule decision is the rule set's (rule_set.h, rules.h): the builder gathers the local facts and asks.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -60,7 +61,21 @@ private:
     void hand_over_tables(Step& step) const;
     void retire_parent(Topology& parent, int level);
 
-    void plan_limit(LevelState& last, const Topology& parent);  // limit.cpp
+    // limit.cpp
+    struct Spent {
+        Index vertex;
+        std::vector<Index> neighbours;  // slot 1 + k: the other end of its k-th edge
+        SpentRing ring;
+        int slot(Index x) const {
+            if (x == vertex) return 0;
+            const auto found = std::find(neighbours.begin(), neighbours.end(), x);
+            return found == neighbours.end() ? -1 : int(found - neighbours.begin()) + 1;
+        }
+    };
+    void plan_limit(LevelState& last, const Topology& parent);
+    Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
+                std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
+    void pull_back_spent(const std::vector<Spent>& spent, LimitTables& limit) const;
     void drop_holes();
     void collect_output_tags(const LevelState& last);
 

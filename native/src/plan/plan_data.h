@@ -33,12 +33,18 @@ struct LimitTables {
         Index vertex, first;
         int faces;
         bool closed;
+        Index own;  // where its tangent weights are its own (own_t1 / _t2, one per point), else -1
     };
     std::vector<Side> sides;
     std::vector<Index> side_points;
     std::vector<std::pair<Index, Index>> corner_sides;  // (output corner 3 t + k, side), sorted by corner
     // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
     std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
+    // Where semi-sharp features outlast the last level, the tangent masks that apply once they are spent, pulled back
+    // to the last level: weights per point of a vertex's ring (own_vertex_tangents: (vertex, first), sorted) or of a
+    // side (Side::own). Their vertex's weight is what the points' leave, as in the tables above.
+    std::vector<float> own_t1, own_t2;
+    std::vector<std::pair<Index, Index>> own_vertex_tangents;
 };
 
 // The output's tags (Plan::output_crease_edges and the rest): edges as vertex pairs, a value per edge or vertex.

@@ -19,6 +19,7 @@ public:
     float vertex_sharpness_from_tag(float tag) const override { return tag > 0.0f ? kInfiniteSharpness : 0.0f; }
     float child_edge_sharpness(float sharpness, const float*, int) const override { return sharpness; }
     float child_vertex_sharpness(float sharpness) const override { return sharpness; }
+    bool decay_reads_other_edges() const override { return false; }
     float child_tag(float tag, float) const override { return tag; }
 
     VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const override {
@@ -76,6 +77,7 @@ public:
                                                 : decrement_sharpness(sharpness);
     }
     float child_vertex_sharpness(float sharpness) const override { return decrement_sharpness(sharpness); }
+    bool decay_reads_other_edges() const override { return method_ == CreaseMethod::Chaikin; }
     float child_tag(float tag, float child_sharpness) const override { return tag == 0.0f ? tag : child_sharpness; }
 
     VertexMask vertex_mask(const VertexSituation& vertex, std::int32_t ends[2]) const override {
@@ -122,6 +124,77 @@ private:
 };
 
 }  // namespace
+
+SpentRing RuleSet::refine_until_spent(const RingSituation& ring) const {
+    const int n = ring.valence, size = n + 1;
+    std::vector<float> sharpness(ring.edge_sharpness, ring.edge_sharpness + n);
+    std::vector<float> far(ring.far_half_sharpness, ring.far_half_sharpness + n), child(n), child_far(n);
+    float vertex = ring.vertex_sharpness;
+    SpentRing out;
+    out.refinement.assign(std::size_t(size) * size, 0.0);
+    for (int i = 0; i < size; ++i) out.refinement[std::size_t(i) * size + i] = 1.0;
+    std::vector<double> step(out.refinement.size()), product(out.refinement.size());
+    auto first_two_sharp = [n](const std::vector<float>& of, int crease[2]) {
+        int count = 0;
+        crease[0] = crease[1] = -1;
+        for (int k = 0; k < n; ++k)
+            if (is_sharp(of[k]) && count++ < 2) crease[count - 1] = k;
+        return count;
+    };
+    // Every level takes at least one off the largest finite sharpness there (Chaikin's averages never exceed it).
+    while (is_semi_sharp(vertex) || std::any_of(sharpness.begin(), sharpness.end(), is_semi_sharp)) {
+        for (int k = 0; k < n; ++k) child[k] = child_edge_sharpness(sharpness[k], sharpness.data(), n);
+        const float child_vertex = child_vertex_sharpness(vertex);
+        int crease[2], child_crease[2];
+        const int sharp_edges = first_two_sharp(sharpness, crease);
+        const int child_sharp_edges = first_two_sharp(child, child_crease);
+        std::fill(step.begin(), step.end(), 0.0);
+        // The vertex point.
+        std::int32_t ends[2];
+        const VertexMask v = vertex_mask({VertexType::Smooth, sdc_vertex_rule(vertex, sharp_edges), n, vertex, child_vertex,
+                                          sharpness.data(), child.data(), child_sharp_edges, {crease[0], crease[1]},
+                                          {child_crease[0], child_crease[1]}},
+                                         ends);
+        step[0] = v.self;
+        for (int k = 0; k < n; ++k) step[1 + k] = v.ring;
+        if (v.crease != 0.0) step[1 + ends[0]] += v.crease, step[1 + ends[1]] += v.crease;
+        // The edge points, the vertex as their end A.
+        for (int k = 0; k < n; ++k) {
+            const EdgeMask e = is_sharp(sharpness[k])
+                                   ? edge_mask({sharpness[k], VertexType::Smooth, VertexType::Smooth, ring.face_count[k],
+                                                is_sharp(child[k]) && is_sharp(far[k])})
+                                   : smooth_edge_mask();
+            double* row = &step[std::size_t(1 + k) * size];
+            row[0] += e.a;
+            row[1 + k] += e.b;
+            row[ring.wings[2 * k]] += e.wings;
+            row[ring.wings[2 * k + 1]] += e.wings;
+        }
+        // An edge point weighs at most four points of the ring: the product skips the rest.
+        std::fill(product.begin(), product.end(), 0.0);
+        for (int i = 0; i < size; ++i)
+            for (int m = 0; m < size; ++m) {
+                const double w = step[std::size_t(i) * size + m];
+                if (w == 0.0) continue;
+                const double* from = &out.refinement[std::size_t(m) * size];
+                double* to = &product[std::size_t(i) * size];
+                for (int j = 0; j < size; ++j) to[j] += w * from[j];
+            }
+        out.refinement.swap(product);
+        // The next level: the far end of edge k is the midpoint of this level's edge k, where only its two halves can
+        // be sharp.
+        for (int k = 0; k < n; ++k) {
+            const float halves[2] = {child[k], far[k]};
+            child_far[k] = child_edge_sharpness(child[k], halves, 2);
+        }
+        sharpness.swap(child);
+        far.swap(child_far);
+        vertex = child_vertex;
+        ++out.levels;
+    }
+    out.rule = sdc_vertex_rule(vertex, first_two_sharp(sharpness, out.crease));
+    return out;
+}
 
 std::unique_ptr<RuleSet> make_rule_set(const Options& options) {
     if (options.rules == Rules::Hoppe94) return std::make_unique<Hoppe94Rules>(options.boundary, options.crease_threshold);

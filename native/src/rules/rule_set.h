@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "loopsub/loopsub.h"
 #include "rules/rules.h"
@@ -32,6 +33,28 @@ struct EdgeSituation {
     VertexType type_a, type_b;  // its ends' classes
     int face_count;
     bool halves_sharp;  // both halves are sharp on the next level
+};
+
+// A vertex's 1-ring on the last level, as the rules read it on the levels the refinement would go on to: slot 0 is the
+// vertex, slot 1 + k the other end of its k-th edge. Each level keeps the ring's shape (the vertex point and the edge
+// points of its edges are the next level's ring), so the ring alone says where the vertex goes.
+struct RingSituation {
+    int valence;
+    float vertex_sharpness;
+    const float* edge_sharpness;      // per edge
+    const float* far_half_sharpness;  // per edge: on the next level, the sharpness of its half at its other end
+    const int* face_count;            // per edge
+    const std::int32_t* wings;        // 2 per edge: the slots of its wings C and D
+};
+
+// The ring refined until no semi-sharp feature is left at the vertex: `refinement` ((n + 1)^2, row-major) takes the
+// ring's points to theirs `levels` levels down, where the vertex has only smooth and infinitely sharp features left, and
+// its rule and crease edges (the first two sharp edges, -1: none) are the ones its limit masks follow.
+struct SpentRing {
+    std::vector<double> refinement;
+    int levels = 0;
+    SdcRule rule = SdcRule::Smooth;
+    int crease[2] = {-1, -1};
 };
 
 class RuleSet {
@@ -75,6 +98,8 @@ public:
     // One level down: the half of an edge at a vertex, given the sharpness of every edge there; a vertex.
     virtual float child_edge_sharpness(float sharpness, const float* at_vertex, int count) const = 0;
     virtual float child_vertex_sharpness(float sharpness) const = 0;
+    // Whether child_edge_sharpness reads the other edges at the vertex (Chaikin), or only the edge's own sharpness.
+    virtual bool decay_reads_other_edges() const = 0;
     // The tag a child carries into the output, so that refining the output goes on where this refinement stops.
     virtual float child_tag(float tag, float child_sharpness) const = 0;
     // The vertex point's mask; `ends` receives the edges its crease neighbours lie on (when mask.crease != 0).
@@ -84,6 +109,9 @@ public:
     // Where a vertex of the last level lies on the limit surface; end_a / end_b weight the other ends of
     // vertex.crease[0] / [1]. `vertex_weight_a` / `_b`: the vertex's weight in the edge points of those two edges.
     virtual LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a, double vertex_weight_b) const = 0;
+
+    // Refines a vertex's ring by the masks above, level after level, until its semi-sharp features are spent.
+    SpentRing refine_until_spent(const RingSituation& ring) const;
 
 private:
     Boundary boundary_;

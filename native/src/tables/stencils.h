@@ -7,7 +7,8 @@
 // (smooth, dart, crease, corner and cone masks, the {5,3} and {1,1} edge masks, and OpenSubdiv's blends of two
 // of them are all of this form). Most vertices and edges are smooth, so a kernel first applies the smooth mask
 // to every vertex and edge of its range (weights by valence from a small table) and then overwrites the few
-// special ones from short sorted lists.
+// special ones from short sorted lists. The one exception is the limit of a vertex whose semi-sharp features outlast
+// the last level, a weight per neighbour (RingWeightedVertex).
 #pragma once
 
 #include <cstdint>
@@ -25,6 +26,14 @@ struct SpecialVertex {
     std::int32_t crease_a, crease_b;  // the two crease neighbours (any valid index where their weight is 0)
     // Refinement weights p and q alike; the limit of a Hoppe94 crease vertex next to an irregular one does not.
     float w_self, w_ring, w_crease_a, w_crease_b;
+};
+
+// A mask with a weight of its own per neighbour: the limit of a vertex whose semi-sharp features outlast the last
+// level (limit.cpp). Its weights are ring_weights[first ..], one per neighbour in the order of its ring.
+struct RingWeightedVertex {
+    std::int32_t vertex;
+    std::int32_t first;
+    float w_self;
 };
 
 struct SpecialEdge {
@@ -61,6 +70,8 @@ struct LevelStencils {
     std::vector<float> smooth_self;
     std::vector<float> smooth_ring;
     std::vector<SpecialVertex> special_vertices;  // sorted by vertex
+    std::vector<RingWeightedVertex> ring_weighted_vertices;  // sorted by vertex; limit passes only
+    std::vector<float> ring_weights;
 
     // Edge points: the endpoints A, B (pairs: the level's own edge list, taken over rather than copied) and the wings
     // C, D, the vertices opposite the edge in its first two faces (one array each). Where a face is missing, C / D

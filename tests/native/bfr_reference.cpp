@@ -1,0 +1,152 @@
+#include "bfr_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include "mesh_gen.h"
+
+namespace loopsub::testing {
+
+using namespace OpenSubdiv;
+
+namespace {
+
+std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, const Plan& plan, bool face_varying) {
+    if (!mesh.hole_triangles.empty() || std::int64_t(plan.num_output_triangles()) != (std::int64_t(mesh.num_triangles()) << 2 * plan.levels()))
+        throw std::runtime_error("bfr_limit: output triangles must be the split's, without holes");
+    std::vector<int> vertices_per_face(std::size_t(mesh.num_triangles()), 3);
+    Far::TopologyDescriptor desc;
+    desc.numVertices = mesh.num_vertices();
+    desc.numFaces = mesh.num_triangles();
+    desc.numVertsPerFace = vertices_per_face.data();
+    desc.vertIndicesPerFace = mesh.triangles.data();
+    desc.numCreases = int(mesh.crease_sharpness.size());
+    desc.creaseVertexIndexPairs = mesh.crease_edges.data();
+    desc.creaseWeights = mesh.crease_sharpness.data();
+    desc.numCorners = int(mesh.corner_sharpness.size());
+    desc.cornerVertexIndices = mesh.corner_vertices.data();
+    desc.cornerWeights = mesh.corner_sharpness.data();
+    Sdc::Options sdc;
+    sdc.SetVtxBoundaryInterpolation(mesh.boundary == Boundary::EdgesAndCorners ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                    : mesh.boundary == Boundary::None          ? Sdc::Options::VTX_BOUNDARY_NONE
+                                                                               : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    sdc.SetCreasingMethod(mesh.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN : Sdc::Options::CREASE_UNIFORM);
+    // FaceVaryingInterpolation is declared in OpenSubdiv's order.
+    sdc.SetFVarLinearInterpolation(Sdc::Options::FVarLinearInterpolation(int(plan.options().face_varying)));
+    Far::TopologyDescriptor::FVarChannel channel;
+    if (face_varying) {
+        channel.numValues = int(mesh.uvs.size() / 2);
+        channel.valueIndices = mesh.triangle_uvs.data();
+        desc.numFVarChannels = 1;
+        desc.fvarChannels = &channel;
+    }
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
+    if (!refiner) throw std::runtime_error("OpenSubdiv refused the mesh");
+    return refiner;
+}
+
+// Exact at the points asked for: they are corners of Bfr's patches once it isolates smooth irregular vertices to the
+// plan's last level, and semi-sharp features until their sharpness is spent.
+Bfr::SurfaceFactory::Options exact_at(const Plan& plan) {
+    Bfr::SurfaceFactory::Options options;
+    options.SetApproxLevelSmooth(std::max(plan.levels(), 2)).SetApproxLevelSharp(10);
+    return options;
+}
+
+// The (u, v) of the corners of output triangle `child` of a base face (its index among the face's descendants), from
+// the base face down: corner child k is (v_k, m_k, m_{k-1}), the middle child (m_0, m_1, m_2).
+void corner_parameters(std::size_t child, int levels, double uv[3][2]) {
+    const double base[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+    std::copy(&base[0][0], &base[0][0] + 6, &uv[0][0]);
+    for (int l = levels - 1; l >= 0; --l) {
+        const int k = int(child >> 2 * l & 3);
+        double m[3][2], next[3][2];
+        for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 2; ++c) m[i][c] = 0.5 * (uv[i][c] + uv[(i + 1) % 3][c]);
+        for (int c = 0; c < 2; ++c) {
+            if (k == 3) {
+                next[0][c] = m[0][c], next[1][c] = m[1][c], next[2][c] = m[2][c];
+            } else {
+                next[0][c] = uv[k][c], next[1][c] = m[k][c], next[2][c] = m[(k + 2) % 3][c];
+            }
+        }
+        std::copy(&next[0][0], &next[0][0] + 6, &uv[0][0]);
+    }
+}
+
+}  // namespace
+
+BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan) {
+    const int levels = plan.levels();
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, plan, false);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner, exact_at(plan));
+
+    BfrLimit out;
+    out.positions.assign(3 * std::size_t(plan.num_output_vertices()), 0.0);
+    out.normals.assign(9 * std::size_t(plan.num_output_triangles()), 0.0);
+    std::vector<double> control(mesh.positions.begin(), mesh.positions.end()), patch_points;
+    const Bfr::Surface<double>::PointDescriptor point(3);
+    Bfr::Surface<double> surface;
+    const std::int32_t* triangles = plan.output_triangles();
+    const std::size_t per_face = std::size_t(1) << 2 * levels;
+    for (int f = 0; f < mesh.num_triangles(); ++f) {
+        if (!factory.InitVertexSurface(f, &surface) || !surface.IsValid()) throw std::runtime_error("Bfr: no surface for a face");
+        patch_points.resize(3 * std::size_t(surface.GetNumPatchPoints()));
+        surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
+        for (std::size_t child = 0; child < per_face; ++child) {
+            const std::size_t t = std::size_t(f) * per_face + child;
+            double uv[3][2];
+            corner_parameters(child, levels, uv);
+            for (int corner = 0; corner < 3; ++corner) {
+                double p[3], du[3], dv[3];
+                surface.Evaluate(uv[corner], patch_points.data(), point, p, du, dv);
+                const std::size_t v = std::size_t(triangles[3 * t + corner]);
+                for (int c = 0; c < 3; ++c) out.positions[3 * v + c] = p[c];
+                const double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
+                const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+                if (length > 0.0)
+                    for (int c = 0; c < 3; ++c) out.normals[9 * t + 3 * std::size_t(corner) + c] = n[c] / length;
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace loopsub::testing
+
+namespace loopsub::testing {
+
+std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& plan) {
+    const int levels = plan.levels();
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, plan, true);
+    Bfr::SurfaceFactory::Options options = exact_at(plan);
+    options.SetDefaultFVarID(0);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
+    std::vector<double> out(6 * std::size_t(plan.num_output_triangles()), 0.0);
+    std::vector<double> control(mesh.uvs.begin(), mesh.uvs.end()), patch_points;
+    const Bfr::Surface<double>::PointDescriptor point(2);
+    Bfr::Surface<double> surface;
+    const std::size_t per_face = std::size_t(1) << 2 * levels;
+    for (int f = 0; f < mesh.num_triangles(); ++f) {
+        if (!factory.InitFaceVaryingSurface(f, &surface) || !surface.IsValid()) throw std::runtime_error("Bfr: no face-varying surface for a face");
+        patch_points.resize(2 * std::size_t(surface.GetNumPatchPoints()));
+        surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
+        for (std::size_t child = 0; child < per_face; ++child) {
+            const std::size_t t = std::size_t(f) * per_face + child;
+            double uv[3][2];
+            corner_parameters(child, levels, uv);
+            for (int corner = 0; corner < 3; ++corner) surface.Evaluate(uv[corner], patch_points.data(), point, &out[6 * t + 2 * std::size_t(corner)]);
+        }
+    }
+    return out;
+}
+
+}  // namespace loopsub::testing

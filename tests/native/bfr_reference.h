@@ -1,0 +1,31 @@
+// OpenSubdiv's true limit surface (Bfr::Surface, as Blender's "Use Limit Surface" shows it) at the last level's
+// vertices of a plan: the reference for the limit where semi-sharp creases have not decayed by the last level, where
+// Far::PrimvarRefiner::Limit (osd_reference.h) stops short and takes them for infinitely sharp.
+//
+// A uniform refinement's level-L vertices are the points of a uniform tessellation at rate 2^L of each base face: an
+// output triangle t descends from base face t >> 2L through the split's corner and middle children (2 bits a level,
+// docs/architecture.md, "The split's numbering"), which gives its corners' (u, v) in the base face's parameterisation.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+
+namespace loopsub::testing {
+
+struct TestMesh;
+
+struct BfrLimit {
+    std::vector<double> positions;  // 3 per output vertex
+    // 3 per output corner (3 t + k): Du x Dv of the corner's base face at its (u, v), unit; zero where degenerate.
+    std::vector<double> normals;
+};
+
+// The plan must have been built for `mesh` (its tags, boundary and crease method; no holes) with the OpenSubdiv rules.
+BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan);
+// The limit of the mesh's UVs (its face-varying layer, interpolated by the plan's Options::face_varying) at the output's
+// corners: 2 per corner (3 t + k).
+std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& plan);
+
+}  // namespace loopsub::testing
