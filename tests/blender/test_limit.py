@@ -342,12 +342,41 @@ def modifier_settings():
     support.remove(obj)
 
 
+
+def semi_sharp_corners():
+    """A cube with every edge creased 0.6 (sharpness 3.6, OpenSubdiv rules): with Use Limit Surface the corners are
+    the limit surface's, which goes on refining until the sharpness is spent and then smooths them, as Subdivision
+    Surface's does. So a corner lands where it lands at every level (a limit does not depend on the level it is taken
+    from; before issue 23 levels 1-3 kept the corners at the crease limit (1, 1, 1) and level 4 moved them), and
+    close to Subdivision Surface's (Catmull-Clark on the quads: not the same surface, the same behaviour)."""
+    corners = {}
+    for levels in (1, 2, 3, 4):
+        obj = support.object_from_bmesh(f"SemiSharp{levels}", support.cube(f"SemiSharp{levels}"), triangulate=False)
+        support.set_edge_creases(obj.data, np.arange(len(obj.data.edges)), 0.6, compat)
+        cage = support.positions(obj.data)
+        blender = support.blender_subdivision(obj, levels, use_limit_surface=True)
+        theirs = support.positions(blender)
+        bpy.data.meshes.remove(blender)
+        result, _ = run_apply(obj, levels=levels, rules='OPENSUBDIV', use_limit_surface=True)
+        ours = support.positions(obj.data)
+        # The cage's vertices keep their indices at every level.
+        corners[levels] = ours[:len(cage)]
+        nearest = np.linalg.norm(theirs[None, :, :] - corners[levels][:, None, :], axis=2).min(axis=1)
+        check(result == {'FINISHED'} and np.abs(corners[levels]).max() < 0.99 and nearest.max() < 0.03,
+              f"level {levels}: the corners move in from (1, 1, 1) to the limit surface, within {nearest.max():.3f} "
+              "of Subdivision Surface's (cube of side 2)")
+        support.remove(obj)
+    spread = max(np.abs(corners[levels] - corners[1]).max() for levels in corners)
+    check(spread < 1e-5, f"the corners' limit positions are the same at levels 1-4 (within {spread:.1e})")
+
+
 support.clear_scene()
 settings_as_blender()
 script_call()
 flat_faces()
 creased_cube_normals()
 ringed_sphere_normals()
+semi_sharp_corners()
 sharp_edges_kept()
 custom_normals_carried()
 suzanne()
