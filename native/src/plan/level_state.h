@@ -50,7 +50,7 @@ struct FeatureVertex {
     const std::vector<Index>& edges;
     const std::vector<float>& sharpness;
     const std::vector<float>& tags;
-    int sharp_edges;   // how many of its edges are sharp
+    int num_sharp_edges;   // how many of its edges are sharp
     Index crease[2];   // the first two sharp edges (-1: none)
     bool tagged_cone;  // Hoppe94
     const Feature* own = nullptr;  // the vertex's own sharpness and tag, where it is a feature itself
@@ -126,11 +126,11 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
                 edge_features[k] = &edge;
             }
             run = run_end;
-            int sharp_edges = 0;
+            int num_sharp_edges = 0;
             Index crease[2] = {-1, -1};
             for (std::size_t k = 0; k < edges.size(); ++k)
-                if (is_sharp(sharpness[k]) && sharp_edges++ < 2) crease[sharp_edges - 1] = edges[k];
-            visit(FeatureVertex{v, edges, sharpness, tags, sharp_edges, {crease[0], crease[1]},
+                if (is_sharp(sharpness[k]) && num_sharp_edges++ < 2) crease[num_sharp_edges - 1] = edges[k];
+            visit(FeatureVertex{v, edges, sharpness, tags, num_sharp_edges, {crease[0], crease[1]},
                                 std::binary_search(cones.begin(), cones.end(), v), own, &edge_features},
                   part);
         }

@@ -81,7 +81,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::vector<Index> far_edges;
     std::vector<float> far_sharpness;
     for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
-        const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.sharp_edges);
+        const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
         types[vertex.vertex] = classify_vertex(rule, vertex, around);
         if (is_semi_sharp(vertex.own_sharpness()) || std::any_of(vertex.sharpness.begin(), vertex.sharpness.end(), is_semi_sharp)) {
             spent.push_back(spend(level, around, vertex, far_edges, far_sharpness));

@@ -86,7 +86,7 @@ struct PlanBuilder::HalvesOfFeatures {
 // What a feature vertex's child inherits: the sharpness of the halves of its edges at it and its own, decayed.
 struct PlanBuilder::ChildOfVertex {
     const std::vector<float>& edge_sharpness;  // per edge of the vertex, in its order
-    int sharp_edges;
+    int num_sharp_edges;
     Index crease[2];  // the first two of the vertex's edges whose halves are sharp (-1: none)
     float vertex_sharpness;
 };
@@ -280,15 +280,15 @@ void PlanBuilder::plan_feature_vertices(Step& step, HalvesOfFeatures& halves) co
     for_each_feature_vertex(step.level, cones_, step.around, [&](const FeatureVertex& vertex, int part) {
         PartOutput& out = parts[part];
         const ChildOfVertex child = decay_into_child(step, vertex, out, halves);
-        const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.sharp_edges);
+        const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
         step.types[vertex.vertex] = classify_vertex(rule, vertex, step.around);
         // The last level is refined no further, but its classes are reported too (what the result is tagged with):
         // an old vertex's from its child sharpness, over this level's neighbourhoods.
         if (step.last_child) {
-            const FeatureVertex as_child{vertex.vertex, vertex.edges, child.edge_sharpness, vertex.tags, child.sharp_edges,
+            const FeatureVertex as_child{vertex.vertex, vertex.edges, child.edge_sharpness, vertex.tags, child.num_sharp_edges,
                                          {child.crease[0], child.crease[1]}, vertex.tagged_cone};
             out.last_types.push_back(
-                {vertex.vertex, classify_vertex(sdc_vertex_rule(child.vertex_sharpness, child.sharp_edges), as_child, step.around)});
+                {vertex.vertex, classify_vertex(sdc_vertex_rule(child.vertex_sharpness, child.num_sharp_edges), as_child, step.around)});
         }
         add_vertex_mask(step, vertex, rule, child, out.specials);
     }, int(parts.size()));
@@ -303,13 +303,13 @@ PlanBuilder::ChildOfVertex PlanBuilder::decay_into_child(const Step& step, const
     const Index v = vertex.vertex;
     const int valence = int(vertex.edges.size());
     child_sharpness.resize(valence);
-    int child_sharp_edges = 0;
+    int num_child_sharp_edges = 0;
     Index child_crease[2] = {-1, -1};
     for (int k = 0; k < valence; ++k) {
         const Index e = vertex.edges[k];
         const float decayed = rules_->child_edge_sharpness(vertex.sharpness[k], vertex.sharpness.data(), valence);
         child_sharpness[k] = decayed;
-        if (is_sharp(decayed) && child_sharp_edges++ < 2) child_crease[child_sharp_edges - 1] = e;
+        if (is_sharp(decayed) && num_child_sharp_edges++ < 2) child_crease[num_child_sharp_edges - 1] = e;
         const float child_tag = rules_->child_tag(vertex.tags[k], decayed);
         if (!(decayed > 0.0f || child_tag != 0.0f)) continue;
         const Index half_index = step.around.child_edge_at(e, v), m = step.nv + e;  // half 2e = (a, m), 2e + 1 = (m, b)
@@ -322,7 +322,7 @@ PlanBuilder::ChildOfVertex PlanBuilder::decay_into_child(const Step& step, const
     const float child_vertex_sharpness = rules_->child_vertex_sharpness(vertex.own_sharpness());
     const float child_vertex_tag = rules_->child_tag(vertex.own_tag(), child_vertex_sharpness);
     if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) out.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
-    return {child_sharpness, child_sharp_edges, {child_crease[0], child_crease[1]}, child_vertex_sharpness};
+    return {child_sharpness, num_child_sharp_edges, {child_crease[0], child_crease[1]}, child_vertex_sharpness};
 }
 
 // The vertex point's mask, kept where it is not the smooth pass's.
@@ -333,7 +333,7 @@ void PlanBuilder::add_vertex_mask(const Step& step, const FeatureVertex& vertex,
     const VertexMask smooth = smooth_vertex_mask(valence);
     Index ends[2];
     const VertexMask mask = rules_->vertex_mask({step.types[v], rule, valence, vertex.own_sharpness(), child.vertex_sharpness,
-                                                 vertex.sharpness.data(), child.edge_sharpness.data(), child.sharp_edges,
+                                                 vertex.sharpness.data(), child.edge_sharpness.data(), child.num_sharp_edges,
                                                  {vertex.crease[0], vertex.crease[1]}, {child.crease[0], child.crease[1]}},
                                                 ends);
     if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {

@@ -85,7 +85,7 @@ public:
         if (vertex.rule != SdcRule::Crease && vertex.rule != SdcRule::Corner) return smooth_vertex_mask(vertex.valence);
         // The parent's mask, blended with the child's where the rule changes between the levels.
         VertexMask mask = mask_for(vertex.rule, vertex.valence);
-        const SdcRule child_rule = sdc_vertex_rule(vertex.child_sharpness, vertex.child_sharp_edges);
+        const SdcRule child_rule = sdc_vertex_rule(vertex.child_sharpness, vertex.num_child_sharp_edges);
         if (child_rule != vertex.rule) {
             const float weight = transition_weight(method_, vertex.sharpness, vertex.child_sharpness, vertex.edge_sharpness,
                                                    vertex.child_edge_sharpness, vertex.valence);
@@ -146,13 +146,13 @@ SpentRing RuleSet::refine_until_spent(const RingSituation& ring) const {
         for (int k = 0; k < n; ++k) child[k] = child_edge_sharpness(sharpness[k], sharpness.data(), n);
         const float child_vertex = child_vertex_sharpness(vertex);
         int crease[2], child_crease[2];
-        const int sharp_edges = first_two_sharp(sharpness, crease);
-        const int child_sharp_edges = first_two_sharp(child, child_crease);
+        const int num_sharp_edges = first_two_sharp(sharpness, crease);
+        const int num_child_sharp_edges = first_two_sharp(child, child_crease);
         std::fill(step.begin(), step.end(), 0.0);
         // The vertex point.
         std::int32_t ends[2];
-        const VertexMask v = vertex_mask({VertexType::Smooth, sdc_vertex_rule(vertex, sharp_edges), n, vertex, child_vertex,
-                                          sharpness.data(), child.data(), child_sharp_edges, {crease[0], crease[1]},
+        const VertexMask v = vertex_mask({VertexType::Smooth, sdc_vertex_rule(vertex, num_sharp_edges), n, vertex, child_vertex,
+                                          sharpness.data(), child.data(), num_child_sharp_edges, {crease[0], crease[1]},
                                           {child_crease[0], child_crease[1]}},
                                          ends);
         step[0] = v.self;

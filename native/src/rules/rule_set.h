@@ -22,7 +22,7 @@ struct VertexSituation {
     // Per incident edge, in ring order: sharpness on this level and of its half on the next.
     const float* edge_sharpness;
     const float* child_edge_sharpness;
-    int child_sharp_edges;
+    int num_child_sharp_edges;
     // The first two sharp edges, on this level and the next (-1: none); the mask's crease neighbours lie on them.
     std::int32_t crease[2], child_crease[2];
 };
