@@ -380,6 +380,25 @@ TEST(EdgeCases, VerticesWithoutTrianglesStayWhereTheyAre) {
     }
 }
 
+// A semi-sharp corner tag on a vertex in no triangle, with the limit surface: its sharpness outlasts every level, but
+// it has no ring to refine until it is spent, and stays where it is (once a reference to a null pointer: found by
+// fuzz_plan). Alone, and beside a triangle.
+TEST(EdgeCases, SemiSharpVertexInNoTriangleStaysOnTheLimitSurface) {
+    for (bool with_triangle : {false, true}) {
+        SCOPED_TRACE(with_triangle ? "beside a triangle" : "alone");
+        loopsub::MeshData mesh;
+        mesh.positions = {1, 2, 3, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+        if (with_triangle) mesh.triangles = {1, 2, 3};
+        mesh.corner_vertices = {0};
+        mesh.corner_sharpness = {3.5f};
+        loopsub::Options options = options_for(Rules::OpenSubdiv, 2);
+        options.limit_surface = true;
+        loopsub::Plan plan(mesh.view(), options);
+        const std::vector<float> out = evaluate(plan, mesh.positions);
+        EXPECT_EQ(std::vector<float>(out.begin(), out.begin() + 3), std::vector<float>({1, 2, 3}));
+    }
+}
+
 TEST(EdgeCases, ZeroLevelsReturnsTheInputUnchanged) {
     for (Rules rules : kBothRules) {
         SCOPED_TRACE(rules_name(rules));

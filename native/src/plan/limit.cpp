@@ -83,7 +83,10 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
         const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
         types[vertex.vertex] = classify_vertex(rule, vertex, around);
-        if (is_semi_sharp(vertex.own_sharpness()) || std::any_of(vertex.sharpness.begin(), vertex.sharpness.end(), is_semi_sharp)) {
+        // A vertex in no triangle has no ring to refine: it stays where it is, whatever its sharpness.
+        const bool outlasting = is_semi_sharp(vertex.own_sharpness()) ||
+                                std::any_of(vertex.sharpness.begin(), vertex.sharpness.end(), is_semi_sharp);
+        if (outlasting && !vertex.edges.empty()) {
             spent.push_back(spend(level, around, vertex, far_edges, far_sharpness));
             lt.by_side[vertex.vertex] = normal_per_side(spent.back().ring.rule);
             return;
