@@ -160,7 +160,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::sort(at_sides.begin(), at_sides.end());
     std::vector<int> next, previous;
     std::vector<std::uint8_t> placed;
-    std::vector<int> side_faces_seen;
+    lt.corner_normals.assign(tri.begin(), tri.end());
     for (std::size_t begin = 0; begin < at_sides.size();) {
         std::size_t end = begin;
         while (end < at_sides.size() && at_sides[end].vertex == at_sides[begin].vertex) ++end;
@@ -190,7 +190,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             do {
                 placed[i] = 1;
                 lt.side_points.push_back(fan[i].a);
-                lt.corner_sides.push_back({fan[i].corner, side});
+                lt.corner_normals[fan[i].corner] = nv + side;
                 ++faces;
                 last = i;
                 i = next[i];
@@ -204,7 +204,6 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             if (!placed[i]) add_side(i, true);
         begin = end;
     }
-    std::sort(lt.corner_sides.begin(), lt.corner_sides.end());
     int max_side_faces = 0;
     for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
     lt.side_t1.resize(max_side_faces + 1);
@@ -349,7 +348,7 @@ struct NormalBatch {
 
 }  // namespace
 
-void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals) {
+void PlanImpl::limit_normals(ChannelsView<const float> p, float* normals) {
     detail::LimitTables& lt = *limit;
     const detail::LevelStencils& s = lt.positions;
     // The last level's points come from the evaluation's scratch: an element's channels side by side.
@@ -367,16 +366,13 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
         }
     };
 
-    // Three phases, each split among the threads: vertex normals, side normals, then the corners that read them.
-    std::vector<float>& vertex_normals = frame.vertex_normals;
-    std::vector<float>& side_normals = frame.side_normals;
-    vertex_normals.resize(3 * std::size_t(s.num_vertices));
-    side_normals.resize(3 * lt.sides.size());
-    const std::size_t corners = output_triangles.size();
-    detail::run_levels(std::max(1, options.threads), 3, [&](int phase, int part, int parts) {
+    // Two phases, each split among the threads: the vertices' normals, then the sides' after them.
+    float* vertex_normals = normals;
+    float* side_normals = normals + 3 * std::size_t(s.num_vertices);
+    detail::run_levels(std::max(1, options.threads), 2, [&](int phase, int part, int parts) {
         // Tangents a batch at a time, then their normals.
         NormalBatch batch;
-        auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* normals) {
+        auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* out) {
             for (std::size_t first = begin; first < end; first += NormalBatch::kSize) {
                 const int count = int(std::min<std::size_t>(NormalBatch::kSize, end - first));
                 for (int i = 0; i < count; ++i) {
@@ -385,7 +381,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                     batch.put(i, t1, t2);
                 }
                 batch.unit_normals(count);
-                for (int i = 0; i < count; ++i) batch.store(i, normals + 3 * (first + std::size_t(i)));
+                for (int i = 0; i < count; ++i) batch.store(i, out + 3 * (first + std::size_t(i)));
             }
         };
         if (phase == 0) {
@@ -402,8 +398,8 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                     return;
                 }
                 tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
-            }, vertex_normals.data());
-        } else if (phase == 1) {
+            }, vertex_normals);
+        } else {
             const auto [begin, end] = detail::part_of(lt.sides.size(), part, parts);
             in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
                 const detail::LimitTables::Side& side = lt.sides[i];
@@ -411,20 +407,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                 if (side.own >= 0) tangents(side.vertex, points, side.closed ? side.faces : side.faces + 1, lt.own_t1.data() + side.own, lt.own_t2.data() + side.own, t1, t2);
                 else if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
                 else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
-            }, side_normals.data());
-        } else {
-            const auto [begin, end] = detail::part_of(corners, part, parts);
-            for (std::size_t c = begin; c < end; ++c) {
-                const float* n = &vertex_normals[3 * std::size_t(output_triangles[c])];
-                corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
-            }
-            // The corners on sides overwrite theirs, in the same part of the corner range.
-            const auto first = std::lower_bound(lt.corner_sides.begin(), lt.corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
-            for (auto it = first; it != lt.corner_sides.end() && std::size_t(it->first) < end; ++it) {
-                const float* n = &side_normals[3 * std::size_t(it->second)];
-                const std::size_t c = std::size_t(it->first);
-                corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
-            }
+            }, side_normals);
         }
     });
 }
