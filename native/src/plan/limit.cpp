@@ -27,12 +27,6 @@ using detail::Index;
 
 namespace {
 
-Index slot_of(const detail::LargeVector<Index>& ring, Index first, Index last, Index vertex) {
-    for (Index k = first; k < last; ++k)
-        if (ring[k] == vertex) return k;
-    return -1;
-}
-
 // limit_normals sums a tangent over offsets between limit points, each up to 2/3 of the float maximum (evaluate
 // accepts values up to a third of it, and limit points are weighted means of them). Scaled by a power of two so that
 // its weights' magnitudes sum to at most one, a tangent never overflows; the normal is the same to the last bit, as
@@ -111,35 +105,46 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             s.special_vertices.push_back({v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
     }
 
+    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. The corner's edges
+    // to a and b (face_edges) name their slots in v's ring through slot_at, an edge's slot at each of its ends, filled
+    // from the edges of each vertex in ring order (read through the split's numbering where the level holds none), so
+    // that no ring is searched.
+    LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
+    auto end_of = [&t](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v); };
+    for (Index v = 0, slot = 0; v < nv; ++v) {
+        around.edges(v, far_edges);  // before the level's offsets go to the tables: a level read as its own needs them
+        for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
+    }
     s.ring_offsets = std::move(t.vertex_edge_offsets);
     s.ring = std::move(t.vertex_vertices);
     const LargeVector<Index>& tri = t.face_vertices;
     const std::size_t corners = tri.size();
 
-    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v.
     LargeVector<Index> follower(s.ring.size(), -1);
     for (std::size_t c = 0; c < corners; ++c) {
         const Index v = tri[c];
         if (lt.by_side[v]) continue;
         const std::size_t face = c - c % 3;
-        const Index a = tri[face + next_corner(int(c % 3))], b = tri[face + prev_corner(int(c % 3))];
-        const Index k = slot_of(s.ring, s.ring_offsets[v], s.ring_offsets[v + 1], a);
-        if (k >= 0) follower[k] = b;
+        const int k = int(c % 3);
+        follower[slot_at[end_of(t.face_edges[face + k], v)]] = slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
     }
     std::vector<Index> ordered;
+    LargeVector<Index> visited(s.ring.size(), -1);
     for (int v = 0; v < nv; ++v) {
         const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
         if (lt.by_side[v] || first == last) continue;
         ordered.assign(1, s.ring[first]);
-        for (Index k = first; ordered.size() < std::size_t(last - first);) {
-            const Index next = follower[k];
-            k = next < 0 ? -1 : slot_of(s.ring, first, last, next);
-            if (k < 0) break;
-            ordered.push_back(next);
+        visited[first] = v;
+        Index k = first;
+        for (; ordered.size() < std::size_t(last - first);) {
+            k = follower[k];
+            if (k < 0 || visited[k] == v) break;
+            visited[k] = v;
+            ordered.push_back(s.ring[k]);
         }
         // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled
         // by sides like a crease's.
-        const bool disk = ordered.size() == std::size_t(last - first) && (follower[slot_of(s.ring, first, last, ordered.back())] == ordered.front());
+        const bool disk = ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first;
         if (disk) std::copy(ordered.begin(), ordered.end(), s.ring.begin() + first);
         else lt.by_side[v] = 1;
     }
