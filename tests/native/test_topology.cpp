@@ -192,6 +192,29 @@ TEST(Topology, SplitsFollowTheirNumbering) {
     }
 }
 
+// Each child edge's slot in its ends' rings, from the numbering, is where the stored child lists it among its ends'
+// edges (vertex_edges, in ring order).
+TEST(Topology, ChildEdgeSlotsAreWhereTheChildListsItsEdges) {
+    using namespace loopsub::testing;
+    using loopsub::detail::Index;
+    for (const TestMesh& mesh : {icosphere(2), grid(4, 3), open_fan(7), fin_on_grid(), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        Topology level = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        for (int split = 1; split <= 2; ++split) {
+            Topology child = loopsub::detail::refine_topology(level, loopsub::detail::Refined::Full, 1);
+            std::vector<Index> slot_at(2 * std::size_t(child.num_edges()), -1);
+            loopsub::detail::write_child_edge_slots(level, slot_at.data());
+            for (Index v = 0; v < child.num_vertices; ++v)
+                for (Index k = child.vertex_edge_offsets[v]; k < child.vertex_edge_offsets[v + 1]; ++k) {
+                    const Index e = child.vertex_edges[k];
+                    const bool second = child.edge_vertices[2 * std::size_t(e) + 1] == v;
+                    ASSERT_EQ(slot_at[2 * std::size_t(e) + second], k) << "split " << split << ", vertex " << v << ", edge " << e;
+                }
+            level = std::move(child);
+        }
+    }
+}
+
 // The mesh split three times (Refined::Full): per level past the base, `check` gets the levels so far, their vertex
 // counts, and the level's VertexNeighbourhood on the level itself and derived from its parent, both given the base
 // level for the walks around its vertices where `with_base`.

@@ -115,9 +115,13 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     // that no ring is searched.
     LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
     auto end_of = [&t](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v); };
-    for (Index v = 0, slot = 0; v < nv; ++v) {
-        around.edges(v, far_edges);  // before the level's offsets go to the tables: a level read as its own needs them
-        for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
+    if (!level.own_neighbourhood) {
+        write_child_edge_slots(parent, slot_at.data());
+    } else {
+        for (Index v = 0, slot = 0; v < nv; ++v) {
+            around.edges(v, far_edges);  // before the level's offsets go to the tables: a level read as its own needs them
+            for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
+        }
     }
     s.ring_offsets = std::move(t.vertex_edge_offsets);
     s.ring = std::move(t.vertex_vertices);
@@ -133,17 +137,16 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         follower[slot_at[end_of(t.face_edges[face + k], v)]] = slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
     }
     std::vector<Index> ordered;
-    LargeVector<Index> visited(s.ring.size(), -1);
     for (int v = 0; v < nv; ++v) {
         const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
         if (lt.by_side[v] || first == last) continue;
         ordered.assign(1, s.ring[first]);
-        visited[first] = v;
         Index k = first;
+        // A chain that comes back to its first slot early, or ends, is no disk; one that runs into a loop elsewhere
+        // never reaches the first slot again, which the check below sees.
         for (; ordered.size() < std::size_t(last - first);) {
             k = follower[k];
-            if (k < 0 || visited[k] == v) break;
-            visited[k] = v;
+            if (k < 0 || k == first) break;
             ordered.push_back(s.ring[k]);
         }
         // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled

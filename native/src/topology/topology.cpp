@@ -568,6 +568,33 @@ void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
     }
 }
 
+void write_child_edge_slots(const Topology& p, Index* slot_at) {
+    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
+    // An old vertex's ring is its edges' midpoints, its slots its parent's: half 2e starts at e's first end (its first
+    // end there), half 2e + 1 ends at e's second.
+    for (Index v = 0; v < nv; ++v)
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) {
+            const Index e = p.vertex_edges[k];
+            if (p.edge_vertices[2 * e] == v) slot_at[4 * std::size_t(e)] = k;
+            else slot_at[4 * std::size_t(e) + 3] = k;
+        }
+    // The midpoint of e: its halves (it is the second end of 2e, the first of 2e + 1), then per face of e the two
+    // interior edges at it (midpoint_face_edges' order); interior edge j joins the midpoints of the face's edges j and
+    // j + 1, so the midpoint of edge `local` is the first end of edge local and the second of local - 1.
+    for (Index e = 0; e < p.num_edges(); ++e) {
+        Index slot = child_ring_offset(p, nv + e);
+        slot_at[4 * std::size_t(e) + 1] = slot++;
+        slot_at[4 * std::size_t(e) + 2] = slot++;
+        for (Index k = p.edge_face_offsets[e]; k < p.edge_face_offsets[e + 1]; ++k) {
+            const Index f = p.edge_faces[k];
+            const int local = local_edge(&p.face_edges[3 * f], e);
+            Index edges[2];
+            midpoint_face_edges(interior_base, f, local, p.face_vertices[3 * f + local] == p.edge_vertices[2 * e], edges);
+            for (const Index x : edges) slot_at[2 * std::size_t(x) + std::size_t(x != interior_base + 3 * f + local)] = slot++;
+        }
+    }
+}
+
 void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, Index* d) {
     const Index nv = p.num_vertices, halves = 2 * p.num_edges();
     auto put = [&](int e, Index a, Index b, Index wing_c, Index wing_d) {
