@@ -109,52 +109,53 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             s.special_vertices.push_back({v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
     }
 
-    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. The corner's edges
-    // to a and b (face_edges) name their slots in v's ring through slot_at, an edge's slot at each of its ends, filled
-    // from the edges of each vertex in ring order (read through the split's numbering where the level holds none), so
-    // that no ring is searched.
-    LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
-    auto end_of = [&t](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v); };
+    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. A level known
+    // through its parent has them from the split's numbering (order_child_rings); a level of its own (the base) from
+    // its triangles, each corner's edges to a and b naming their slots in v's ring (slot_at: an edge's slot at each
+    // end), so that no ring is searched.
     if (!level.own_neighbourhood) {
-        write_child_edge_slots(parent, slot_at.data());
+        s.ring_offsets = std::move(t.vertex_edge_offsets);
+        s.ring = std::move(t.vertex_vertices);
+        order_child_rings(parent, lt.by_side.data(), s.ring.data());
     } else {
+        LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
+        auto end_of = [&t](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v); };
         for (Index v = 0, slot = 0; v < nv; ++v) {
-            around.edges(v, far_edges);  // before the level's offsets go to the tables: a level read as its own needs them
+            around.edges(v, far_edges);  // before the level's offsets go to the tables: the level's own arrays answer
             for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
         }
+        s.ring_offsets = std::move(t.vertex_edge_offsets);
+        s.ring = std::move(t.vertex_vertices);
+        LargeVector<Index> follower(s.ring.size(), -1);
+        for (std::size_t c = 0; c < t.face_vertices.size(); ++c) {
+            const Index v = t.face_vertices[c];
+            if (lt.by_side[v]) continue;
+            const std::size_t face = c - c % 3;
+            const int k = int(c % 3);
+            follower[slot_at[end_of(t.face_edges[face + k], v)]] = slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
+        }
+        std::vector<Index> ordered;
+        for (int v = 0; v < nv; ++v) {
+            const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
+            if (lt.by_side[v] || first == last) continue;
+            ordered.assign(1, s.ring[first]);
+            Index k = first;
+            // A chain that comes back to its first slot early, or ends, is no disk; one that runs into a loop elsewhere
+            // never reaches the first slot again, which the check below sees.
+            while (ordered.size() < std::size_t(last - first)) {
+                k = follower[k];
+                if (k < 0 || k == first) break;
+                ordered.push_back(s.ring[k]);
+            }
+            // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled
+            // by sides like a crease's.
+            const bool disk = ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first;
+            if (disk) std::copy(ordered.begin(), ordered.end(), s.ring.begin() + first);
+            else lt.by_side[v] = 1;
+        }
     }
-    s.ring_offsets = std::move(t.vertex_edge_offsets);
-    s.ring = std::move(t.vertex_vertices);
     const LargeVector<Index>& tri = t.face_vertices;
     const std::size_t corners = tri.size();
-
-    LargeVector<Index> follower(s.ring.size(), -1);
-    for (std::size_t c = 0; c < corners; ++c) {
-        const Index v = tri[c];
-        if (lt.by_side[v]) continue;
-        const std::size_t face = c - c % 3;
-        const int k = int(c % 3);
-        follower[slot_at[end_of(t.face_edges[face + k], v)]] = slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
-    }
-    std::vector<Index> ordered;
-    for (int v = 0; v < nv; ++v) {
-        const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
-        if (lt.by_side[v] || first == last) continue;
-        ordered.assign(1, s.ring[first]);
-        Index k = first;
-        // A chain that comes back to its first slot early, or ends, is no disk; one that runs into a loop elsewhere
-        // never reaches the first slot again, which the check below sees.
-        for (; ordered.size() < std::size_t(last - first);) {
-            k = follower[k];
-            if (k < 0 || k == first) break;
-            ordered.push_back(s.ring[k]);
-        }
-        // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled
-        // by sides like a crease's.
-        const bool disk = ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first;
-        if (disk) std::copy(ordered.begin(), ordered.end(), s.ring.begin() + first);
-        else lt.by_side[v] = 1;
-    }
 
     // Sides: the corners at each such vertex, chained across the smooth edges they share.
     struct Corner {
