@@ -263,6 +263,7 @@ public:
     // triangle (3 * num_output_triangles()), the index of its normal: v for vertex v's own, num_output_vertices() + s
     // for side s. Both are the plan's, the same for every evaluation: the corners of a vertex share an index exactly
     // where no such edge parts them. A vertex whose corners all take their sides' normals has a zero vector as its own.
+    // The indices are made on their first request (safe from several threads) and kept with the plan.
     int num_limit_normals() const;
     const std::int32_t* corner_normal_indices() const;
     // Per output edge (in output_edges' numbering, num_output_edges() values, so for the plans output_edges serves),

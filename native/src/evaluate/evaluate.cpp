@@ -177,11 +177,19 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     evaluate(in, out, LimitNormals{normals.data()});
     const auto start = Clock::now();
     if (p.num_input_vertices == 0) return;
-    const detail::LargeVector<Index>& index = p.limit->corner_normals;
+    // Each corner its vertex's normal, then the corners on sides their side's, in the same part of the corner range.
+    const std::vector<std::pair<Index, Index>>& corner_sides = p.limit->corner_sides;
+    const std::size_t side_base = std::size_t(num_output_vertices());
     run_levels(std::max(1, p.options.threads), 1, [&](int, int part, int parts) {
-        const auto [begin, end] = detail::part_of(index.size(), part, parts);
+        const auto [begin, end] = detail::part_of(p.output_triangles.size(), part, parts);
         for (std::size_t c = begin; c < end; ++c) {
-            const float* n = &normals[3 * std::size_t(index[c])];
+            const float* n = &normals[3 * std::size_t(p.output_triangles[c])];
+            corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
+        }
+        const auto first = std::lower_bound(corner_sides.begin(), corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
+        for (auto it = first; it != corner_sides.end() && std::size_t(it->first) < end; ++it) {
+            const float* n = &normals[3 * (side_base + std::size_t(it->second))];
+            const std::size_t c = std::size_t(it->first);
             corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
         }
     });

@@ -173,7 +173,6 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::sort(at_sides.begin(), at_sides.end());
     std::vector<int> next, previous;
     std::vector<std::uint8_t> placed;
-    lt.corner_normals.assign(tri.begin(), tri.end());
     for (std::size_t begin = 0; begin < at_sides.size();) {
         std::size_t end = begin;
         while (end < at_sides.size() && at_sides[end].vertex == at_sides[begin].vertex) ++end;
@@ -203,7 +202,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             do {
                 placed[i] = 1;
                 lt.side_points.push_back(fan[i].a);
-                lt.corner_normals[fan[i].corner] = nv + side;
+                lt.corner_sides.push_back({fan[i].corner, side});
                 ++faces;
                 last = i;
                 i = next[i];
@@ -217,6 +216,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             if (!placed[i]) add_side(i, true);
         begin = end;
     }
+    std::sort(lt.corner_sides.begin(), lt.corner_sides.end());
     int max_side_faces = 0;
     for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
     lt.side_t1.resize(max_side_faces + 1);

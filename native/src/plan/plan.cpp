@@ -41,7 +41,17 @@ const detail::LimitTables& limit_tables(const PlanImpl& p, const char* what) {
 int Plan::num_limit_normals() const {
     return num_output_vertices() + int(limit_tables(*impl_, "num_limit_normals").sides.size());
 }
-const std::int32_t* Plan::corner_normal_indices() const { return limit_tables(*impl_, "corner_normal_indices").corner_normals.data(); }
+const std::int32_t* Plan::corner_normal_indices() const {
+    const PlanImpl& p = *impl_;
+    const detail::LimitTables& lt = limit_tables(p, "corner_normal_indices");
+    detail::LargeVector<Index>& indices = p.copies.corner_normals;
+    std::call_once(p.copies.corner_normals_ready, [&] {
+        indices.assign(p.output_triangles.begin(), p.output_triangles.end());
+        const Index nv = p.level_num_vertices.back();
+        for (const auto& [corner, side] : lt.corner_sides) indices[std::size_t(corner)] = nv + side;
+    });
+    return indices.data();
+}
 const std::int32_t* Plan::output_parent_triangles() const {
     const PlanImpl& p = *impl_;
     detail::LargeVector<Index>& parents = p.copies.output_parents;

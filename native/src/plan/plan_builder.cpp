@@ -473,9 +473,11 @@ void PlanBuilder::drop_holes() {
     const int shift = 2 * options_.levels;
     const std::size_t count = plan_.output_triangles.size() / 3;
     assert(count == std::size_t(plan_.num_input_triangles) << shift);
+    std::vector<Index> renumbered(count, -1);
     LargeVector<Index>& kept = plan_.kept_triangles;
     for (std::size_t t = 0; t < count; ++t) {
         if (plan_.holes[t >> shift]) continue;
+        renumbered[t] = Index(kept.size());
         kept.push_back(Index(t));
     }
     auto compact = [&kept](LargeVector<Index>& corners) {
@@ -485,7 +487,12 @@ void PlanBuilder::drop_holes() {
     };
     compact(plan_.output_triangles);
     for (FaceVaryingPlan& layer : plan_.face_varying) compact(layer.output_corner_values);
-    if (plan_.limit) compact(plan_.limit->corner_normals);
+    if (plan_.limit) {
+        std::vector<std::pair<Index, Index>> kept_sides;
+        for (const auto& [corner, side] : plan_.limit->corner_sides)
+            if (renumbered[corner / 3] >= 0) kept_sides.push_back({3 * renumbered[corner / 3] + corner % 3, side});
+        plan_.limit->corner_sides = std::move(kept_sides);
+    }
 }
 
 void PlanBuilder::collect_output_tags(const LevelState& last) {

@@ -37,9 +37,9 @@ struct LimitTables {
     };
     std::vector<Side> sides;
     std::vector<Index> side_points;
-    // Per output corner, its normal in the compact form (Plan::corner_normal_indices): its vertex v, or
-    // num_vertices + side where it takes a side's.
-    LargeVector<Index> corner_normals;
+    // The corners that take a side's normal: (output corner 3 t + k, side), sorted by corner. The others take their
+    // vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first request).
+    std::vector<std::pair<Index, Index>> corner_sides;
     // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
     std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
     // Where semi-sharp features outlast the last level, the tangent masks that apply once they are spent, pulled back
@@ -106,6 +106,8 @@ struct PlanImpl {
         std::vector<std::once_flag> level_vertex_types_ready;
         detail::LargeVector<Index> output_parents;
         std::once_flag output_parents_ready;
+        detail::LargeVector<Index> corner_normals;  // Plan::corner_normal_indices
+        std::once_flag corner_normals_ready;
     };
     mutable Copies copies;
 
