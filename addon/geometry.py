@@ -171,37 +171,6 @@ def shared_vertex_normals(triangles, corner_normals, num_vertices):
     return shared if np.array_equal(shared[vertices], normals) else None
 
 
-def split_normal_edges(triangle_edges, corner_normals, edge_vertices, triangles):
-    """(E, ) bool: the edges across which the corner normals split, where the two faces of an edge give one of its
-    ends different normals (bit for bit). Blender marks the same edges sharp when it takes custom normals; with them
-    marked sharp (and Auto Smooth on, up to 4.0) its own normals split where these do.
-
-    triangle_edges (T, 3): edge i of triangle t joins corners i and i + 1 (output_edges); corner_normals (T, 3, 3);
-    edge_vertices (E, 2); triangles (T, 3)."""
-    triangle_edges = np.asarray(triangle_edges, dtype=np.int32).reshape(-1, 3)
-    triangles = np.asarray(triangles, dtype=np.int32).reshape(-1, 3)
-    normals = np.asarray(corner_normals, dtype=np.float32).reshape(-1, 3, 3)
-    second_ends = np.asarray(edge_vertices, dtype=np.int32).reshape(-1, 2)[:, 1]
-    # Each triangle edge is seen from both its corners: slot 2e + (which end of edge e the corner is). One normal per
-    # slot is kept, then every corner's normal is compared with its slot's: the edge splits where any differs. One
-    # (side, end) of the triangles at a time, so that the temporaries are a few bytes a triangle (int32 indices):
-    # all at once in int64 they held some 150 bytes a corner, the peak of a large viewport update.
-    def sides():
-        for side in range(3):
-            edges = triangle_edges[:, side]
-            for corner in (side, (side + 1) % 3):
-                slots = 2 * edges + (triangles[:, corner] == second_ends[edges])
-                yield edges, slots, normals[:, corner]
-
-    kept = np.zeros((2 * len(second_ends), 3), dtype=np.float32)
-    for _, slots, values in sides():
-        kept[slots] = values
-    split = np.zeros(len(second_ends), dtype=bool)
-    for edges, slots, values in sides():
-        split[edges[(kept[slots] != values).any(axis=1)]] = True
-    return split
-
-
 def from_refined(values, data_type):
     """Refined float channels back to the attribute's type: integers rounded to the nearest, booleans true where
     any vertex with a positive weight was (every Loop weight of a contributing vertex is positive)."""

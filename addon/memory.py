@@ -186,11 +186,12 @@ _CORE_UV_LIMIT = _Bytes(uv=10)
 # (b) The add-on's numpy arrays. Held through the update: the refined values (4 bytes a channel of a vertex or
 # corner; UV maps, with the copy of their indices that places them), with the limit surface the normals per corner,
 # which the viewport's result keeps for settle(). Temporaries, at two moments: laying out the result's edges
-# (Plan.output_edges), before the mesh exists; with the limit surface, finding where the limit normals split
-# (geometry.split_normal_edges on a probe's normals), once the mesh has its geometry. That search held some 150 bytes
-# a corner when calibrated and about 20 since (int32, a side at a time: the peak of level 4 with the limit surface
-# fell from 3,853 to 1,804 MiB in 4.5, from 3,905 to 3,460 in 3.4); its constant stays the calibrated one, on the
-# safe side, until the limit-surface rows are measured again.
+# (Plan.output_edges), before the mesh exists; with the limit surface, finding where the limit normals split, once the
+# mesh has its geometry. That search evaluated a probe's normals per corner and compared them in numpy, some 150 bytes
+# a corner when calibrated and about 20 later (int32, a side at a time: the peak of level 4 with the limit surface fell
+# from 3,853 to 1,804 MiB in 4.5, from 3,905 to 3,460 in 3.4); the plan now answers it (Plan.limit_normal_split_edges:
+# its temporaries are about 12 bytes a corner, the result a byte an edge). The constant stays the calibrated one, on
+# the safe side, until the limit-surface rows are measured again.
 _REFINED = _Bytes(uv=12)
 _LIMIT_NORMALS = _Bytes(corner=12)
 _LAYOUT = _Bytes(corner=40)

@@ -24,18 +24,16 @@ def blender_normal_corners(source, plan, new_edges, sharp, parents):
     return loops
 
 
-def mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp):
+def mark_limit_splits(new, source, plan, sharp):
     """Blender's normals in place of the limit normals (the viewport): the edges across which the limit normals split
     are marked sharp, beside the cage's marked sharp edges, and shade so (Auto Smooth on, at 180 degrees when the cage
     had it off); where nothing splits, the mesh shades smooth with Blender's vertex normals, and Auto Smooth stays as
     the cage had it.
 
     Where the limit normals split depends on the plan alone (the sides of crease, corner and boundary vertices), not
-    on the positions, but a flat crease gives both sides the same normal: the split is found from the limit normals
-    of generic positions (a fixed pseudo-random cage), where every side has a normal of its own."""
-    probe = np.random.default_rng(1).random((source.cage.num_vertices, 3), dtype=np.float32)
-    _, normals = native.run(plan.evaluate_with_normals, probe)
-    split = geometry.split_normal_edges(triangle_edges, normals, new_edges, plan.triangles)
+    on the positions: the plan says which edges (Plan.limit_normal_split_edges, in Plan.output_edges' numbering, as
+    the result's edges are), so that even a flat crease, whose sides have one normal, is marked."""
+    split = native.run(plan.limit_normal_split_edges)
     if not split.any():
         return
     marked = split if sharp is None else split | sharp

@@ -59,13 +59,13 @@ def build_mesh(source, plan, refined, name, holder):
         compat.copy_shading_settings(mesh, new)
         if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
-        new_edges, triangle_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], plan)
+        new_edges, _ = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], plan)
         parents = cage.triangle_polygons[plan.parent_triangles]
         _write_face_data(new, source, parents)
         _write_creases(new, cage, plan, options, new_edges)
         sharp = _write_edge_data(new, source, plan, new_edges)
         if source.blender_normals:
-            normals.mark_limit_splits(new, source, plan, new_edges, triangle_edges, sharp)
+            normals.mark_limit_splits(new, source, plan, sharp)
         source.auto_loops = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
         _add_value_layers(new, source)
         _write_values(new, source, refined)

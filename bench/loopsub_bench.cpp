@@ -22,7 +22,9 @@
 //   loopsub_evaluate              Plan::evaluate (per frame)
 //   loopsub_*_derived             the same with Options::level_tables = Derived (best kernel only); the rows above
 //                                 use Auto, which stores the tables at this size
-//   loopsub_limit                 Plan::evaluate with the limit surface and its normals (per frame)
+//   loopsub_limit                 Plan::evaluate with the limit surface and its normals per corner (per frame)
+//   loopsub_limit_compact         the same with the normals in compact form, one per vertex and side (Plan::LimitNormals)
+//   loopsub_topology_limit        Plan construction with the limit surface
 //   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
 //   loopsub_full_uvs              Plan construction with that layer + evaluate + evaluate_face_varying (what the add-on
 //                                 and the CLI do with a mesh that has UVs)
@@ -418,6 +420,31 @@ void ours_limit(benchmark::State& state, const Mesh* m, int threads) {
     set_rate(state, plan.num_output_vertices());
 }
 
+// The same with the normals in compact form (one per vertex and side, Plan::LimitNormals): what the add-on reads.
+void ours_limit_compact(benchmark::State& state, const Mesh* m, int threads) {
+    loopsub::Options o = options(loopsub::Kernel::Auto, threads);
+    o.limit_surface = true;
+    loopsub::Plan plan(view(*m), o);
+    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3), normals(std::size_t(plan.num_limit_normals()) * 3);
+    for (auto _ : state) {
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3), loopsub::Plan::LimitNormals{normals.data()});
+        benchmark::DoNotOptimize(normals.data());
+    }
+    set_rate(state, plan.num_output_vertices());
+}
+
+void ours_topology_limit(benchmark::State& state, const Mesh* m, int threads) {
+    loopsub::Options o = options(loopsub::Kernel::Auto, threads);
+    o.limit_surface = true;
+    int vertices = 0;
+    for (auto _ : state) {
+        loopsub::Plan plan(view(*m), o);
+        vertices = plan.num_output_vertices();
+        benchmark::DoNotOptimize(plan.output_triangles());
+    }
+    set_rate(state, vertices);
+}
+
 void ours_face_varying(benchmark::State& state, const Mesh* m, int threads) {
     loopsub::Plan plan(view(*m, true), options(loopsub::Kernel::Auto, threads));
     std::vector<float> out(std::size_t(plan.num_output_face_varying_values(0)) * 2);
@@ -466,6 +493,8 @@ void register_all() {
         add("opensubdiv_far_full_uvs/" + m.name, osd_far_full_uvs, &m);
         for (int threads : {1, 2}) {
             add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
+            add("loopsub_limit_compact/" + m.name + "/threads:" + std::to_string(threads), ours_limit_compact, &m, threads);
+            add("loopsub_topology_limit/" + m.name + "/threads:" + std::to_string(threads), ours_topology_limit, &m, threads);
             add("loopsub_face_varying/" + m.name + "/threads:" + std::to_string(threads), ours_face_varying, &m, threads);
             add("loopsub_full_uvs/" + m.name + "/threads:" + std::to_string(threads), ours_full_uvs, &m, threads);
             const std::string suffix = m.name + "/threads:" + std::to_string(threads);

@@ -48,15 +48,21 @@ int run(const Command& command) {
     const std::int32_t* triangles = plan.output_triangles();
     out.triangles.assign(triangles, triangles + std::size_t(plan.num_output_triangles()) * 3);
     if (options.limit_surface) {
-        std::vector<float> corner_normals(out.triangles.size() * 3);
-        plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3), corner_normals.data());
-        // As an OBJ writes them: the corners of a vertex with the same normal share one vn.
-        const int num_triangles = plan.num_output_triangles();
+        std::vector<float> normals(std::size_t(plan.num_limit_normals()) * 3);
+        plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3),
+                      loopsub::Plan::LimitNormals{normals.data()});
+        // The compact normals as the vn, each corner naming its own: one vn per normal some corner uses (a vertex whose
+        // corners all take their sides' normals has an unused one of its own), in the plan's order.
+        const std::int32_t* index = plan.corner_normal_indices();
+        std::vector<std::int32_t> number(std::size_t(plan.num_limit_normals()), -1);
+        for (std::size_t c = 0; c < out.triangles.size(); ++c) number[std::size_t(index[c])] = 0;
+        for (std::size_t k = 0; k < number.size(); ++k) {
+            if (number[k] < 0) continue;
+            number[k] = std::int32_t(out.normals.size() / 3);
+            out.normals.insert(out.normals.end(), &normals[3 * k], &normals[3 * k] + 3);
+        }
         out.triangle_normals.resize(out.triangles.size());
-        const int num_normals = loopsub::weld_corner_values(out.triangle_normals.data(), out.triangles.data(), num_triangles,
-                                                            plan.num_output_vertices(), corner_normals.data(), 3);
-        out.normals.resize(std::size_t(num_normals) * 3);
-        loopsub::gather_welded_values(out.normals.data(), out.triangle_normals.data(), num_triangles, corner_normals.data(), 3);
+        for (std::size_t c = 0; c < out.triangles.size(); ++c) out.triangle_normals[c] = number[std::size_t(index[c])];
     } else {
         plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
     }

@@ -295,6 +295,28 @@ tuple of numpy.ndarray
     tangent plane (a degenerate neighbourhood).
 )doc";
 
+constexpr const char* kLimitNormalsDoc = R"doc(evaluate_with_limit_normals(positions, out=None, normals=None)
+
+Refine positions to the limit surface and give its normals in compact form (the Plan needs ``limit_surface=True``):
+each normal once, not once per corner.
+
+Parameters
+----------
+positions : numpy.ndarray of float32, shape (N, C), C >= 3
+    x, y, z first; any further channels are refined alike.
+out : numpy.ndarray of float32, shape (N_out, C), optional
+normals : numpy.ndarray of float32, shape (num_limit_normals, 3), optional
+    Where to write the results. Default: new arrays.
+
+Returns
+-------
+tuple of numpy.ndarray
+    ``(positions, normals)``: limit positions (N_out, C) and the limit normals (num_limit_normals, 3): row v is
+    vertex v's normal, rows from N_out on the normals of the sides of vertices whose fan infinitely sharp edges
+    split. ``normals[corner_normal_indices]`` is ``evaluate_with_normals``' per-corner array, bit for bit. A vertex
+    whose corners all take sides' normals has a zero row of its own.
+)doc";
+
 constexpr const char* kFaceVaryingDoc = R"doc(evaluate_face_varying(values, out=None, *, layer=None)
 
 Refine face-varying data (UVs).
@@ -371,6 +393,33 @@ py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handl
     return py::make_tuple(result, normals);
 }
 
+py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
+    PyPlan& p = self.cast<PyPlan&>();
+    if (!p.plan.options().limit_surface)
+        throw py::value_error("evaluate_with_limit_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
+    py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
+    const int channels = checked_count(in.shape(1), "number of channels");
+    if (channels < 3) throw py::value_error("positions must have at least 3 channels (x, y, z first), got " + std::to_string(channels));
+    py::array result = output_array(out, {{p.plan.num_output_vertices(), "N_out"}, {channels, "C"}}, in);
+    py::array normals = output_array(normals_out, {{p.plan.num_limit_normals(), "num_limit_normals"}, {3, "3"}}, in);
+    if (overlaps(normals, result)) throw py::value_error("normals must not share memory with out");
+    const float* src = data_of<float>(in);
+    float* dst = static_cast<float*>(result.mutable_data());
+    float* n = static_cast<float*>(normals.mutable_data());
+    {
+        py::gil_scoped_release nogil;
+        std::lock_guard<std::mutex> lock(p.evaluate_mutex);
+        p.plan.evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels), loopsub::Plan::LimitNormals{n});
+    }
+    return py::make_tuple(result, normals);
+}
+
+// The plan's limit tables, or ValueError for a plan without the limit surface.
+void require_limit(const PyPlan& p, const char* what) {
+    if (!p.plan.options().limit_surface)
+        throw py::value_error(std::string(what) + ": the limit normals are the limit surface's; build the Plan with limit_surface=True");
+}
+
 py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
     auto [in, channels] = read_vertex_values(values, "values", p.layer_values[layer]);
     std::vector<Dim> dims{{p.plan.num_output_face_varying_values(layer), "V_out"}};
@@ -396,6 +445,48 @@ void bind_plan(py::module_& m) {
         .def("evaluate", &evaluate, kEvaluateDoc, py::arg("values"), py::arg("out") = py::none())
         .def("evaluate_with_normals", &evaluate_with_normals, kNormalsDoc, py::arg("positions"), py::arg("out") = py::none(),
              py::arg("normals") = py::none())
+        .def("evaluate_with_limit_normals", &evaluate_with_limit_normals, kLimitNormalsDoc, py::arg("positions"),
+             py::arg("out") = py::none(), py::arg("normals") = py::none())
+        .def_property_readonly(
+            "num_limit_normals",
+            [](PyPlan& p) {
+                require_limit(p, "num_limit_normals");
+                return p.plan.num_limit_normals();
+            },
+            "Number of limit normals in compact form (evaluate_with_limit_normals): one per output vertex, then one per "
+            "side of each vertex whose fan infinitely sharp edges split. ValueError without limit_surface.")
+        .def_property_readonly(
+            "corner_normal_indices",
+            [](py::object self) {
+                auto& p = self.cast<PyPlan&>();
+                require_limit(p, "corner_normal_indices");
+                return plan_view(p.plan.corner_normal_indices(), {p.plan.num_output_triangles(), 3}, self);
+            },
+            "(M_out, 3) int32, read-only view: at each corner of each output triangle, the row of its normal in "
+            "evaluate_with_limit_normals' normals (v: vertex v's own; N_out + s: side s). The same for every "
+            "evaluation. ValueError without limit_surface.")
+        .def(
+            "limit_normal_split_edges",
+            [](PyPlan& p) {
+                require_limit(p, "limit_normal_split_edges");
+                int num_edges = 0;
+                try {
+                    num_edges = p.plan.num_output_edges();
+                } catch (const std::logic_error& error) {
+                    throw py::value_error(error.what());
+                }
+                py::array_t<bool> split(py::ssize_t{num_edges});
+                static_assert(sizeof(bool) == 1, "bool arrays are written as bytes");
+                std::uint8_t* out = reinterpret_cast<std::uint8_t*>(split.mutable_data());
+                {
+                    py::gil_scoped_release nogil;
+                    p.plan.limit_normal_split_edges(out);
+                }
+                return split;
+            },
+            "limit_normal_split_edges()\n\n(E_out,) bool, new: per output edge in output_edges' numbering, whether the "
+            "limit normals split across it (its two faces give one of its ends different normals, for any positions). "
+            "ValueError without limit_surface, for a plan of no levels or with holes.")
         .def("evaluate_face_varying", &evaluate_face_varying, kFaceVaryingDoc, py::arg("values"),
              py::arg("out") = py::none(), py::kw_only(), py::arg("layer") = py::none())
         .def(

@@ -192,6 +192,49 @@ TEST(Topology, SplitsFollowTheirNumbering) {
     }
 }
 
+// The child's rings ordered from the numbering: around every vertex left a disk, each child triangle (v, a, b) has b
+// right after a (cyclically); a vertex on a boundary or a non-manifold edge or vertex is set apart.
+TEST(Topology, ChildRingsOrderedCounterClockwise) {
+    using namespace loopsub::testing;
+    using loopsub::detail::Index;
+    for (const TestMesh& mesh : {icosphere(2), grid(4, 3), open_fan(7), fin_on_grid(), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        Topology level = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        for (int split = 1; split <= 2; ++split) {
+            Topology child = loopsub::detail::refine_topology(level, loopsub::detail::Refined::Full, 1);
+            std::vector<std::uint8_t> apart(std::size_t(child.num_vertices), 0);
+            std::vector<Index> ring(child.vertex_vertices.begin(), child.vertex_vertices.end());
+            loopsub::detail::order_child_rings(level, apart.data(), ring.data());
+            int disks = 0;
+            for (Index v = 0; v < child.num_vertices; ++v) {
+                const Index first = child.vertex_edge_offsets[v], last = child.vertex_edge_offsets[v + 1];
+                // The same neighbours, in some order.
+                std::vector<Index> before(child.vertex_vertices.begin() + first, child.vertex_vertices.begin() + last);
+                std::vector<Index> after(ring.begin() + first, ring.begin() + last);
+                std::sort(before.begin(), before.end()), std::sort(after.begin(), after.end());
+                ASSERT_EQ(before, after) << "vertex " << v;
+                disks += !apart[v];
+            }
+            for (std::size_t c = 0; c < child.face_vertices.size(); ++c) {
+                const std::size_t face = c - c % 3;
+                const Index v = child.face_vertices[c], a = child.face_vertices[face + (c + 1) % 3], b = child.face_vertices[face + (c + 2) % 3];
+                // A vertex of a boundary edge can be no disk.
+                if (apart[v]) continue;
+                const Index first = child.vertex_edge_offsets[v], n = child.vertex_edge_offsets[v + 1] - first;
+                const Index at = Index(std::find(ring.begin() + first, ring.begin() + first + n, a) - (ring.begin() + first));
+                ASSERT_LT(at, n) << "corner " << c;
+                ASSERT_EQ(ring[first + (at + 1) % n], b) << "split " << split << ", corner " << c << " of vertex " << v;
+            }
+            for (Index e = 0; e < child.num_edges(); ++e)
+                if (child.edge_face_count(e) == 1) {
+                    EXPECT_TRUE(apart[child.edge_vertices[2 * e]] && apart[child.edge_vertices[2 * e + 1]]) << "boundary edge " << e;
+                }
+            EXPECT_GT(disks, 0);
+            level = std::move(child);
+        }
+    }
+}
+
 // The mesh split three times (Refined::Full): per level past the base, `check` gets the levels so far, their vertex
 // counts, and the level's VertexNeighbourhood on the level itself and derived from its parent, both given the base
 // level for the walks around its vertices where `with_base`.

@@ -187,41 +187,6 @@ def test_shared_vertex_normals():
     assert geometry.shared_vertex_normals(triangles, split, 5) is None
 
 
-def test_split_normal_edges():
-    # Two triangles on the edge (1, 2), numbered as output_edges numbers them: edge i joins corners i and i + 1.
-    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
-    edge_vertices = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32)
-    triangle_edges = np.array([[0, 1, 2], [3, 4, 1]], np.int32)
-    up = np.tile(np.array([0, 0, 1], np.float32), (2, 3, 1))
-    assert not geometry.split_normal_edges(triangle_edges, up, edge_vertices, triangles).any()
-    crease = up.copy()
-    crease[1, 0] = crease[1, 2] = (0, 1, 0)  # the second face has its own normal at both ends of the shared edge
-    assert geometry.split_normal_edges(triangle_edges, crease, edge_vertices, triangles).tolist() == [
-        False, True, False, False, False]
-    one_end = up.copy()
-    one_end[1, 2] = (0, 1, 0)  # at vertex 2 only: the edge still separates two normals there
-    assert geometry.split_normal_edges(triangle_edges, one_end, edge_vertices, triangles)[1]
-
-
-def test_split_normal_edges_on_a_plan_follow_its_creases():
-    """On a core plan with a crease through a vertex, the limit normals of generic positions split on the halves of
-    the two crease edges and nowhere else."""
-    # A fan of six triangles around vertex 0; the crease 1-0-4 runs through it.
-    triangles = np.array([[0, 1 + k, 1 + (k + 1) % 6] for k in range(6)], np.int32)
-    creases = np.array([[0, 1], [0, 4]], np.int32)
-    plan = _loopsub.Plan(triangles, 7, 1, rules="opensubdiv", limit_surface=True, crease_edges=creases)
-    _, normals = plan.evaluate_with_normals(np.random.default_rng(1).random((7, 3), dtype=np.float32))
-    edges, triangle_edges = plan.output_edges()
-    split = geometry.split_normal_edges(triangle_edges, normals, edges, plan.triangles)
-    # Edge e of the cage has the midpoint 7 + e; its halves join that midpoint to its ends.
-    cage_edges = np.asarray(plan.level_edges(0)).tolist()
-    expected = set()
-    for a, b in creases.tolist():
-        midpoint = 7 + next(k for k, pair in enumerate(cage_edges) if sorted(pair) == [a, b])
-        expected |= {tuple(sorted((a, midpoint))), tuple(sorted((midpoint, b)))}
-    assert {tuple(sorted(pair)) for pair in edges[split].tolist()} == expected
-
-
 def test_every_choice_names_an_option_of_the_core():
     core = _loopsub.option_names()
     for keyword, setting in (("rules", "rules"), ("boundary", "boundary"), ("uv_interpolation", "uv_smooth")):

@@ -531,6 +531,58 @@ def test_normals_need_the_limit_surface():
         _loopsub.Plan(t, len(p), 1, limit_surface=True).evaluate_with_normals(np.ascontiguousarray(p[:, :2]))
 
 
+@pytest.mark.parametrize("rules", RULES)
+def test_compact_limit_normals_gathered_are_the_corner_normals(rules):
+    p, t = tetrahedron()
+    creases = np.array([[int(t[0, 0]), int(t[0, 1])]], np.int32)
+    plan = _loopsub.Plan(t, len(p), 2, rules=rules, limit_surface=True, crease_edges=creases)
+    positions, corner_normals = plan.evaluate_with_normals(p)
+    compact_positions, normals = plan.evaluate_with_limit_normals(p)
+    np.testing.assert_array_equal(compact_positions, positions)
+    assert normals.shape == (plan.num_limit_normals, 3)
+    assert plan.num_limit_normals > plan.num_output_vertices  # the crease's vertices have sides
+    indices = plan.corner_normal_indices
+    assert indices.shape == (plan.num_output_triangles, 3) and indices.dtype == np.int32 and not indices.flags.writeable
+    assert ((indices == plan.triangles) | (indices >= plan.num_output_vertices)).all()
+    np.testing.assert_array_equal(normals[indices], corner_normals)
+    # Into given arrays.
+    out = np.empty_like(positions)
+    given = np.empty_like(normals)
+    result = plan.evaluate_with_limit_normals(p, out=out, normals=given)
+    assert result[0] is out and result[1] is given
+    np.testing.assert_array_equal(given, normals)
+
+
+def test_limit_normal_split_edges_are_the_crease_halves():
+    """A crease through a vertex of a fan: the limit normals split on the halves of the crease edges, nowhere else."""
+    triangles = np.array([[0, 1 + k, 1 + (k + 1) % 6] for k in range(6)], np.int32)
+    creases = np.array([[0, 1], [0, 4]], np.int32)
+    plan = _loopsub.Plan(triangles, 7, 1, rules="opensubdiv", limit_surface=True, crease_edges=creases)
+    edges, _ = plan.output_edges()
+    split = plan.limit_normal_split_edges()
+    assert split.dtype == bool and split.shape == (len(edges),)
+    cage_edges = np.asarray(plan.level_edges(0)).tolist()
+    expected = set()
+    for a, b in creases.tolist():
+        midpoint = 7 + next(k for k, pair in enumerate(cage_edges) if sorted(pair) == [a, b])
+        expected |= {tuple(sorted((a, midpoint))), tuple(sorted((midpoint, b)))}
+    assert {tuple(sorted(pair)) for pair in edges[split].tolist()} == expected
+
+
+def test_compact_limit_normals_need_the_limit_surface():
+    p, t = tetrahedron()
+    plan = _loopsub.Plan(t, len(p), 1)
+    for call in (lambda: plan.evaluate_with_limit_normals(p), lambda: plan.corner_normal_indices,
+                 lambda: plan.num_limit_normals, plan.limit_normal_split_edges):
+        with pytest.raises(ValueError, match="limit_surface=True"):
+            call()
+    limit_plan = _loopsub.Plan(t, len(p), 1, limit_surface=True)
+    with pytest.raises(ValueError, match="at least 3 channels"):
+        limit_plan.evaluate_with_limit_normals(np.ascontiguousarray(p[:, :2]))
+    with pytest.raises(ValueError):
+        limit_plan.evaluate_with_limit_normals(p, normals=np.empty((limit_plan.num_limit_normals + 1, 3), np.float32))
+
+
 def test_face_varying_layer_by_indices_equals_the_welded_corners():
     p, t = tetrahedron()
     # A seam: triangle 0 has its own copies of its three values.

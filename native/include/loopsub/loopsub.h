@@ -256,6 +256,28 @@ public:
     // fewer than three channels.
     void evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals);
 
+    // The limit normals in compact form, for Options::limit_surface plans (std::logic_error otherwise): one normal
+    // per output vertex, then one per side of each vertex whose fan infinitely sharp edges (creases, corners,
+    // boundaries, non-manifold edges) split; a corner takes its vertex's or its side's. num_limit_normals() is
+    // num_output_vertices() plus the number of sides. corner_normal_indices() gives, per corner of each output
+    // triangle (3 * num_output_triangles()), the index of its normal: v for vertex v's own, num_output_vertices() + s
+    // for side s. Both are the plan's, the same for every evaluation: the corners of a vertex share an index exactly
+    // where no such edge parts them. A vertex whose corners all take their sides' normals has a zero vector as its own.
+    // The indices are made on their first request (safe from several threads) and kept with the plan.
+    int num_limit_normals() const;
+    const std::int32_t* corner_normal_indices() const;
+    // Per output edge (in output_edges' numbering, num_output_edges() values, so for the plans output_edges serves),
+    // 1 where the limit normals split across it: where the two faces of the edge give one of its ends different
+    // normal indices. std::logic_error without the limit surface.
+    void limit_normal_split_edges(std::uint8_t* split) const;
+    // evaluate() and the compact limit normals (num_limit_normals() x 3 floats, row-major): the normals of
+    // evaluate(in, out, corner_normals), each written once, not once per corner (corner_normals[c] is
+    // normals[corner_normal_indices()[c]]). Errors as that call.
+    struct LimitNormals {
+        float* normals = nullptr;
+    };
+    void evaluate(ChannelsView<const float> in, ChannelsView<float> out, LimitNormals normals);
+
     // Face-varying layers (MeshView::face_varying): the output's value index at each corner of each output triangle
     // (3 per triangle), and the number of output values.
     int num_face_varying_layers() const;

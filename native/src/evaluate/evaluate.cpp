@@ -144,11 +144,19 @@ void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, Channe
                [&in, &plan](int x, int c) { return in.data[c * in.channel_stride + std::size_t(plan.base_values[x]) * in.element_stride]; }, out);
 }
 
-void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals) {
-    PlanImpl& p = *impl_;
+namespace {
+
+void check_normals_input(const PlanImpl& p, ChannelsView<const float> in) {
     if (!p.limit) fail("evaluate: normals are the limit surface's; build the plan with Options::limit_surface");
     if (in.num_channels < 3) fail("evaluate: normals need positions in the first three channels, got " + std::to_string(in.num_channels) + " channels");
-    if (corner_normals == nullptr && num_output_triangles() > 0) fail("evaluate: missing (null) normals");
+}
+
+}  // namespace
+
+void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, LimitNormals normals) {
+    PlanImpl& p = *impl_;
+    check_normals_input(p, in);
+    if (normals.normals == nullptr && num_limit_normals() > 0) fail("evaluate: missing (null) normals");
     evaluate(in, out);
     const auto start = Clock::now();
     if (p.num_input_vertices == 0) return;
@@ -156,7 +164,35 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     const int levels = p.options.levels;
     const std::size_t padded = scratch_stride(in.num_channels);
     const ChannelsView<const float> last{p.frame.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
-    p.limit_normals(last, corner_normals);
+    p.limit_normals(last, normals.normals);
+    p.frame.evaluate_ms += ms_since(start);
+}
+
+void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals) {
+    PlanImpl& p = *impl_;
+    check_normals_input(p, in);
+    if (corner_normals == nullptr && num_output_triangles() > 0) fail("evaluate: missing (null) normals");
+    std::vector<float>& normals = p.frame.normals;
+    normals.resize(3 * std::size_t(num_limit_normals()));
+    evaluate(in, out, LimitNormals{normals.data()});
+    const auto start = Clock::now();
+    if (p.num_input_vertices == 0) return;
+    // Each corner its vertex's normal, then the corners on sides their side's, in the same part of the corner range.
+    const std::vector<std::pair<Index, Index>>& corner_sides = p.limit->corner_sides;
+    const std::size_t side_base = std::size_t(num_output_vertices());
+    run_levels(std::max(1, p.options.threads), 1, [&](int, int part, int parts) {
+        const auto [begin, end] = detail::part_of(p.output_triangles.size(), part, parts);
+        for (std::size_t c = begin; c < end; ++c) {
+            const float* n = &normals[3 * std::size_t(p.output_triangles[c])];
+            corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
+        }
+        const auto first = std::lower_bound(corner_sides.begin(), corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
+        for (auto it = first; it != corner_sides.end() && std::size_t(it->first) < end; ++it) {
+            const float* n = &normals[3 * (side_base + std::size_t(it->second))];
+            const std::size_t c = std::size_t(it->first);
+            corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
+        }
+    });
     p.frame.evaluate_ms += ms_since(start);
 }
 

@@ -16,6 +16,10 @@
 #include <cmath>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 #include "plan/level_state.h"
 #include "base/parallel.h"
 #include "plan/plan_builder.h"
@@ -26,12 +30,6 @@ namespace loopsub {
 using detail::Index;
 
 namespace {
-
-Index slot_of(const detail::LargeVector<Index>& ring, Index first, Index last, Index vertex) {
-    for (Index k = first; k < last; ++k)
-        if (ring[k] == vertex) return k;
-    return -1;
-}
 
 // limit_normals sums a tangent over offsets between limit points, each up to 2/3 of the float maximum (evaluate
 // accepts values up to a third of it, and limit points are weighted means of them). Scaled by a power of two so that
@@ -114,38 +112,53 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             s.special_vertices.push_back({v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
     }
 
-    s.ring_offsets = std::move(t.vertex_edge_offsets);
-    s.ring = std::move(t.vertex_vertices);
+    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. A level known
+    // through its parent has them from the split's numbering (order_child_rings); a level of its own (the base) from
+    // its triangles, each corner's edges to a and b naming their slots in v's ring (slot_at: an edge's slot at each
+    // end), so that no ring is searched.
+    if (!level.own_neighbourhood) {
+        s.ring_offsets = std::move(t.vertex_edge_offsets);
+        s.ring = std::move(t.vertex_vertices);
+        order_child_rings(parent, lt.by_side.data(), s.ring.data());
+    } else {
+        LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
+        auto end_of = [&t](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v); };
+        for (Index v = 0, slot = 0; v < nv; ++v) {
+            around.edges(v, far_edges);  // before the level's offsets go to the tables: the level's own arrays answer
+            for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
+        }
+        s.ring_offsets = std::move(t.vertex_edge_offsets);
+        s.ring = std::move(t.vertex_vertices);
+        LargeVector<Index> follower(s.ring.size(), -1);
+        for (std::size_t c = 0; c < t.face_vertices.size(); ++c) {
+            const Index v = t.face_vertices[c];
+            if (lt.by_side[v]) continue;
+            const std::size_t face = c - c % 3;
+            const int k = int(c % 3);
+            follower[slot_at[end_of(t.face_edges[face + k], v)]] = slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
+        }
+        std::vector<Index> ordered;
+        for (int v = 0; v < nv; ++v) {
+            const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
+            if (lt.by_side[v] || first == last) continue;
+            ordered.assign(1, s.ring[first]);
+            Index k = first;
+            // A chain that comes back to its first slot early, or ends, is no disk; one that runs into a loop elsewhere
+            // never reaches the first slot again, which the check below sees.
+            while (ordered.size() < std::size_t(last - first)) {
+                k = follower[k];
+                if (k < 0 || k == first) break;
+                ordered.push_back(s.ring[k]);
+            }
+            // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled
+            // by sides like a crease's.
+            const bool disk = ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first;
+            if (disk) std::copy(ordered.begin(), ordered.end(), s.ring.begin() + first);
+            else lt.by_side[v] = 1;
+        }
+    }
     const LargeVector<Index>& tri = t.face_vertices;
     const std::size_t corners = tri.size();
-
-    // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v.
-    LargeVector<Index> follower(s.ring.size(), -1);
-    for (std::size_t c = 0; c < corners; ++c) {
-        const Index v = tri[c];
-        if (lt.by_side[v]) continue;
-        const std::size_t face = c - c % 3;
-        const Index a = tri[face + next_corner(int(c % 3))], b = tri[face + prev_corner(int(c % 3))];
-        const Index k = slot_of(s.ring, s.ring_offsets[v], s.ring_offsets[v + 1], a);
-        if (k >= 0) follower[k] = b;
-    }
-    std::vector<Index> ordered;
-    for (int v = 0; v < nv; ++v) {
-        const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
-        if (lt.by_side[v] || first == last) continue;
-        ordered.assign(1, s.ring[first]);
-        for (Index k = first; ordered.size() < std::size_t(last - first);) {
-            const Index next = follower[k];
-            k = next < 0 ? -1 : slot_of(s.ring, first, last, next);
-            if (k < 0) break;
-            ordered.push_back(next);
-        }
-        // A fan that does not close into one disk (left smooth only by tags that say nothing of it) is handled
-        // by sides like a crease's.
-        const bool disk = ordered.size() == std::size_t(last - first) && (follower[slot_of(s.ring, first, last, ordered.back())] == ordered.front());
-        if (disk) std::copy(ordered.begin(), ordered.end(), s.ring.begin() + first);
-        else lt.by_side[v] = 1;
-    }
 
     // Sides: the corners at each such vertex, chained across the smooth edges they share.
     struct Corner {
@@ -163,7 +176,6 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::sort(at_sides.begin(), at_sides.end());
     std::vector<int> next, previous;
     std::vector<std::uint8_t> placed;
-    std::vector<int> side_faces_seen;
     for (std::size_t begin = 0; begin < at_sides.size();) {
         std::size_t end = begin;
         while (end < at_sides.size() && at_sides[end].vertex == at_sides[begin].vertex) ++end;
@@ -352,7 +364,7 @@ struct NormalBatch {
 
 }  // namespace
 
-void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals) {
+void PlanImpl::limit_normals(ChannelsView<const float> p, float* normals) {
     detail::LimitTables& lt = *limit;
     const detail::LevelStencils& s = lt.positions;
     // The last level's points come from the evaluation's scratch: an element's channels side by side.
@@ -361,7 +373,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
     auto at = [points_data, stride](Index i, int c) { return points_data[std::size_t(i) * stride + std::size_t(c)]; };
     // Tangent masks sum to zero, so they apply to the neighbours' offsets from the vertex: small numbers, where the
     // positions themselves would lose the tangents' low bits at deep levels.
-    auto tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
+    auto scalar_tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
         const float vx = at(v, 0), vy = at(v, 1), vz = at(v, 2);
         for (int i = 0; i < count; ++i) {
             const float dx = at(points[i], 0) - vx, dy = at(points[i], 1) - vy, dz = at(points[i], 2) - vz;
@@ -369,17 +381,35 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
             t2.x += w2[i] * dx, t2.y += w2[i] * dy, t2.z += w2[i] * dz;
         }
     };
+#if defined(__SSE2__)
+    // A point's three coordinates in one 16-byte load (the scratch holds a quad past its last element, as for the
+    // kernels), the fourth lane unused: a third of the scalar loop's loads and arithmetic, and the same operations per
+    // coordinate in the same order (a multiply, then an add), so the same bits. The scalar kernel keeps the reference.
+    const bool simd = kernel != Kernel::Scalar;
+    auto tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
+        if (!simd) return scalar_tangents(v, points, count, w1, w2, t1, t2);
+        const __m128 centre = _mm_loadu_ps(points_data + std::size_t(v) * stride);
+        __m128 sum1 = _mm_setzero_ps(), sum2 = _mm_setzero_ps();
+        for (int i = 0; i < count; ++i) {
+            const __m128 d = _mm_sub_ps(_mm_loadu_ps(points_data + std::size_t(points[i]) * stride), centre);
+            sum1 = _mm_add_ps(sum1, _mm_mul_ps(_mm_set1_ps(w1[i]), d));
+            sum2 = _mm_add_ps(sum2, _mm_mul_ps(_mm_set1_ps(w2[i]), d));
+        }
+        alignas(16) float out1[4], out2[4];
+        _mm_store_ps(out1, sum1), _mm_store_ps(out2, sum2);
+        t1 = {out1[0], out1[1], out1[2]}, t2 = {out2[0], out2[1], out2[2]};
+    };
+#else
+    auto& tangents = scalar_tangents;
+#endif
 
-    // Three phases, each split among the threads: vertex normals, side normals, then the corners that read them.
-    std::vector<float>& vertex_normals = frame.vertex_normals;
-    std::vector<float>& side_normals = frame.side_normals;
-    vertex_normals.resize(3 * std::size_t(s.num_vertices));
-    side_normals.resize(3 * lt.sides.size());
-    const std::size_t corners = output_triangles.size();
-    detail::run_levels(std::max(1, options.threads), 3, [&](int phase, int part, int parts) {
+    // Two phases, each split among the threads: the vertices' normals, then the sides' after them.
+    float* vertex_normals = normals;
+    float* side_normals = normals + 3 * std::size_t(s.num_vertices);
+    detail::run_levels(std::max(1, options.threads), 2, [&](int phase, int part, int parts) {
         // Tangents a batch at a time, then their normals.
         NormalBatch batch;
-        auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* normals) {
+        auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* out) {
             for (std::size_t first = begin; first < end; first += NormalBatch::kSize) {
                 const int count = int(std::min<std::size_t>(NormalBatch::kSize, end - first));
                 for (int i = 0; i < count; ++i) {
@@ -388,7 +418,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                     batch.put(i, t1, t2);
                 }
                 batch.unit_normals(count);
-                for (int i = 0; i < count; ++i) batch.store(i, normals + 3 * (first + std::size_t(i)));
+                for (int i = 0; i < count; ++i) batch.store(i, out + 3 * (first + std::size_t(i)));
             }
         };
         if (phase == 0) {
@@ -405,8 +435,8 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                     return;
                 }
                 tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
-            }, vertex_normals.data());
-        } else if (phase == 1) {
+            }, vertex_normals);
+        } else {
             const auto [begin, end] = detail::part_of(lt.sides.size(), part, parts);
             in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
                 const detail::LimitTables::Side& side = lt.sides[i];
@@ -414,20 +444,7 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* corner_normals)
                 if (side.own >= 0) tangents(side.vertex, points, side.closed ? side.faces : side.faces + 1, lt.own_t1.data() + side.own, lt.own_t2.data() + side.own, t1, t2);
                 else if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
                 else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
-            }, side_normals.data());
-        } else {
-            const auto [begin, end] = detail::part_of(corners, part, parts);
-            for (std::size_t c = begin; c < end; ++c) {
-                const float* n = &vertex_normals[3 * std::size_t(output_triangles[c])];
-                corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
-            }
-            // The corners on sides overwrite theirs, in the same part of the corner range.
-            const auto first = std::lower_bound(lt.corner_sides.begin(), lt.corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
-            for (auto it = first; it != lt.corner_sides.end() && std::size_t(it->first) < end; ++it) {
-                const float* n = &side_normals[3 * std::size_t(it->second)];
-                const std::size_t c = std::size_t(it->first);
-                corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
-            }
+            }, side_normals);
         }
     });
 }

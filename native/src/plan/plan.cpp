@@ -1,6 +1,7 @@
 // The Plan's API, answered from what the builder left (PlanImpl, plan_data.h; building: plan_builder.cpp, the
 // per-frame work: evaluate.cpp).
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include "plan/budget.h"
@@ -29,6 +30,28 @@ int Plan::num_input_vertices() const { return impl_->num_input_vertices; }
 int Plan::num_output_vertices() const { return impl_->level_num_vertices.back(); }
 int Plan::num_output_triangles() const { return int(impl_->output_triangles.size() / 3); }
 const std::int32_t* Plan::output_triangles() const { return impl_->output_triangles.data(); }
+
+namespace {
+const detail::LimitTables& limit_tables(const PlanImpl& p, const char* what) {
+    if (!p.limit) throw std::logic_error(std::string(what) + ": the limit normals are the limit surface's; build the plan with Options::limit_surface");
+    return *p.limit;
+}
+}  // namespace
+
+int Plan::num_limit_normals() const {
+    return num_output_vertices() + int(limit_tables(*impl_, "num_limit_normals").sides.size());
+}
+const std::int32_t* Plan::corner_normal_indices() const {
+    const PlanImpl& p = *impl_;
+    const detail::LimitTables& lt = limit_tables(p, "corner_normal_indices");
+    detail::LargeVector<Index>& indices = p.copies.corner_normals;
+    std::call_once(p.copies.corner_normals_ready, [&] {
+        indices.assign(p.output_triangles.begin(), p.output_triangles.end());
+        const Index nv = p.level_num_vertices.back();
+        for (const auto& [corner, side] : lt.corner_sides) indices[std::size_t(corner)] = nv + side;
+    });
+    return indices.data();
+}
 const std::int32_t* Plan::output_parent_triangles() const {
     const PlanImpl& p = *impl_;
     detail::LargeVector<Index>& parents = p.copies.output_parents;

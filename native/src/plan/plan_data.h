@@ -37,7 +37,9 @@ struct LimitTables {
     };
     std::vector<Side> sides;
     std::vector<Index> side_points;
-    std::vector<std::pair<Index, Index>> corner_sides;  // (output corner 3 t + k, side), sorted by corner
+    // The corners that take a side's normal: (output corner 3 t + k, side), sorted by corner. The others take their
+    // vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first request).
+    std::vector<std::pair<Index, Index>> corner_sides;
     // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
     std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
     // Where semi-sharp features outlast the last level, the tangent masks that apply once they are spent, pulled back
@@ -90,7 +92,7 @@ struct PlanImpl {
     // What an evaluation writes besides its output, kept for the next (Plan::evaluate is not reentrant).
     struct Frame {
         detail::LargeVector<float> scratch[2];            // the passes' sources and targets, in turn (run_passes)
-        std::vector<float> vertex_normals, side_normals;  // limit_normals'
+        std::vector<float> normals;  // the compact limit normals, for the per-corner evaluate to gather from
         double evaluate_ms = 0.0;
     };
     Frame frame;
@@ -104,12 +106,15 @@ struct PlanImpl {
         std::vector<std::once_flag> level_vertex_types_ready;
         detail::LargeVector<Index> output_parents;
         std::once_flag output_parents_ready;
+        detail::LargeVector<Index> corner_normals;  // Plan::corner_normal_indices
+        std::once_flag corner_normals_ready;
     };
     mutable Copies copies;
 
-    // Per output corner, the limit normal of the last level's points `last_level` (its first three channels; an
-    // element's channels side by side, as in the evaluation's scratch). limit.cpp.
-    void limit_normals(ChannelsView<const float> last_level, float* corner_normals);
+    // The compact limit normals (Plan::num_limit_normals of them, 3 floats each) of the last level's points
+    // `last_level` (its first three channels; an element's channels side by side, as in the evaluation's scratch).
+    // limit.cpp.
+    void limit_normals(ChannelsView<const float> last_level, float* normals);
 };
 
 }  // namespace loopsub

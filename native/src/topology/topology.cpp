@@ -568,6 +568,64 @@ void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
     }
 }
 
+void order_child_rings(const Topology& p, std::uint8_t* apart, Index* ring) {
+    const Index nv = p.num_vertices;
+    // An old vertex's ring is the midpoints of its parent edges, in the parent's slots; corner child 4f + k =
+    // (v_k, m_k, m_k-1) says that m_k-1 follows m_k. Each parent edge's slot at its ends names them.
+    LargeVector<Index> slot(2 * std::size_t(p.num_edges()));
+    auto end_of = [&p](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(p.edge_vertices[2 * std::size_t(e)] != v); };
+    for (Index v = 0; v < nv; ++v)
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) slot[end_of(p.vertex_edges[k], v)] = k;
+    LargeVector<Index> follower(std::size_t(p.vertex_edge_offsets[nv]), -1);
+    for (std::size_t c = 0; c < p.face_vertices.size(); ++c) {
+        const Index v = p.face_vertices[c];
+        if (apart[v]) continue;
+        const std::size_t face = c - c % 3;
+        const int k = int(c % 3);
+        follower[slot[end_of(p.face_edges[face + k], v)]] = slot[end_of(p.face_edges[face + prev_corner(k)], v)];
+    }
+    std::vector<Index> ordered;
+    for (Index v = 0; v < nv; ++v) {
+        const Index first = p.vertex_edge_offsets[v], last = p.vertex_edge_offsets[v + 1];
+        if (apart[v] || first == last) continue;
+        ordered.assign(1, ring[first]);
+        Index k = first;
+        // A chain that comes back to its first slot early, or ends, is no disk; one that runs into a loop elsewhere
+        // never reaches the first slot again, which the check below sees.
+        while (ordered.size() < std::size_t(last - first)) {
+            k = follower[k];
+            if (k < 0 || k == first) break;
+            ordered.push_back(ring[k]);
+        }
+        if (ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first) std::copy(ordered.begin(), ordered.end(), ring + first);
+        else apart[v] = 1;
+    }
+    // The midpoint of edge e = (a, b) has the ring a, b, then per face of e the midpoints next to a and to b
+    // (midpoint_face_edges). Around it, the face that runs from a to b (f) gives b, then f's midpoint next to b, then
+    // the one next to a, then a; the other face (g) a, g's next to a, g's next to b, b. So a disk of two faces, one
+    // each way, is a, g's two, b, f's two reversed.
+    for (Index e = 0; e < p.num_edges(); ++e) {
+        const Index m = nv + e;
+        if (apart[m]) continue;
+        const Index at = p.edge_face_offsets[e];
+        bool a_first[2] = {false, false};
+        for (int i = 0; i < 2 && at + i < p.edge_face_offsets[e + 1]; ++i) {
+            const Index f = p.edge_faces[at + i];
+            const int local = local_edge(&p.face_edges[3 * std::size_t(f)], e);
+            a_first[i] = p.face_vertices[3 * std::size_t(f) + local] == p.edge_vertices[2 * std::size_t(e)];
+        }
+        if (p.edge_face_count(e) != 2 || a_first[0] == a_first[1]) {
+            apart[m] = 1;
+            continue;
+        }
+        Index* r = ring + child_ring_offset(p, m);
+        const Index* f = r + (a_first[0] ? 2 : 4);
+        const Index* g = r + (a_first[0] ? 4 : 2);
+        const Index ccw[6] = {r[0], g[0], g[1], r[1], f[1], f[0]};
+        std::copy(ccw, ccw + 6, r);
+    }
+}
+
 void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, Index* d) {
     const Index nv = p.num_vertices, halves = 2 * p.num_edges();
     auto put = [&](int e, Index a, Index b, Index wing_c, Index wing_d) {

@@ -143,6 +143,11 @@ inline Index child_ring_offset(const Topology& parent, Index v) {
 // The one-rings of child vertices [begin, end), in refine_topology's vertex_vertices order, written from ring[0]:
 // vertex v's at child_ring_offset(v) - child_ring_offset(begin).
 void write_child_rings(const Topology& parent, int begin, int end, Index* ring);
+// The child's rings (refine_topology's vertex_vertices, written from ring[0]) put in counter-clockwise order, where in
+// a child triangle (v, a, b) b follows a around v, for every child vertex whose fan closes into one disk; from the
+// numbering, without the child's faces. Vertices with apart[v] set are left as they are; one whose fan is no single
+// disk gets apart[v] set.
+void order_child_rings(const Topology& parent, std::uint8_t* apart, Index* ring);
 // Ends (A, B) and the vertices opposite (C, D) of child edges [begin, end), as refine_topology's edge_vertices (2 per
 // edge) and edge_wing_c / _d give them; written from index 0 of each array.
 void child_edges(const Topology& parent, int begin, int end, Index* ends, Index* c, Index* d);

@@ -1,0 +1,201 @@
+// The compact limit normals (Plan::num_limit_normals, corner_normal_indices, evaluate with LimitNormals) and the
+// edges they split (limit_normal_split_edges), checked against the per-corner normals: gathered by the indices they
+// are those normals bit for bit, and the split edges are those across which per-corner normals of random positions
+// differ.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+#include "mesh_gen.h"
+
+namespace loopsub::testing {
+namespace {
+
+struct Case {
+    std::string name;
+    TestMesh mesh;
+    Rules rules;
+};
+
+std::vector<Case> cases() {
+    std::vector<Case> out;
+    TestMesh creased = icosphere(2);
+    jitter(creased, 3, 0.02f);
+    add_random_creases(creased, 3, 0.15, false);
+    add_random_corners(creased, 3, 4, false);
+    out.push_back({"sharp creases and corners, hoppe94", creased, Rules::Hoppe94});
+    out.push_back({"sharp creases and corners, opensubdiv", creased, Rules::OpenSubdiv});
+    TestMesh semi = icosphere(2);
+    jitter(semi, 5, 0.02f);
+    add_random_creases(semi, 5, 0.15, true);
+    add_random_corners(semi, 5, 4, true);
+    out.push_back({"semi-sharp, opensubdiv", semi, Rules::OpenSubdiv});
+    out.push_back({"grid (boundary)", grid(5, 4), Rules::OpenSubdiv});
+    out.push_back({"fin on a grid (non-manifold edges)", fin_on_grid(), Rules::OpenSubdiv});
+    out.push_back({"bowtie (non-manifold vertex)", bowtie(5), Rules::Hoppe94});
+    return out;
+}
+
+std::vector<float> random_positions(int num_vertices, unsigned seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<float> positions(3 * std::size_t(num_vertices));
+    for (float& x : positions) x = unit(random);
+    return positions;
+}
+
+Options limit_options(Rules rules, int levels, int threads = 1) {
+    Options options;
+    options.rules = rules;
+    options.levels = levels;
+    options.limit_surface = true;
+    options.threads = threads;
+    return options;
+}
+
+TEST(CompactLimitNormals, GatheredByTheirIndicesAreThePerCornerNormals) {
+    for (const Case& c : cases())
+        for (int levels = 0; levels <= 2; ++levels)
+            for (int threads = 1; threads <= 2; ++threads) {
+                SCOPED_TRACE(c.name + ", levels " + std::to_string(levels) + ", threads " + std::to_string(threads));
+                Plan plan(c.mesh.view(), limit_options(c.rules, levels, threads));
+                const int nv = plan.num_output_vertices(), corners = 3 * plan.num_output_triangles();
+                const std::vector<float> in = c.mesh.positions;
+                std::vector<float> out(3 * std::size_t(nv)), corner_normals(3 * std::size_t(corners));
+                plan.evaluate(interleaved(in.data(), 3), interleaved(out.data(), 3), corner_normals.data());
+                std::vector<float> compact_out(out.size()), normals(3 * std::size_t(plan.num_limit_normals()));
+                plan.evaluate(interleaved(in.data(), 3), interleaved(compact_out.data(), 3), Plan::LimitNormals{normals.data()});
+                EXPECT_EQ(out, compact_out);
+                ASSERT_GE(plan.num_limit_normals(), nv);
+                const std::int32_t* index = plan.corner_normal_indices();
+                const std::int32_t* triangles = plan.output_triangles();
+                std::vector<int> side_vertex(std::size_t(plan.num_limit_normals() - nv), -1);
+                for (int k = 0; k < corners; ++k) {
+                    ASSERT_GE(index[k], 0) << "corner " << k;
+                    ASSERT_LT(index[k], plan.num_limit_normals()) << "corner " << k;
+                    // A corner takes its own vertex's normal or a side's, and a side is one vertex's.
+                    if (index[k] < nv) {
+                        ASSERT_EQ(index[k], triangles[k]) << "corner " << k;
+                    } else {
+                        int& vertex = side_vertex[std::size_t(index[k] - nv)];
+                        if (vertex < 0) vertex = triangles[k];
+                        ASSERT_EQ(vertex, triangles[k]) << "corner " << k;
+                    }
+                    for (int a = 0; a < 3; ++a)
+                        ASSERT_EQ(normals[3 * std::size_t(index[k]) + a], corner_normals[3 * std::size_t(k) + a]) << "corner " << k;
+                }
+                // Every side is some corners' normal.
+                for (int vertex : side_vertex) EXPECT_GE(vertex, 0);
+            }
+}
+
+// Only infinitely sharp edges (creases, boundaries, non-manifold edges) part a vertex's corners: a vertex on none of
+// them has one index for all its corners.
+TEST(CompactLimitNormals, CornersOfAVertexOnNoSharpEdgeShareAnIndex) {
+    for (const Case& c : cases()) {
+        SCOPED_TRACE(c.name);
+        Plan plan(c.mesh.view(), limit_options(c.rules, 2));
+        const std::vector<std::int32_t>& sharp = plan.output_sharp_edges();
+        const std::vector<float>& sharpness = plan.output_sharp_edge_sharpness();
+        std::vector<std::uint8_t> on_sharp(std::size_t(plan.num_output_vertices()), 0);
+        for (std::size_t e = 0; e < sharpness.size(); ++e)
+            if (sharpness[e] >= kInfiniteSharpness) on_sharp[std::size_t(sharp[2 * e])] = on_sharp[std::size_t(sharp[2 * e + 1])] = 1;
+        std::vector<int> first(std::size_t(plan.num_output_vertices()), -1);
+        const std::int32_t* index = plan.corner_normal_indices();
+        const std::int32_t* triangles = plan.output_triangles();
+        int checked = 0;
+        for (int k = 0; k < 3 * plan.num_output_triangles(); ++k) {
+            const int v = triangles[k];
+            if (on_sharp[std::size_t(v)]) continue;
+            int& seen = first[std::size_t(v)];
+            if (seen < 0) seen = index[k];
+            ASSERT_EQ(index[k], seen) << "corner " << k << " of vertex " << v;
+            ++checked;
+        }
+        EXPECT_GT(checked, 0);
+    }
+}
+
+// The split edges, found independently: per-corner normals of random positions, compared across each edge's two
+// faces at each of its ends (generic positions give each side a normal of its own).
+TEST(CompactLimitNormals, SplitEdgesAreWherePerCornerNormalsOfRandomPositionsDiffer) {
+    for (const Case& c : cases())
+        for (int levels = 1; levels <= 2; ++levels) {
+            SCOPED_TRACE(c.name + ", levels " + std::to_string(levels));
+            Plan plan(c.mesh.view(), limit_options(c.rules, levels));
+            const std::vector<float> in = random_positions(c.mesh.num_vertices(), 11);
+            std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(9 * std::size_t(plan.num_output_triangles()));
+            plan.evaluate(interleaved(in.data(), 3), interleaved(out.data(), 3), normals.data());
+            const int num_edges = plan.num_output_edges();
+            std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), triangle_edges(3 * std::size_t(plan.num_output_triangles()));
+            plan.output_edges(ends.data(), triangle_edges.data());
+            // Per (edge, vertex), the normals of the corners there.
+            std::vector<std::set<std::vector<float>>> at_end(2 * std::size_t(num_edges));
+            const std::int32_t* triangles = plan.output_triangles();
+            for (std::size_t t = 0; t < triangle_edges.size() / 3; ++t)
+                for (int k = 0; k < 3; ++k) {
+                    const std::size_t e = std::size_t(triangle_edges[3 * t + k]);
+                    for (int corner : {k, (k + 1) % 3}) {
+                        const std::size_t c3 = 3 * (3 * t + std::size_t(corner));
+                        const int v = triangles[3 * t + std::size_t(corner)];
+                        at_end[2 * e + (v == ends[2 * e + 1] ? 1 : 0)].insert({normals[c3], normals[c3 + 1], normals[c3 + 2]});
+                    }
+                }
+            std::vector<std::uint8_t> split(std::size_t(num_edges), 7);
+            plan.limit_normal_split_edges(split.data());
+            int splits = 0;
+            for (std::size_t e = 0; e < std::size_t(num_edges); ++e) {
+                const bool expected = at_end[2 * e].size() > 1 || at_end[2 * e + 1].size() > 1;
+                ASSERT_EQ(split[e], expected ? 1 : 0) << "edge " << e << " (" << ends[2 * e] << ", " << ends[2 * e + 1] << ")";
+                splits += expected;
+            }
+            // A boundary's and a bowtie's sides meet at no edge of two faces.
+            if (c.name.find("grid (") == std::string::npos && c.name.find("bowtie") == std::string::npos) {
+                EXPECT_GT(splits, 0);
+            }
+        }
+}
+
+TEST(CompactLimitNormals, NeedTheLimitSurface) {
+    const TestMesh mesh = icosphere(1);
+    Options options;
+    options.levels = 1;
+    Plan plan(mesh.view(), options);
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(3 * std::size_t(plan.num_output_vertices()));
+    EXPECT_THROW(plan.num_limit_normals(), std::logic_error);
+    EXPECT_THROW(plan.corner_normal_indices(), std::logic_error);
+    std::vector<std::uint8_t> split(std::size_t(plan.num_output_edges()));
+    EXPECT_THROW(plan.limit_normal_split_edges(split.data()), std::logic_error);
+    EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), Plan::LimitNormals{normals.data()}),
+                 InputError);
+    Plan limit_plan(mesh.view(), limit_options(Rules::OpenSubdiv, 1));
+    EXPECT_EQ(limit_plan.num_limit_normals(), limit_plan.num_output_vertices());  // a smooth sphere: no sides
+    EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), Plan::LimitNormals{nullptr}),
+                 InputError);
+}
+
+// Holes drop their triangles' corners from the indices as from the triangles.
+TEST(CompactLimitNormals, FollowTheTrianglesAroundHoles) {
+    TestMesh mesh = icosphere(2);
+    add_random_creases(mesh, 9, 0.2, false);
+    for (int t = 0; t < mesh.num_triangles(); t += 7) mesh.hole_triangles.push_back(t);
+    Plan plan(mesh.view(), limit_options(Rules::OpenSubdiv, 2));
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), corner_normals(9 * std::size_t(plan.num_output_triangles()));
+    std::vector<float> normals(3 * std::size_t(plan.num_limit_normals()));
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), corner_normals.data());
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), Plan::LimitNormals{normals.data()});
+    const std::int32_t* index = plan.corner_normal_indices();
+    for (int k = 0; k < 3 * plan.num_output_triangles(); ++k) {
+        ASSERT_TRUE(index[k] == plan.output_triangles()[k] || index[k] >= plan.num_output_vertices()) << "corner " << k;
+        for (int a = 0; a < 3; ++a) ASSERT_EQ(normals[3 * std::size_t(index[k]) + a], corner_normals[3 * std::size_t(k) + a]);
+    }
+}
+
+}  // namespace
+}  // namespace loopsub::testing
