@@ -6,6 +6,7 @@
 #include <string>
 
 #include "base/common.h"
+#include "base/parallel.h"
 
 namespace loopsub::detail {
 
@@ -35,6 +36,26 @@ std::vector<const Special*> specials_by_target(const std::vector<Special>& speci
     std::vector<const Special*> table(std::size_t(targets), nullptr);
     for (const Special& special : specials) table[std::size_t(key(special))] = &special;
     return table;
+}
+
+// The same table's targets [t0, t1), for the part of a level that fills them: the list is sorted by target, so the
+// part's specials are a run of it, found by a binary search.
+template <typename Special, typename Key>
+void specials_by_target(const std::vector<Special>& specials, Index t0, Index t1, Key key, const Special** table) {
+    std::fill(table + t0, table + t1, nullptr);
+    auto special = std::lower_bound(specials.begin(), specials.end(), t0, [&key](const Special& s, Index t) { return key(s) < t; });
+    for (; special != specials.end() && key(*special) < t1; ++special) table[key(*special)] = &*special;
+}
+
+// The parts' lists one after the other, copied in parts.
+template <typename T, typename Parts, typename List>
+void join_in_parts(const Parts& parts, List list, std::vector<T>& joined) {
+    std::vector<std::size_t> starts(parts.size() + 1, 0);
+    for (std::size_t p = 0; p < parts.size(); ++p) starts[p + 1] = starts[p] + list(parts[p]).size();
+    joined.resize(starts.back());
+    run_levels(int(parts.size()), 1, [&](int, int part, int) {
+        std::copy(list(parts[part]).begin(), list(parts[part]).end(), joined.begin() + std::ptrdiff_t(starts[part]));
+    });
 }
 
 // A value that stays where it is: the corner mask.
@@ -76,7 +97,7 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
         if (i == 0 || key(order[i]) != key(order[i - 1])) plan_.base_values.push_back(input.corner_values[order[i]]);
         triangles[order[i]] = Index(plan_.base_values.size() - 1);
     }
-    values_ = build_base_topology(triangles.data(), mesh.num_triangles, int(plan_.base_values.size()));
+    values_ = build_base_topology(triangles.data(), mesh.num_triangles, int(plan_.base_values.size()), options.threads);
     plan_.counts.push_back(values_.num_vertices);
     map_to_vertices(base);
     classify_base(base);
@@ -107,44 +128,57 @@ void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
 // e is the half of e's edge at the same end, and an edge inside a face is the same edge inside the same face of the
 // vertex mesh; the seams' halves are seams, the edges inside faces never are. This spares a pass over the child's
 // corners, scattered writes to arrays a level's size (docs/benchmark.md, "Measurements behind the code").
-void FaceVaryingBuilder::inherit_mapping(const Topology& t) {
+void FaceVaryingBuilder::inherit_mapping(const Topology& t, int parts) {
     const Index nx = values_.num_vertices, layer_edges = values_.num_edges(), nv = t.num_vertices, ne = t.num_edges();
-    const std::size_t inside = 3 * std::size_t(t.num_faces());
-    std::vector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + inside);
-    std::copy(vertex_of_.begin(), vertex_of_.end(), vertex_of.begin());
+    const Index inside = 3 * Index(t.num_faces());
+    LargeVector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
+    LargeVector<std::uint8_t> split(2 * std::size_t(ne) + std::size_t(inside));
     assert(values_.num_faces() == t.num_faces());
-    for (Index e = 0; e < layer_edges; ++e) {
-        const Index edge = edge_of_[e];
-        const bool same_way = vertex_of_[values_.edge_vertices[2 * std::size_t(e)]] == t.edge_vertices[2 * std::size_t(edge)];
-        assert(vertex_of_[values_.edge_vertices[2 * std::size_t(e) + (same_way ? 1 : 0)]] == t.edge_vertices[2 * std::size_t(edge) + 1]);
-        vertex_of[std::size_t(nx) + e] = nv + edge;
-        edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
-        edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
-    }
-    for (std::size_t k = 0; k < inside; ++k) edge_of[2 * std::size_t(layer_edges) + k] = 2 * ne + Index(k);
-    std::vector<std::uint8_t> split(2 * std::size_t(ne) + inside, 0);
-    for (Index e = 0; e < ne; ++e) split[2 * std::size_t(e)] = split[2 * std::size_t(e) + 1] = split_[e];
+    run_levels(parts, 1, [&](int, int part, int) {
+        const auto [x0, x1] = part_of(nx, part, parts);
+        std::copy(vertex_of_.begin() + x0, vertex_of_.begin() + x1, vertex_of.begin() + x0);
+        const auto [e0, e1] = part_of(layer_edges, part, parts);
+        for (Index e = e0; e < e1; ++e) {
+            const Index edge = edge_of_[e];
+            const bool same_way = vertex_of_[values_.edge_vertices[2 * std::size_t(e)]] == t.edge_vertices[2 * std::size_t(edge)];
+            assert(vertex_of_[values_.edge_vertices[2 * std::size_t(e) + (same_way ? 1 : 0)]] == t.edge_vertices[2 * std::size_t(edge) + 1]);
+            vertex_of[std::size_t(nx) + e] = nv + edge;
+            edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
+            edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
+        }
+        const auto [k0, k1] = part_of(inside, part, parts);
+        for (Index k = k0; k < k1; ++k) {
+            edge_of[2 * std::size_t(layer_edges) + std::size_t(k)] = 2 * ne + k;
+            split[2 * std::size_t(ne) + std::size_t(k)] = 0;
+        }
+        const auto [E0, E1] = part_of(ne, part, parts);
+        for (Index e = E0; e < E1; ++e) split[2 * std::size_t(e)] = split[2 * std::size_t(e) + 1] = split_[e];
+    });
     vertex_of_ = std::move(vertex_of);
     edge_of_ = std::move(edge_of);
     split_ = std::move(split);
 }
 
-const std::vector<Index>& FaceVaryingBuilder::edges_at(Index x) const {
-    layer().edges(x, edges_at_value_);
-    return edges_at_value_;
+int FaceVaryingBuilder::parts_for(std::size_t items) const {
+    return items >= 8192 ? std::max(1, options_.threads) : 1;
 }
 
-void FaceVaryingBuilder::inner_edges(Index x, std::vector<Index>& edges) const {
+const std::vector<Index>& FaceVaryingBuilder::edges_at(Index x, Walk& walk) const {
+    layer().edges(x, walk.edges);
+    return walk.edges;
+}
+
+void FaceVaryingBuilder::inner_edges(Index x, std::vector<Index>& edges, Walk& walk) const {
     const VertexNeighbourhood layer = this->layer();
     edges.clear();
-    for (Index e : edges_at(x))
+    for (Index e : edges_at(x, walk))
         if (layer.edge_face_count(e) == 2) edges.push_back(edge_of_[e]);
 }
 
-bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2]) const {
+bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2], Walk& walk) const {
     const VertexNeighbourhood layer = this->layer();
     int found = 0;
-    for (Index e : edges_at(x)) {
+    for (Index e : edges_at(x, walk)) {
         if (layer.edge_face_count(e) != 1) continue;
         if (found < 2) ends[found] = layer.other_end(e, x);
         ++found;
@@ -169,22 +203,23 @@ void FaceVaryingBuilder::release_held_values(Mode mode, Tag* const* child_tags, 
     }
 }
 
-SpecialVertex FaceVaryingBuilder::on_layer(Index x, const SpecialVertex& m) const {
-    const Index a = m.w_crease_a != 0.0f ? neighbour_at_vertex(x, m.crease_a) : x;
-    const Index b = m.w_crease_b != 0.0f ? neighbour_at_vertex(x, m.crease_b) : x;
+SpecialVertex FaceVaryingBuilder::on_layer(Index x, const SpecialVertex& m, Walk& walk) const {
+    const Index a = m.w_crease_a != 0.0f ? neighbour_at_vertex(x, m.crease_a, walk) : x;
+    const Index b = m.w_crease_b != 0.0f ? neighbour_at_vertex(x, m.crease_b, walk) : x;
     return {x, a < 0 ? x : a, b < 0 ? x : b, m.w_self, m.w_ring, m.w_crease_a, m.w_crease_b};
 }
 
-Index FaceVaryingBuilder::neighbour_at_vertex(Index x, Index vertex) const {
+Index FaceVaryingBuilder::neighbour_at_vertex(Index x, Index vertex, Walk& walk) const {
     const VertexNeighbourhood layer = this->layer();
-    for (Index e : edges_at(x)) {
+    for (Index e : edges_at(x, walk)) {
         const Index other = layer.other_end(e, x);
         if (vertex_of_[other] == vertex) return other;
     }
     return -1;
 }
 
-// Vtr::FVarLevel::completeTopologyFromFaceValues: which values follow the seam rules, and how.
+// Vtr::FVarLevel::completeTopologyFromFaceValues: which values follow the seam rules, and how; the vertices in parts,
+// each writing its own values' tags.
 void FaceVaryingBuilder::classify_base(const LevelState& base) {
     const Mode mode = options_.face_varying;
     tags_.assign(values_.num_vertices, Tag{});
@@ -193,9 +228,9 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
         return;
     }
     const Topology& t = base.topology;
-    const std::vector<std::uint8_t> vertex_non_manifold = non_manifold_vertices(t, non_manifold_edges(t));
-    const std::vector<std::uint8_t> value_non_manifold = non_manifold_vertices(values_, non_manifold_edges(values_));
-    std::vector<Index> offsets, at_vertex, inner;
+    const std::vector<std::uint8_t> vertex_non_manifold = non_manifold_vertices(t, non_manifold_edges(t), options_.threads);
+    const std::vector<std::uint8_t> value_non_manifold = non_manifold_vertices(values_, non_manifold_edges(values_), options_.threads);
+    std::vector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex);
 
     const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode), plus2 = mode == Mode::CornersPlus2;
@@ -204,65 +239,69 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
         int faces = 0, infinite = 0, semi = 0;
         bool disjoint = false;
     };
-    std::vector<Span> spans;
-    for (int v = 0; v < t.num_vertices; ++v) {
-        const int n = offsets[v + 1] - offsets[v];
-        if (n == 0) continue;
-        const Index* values = at_vertex.data() + offsets[v];
-        bool boundary = false, seam = false;
-        int face_corners = 0;
-        for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
-            const Index e = t.vertex_edges[k];
-            boundary |= t.edge_face_count(e) == 1;
-            seam |= split_[e] != 0;
-            face_corners += t.edge_face_count(e);
-        }
-        const bool one_face_corner = boundary && face_corners == 2;
-        const bool mismatched = seam || (linear_b && boundary) ||
-                                (one_face_corner && mode != Mode::None && options_.boundary != Boundary::EdgesAndCorners) ||
-                                (vertex_non_manifold[v] && n >= 2);
-        if (!mismatched) continue;
-        for (int i = 0; i < n; ++i) tags_[values[i]].mismatch = true;
-        if (vertex_non_manifold[v]) continue;  // every value stays
-
-        spans.assign(n, Span{});
-        for (int i = 0; i < n; ++i) {
-            const Index x = values[i];
-            Span& span = spans[i];
-            for (Index e : edges_at(x)) span.faces += values_.edge_face_count(e);
-            span.faces /= 2;
-            inner_edges(x, inner);
-            for (Index e : inner) {
-                const float sharpness = base.edge_sharpness(e);
-                span.infinite += is_infinite(sharpness);
-                span.semi += is_semi_sharp(sharpness);
+    const int parts = parts_for(std::size_t(values_.num_vertices));
+    run_levels(parts, 1, [&](int, int part, int) {
+        Walk walk;
+        std::vector<Span> spans;
+        const auto [v0, v1] = part_of(t.num_vertices, part, parts);
+        for (int v = v0; v < v1; ++v) {
+            const int n = offsets[v + 1] - offsets[v];
+            if (n == 0) continue;
+            const Index* values = at_vertex.data() + offsets[v];
+            bool boundary = false, seam = false;
+            int face_corners = 0;
+            for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+                const Index e = t.vertex_edges[k];
+                boundary |= t.edge_face_count(e) == 1;
+                seam |= split_[e] != 0;
+                face_corners += t.edge_face_count(e);
             }
-            span.disjoint = value_non_manifold[x] != 0;  // its faces are not one fan, or a seam ends inside it
+            const bool one_face_corner = boundary && face_corners == 2;
+            const bool mismatched = seam || (linear_b && boundary) ||
+                                    (one_face_corner && mode != Mode::None && options_.boundary != Boundary::EdgesAndCorners) ||
+                                    (vertex_non_manifold[v] && n >= 2);
+            if (!mismatched) continue;
+            for (int i = 0; i < n; ++i) tags_[values[i]].mismatch = true;
+            if (vertex_non_manifold[v]) continue;  // every value stays
+
+            spans.assign(n, Span{});
+            for (int i = 0; i < n; ++i) {
+                const Index x = values[i];
+                Span& span = spans[i];
+                for (Index e : edges_at(x, walk)) span.faces += values_.edge_face_count(e);
+                span.faces /= 2;
+                inner_edges(x, walk.inner, walk);
+                for (Index e : walk.inner) {
+                    const float sharpness = base.edge_sharpness(e);
+                    span.infinite += is_infinite(sharpness);
+                    span.semi += is_semi_sharp(sharpness);
+                }
+                span.disjoint = value_non_manifold[x] != 0;  // its faces are not one fan, or a seam ends inside it
+            }
+            const float vertex_sharpness = base.vertex_sharpness(v);
+            bool all_sharp = linear_b || is_infinite(vertex_sharpness) || (dependent && n > 2) || (sharp_darts && n == 1 && !boundary);
+            bool sharpen_dependent = false;
+            if (!all_sharp && dependent && n == 2) {
+                all_sharp = spans[0].infinite || spans[1].infinite || spans[0].disjoint || spans[1].disjoint;
+                if (plus2) all_sharp |= spans[0].faces == 1 || spans[1].faces == 1;
+                sharpen_dependent = (spans[0].semi > 0) != (spans[1].semi > 0);
+            }
+            for (int i = 0; i < n; ++i) {
+                Tag& tag = tags_[values[i]];
+                const Span& span = spans[i];
+                if (span.disjoint || all_sharp || span.infinite > 0 || (span.faces == 1 && sharp_fan_corners)) continue;
+                if (span.semi > 0 || is_semi_sharp(vertex_sharpness)) tag.semi_sharp = true;
+                else if (sharpen_dependent) tag.semi_sharp = tag.dep_sharp = true;
+                else tag.crease = true;
+            }
         }
-        const float vertex_sharpness = base.vertex_sharpness(v);
-        bool all_sharp = linear_b || is_infinite(vertex_sharpness) || (dependent && n > 2) || (sharp_darts && n == 1 && !boundary);
-        bool sharpen_dependent = false;
-        if (!all_sharp && dependent && n == 2) {
-            all_sharp = spans[0].infinite || spans[1].infinite || spans[0].disjoint || spans[1].disjoint;
-            if (plus2) all_sharp |= spans[0].faces == 1 || spans[1].faces == 1;
-            sharpen_dependent = (spans[0].semi > 0) != (spans[1].semi > 0);
-        }
-        for (int i = 0; i < n; ++i) {
-            Tag& tag = tags_[values[i]];
-            const Span& span = spans[i];
-            if (span.disjoint || all_sharp || span.infinite > 0 || (span.faces == 1 && sharp_fan_corners)) continue;
-            if (span.semi > 0 || is_semi_sharp(vertex_sharpness)) tag.semi_sharp = true;
-            else if (sharpen_dependent) tag.semi_sharp = tag.dep_sharp = true;
-            else tag.crease = true;
-        }
-    }
+    });
 }
 
 void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* level_parent, const LevelStencils& vertex_stencils,
                                     const LevelState& child, bool last) {
     const Topology& t = level.topology;
     const VertexNeighbourhood vertex_level(t, level_parent);
-    const Mode mode = options_.face_varying;
     const VertexNeighbourhood layer = this->layer();
     const int nx = values_.num_vertices, ne = layer.num_edges();
     const bool child_not_built = skip_level_before_last_ && int(plan_.passes.size()) + 2 == options_.levels;
@@ -275,92 +314,39 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
     // Tags of the edges' children too only when a level is planned on this one's children.
     const bool planned_further = !last || options_.limit_surface;
-    std::vector<Tag> child_tags;
-    child_tags.reserve(std::size_t(nx) + (planned_further ? ne : 0));
-    child_tags.assign(tags_.begin(), tags_.end());
-    std::vector<Index> offsets, at_vertex, inner, around;
-    std::vector<Tag*> value_tags;
+    LargeVector<Tag> child_tags(std::size_t(nx) + (planned_further ? ne : 0));
+    std::vector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex);
-    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
-    for (int v = 0; v < t.num_vertices && mode != Mode::All; ++v) {
-        const int n = offsets[v + 1] - offsets[v];
-        const Index* values = at_vertex.data() + offsets[v];
-        if (n == 0 || !tags_[values[0]].mismatch) continue;
-        around.clear();
-        for (int i = 0; i < n; ++i)
-            for (Index e : edges_at(values[i])) around.push_back(edge_of_[e]);
-        const bool parent_semi = is_semi_sharp(level.vertex_sharpness(v)) ||
-                                 std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
-        if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
-        const bool child_semi_edges = std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
-        value_tags.clear();
-        for (int i = 0; i < n; ++i) value_tags.push_back(&child_tags[values[i]]);
-        release_held_values(mode, value_tags.data(), n, child_semi_edges, [&](int i) {
-            inner_edges(values[i], inner);
-            return std::any_of(inner.begin(), inner.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
-        });
-    }
+    LargeVector<const SpecialVertex*> special_vertex(std::size_t(vertex_stencils.num_vertices));
+    LargeVector<const SpecialEdge*> special_edge(std::size_t(vertex_stencils.num_edges));
 
-    // Value points.
-    const auto special_vertex = specials_by_target(vertex_stencils.special_vertices, vertex_stencils.num_vertices,
-                                                   [](const SpecialVertex& sv) { return sv.vertex; });
-    std::vector<float> parent_edges, child_edges;
-    for (Index x = 0; x < nx; ++x) {
-        const Tag& tag = tags_[x];
-        const Index v = vertex_of_[x];
-        if (!tag.mismatch) {
-            const SpecialVertex* m = special_vertex[v];
-            if (m) s.special_vertices.push_back(on_layer(x, *m));  // else the smooth mask, by the same valence
-            continue;
+    // Three steps, each in parts of the values, vertices and edges: every part writes its own values' and edges'
+    // tags and masks, and the masks are joined in part order, so that any number of parts plans the same level.
+    const int parts = parts_for(std::size_t(nx) + std::size_t(ne));
+    std::vector<PartOutput> outputs(static_cast<std::size_t>(parts));
+    run_levels(parts, 3, [&](int step, int part, int) {
+        Walk walk;
+        const auto [x0, x1] = part_of(nx, part, parts);
+        const auto [e0, e1] = part_of(ne, part, parts);
+        if (step == 0) {
+            std::copy(tags_.begin() + x0, tags_.begin() + x1, child_tags.begin() + x0);
+            const auto [v0, v1] = part_of(vertex_stencils.num_vertices, part, parts);
+            specials_by_target(vertex_stencils.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; },
+                               special_vertex.data());
+            const auto [edge0, edge1] = part_of(vertex_stencils.num_edges, part, parts);
+            specials_by_target(vertex_stencils.special_edges, edge0, edge1, [](const SpecialEdge& se) { return se.edge; },
+                               special_edge.data());
+        } else if (step == 1) {
+            const auto [v0, v1] = part_of(t.num_vertices, part, parts);
+            release_values(level, child, vertex_level, offsets, at_vertex, v0, v1, child_tags, walk);
+        } else {
+            plan_value_points(level, child, vertex_level, offsets, at_vertex, special_vertex, child_tags, x0, x1,
+                              outputs[std::size_t(part)].vertices, walk);
+            plan_edge_points(vertex_level, special_edge, planned_further, e0, e1, child_tags, outputs[std::size_t(part)].edges);
         }
-        Index ends[2];
-        if (!child_tags[x].crease || !seam_ends(x, ends)) {
-            s.special_vertices.push_back(copy_of(x));
-            continue;
-        }
-        VertexMask mask = crease_vertex_mask();
-        if (tag.semi_sharp) {
-            // The weight of the held position, from the features that decayed this level: the value's own span,
-            // or its sibling's when it was held for the sibling.
-            Index span = x;
-            if (tag.dep_sharp)
-                for (Index k = offsets[v]; k < offsets[v + 1]; ++k)
-                    if (at_vertex[k] != x) span = at_vertex[k];
-            inner_edges(span, inner);
-            parent_edges.clear();
-            child_edges.clear();
-            for (Index e : inner) {
-                parent_edges.push_back(level.edge_sharpness(e));
-                child_edges.push_back(child_sharpness_at(e, v));
-            }
-            const float w = transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
-                                              parent_edges.data(), child_edges.data(), int(inner.size()));
-            mask = blend(corner_vertex_mask(), w, mask);  // held (a corner) by w, the seam's crease the rest
-        }
-        s.special_vertices.push_back({x, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
-    }
-
-    // Edge points: midpoints along seams, the edge's own mask elsewhere. Their children on a seam follow it (smooth
-    // modes) or stay (linear boundaries); the rest match.
-    const auto special_edge = specials_by_target(vertex_stencils.special_edges, vertex_stencils.num_edges,
-                                                 [](const SpecialEdge& se) { return se.edge; });
-    if (planned_further) child_tags.resize(std::size_t(nx) + ne);
-    for (Index e = 0; e < ne; ++e) {
-        const Index edge = edge_of_[e];
-        if (split_[edge] || mode == Mode::All) {
-            const EdgeMask mask = crease_edge_mask();  // the midpoint
-            s.special_edges.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
-            if (planned_further) child_tags[std::size_t(nx) + e] = {true, !linear_boundaries(mode)};
-            continue;
-        }
-        const SpecialEdge* m = special_edge[edge];
-        if (!m) continue;
-        Index ends[2], layer_ends[2];
-        vertex_level.edge_ends(edge, ends);
-        layer.edge_ends(e, layer_ends);
-        const bool same_way = vertex_of_[layer_ends[0]] == ends[0];
-        s.special_edges.push_back({e, same_way ? m->wa : m->wb, same_way ? m->wb : m->wa, m->wcd});
-    }
+    });
+    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<SpecialVertex>& { return out.vertices; }, s.special_vertices);
+    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<SpecialEdge>& { return out.edges; }, s.special_edges);
 
     Topology child_values;
     if (!values_built_) {
@@ -376,7 +362,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     } else {
         if (child_not_built) child_values.num_vertices = nx + ne;
         else child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
-        if (planned_further) inherit_mapping(t);
+        if (planned_further) inherit_mapping(t, parts);
         // A child not built is read through this level: it keeps its offsets and edges (copies to the tables).
         if (child_not_built) s.ring_offsets = values_.vertex_edge_offsets, s.edge_ends = values_.edge_vertices;
         else s.ring_offsets = std::move(values_.vertex_edge_offsets), s.edge_ends = std::move(values_.edge_vertices);
@@ -391,10 +377,108 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     plan_.counts.push_back(values_.num_vertices);
 }
 
+// Vtr::FVarRefinement::reclassifySemisharpValues at vertices [v0, v1) whose values are mismatched.
+void FaceVaryingBuilder::release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
+                                        const std::vector<Index>& offsets, const std::vector<Index>& at_vertex, Index v0, Index v1,
+                                        LargeVector<Tag>& child_tags, Walk& walk) const {
+    const Mode mode = options_.face_varying;
+    if (mode == Mode::All) return;
+    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
+    for (Index v = v0; v < v1; ++v) {
+        const int n = offsets[v + 1] - offsets[v];
+        const Index* values = at_vertex.data() + offsets[v];
+        if (n == 0 || !tags_[values[0]].mismatch) continue;
+        std::vector<Index>& around = walk.around;
+        around.clear();
+        for (int i = 0; i < n; ++i)
+            for (Index e : edges_at(values[i], walk)) around.push_back(edge_of_[e]);
+        const bool parent_semi = is_semi_sharp(level.vertex_sharpness(v)) ||
+                                 std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
+        if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
+        const bool child_semi_edges = std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
+        walk.value_tags.clear();
+        for (int i = 0; i < n; ++i) walk.value_tags.push_back(&child_tags[values[i]]);
+        release_held_values(mode, walk.value_tags.data(), n, child_semi_edges, [&](int i) {
+            inner_edges(values[i], walk.inner, walk);
+            return std::any_of(walk.inner.begin(), walk.inner.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
+        });
+    }
+}
+
+// Value points of values [x0, x1), in value order.
+void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
+                                           const std::vector<Index>& offsets, const std::vector<Index>& at_vertex,
+                                           const LargeVector<const SpecialVertex*>& special_vertex, const LargeVector<Tag>& child_tags,
+                                           Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const {
+    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
+    for (Index x = x0; x < x1; ++x) {
+        const Tag& tag = tags_[x];
+        const Index v = vertex_of_[x];
+        if (!tag.mismatch) {
+            const SpecialVertex* m = special_vertex[v];
+            if (m) out.push_back(on_layer(x, *m, walk));  // else the smooth mask, by the same valence
+            continue;
+        }
+        Index ends[2];
+        if (!child_tags[x].crease || !seam_ends(x, ends, walk)) {
+            out.push_back(copy_of(x));
+            continue;
+        }
+        VertexMask mask = crease_vertex_mask();
+        if (tag.semi_sharp) {
+            // The weight of the held position, from the features that decayed this level: the value's own span,
+            // or its sibling's when it was held for the sibling.
+            Index span = x;
+            if (tag.dep_sharp)
+                for (Index k = offsets[v]; k < offsets[v + 1]; ++k)
+                    if (at_vertex[k] != x) span = at_vertex[k];
+            inner_edges(span, walk.inner, walk);
+            walk.parent_edges.clear();
+            walk.child_edges.clear();
+            for (Index e : walk.inner) {
+                walk.parent_edges.push_back(level.edge_sharpness(e));
+                walk.child_edges.push_back(child_sharpness_at(e, v));
+            }
+            const float w = transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
+                                              walk.parent_edges.data(), walk.child_edges.data(), int(walk.inner.size()));
+            mask = blend(corner_vertex_mask(), w, mask);  // held (a corner) by w, the seam's crease the rest
+        }
+        out.push_back({x, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
+    }
+}
+
+// Edge points of layer edges [e0, e1): midpoints along seams, the edge's own mask elsewhere. Their children on a seam
+// follow it (smooth modes) or stay (linear boundaries); the rest match.
+void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_level, const LargeVector<const SpecialEdge*>& special_edge,
+                                          bool planned_further, Index e0, Index e1, LargeVector<Tag>& child_tags,
+                                          std::vector<SpecialEdge>& out) const {
+    const Mode mode = options_.face_varying;
+    const VertexNeighbourhood layer = this->layer();
+    const std::size_t nx = std::size_t(values_.num_vertices);
+    for (Index e = e0; e < e1; ++e) {
+        const Index edge = edge_of_[e];
+        const bool split = split_[edge] || mode == Mode::All;
+        if (planned_further) child_tags[nx + std::size_t(e)] = split ? Tag{true, !linear_boundaries(mode), false, false} : Tag{};
+        if (split) {
+            const EdgeMask mask = crease_edge_mask();  // the midpoint
+            out.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
+            continue;
+        }
+        const SpecialEdge* m = special_edge[edge];
+        if (!m) continue;
+        Index ends[2], layer_ends[2];
+        vertex_level.edge_ends(edge, ends);
+        layer.edge_ends(e, layer_ends);
+        const bool same_way = vertex_of_[layer_ends[0]] == ends[0];
+        out.push_back({e, same_way ? m->wa : m->wb, same_way ? m->wb : m->wa, m->wcd});
+    }
+}
+
 void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const {
     const Mode mode = options_.face_varying;
     if (mode == Mode::All) return;
     std::vector<Index> offsets, at_vertex, edges, inner;
+    Walk walk;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex);
     std::vector<std::vector<int>> inner_slots;
     std::vector<float> sharpness, child_sharpness, parent_inner, child_inner;
@@ -413,12 +497,12 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
         // The vertex's edges (every one lies in some value's span) and each value's inner edges among them.
         edges.clear();
         for (int i = 0; i < n; ++i)
-            for (Index e : edges_at(values[i])) edges.push_back(edge_of_[e]);
+            for (Index e : edges_at(values[i], walk)) edges.push_back(edge_of_[e]);
         std::sort(edges.begin(), edges.end());
         edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
         inner_slots.assign(n, {});
         for (int i = 0; i < n; ++i) {
-            inner_edges(values[i], inner);
+            inner_edges(values[i], inner, walk);
             for (Index e : inner) inner_slots[i].push_back(int(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin()));
         }
         sharpness.clear();
@@ -429,7 +513,7 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
         const std::size_t first_held = held.size();
         for (int i = 0; i < n; ++i) {
             Held h{values[i], {-1, -1}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, false};
-            if (tags[i].semi_sharp && seam_ends(values[i], h.ends)) held.push_back(h);
+            if (tags[i].semi_sharp && seam_ends(values[i], h.ends, walk)) held.push_back(h);
         }
         // Level after level as plan_level goes, until every held value follows its seam or nothing decays any more.
         auto is_semi_slot = [](const std::vector<float>& of, const std::vector<int>& slots) {
@@ -508,17 +592,18 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     // Values held by semi-sharp features that outlast the last level (plan_held_limits) first.
     plan_held_limits(last, rules, s);
     const std::size_t held = s.special_vertices.size();
+    Walk walk;
     for (Index x = 0, next_held = 0; x < nx; ++x) {
         const Tag& tag = tags_[x];
         Index ends[2];
         if (std::size_t(next_held) < held && s.special_vertices[std::size_t(next_held)].vertex == x) {
             ++next_held;
-        } else if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends)))) {
+        } else if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends, walk)))) {
             s.special_vertices.push_back(copy_of(x));
         } else if (tag.mismatch) {
             s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
         } else if (const SpecialVertex* m = special_vertex[vertex_of_[x]]) {
-            s.special_vertices.push_back(on_layer(x, *m));
+            s.special_vertices.push_back(on_layer(x, *m, walk));
         } else if (const RingWeightedVertex* m = ring_weighted[vertex_of_[x]]) {
             // Without a seam at the vertex, the value's ring is the vertex's, value for neighbour, in its own order.
             const Index v = m->vertex, first = vertex_limit.ring_offsets[v], last = vertex_limit.ring_offsets[v + 1];
