@@ -4,6 +4,7 @@
 #include <cassert>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #include "base/common.h"
 #include "base/parallel.h"
@@ -17,15 +18,38 @@ using Mode = FaceVaryingInterpolation;
 bool linear_boundaries(Mode mode) { return mode == Mode::Boundaries || mode == Mode::All; }
 bool dependent_sharpness(Mode mode) { return mode == Mode::CornersPlus1 || mode == Mode::CornersPlus2; }
 
-// The items (values or corners) of each vertex, in item order, as offsets into one list (CSR), from each item's vertex.
-void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices, std::vector<Index>& offsets,
-                     std::vector<Index>& grouped) {
-    offsets.assign(num_vertices + 1, 0);
-    for (std::size_t x = 0; x < items; ++x) ++offsets[vertex_of[x] + 1];
-    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+// The items (values or corners) of each vertex, in item order, as offsets into one list (CSR), from each item's vertex:
+// a counting sort. In parts, each counts its own items, then places them after those of the parts before it, so that a
+// vertex's items stay in item order whatever the number of parts.
+void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices, LargeVector<Index>& offsets,
+                     LargeVector<Index>& grouped, int parts = 1) {
+    offsets.resize(std::size_t(num_vertices) + 1);
     grouped.resize(items);
-    std::vector<Index> cursor(offsets.begin(), offsets.end() - 1);
-    for (std::size_t x = 0; x < items; ++x) grouped[cursor[vertex_of[x]]++] = Index(x);
+    std::vector<LargeVector<Index>> counts(static_cast<std::size_t>(parts));
+    std::vector<Index> range_items(std::size_t(parts), 0);  // items of the part's range of vertices
+    run_levels(parts, 4, [&](int step, int part, int) {
+        const auto [i0, i1] = part_of(items, part, parts);
+        const auto [v0, v1] = part_of(num_vertices, part, parts);
+        LargeVector<Index>& own = counts[std::size_t(part)];
+        if (step == 0) {
+            own.assign(std::size_t(num_vertices), 0);
+            for (std::size_t i = i0; i < i1; ++i) ++own[std::size_t(vertex_of[i])];
+        } else if (step == 1) {
+            Index total = 0;
+            for (const LargeVector<Index>& part_counts : counts)
+                for (int v = v0; v < v1; ++v) total += part_counts[std::size_t(v)];
+            range_items[std::size_t(part)] = total;
+        } else if (step == 2) {  // the counts become each part's first place per vertex
+            Index start = std::accumulate(range_items.begin(), range_items.begin() + part, Index(0));
+            for (int v = v0; v < v1; ++v) {
+                offsets[std::size_t(v)] = start;
+                for (LargeVector<Index>& part_counts : counts) start += std::exchange(part_counts[std::size_t(v)], start);
+            }
+            if (part + 1 == parts) offsets[std::size_t(num_vertices)] = start;
+        } else {
+            for (std::size_t i = i0; i < i1; ++i) grouped[std::size_t(own[std::size_t(vertex_of[i])]++)] = Index(i);
+        }
+    });
 }
 
 // Each target's special mask among `specials` (sorted by target), or null, as a table: one pass over the list, then a
@@ -86,11 +110,15 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
     // value per vertex, as in OpenSubdiv from level 1 on.
     // The corners in (vertex, value) order: grouped by vertex, then each vertex's few sorted by value (not a
     // comparison sort of all corners: docs/benchmark.md, "Measurements behind the code").
-    std::vector<Index> offsets, order;
-    group_by_vertex(mesh.triangles, corners, mesh.num_vertices, offsets, order);
+    LargeVector<Index> offsets, order;
+    group_by_vertex(mesh.triangles, corners, mesh.num_vertices, offsets, order, parts_for(corners));
     auto value_of = [&](Index c) { return input.corner_values[c]; };
-    for (int v = 0; v < mesh.num_vertices; ++v)
-        std::sort(order.begin() + offsets[v], order.begin() + offsets[v + 1], [&](Index a, Index b) { return value_of(a) < value_of(b); });
+    const int parts = parts_for(corners);
+    run_levels(parts, 1, [&](int, int part, int) {
+        const auto [v0, v1] = part_of(mesh.num_vertices, part, parts);
+        for (int v = v0; v < v1; ++v)
+            std::sort(order.begin() + offsets[v], order.begin() + offsets[v + 1], [&](Index a, Index b) { return value_of(a) < value_of(b); });
+    });
     auto key = [&](Index c) { return std::pair<Index, Index>(mesh.triangles[c], value_of(c)); };
     std::vector<Index> triangles(corners);
     for (std::size_t i = 0; i < corners; ++i) {
@@ -230,8 +258,8 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
     const Topology& t = base.topology;
     const std::vector<std::uint8_t> vertex_non_manifold = non_manifold_vertices(t, non_manifold_edges(t), options_.threads);
     const std::vector<std::uint8_t> value_non_manifold = non_manifold_vertices(values_, non_manifold_edges(values_), options_.threads);
-    std::vector<Index> offsets, at_vertex;
-    group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex);
+    LargeVector<Index> offsets, at_vertex;
+    group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex, parts_for(vertex_of_.size()));
 
     const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode), plus2 = mode == Mode::CornersPlus2;
     const bool sharp_darts = plus2 || linear_b, sharp_fan_corners = mode != Mode::None;
@@ -315,14 +343,14 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     // Tags of the edges' children too only when a level is planned on this one's children.
     const bool planned_further = !last || options_.limit_surface;
     LargeVector<Tag> child_tags(std::size_t(nx) + (planned_further ? ne : 0));
-    std::vector<Index> offsets, at_vertex;
-    group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex);
+    const int parts = parts_for(std::size_t(nx) + std::size_t(ne));
+    LargeVector<Index> offsets, at_vertex;
+    group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex, parts);
     LargeVector<const SpecialVertex*> special_vertex(std::size_t(vertex_stencils.num_vertices));
     LargeVector<const SpecialEdge*> special_edge(std::size_t(vertex_stencils.num_edges));
 
     // Three steps, each in parts of the values, vertices and edges: every part writes its own values' and edges'
     // tags and masks, and the masks are joined in part order, so that any number of parts plans the same level.
-    const int parts = parts_for(std::size_t(nx) + std::size_t(ne));
     std::vector<PartOutput> outputs(static_cast<std::size_t>(parts));
     run_levels(parts, 3, [&](int step, int part, int) {
         Walk walk;
@@ -379,7 +407,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
 
 // Vtr::FVarRefinement::reclassifySemisharpValues at vertices [v0, v1) whose values are mismatched.
 void FaceVaryingBuilder::release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                                        const std::vector<Index>& offsets, const std::vector<Index>& at_vertex, Index v0, Index v1,
+                                        const LargeVector<Index>& offsets, const LargeVector<Index>& at_vertex, Index v0, Index v1,
                                         LargeVector<Tag>& child_tags, Walk& walk) const {
     const Mode mode = options_.face_varying;
     if (mode == Mode::All) return;
@@ -407,7 +435,7 @@ void FaceVaryingBuilder::release_values(const LevelState& level, const LevelStat
 
 // Value points of values [x0, x1), in value order.
 void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                                           const std::vector<Index>& offsets, const std::vector<Index>& at_vertex,
+                                           const LargeVector<Index>& offsets, const LargeVector<Index>& at_vertex,
                                            const LargeVector<const SpecialVertex*>& special_vertex, const LargeVector<Tag>& child_tags,
                                            Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const {
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
@@ -477,9 +505,10 @@ void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_leve
 void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const {
     const Mode mode = options_.face_varying;
     if (mode == Mode::All) return;
-    std::vector<Index> offsets, at_vertex, edges, inner;
+    std::vector<Index> edges, inner;
     Walk walk;
-    group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex);
+    LargeVector<Index> offsets, at_vertex;
+    group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex, parts_for(vertex_of_.size()));
     std::vector<std::vector<int>> inner_slots;
     std::vector<float> sharpness, child_sharpness, parent_inner, child_inner;
     std::vector<Tag> tags, child_tags;

@@ -88,10 +88,10 @@ private:
     // plan_level's steps over a part of the level: the children's tags at vertices [v0, v1) where semi-sharp features
     // decay, the value points of values [x0, x1), the edge points of layer edges [e0, e1) and their children's tags.
     void release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                        const std::vector<Index>& offsets, const std::vector<Index>& at_vertex, Index v0, Index v1,
+                        const LargeVector<Index>& offsets, const LargeVector<Index>& at_vertex, Index v0, Index v1,
                         LargeVector<Tag>& child_tags, Walk& walk) const;
     void plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                           const std::vector<Index>& offsets, const std::vector<Index>& at_vertex,
+                           const LargeVector<Index>& offsets, const LargeVector<Index>& at_vertex,
                            const LargeVector<const SpecialVertex*>& special_vertex, const LargeVector<Tag>& child_tags,
                            Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const;
     void plan_edge_points(const VertexNeighbourhood& vertex_level, const LargeVector<const SpecialEdge*>& special_edge,
