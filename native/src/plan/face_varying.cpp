@@ -71,6 +71,16 @@ void specials_by_target(const std::vector<Special>& specials, Index t0, Index t1
     for (; special != specials.end() && key(*special) < t1; ++special) table[key(*special)] = &*special;
 }
 
+// A copy of `from`, in parts.
+LargeVector<Index> copy_in_parts(const LargeVector<Index>& from, int parts) {
+    LargeVector<Index> to(from.size());
+    run_levels(parts, 1, [&](int, int part, int) {
+        const auto [i0, i1] = part_of(from.size(), part, parts);
+        std::copy(from.begin() + std::ptrdiff_t(i0), from.begin() + std::ptrdiff_t(i1), to.begin() + std::ptrdiff_t(i0));
+    });
+    return to;
+}
+
 // The parts' lists one after the other, copied in parts.
 template <typename T, typename Parts, typename List>
 void join_in_parts(const Parts& parts, List list, std::vector<T>& joined) {
@@ -392,7 +402,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         else child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
         if (planned_further) inherit_mapping(t, parts);
         // A child not built is read through this level: it keeps its offsets and edges (copies to the tables).
-        if (child_not_built) s.ring_offsets = values_.vertex_edge_offsets, s.edge_ends = values_.edge_vertices;
+        if (child_not_built) s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, parts), s.edge_ends = copy_in_parts(values_.edge_vertices, parts);
         else s.ring_offsets = std::move(values_.vertex_edge_offsets), s.edge_ends = std::move(values_.edge_vertices);
         s.ring = std::move(values_.vertex_vertices);
         s.edge_wing_c = std::move(values_.edge_wing_c);
@@ -646,8 +656,9 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     }
     std::inplace_merge(s.special_vertices.begin(), s.special_vertices.begin() + std::ptrdiff_t(held), s.special_vertices.end(),
                        [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
-    s.ring_offsets = values_.vertex_edge_offsets;
-    s.ring = values_.vertex_vertices;
+    const int parts = parts_for(values_.vertex_vertices.size());
+    s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, parts);
+    s.ring = copy_in_parts(values_.vertex_vertices, parts);
     plan_.counts.push_back(nx);
 }
 
