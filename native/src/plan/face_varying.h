@@ -88,14 +88,14 @@ private:
     // plan_level's steps over a part of the level: the children's tags at vertices [v0, v1) where semi-sharp features
     // decay, the value points of values [x0, x1), the edge points of layer edges [e0, e1) and their children's tags.
     void release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                        const LargeVector<Index>& offsets, const LargeVector<Index>& at_vertex, Index v0, Index v1,
-                        LargeVector<Tag>& child_tags, Walk& walk) const;
+                        const ScratchVector<Index>& offsets, const ScratchVector<Index>& at_vertex, Index v0, Index v1,
+                        ScratchVector<Tag>& child_tags, Walk& walk) const;
     void plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                           const LargeVector<Index>& offsets, const LargeVector<Index>& at_vertex,
-                           const LargeVector<const SpecialVertex*>& special_vertex, const LargeVector<Tag>& child_tags,
+                           const ScratchVector<Index>& offsets, const ScratchVector<Index>& at_vertex,
+                           const ScratchVector<const SpecialVertex*>& special_vertex, const ScratchVector<Tag>& child_tags,
                            Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const;
-    void plan_edge_points(const VertexNeighbourhood& vertex_level, const LargeVector<const SpecialEdge*>& special_edge,
-                          bool planned_further, Index e0, Index e1, LargeVector<Tag>& child_tags,
+    void plan_edge_points(const VertexNeighbourhood& vertex_level, const ScratchVector<const SpecialEdge*>& special_edge,
+                          bool planned_further, Index e0, Index e1, ScratchVector<Tag>& child_tags,
                           std::vector<SpecialEdge>& out) const;
     // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and whose
     // own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the features
@@ -114,10 +114,10 @@ private:
     bool values_built_ = true;
     Topology parent_values_;
     // Up to date for the levels still to be planned (after the last level without a limit surface: partial, stale):
-    LargeVector<Tag> tags_;            // per value
-    LargeVector<Index> vertex_of_;     // per value: its vertex
-    LargeVector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
-    LargeVector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
+    ScratchVector<Tag> tags_;            // per value
+    ScratchVector<Index> vertex_of_;     // per value: its vertex
+    ScratchVector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
+    ScratchVector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
 };
 
 }  // namespace loopsub::detail
