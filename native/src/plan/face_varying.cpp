@@ -615,51 +615,84 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
 }
 
 void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const LevelState& last, const RuleSet& rules) {
-    const Mode mode = options_.face_varying;
     const int nx = values_.num_vertices;
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
     s.num_edges = 0;
     set_smooth_masks(s, values_.max_valence, smooth_limit_mask);
-    // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
-    // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
-    const LimitMask crease = crease_limit_mask();
-    const auto special_vertex = specials_by_target(vertex_limit.special_vertices, vertex_limit.num_vertices,
-                                                   [](const SpecialVertex& sv) { return sv.vertex; });
-    const auto ring_weighted = specials_by_target(vertex_limit.ring_weighted_vertices, vertex_limit.num_vertices,
-                                                  [](const RingWeightedVertex& rv) { return rv.vertex; });
     // Values held by semi-sharp features that outlast the last level (plan_held_limits) first.
     plan_held_limits(last, rules, s);
     const std::size_t held = s.special_vertices.size();
+    ScratchVector<const SpecialVertex*> special_vertex(std::size_t(vertex_limit.num_vertices));
+    ScratchVector<const RingWeightedVertex*> ring_weighted(std::size_t(vertex_limit.num_vertices));
+    // In parts of the values, as plan_level: the vertex plan's masks as tables, then each part's values.
+    const int parts = parts_for(std::size_t(nx));
+    std::vector<PartOutput> outputs(static_cast<std::size_t>(parts));
+    run_levels(parts, 2, [&](int step, int part, int) {
+        if (step == 0) {
+            const auto [v0, v1] = part_of(vertex_limit.num_vertices, part, parts);
+            specials_by_target(vertex_limit.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; }, special_vertex.data());
+            specials_by_target(vertex_limit.ring_weighted_vertices, v0, v1, [](const RingWeightedVertex& rv) { return rv.vertex; },
+                               ring_weighted.data());
+            return;
+        }
+        const auto [x0, x1] = part_of(nx, part, parts);
+        plan_limit_points(vertex_limit, special_vertex, ring_weighted, s.special_vertices.data(), held, x0, x1,
+                          outputs[std::size_t(part)]);
+    });
+    std::vector<std::size_t> weights_before(outputs.size() + 1, 0);
+    for (std::size_t k = 0; k < outputs.size(); ++k) weights_before[k + 1] = weights_before[k] + outputs[k].ring_weights.size();
+    for (std::size_t k = 0; k < outputs.size(); ++k)  // part-local places in the ring weights, made the joined list's
+        for (RingWeightedVertex& rv : outputs[k].ring_weighted) rv.first += Index(weights_before[k]);
+    std::vector<SpecialVertex> computed;
+    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<SpecialVertex>& { return out.vertices; }, computed);
+    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<RingWeightedVertex>& { return out.ring_weighted; },
+                  s.ring_weighted_vertices);
+    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<float>& { return out.ring_weights; }, s.ring_weights);
+    if (held == 0) {
+        s.special_vertices = std::move(computed);
+    } else {
+        s.special_vertices.insert(s.special_vertices.end(), computed.begin(), computed.end());
+        std::inplace_merge(s.special_vertices.begin(), s.special_vertices.begin() + std::ptrdiff_t(held), s.special_vertices.end(),
+                           [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
+    }
+    const int copy_parts = parts_for(values_.vertex_vertices.size());
+    s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, copy_parts);
+    s.ring = copy_in_parts(values_.vertex_vertices, copy_parts);
+    plan_.counts.push_back(nx);
+}
+
+void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit, const ScratchVector<const SpecialVertex*>& special_vertex,
+                                           const ScratchVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
+                                           std::size_t num_held, Index x0, Index x1, PartOutput& out) const {
+    const Mode mode = options_.face_varying;
+    // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
+    // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
+    const LimitMask crease = crease_limit_mask();
+    const SpecialVertex* next_held = std::lower_bound(held, held + num_held, x0, [](const SpecialVertex& h, Index x) { return h.vertex < x; });
     Walk walk;
-    for (Index x = 0, next_held = 0; x < nx; ++x) {
+    for (Index x = x0; x < x1; ++x) {
         const Tag& tag = tags_[x];
         Index ends[2];
-        if (std::size_t(next_held) < held && s.special_vertices[std::size_t(next_held)].vertex == x) {
+        if (next_held != held + num_held && next_held->vertex == x) {
             ++next_held;
         } else if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends, walk)))) {
-            s.special_vertices.push_back(copy_of(x));
+            out.vertices.push_back(copy_of(x));
         } else if (tag.mismatch) {
-            s.special_vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
-        } else if (const SpecialVertex* m = special_vertex[vertex_of_[x]]) {
-            s.special_vertices.push_back(on_layer(x, *m, walk));
-        } else if (const RingWeightedVertex* m = ring_weighted[vertex_of_[x]]) {
+            out.vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
+        } else if (const SpecialVertex* m = special_vertex[std::size_t(vertex_of_[x])]) {
+            out.vertices.push_back(on_layer(x, *m, walk));
+        } else if (const RingWeightedVertex* m = ring_weighted[std::size_t(vertex_of_[x])]) {
             // Without a seam at the vertex, the value's ring is the vertex's, value for neighbour, in its own order.
             const Index v = m->vertex, first = vertex_limit.ring_offsets[v], last = vertex_limit.ring_offsets[v + 1];
-            s.ring_weighted_vertices.push_back({x, Index(s.ring_weights.size()), m->w_self});
+            out.ring_weighted.push_back({x, Index(out.ring_weights.size()), m->w_self});
             for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
                 const Index neighbour = vertex_of_[values_.vertex_vertices[k]];
                 const Index slot = Index(std::find(&vertex_limit.ring[first], &vertex_limit.ring[first] + (last - first), neighbour) - &vertex_limit.ring[first]);
-                s.ring_weights.push_back(slot < last - first ? vertex_limit.ring_weights[m->first + slot] : 0.0f);
+                out.ring_weights.push_back(slot < last - first ? vertex_limit.ring_weights[m->first + slot] : 0.0f);
             }
         }
     }
-    std::inplace_merge(s.special_vertices.begin(), s.special_vertices.begin() + std::ptrdiff_t(held), s.special_vertices.end(),
-                       [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
-    const int parts = parts_for(values_.vertex_vertices.size());
-    s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, parts);
-    s.ring = copy_in_parts(values_.vertex_vertices, parts);
-    plan_.counts.push_back(nx);
 }
 
 FaceVaryingPlan FaceVaryingBuilder::finish() {

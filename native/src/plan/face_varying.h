@@ -64,6 +64,8 @@ private:
     struct PartOutput {
         std::vector<SpecialVertex> vertices;
         std::vector<SpecialEdge> edges;
+        std::vector<RingWeightedVertex> ring_weighted;  // the limit's: `first` counts in the part's own ring_weights
+        std::vector<float> ring_weights;
     };
     // The base level's value -> vertex and layer edge -> edge maps, and its seams, from the faces' corners.
     void map_to_vertices(const LevelState& base);
@@ -102,6 +104,10 @@ private:
     // inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
     template <typename InnerSemi>
     static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi);
+    // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
+    void plan_limit_points(const LevelStencils& vertex_limit, const ScratchVector<const SpecialVertex*>& special_vertex,
+                           const ScratchVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
+                           std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
     // Where a value held on the last level goes: held until its features are spent, then along its seam.
     void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
 
