@@ -129,12 +129,27 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
         for (int v = v0; v < v1; ++v)
             std::sort(order.begin() + offsets[v], order.begin() + offsets[v + 1], [&](Index a, Index b) { return value_of(a) < value_of(b); });
     });
+    // A value per run of corners with the same (vertex, value): each part counts the runs that start in its corners,
+    // then numbers them after those of the parts before.
     auto key = [&](Index c) { return std::pair<Index, Index>(mesh.triangles[c], value_of(c)); };
-    std::vector<Index> triangles(corners);
-    for (std::size_t i = 0; i < corners; ++i) {
-        if (i == 0 || key(order[i]) != key(order[i - 1])) plan_.base_values.push_back(input.corner_values[order[i]]);
-        triangles[order[i]] = Index(plan_.base_values.size() - 1);
-    }
+    auto starts_run = [&](std::size_t i) { return i == 0 || key(order[i]) != key(order[i - 1]); };
+    std::vector<Index> runs(std::size_t(parts), 0);
+    run_levels(parts, 1, [&](int, int part, int) {
+        const auto [c0, c1] = part_of(corners, part, parts);
+        Index count = 0;
+        for (std::size_t i = c0; i < c1; ++i) count += starts_run(i);
+        runs[std::size_t(part)] = count;
+    });
+    plan_.base_values.resize(std::size_t(std::accumulate(runs.begin(), runs.end(), Index(0))));
+    ScratchVector<Index> triangles(corners);
+    run_levels(parts, 1, [&](int, int part, int) {
+        const auto [c0, c1] = part_of(corners, part, parts);
+        Index value = std::accumulate(runs.begin(), runs.begin() + part, Index(0)) - 1;  // the run c0 is in
+        for (std::size_t i = c0; i < c1; ++i) {
+            if (starts_run(i)) plan_.base_values[std::size_t(++value)] = input.corner_values[order[i]];
+            triangles[order[i]] = value;
+        }
+    });
     values_ = build_base_topology(triangles.data(), mesh.num_triangles, int(plan_.base_values.size()), options.threads);
     plan_.counts.push_back(values_.num_vertices);
     map_to_vertices(base);
@@ -143,21 +158,35 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
 
 void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
     const Topology& t = base.topology;
-    vertex_of_.assign(values_.num_vertices, 0);
-    edge_of_.assign(values_.num_edges(), 0);
-    std::vector<Index> first_layer_edge(t.num_edges(), -1);
-    std::vector<Index> faces(t.num_edges(), 0);
-    split_.assign(t.num_edges(), 0);
-    for (std::size_t c = 0; c < values_.face_vertices.size(); ++c) {
-        vertex_of_[values_.face_vertices[c]] = t.face_vertices[c];
-        const Index e = t.face_edges[c], layer_edge = values_.face_edges[c];
-        edge_of_[layer_edge] = e;
-        ++faces[e];
-        if (first_layer_edge[e] < 0) first_layer_edge[e] = layer_edge;
-        else if (first_layer_edge[e] != layer_edge) split_[e] = 1;  // the faces disagree at one of its ends: a seam
-    }
-    if (linear_boundaries(options_.face_varying))
-        for (int e = 0; e < t.num_edges(); ++e) split_[e] |= faces[e] == 1;
+    vertex_of_.resize(std::size_t(values_.num_vertices));
+    edge_of_.resize(std::size_t(values_.num_edges()));
+    split_.resize(std::size_t(t.num_edges()));
+    const bool linear = linear_boundaries(options_.face_varying);
+    // Face f of the layer is face f of the vertex mesh: a value's vertex and a layer edge's edge are those at the same
+    // corner of one of its faces, and an edge is split where its faces' corners lie on different layer edges (a seam).
+    auto corner_of = [](const LargeVector<Index>& of_faces, Index f, Index item) {
+        const std::size_t c = 3 * std::size_t(f);
+        return of_faces[c] == item ? c : of_faces[c + 1] == item ? c + 1 : c + 2;
+    };
+    const int parts = parts_for(values_.face_vertices.size());
+    run_levels(parts, 1, [&](int, int part, int) {
+        const auto [x0, x1] = part_of(values_.num_vertices, part, parts);
+        for (Index x = x0; x < x1; ++x) {  // every value has a face: a corner made it
+            const Index e = values_.vertex_edges[values_.vertex_edge_offsets[x]];
+            vertex_of_[x] = t.face_vertices[corner_of(values_.face_vertices, values_.edge_faces[values_.edge_face_offsets[e]], x)];
+        }
+        const auto [l0, l1] = part_of(values_.num_edges(), part, parts);
+        for (Index e = l0; e < l1; ++e)
+            edge_of_[e] = t.face_edges[corner_of(values_.face_edges, values_.edge_faces[values_.edge_face_offsets[e]], e)];
+        const auto [e0, e1] = part_of(t.num_edges(), part, parts);
+        for (Index e = e0; e < e1; ++e) {
+            const Index first = t.edge_face_offsets[e], end = t.edge_face_offsets[e + 1];
+            const Index layer_edge = values_.face_edges[corner_of(t.face_edges, t.edge_faces[first], e)];
+            bool split = linear && end - first == 1;
+            for (Index k = first + 1; k < end && !split; ++k) split = values_.face_edges[corner_of(t.face_edges, t.edge_faces[k], e)] != layer_edge;
+            split_[e] = split;
+        }
+    });
 }
 
 // Both meshes are refined by refine_topology, which numbers a level's children the same way on each: a child vertex
