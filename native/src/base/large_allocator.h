@@ -185,14 +185,14 @@ using LargeVector = std::vector<T, LargeAllocator<T>>;
 // written in parts: malloc hands the same blocks back plan after plan, where the pool, whose budget the plan's tables
 // fill, would give some of them fresh pages to fault in (and, from 1 MiB, whole huge pages to clear).
 template <typename T>
-struct ScratchAllocator : std::allocator<T> {
+struct TransientAllocator : std::allocator<T> {
     template <typename U>
     struct rebind {
-        using other = ScratchAllocator<U>;
+        using other = TransientAllocator<U>;
     };
-    ScratchAllocator() = default;
+    TransientAllocator() = default;
     template <typename U>
-    ScratchAllocator(const ScratchAllocator<U>&) noexcept {}
+    TransientAllocator(const TransientAllocator<U>&) noexcept {}
     template <typename U, typename... Args>
     void construct(U* p, Args&&... args) {
         if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
@@ -201,6 +201,6 @@ struct ScratchAllocator : std::allocator<T> {
 };
 
 template <typename T>
-using ScratchVector = std::vector<T, ScratchAllocator<T>>;
+using TransientVector = std::vector<T, TransientAllocator<T>>;
 
 }  // namespace loopsub::detail

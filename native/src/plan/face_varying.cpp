@@ -21,29 +21,29 @@ bool dependent_sharpness(Mode mode) { return mode == Mode::CornersPlus1 || mode 
 // The items (values or corners) of each vertex, in item order, as offsets into one list (CSR), from each item's vertex:
 // a counting sort. In parts, each counts its own items, then places them after those of the parts before it, so that a
 // vertex's items stay in item order whatever the number of parts.
-void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices, ScratchVector<Index>& offsets,
-                     ScratchVector<Index>& grouped, int parts = 1) {
+void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices, TransientVector<Index>& offsets,
+                     TransientVector<Index>& grouped, int parts = 1) {
     offsets.resize(std::size_t(num_vertices) + 1);
     grouped.resize(items);
-    std::vector<ScratchVector<Index>> counts(static_cast<std::size_t>(parts));
+    std::vector<TransientVector<Index>> counts(static_cast<std::size_t>(parts));
     std::vector<Index> range_items(std::size_t(parts), 0);  // items of the part's range of vertices
     run_levels(parts, 4, [&](int step, int part, int) {
         const auto [i0, i1] = part_of(items, part, parts);
         const auto [v0, v1] = part_of(num_vertices, part, parts);
-        ScratchVector<Index>& own = counts[std::size_t(part)];
+        TransientVector<Index>& own = counts[std::size_t(part)];
         if (step == 0) {
             own.assign(std::size_t(num_vertices), 0);
             for (std::size_t i = i0; i < i1; ++i) ++own[std::size_t(vertex_of[i])];
         } else if (step == 1) {
             Index total = 0;
-            for (const ScratchVector<Index>& part_counts : counts)
+            for (const TransientVector<Index>& part_counts : counts)
                 for (int v = v0; v < v1; ++v) total += part_counts[std::size_t(v)];
             range_items[std::size_t(part)] = total;
         } else if (step == 2) {  // the counts become each part's first place per vertex
             Index start = std::accumulate(range_items.begin(), range_items.begin() + part, Index(0));
             for (int v = v0; v < v1; ++v) {
                 offsets[std::size_t(v)] = start;
-                for (ScratchVector<Index>& part_counts : counts) start += std::exchange(part_counts[std::size_t(v)], start);
+                for (TransientVector<Index>& part_counts : counts) start += std::exchange(part_counts[std::size_t(v)], start);
             }
             if (part + 1 == parts) offsets[std::size_t(num_vertices)] = start;
         } else {
@@ -120,7 +120,7 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
     // value per vertex, as in OpenSubdiv from level 1 on.
     // The corners in (vertex, value) order: grouped by vertex, then each vertex's few sorted by value (not a
     // comparison sort of all corners: docs/benchmark.md, "Measurements behind the code").
-    ScratchVector<Index> offsets, order;
+    TransientVector<Index> offsets, order;
     group_by_vertex(mesh.triangles, corners, mesh.num_vertices, offsets, order, parts_for(corners));
     auto value_of = [&](Index c) { return input.corner_values[c]; };
     const int parts = parts_for(corners);
@@ -141,7 +141,7 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
         runs[std::size_t(part)] = count;
     });
     plan_.base_values.resize(std::size_t(std::accumulate(runs.begin(), runs.end(), Index(0))));
-    ScratchVector<Index> triangles(corners);
+    TransientVector<Index> triangles(corners);
     run_levels(parts, 1, [&](int, int part, int) {
         const auto [c0, c1] = part_of(corners, part, parts);
         Index value = std::accumulate(runs.begin(), runs.begin() + part, Index(0)) - 1;  // the run c0 is in
@@ -198,8 +198,8 @@ void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
 void FaceVaryingBuilder::inherit_mapping(const Topology& t, int parts) {
     const Index nx = values_.num_vertices, layer_edges = values_.num_edges(), nv = t.num_vertices, ne = t.num_edges();
     const Index inside = 3 * Index(t.num_faces());
-    ScratchVector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
-    ScratchVector<std::uint8_t> split(2 * std::size_t(ne) + std::size_t(inside));
+    TransientVector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
+    TransientVector<std::uint8_t> split(2 * std::size_t(ne) + std::size_t(inside));
     assert(values_.num_faces() == t.num_faces());
     run_levels(parts, 1, [&](int, int part, int) {
         const auto [x0, x1] = part_of(nx, part, parts);
@@ -297,7 +297,7 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
     const Topology& t = base.topology;
     const std::vector<std::uint8_t> vertex_non_manifold = non_manifold_vertices(t, non_manifold_edges(t), options_.threads);
     const std::vector<std::uint8_t> value_non_manifold = non_manifold_vertices(values_, non_manifold_edges(values_), options_.threads);
-    ScratchVector<Index> offsets, at_vertex;
+    TransientVector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex, parts_for(vertex_of_.size()));
 
     const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode), plus2 = mode == Mode::CornersPlus2;
@@ -381,12 +381,12 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     // the sharpness around them decays (Vtr::FVarRefinement::reclassifySemisharpValues).
     // Tags of the edges' children too only when a level is planned on this one's children.
     const bool planned_further = !last || options_.limit_surface;
-    ScratchVector<Tag> child_tags(std::size_t(nx) + (planned_further ? ne : 0));
+    TransientVector<Tag> child_tags(std::size_t(nx) + (planned_further ? ne : 0));
     const int parts = parts_for(std::size_t(nx) + std::size_t(ne));
-    ScratchVector<Index> offsets, at_vertex;
+    TransientVector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex, parts);
-    ScratchVector<const SpecialVertex*> special_vertex(std::size_t(vertex_stencils.num_vertices));
-    ScratchVector<const SpecialEdge*> special_edge(std::size_t(vertex_stencils.num_edges));
+    TransientVector<const SpecialVertex*> special_vertex(std::size_t(vertex_stencils.num_vertices));
+    TransientVector<const SpecialEdge*> special_edge(std::size_t(vertex_stencils.num_edges));
 
     // Three steps, each in parts of the values, vertices and edges: every part writes its own values' and edges'
     // tags and masks, and the masks are joined in part order, so that any number of parts plans the same level.
@@ -446,8 +446,8 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
 
 // Vtr::FVarRefinement::reclassifySemisharpValues at vertices [v0, v1) whose values are mismatched.
 void FaceVaryingBuilder::release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                                        const ScratchVector<Index>& offsets, const ScratchVector<Index>& at_vertex, Index v0, Index v1,
-                                        ScratchVector<Tag>& child_tags, Walk& walk) const {
+                                        const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index v0, Index v1,
+                                        TransientVector<Tag>& child_tags, Walk& walk) const {
     const Mode mode = options_.face_varying;
     if (mode == Mode::All) return;
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
@@ -474,8 +474,8 @@ void FaceVaryingBuilder::release_values(const LevelState& level, const LevelStat
 
 // Value points of values [x0, x1), in value order.
 void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                                           const ScratchVector<Index>& offsets, const ScratchVector<Index>& at_vertex,
-                                           const ScratchVector<const SpecialVertex*>& special_vertex, const ScratchVector<Tag>& child_tags,
+                                           const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex,
+                                           const TransientVector<const SpecialVertex*>& special_vertex, const TransientVector<Tag>& child_tags,
                                            Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const {
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
     for (Index x = x0; x < x1; ++x) {
@@ -516,8 +516,8 @@ void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelS
 
 // Edge points of layer edges [e0, e1): midpoints along seams, the edge's own mask elsewhere. Their children on a seam
 // follow it (smooth modes) or stay (linear boundaries); the rest match.
-void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_level, const ScratchVector<const SpecialEdge*>& special_edge,
-                                          bool planned_further, Index e0, Index e1, ScratchVector<Tag>& child_tags,
+void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_level, const TransientVector<const SpecialEdge*>& special_edge,
+                                          bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
                                           std::vector<SpecialEdge>& out) const {
     const Mode mode = options_.face_varying;
     const VertexNeighbourhood layer = this->layer();
@@ -546,7 +546,7 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
     if (mode == Mode::All) return;
     std::vector<Index> edges, inner;
     Walk walk;
-    ScratchVector<Index> offsets, at_vertex;
+    TransientVector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex, parts_for(vertex_of_.size()));
     std::vector<std::vector<int>> inner_slots;
     std::vector<float> sharpness, child_sharpness, parent_inner, child_inner;
@@ -652,8 +652,8 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     // Values held by semi-sharp features that outlast the last level (plan_held_limits) first.
     plan_held_limits(last, rules, s);
     const std::size_t held = s.special_vertices.size();
-    ScratchVector<const SpecialVertex*> special_vertex(std::size_t(vertex_limit.num_vertices));
-    ScratchVector<const RingWeightedVertex*> ring_weighted(std::size_t(vertex_limit.num_vertices));
+    TransientVector<const SpecialVertex*> special_vertex(std::size_t(vertex_limit.num_vertices));
+    TransientVector<const RingWeightedVertex*> ring_weighted(std::size_t(vertex_limit.num_vertices));
     // In parts of the values, as plan_level: the vertex plan's masks as tables, then each part's values.
     const int parts = parts_for(std::size_t(nx));
     std::vector<PartOutput> outputs(static_cast<std::size_t>(parts));
@@ -691,8 +691,8 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     plan_.counts.push_back(nx);
 }
 
-void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit, const ScratchVector<const SpecialVertex*>& special_vertex,
-                                           const ScratchVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
+void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit, const TransientVector<const SpecialVertex*>& special_vertex,
+                                           const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
                                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const {
     const Mode mode = options_.face_varying;
     // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with

@@ -54,7 +54,7 @@ private:
         bool semi_sharp;  // held while semi-sharp features around it decay, then a crease
         bool dep_sharp;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
     };
-    // A part's own scratch for its walks around values (the parts of a level run at once on the plan's threads).
+    // A part's own lists for its walks around values (the parts of a level run at once on the plan's threads).
     struct Walk {
         std::vector<Index> edges, inner, around;
         std::vector<Tag*> value_tags;
@@ -90,14 +90,14 @@ private:
     // plan_level's steps over a part of the level: the children's tags at vertices [v0, v1) where semi-sharp features
     // decay, the value points of values [x0, x1), the edge points of layer edges [e0, e1) and their children's tags.
     void release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                        const ScratchVector<Index>& offsets, const ScratchVector<Index>& at_vertex, Index v0, Index v1,
-                        ScratchVector<Tag>& child_tags, Walk& walk) const;
+                        const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index v0, Index v1,
+                        TransientVector<Tag>& child_tags, Walk& walk) const;
     void plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                           const ScratchVector<Index>& offsets, const ScratchVector<Index>& at_vertex,
-                           const ScratchVector<const SpecialVertex*>& special_vertex, const ScratchVector<Tag>& child_tags,
+                           const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex,
+                           const TransientVector<const SpecialVertex*>& special_vertex, const TransientVector<Tag>& child_tags,
                            Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const;
-    void plan_edge_points(const VertexNeighbourhood& vertex_level, const ScratchVector<const SpecialEdge*>& special_edge,
-                          bool planned_further, Index e0, Index e1, ScratchVector<Tag>& child_tags,
+    void plan_edge_points(const VertexNeighbourhood& vertex_level, const TransientVector<const SpecialEdge*>& special_edge,
+                          bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
                           std::vector<SpecialEdge>& out) const;
     // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and whose
     // own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the features
@@ -105,8 +105,8 @@ private:
     template <typename InnerSemi>
     static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
-    void plan_limit_points(const LevelStencils& vertex_limit, const ScratchVector<const SpecialVertex*>& special_vertex,
-                           const ScratchVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
+    void plan_limit_points(const LevelStencils& vertex_limit, const TransientVector<const SpecialVertex*>& special_vertex,
+                           const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
     // Where a value held on the last level goes: held until its features are spent, then along its seam.
     void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
@@ -120,10 +120,10 @@ private:
     bool values_built_ = true;
     Topology parent_values_;
     // Up to date for the levels still to be planned (after the last level without a limit surface: partial, stale):
-    ScratchVector<Tag> tags_;            // per value
-    ScratchVector<Index> vertex_of_;     // per value: its vertex
-    ScratchVector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
-    ScratchVector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
+    TransientVector<Tag> tags_;            // per value
+    TransientVector<Index> vertex_of_;     // per value: its vertex
+    TransientVector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
+    TransientVector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
 };
 
 }  // namespace loopsub::detail
