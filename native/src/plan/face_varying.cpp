@@ -25,6 +25,15 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
                      TransientVector<Index>& grouped, int parts = 1) {
     offsets.resize(std::size_t(num_vertices) + 1);
     grouped.resize(items);
+    if (parts == 1) {  // fewer passes than the parts' placing
+        std::fill(offsets.begin(), offsets.end(), 0);
+        for (std::size_t x = 0; x < items; ++x) ++offsets[std::size_t(vertex_of[x]) + 1];
+        std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+        for (std::size_t x = 0; x < items; ++x) grouped[std::size_t(offsets[std::size_t(vertex_of[x])]++)] = Index(x);
+        std::copy_backward(offsets.begin(), offsets.end() - 1, offsets.end());  // each count was advanced to the next start
+        offsets[0] = 0;
+        return;
+    }
     std::vector<TransientVector<Index>> counts(static_cast<std::size_t>(parts));
     std::vector<Index> range_items(std::size_t(parts), 0);  // items of the part's range of vertices
     run_levels(parts, 4, [&](int step, int part, int) {
@@ -201,25 +210,33 @@ void FaceVaryingBuilder::inherit_mapping(const Topology& t, int parts) {
     TransientVector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
     TransientVector<std::uint8_t> split(2 * std::size_t(ne) + std::size_t(inside));
     assert(values_.num_faces() == t.num_faces());
-    run_levels(parts, 1, [&](int, int part, int) {
+    // Through local pointers: a store of a byte (split) may alias anything, and the loops would otherwise reload every
+    // array's place after each.
+    const Index* const parent_vertex_of = vertex_of_.data();
+    const Index* const parent_edge_of = edge_of_.data();
+    const std::uint8_t* const parent_split = split_.data();
+    const Index* const layer_ends = values_.edge_vertices.data();
+    const Index* const ends = t.edge_vertices.data();
+    Index* const child_vertex_of = vertex_of.data();
+    Index* const child_edge_of = edge_of.data();
+    std::uint8_t* const child_split = split.data();
+    run_levels(parts, 1, [=](int, int part, int) {
         const auto [x0, x1] = part_of(nx, part, parts);
-        std::copy(vertex_of_.begin() + x0, vertex_of_.begin() + x1, vertex_of.begin() + x0);
+        std::copy(parent_vertex_of + x0, parent_vertex_of + x1, child_vertex_of + x0);
         const auto [e0, e1] = part_of(layer_edges, part, parts);
         for (Index e = e0; e < e1; ++e) {
-            const Index edge = edge_of_[e];
-            const bool same_way = vertex_of_[values_.edge_vertices[2 * std::size_t(e)]] == t.edge_vertices[2 * std::size_t(edge)];
-            assert(vertex_of_[values_.edge_vertices[2 * std::size_t(e) + (same_way ? 1 : 0)]] == t.edge_vertices[2 * std::size_t(edge) + 1]);
-            vertex_of[std::size_t(nx) + e] = nv + edge;
-            edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
-            edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
+            const Index edge = parent_edge_of[e];
+            const bool same_way = parent_vertex_of[layer_ends[2 * std::size_t(e)]] == ends[2 * std::size_t(edge)];
+            assert(parent_vertex_of[layer_ends[2 * std::size_t(e) + (same_way ? 1 : 0)]] == ends[2 * std::size_t(edge) + 1]);
+            child_vertex_of[std::size_t(nx) + std::size_t(e)] = nv + edge;
+            child_edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
+            child_edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
         }
         const auto [k0, k1] = part_of(inside, part, parts);
-        for (Index k = k0; k < k1; ++k) {
-            edge_of[2 * std::size_t(layer_edges) + std::size_t(k)] = 2 * ne + k;
-            split[2 * std::size_t(ne) + std::size_t(k)] = 0;
-        }
+        for (Index k = k0; k < k1; ++k) child_edge_of[2 * std::size_t(layer_edges) + std::size_t(k)] = 2 * ne + k;
+        std::fill(child_split + 2 * std::size_t(ne) + std::size_t(k0), child_split + 2 * std::size_t(ne) + std::size_t(k1), std::uint8_t(0));
         const auto [E0, E1] = part_of(ne, part, parts);
-        for (Index e = E0; e < E1; ++e) split[2 * std::size_t(e)] = split[2 * std::size_t(e) + 1] = split_[e];
+        for (Index e = E0; e < E1; ++e) child_split[2 * std::size_t(e)] = child_split[2 * std::size_t(e) + 1] = parent_split[e];
     });
     vertex_of_ = std::move(vertex_of);
     edge_of_ = std::move(edge_of);
