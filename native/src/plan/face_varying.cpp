@@ -90,15 +90,21 @@ LargeVector<Index> copy_in_parts(const LargeVector<Index>& from, int parts) {
     return to;
 }
 
-// The parts' lists one after the other, copied in parts.
+// The parts' lists one after the other, copied in parts where they are long (short lists, the usual masks, are not
+// worth a meeting of the parts).
 template <typename T, typename Parts, typename List>
 void join_in_parts(const Parts& parts, List list, std::vector<T>& joined) {
     std::vector<std::size_t> starts(parts.size() + 1, 0);
     for (std::size_t p = 0; p < parts.size(); ++p) starts[p + 1] = starts[p] + list(parts[p]).size();
     joined.resize(starts.back());
-    run_levels(int(parts.size()), 1, [&](int, int part, int) {
+    auto copy = [&](std::size_t part) {
         std::copy(list(parts[part]).begin(), list(parts[part]).end(), joined.begin() + std::ptrdiff_t(starts[part]));
-    });
+    };
+    if (starts.back() < 8192) {
+        for (std::size_t part = 0; part < parts.size(); ++part) copy(part);
+        return;
+    }
+    run_levels(int(parts.size()), 1, [&](int, int part, int) { copy(std::size_t(part)); });
 }
 
 // A value that stays where it is: the corner mask.
