@@ -63,16 +63,8 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
 
 // Each target's special mask among `specials` (sorted by target), or null, as a table: one pass over the list, then a
 // load per value or edge, not a binary search per value and per edge (docs/benchmark.md, "Measurements behind the
-// code").
-template <typename Special, typename Key>
-std::vector<const Special*> specials_by_target(const std::vector<Special>& specials, int targets, Key key) {
-    std::vector<const Special*> table(std::size_t(targets), nullptr);
-    for (const Special& special : specials) table[std::size_t(key(special))] = &special;
-    return table;
-}
-
-// The same table's targets [t0, t1), for the part of a level that fills them: the list is sorted by target, so the
-// part's specials are a run of it, found by a binary search.
+// code"). Targets [t0, t1), for the part of a level that fills them: its specials are a run of the list, found by a
+// binary search.
 template <typename Special, typename Key>
 void specials_by_target(const std::vector<Special>& specials, Index t0, Index t1, Key key, const Special** table) {
     std::fill(table + t0, table + t1, nullptr);
