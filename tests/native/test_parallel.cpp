@@ -294,20 +294,22 @@ TEST(LargeAllocator, APlanBuiltAgainFaultsInNoNewPages) {
 
 // Face-varying layers planned and evaluated in parts: any thread count gives the same indices and values, bit for bit,
 // as one thread (the OpenSubdiv comparisons check the values themselves). Levels large enough to be split, with seams,
-// islands, semi-sharp creases and corners, three layers, every interpolation mode, with and without the limit.
+// islands, semi-sharp creases and corners, three layers, every interpolation mode, with and without the limit; the
+// last mesh's base level large enough that the layers' base steps are split too.
 TEST(FaceVaryingThreads, AnyThreadCountEqualsOneBitForBit) {
     using namespace loopsub;
     namespace gen = loopsub::testing;
     using gen::TestMesh;
     TestMesh sphere = gen::icosphere(3);
     TestMesh sheet = gen::grid(40, 40);
-    for (TestMesh* mesh : {&sphere, &sheet}) {
+    TestMesh big = gen::icosphere(5);
+    for (TestMesh* mesh : {&sphere, &sheet, &big}) {
         gen::jitter(*mesh, 7, 0.01f);
         gen::add_random_creases(*mesh, 11, 0.04, true);
         gen::add_random_corners(*mesh, 13, 6, true);
         gen::add_uvs_with_seam(*mesh);
     }
-    for (const TestMesh* mesh : {&sphere, &sheet}) {
+    for (const TestMesh* mesh : {&sphere, &sheet, &big}) {
         // Layer 0: a seam; layer 1: none (a value per vertex); layer 2: islands, a triangle's own three values where
         // its first vertex has z > 0, shared per vertex elsewhere.
         const int n = mesh->num_vertices();
@@ -332,7 +334,7 @@ TEST(FaceVaryingThreads, AnyThreadCountEqualsOneBitForBit) {
             for (bool limit : {false, true}) {
                 Options options;
                 options.rules = Rules::OpenSubdiv;
-                options.levels = 3;
+                options.levels = mesh == &big ? 1 : 3;
                 options.face_varying = FaceVaryingInterpolation(m);
                 options.limit_surface = limit;
                 std::vector<std::vector<std::int32_t>> indices_one;
