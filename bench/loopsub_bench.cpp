@@ -37,7 +37,9 @@
 //
 // --thread-scaling [ROUNDS] instead times one thread against two in pairs close in time (40 rounds by default): the
 // ratios issue 8 sets targets for, less at the mercy of this shared machine's drifts than rows of separate benchmarks;
-// and the ratio of the fastest run of each side, what two threads give when the machine leaves them both cores.
+// and the ratio of the fastest run of each side, what two threads give when the machine leaves them both cores. The
+// rows with "+uv" plan the mesh's UV layer too, "uv frame" evaluates it; --thread-scaling ROUNDS WHAT runs only the
+// rows whose name contains WHAT ("uv": the three with the layer).
 //
 // --malloc-keeps-memory (first argument) makes glibc's malloc keep freed memory for reuse (mmap threshold 32 MiB,
 // no trimming): OpenSubdiv then reuses its arrays from one run to the next as loopsub's plans reuse theirs (its
@@ -678,7 +680,7 @@ int measure_memory(int levels) {
 // round times `batch` plans, plans + evaluations, and evaluations with one thread and with two, back to back (the
 // order swapped every round), and takes the ratio of the two medians; the median of the rounds' ratios is printed,
 // with the spread of the middle half and the medians' times.
-int measure_thread_scaling(int rounds) {
+int measure_thread_scaling(int rounds, const std::string& only) {
     constexpr int batch = 15;
     std::printf("two threads against one, %d rounds of %d runs each side, pairs measured back to back (AVX2 or the "
                 "best kernel, tables Auto)\n", rounds, batch);
@@ -689,15 +691,20 @@ int measure_thread_scaling(int rounds) {
         return v[v.size() / 2];
     };
     for (const Mesh& m : meshes()) {
-        for (const char* what : {"plan", "full", "evaluate"}) {
+        // "+uv": with the mesh's UV layer; "uv frame": evaluate_face_varying of that layer.
+        for (const char* what : {"plan", "full", "evaluate", "plan+uv", "full+uv", "uv frame"}) {
             const std::string kind = what;
+            if (kind.find(only) == std::string::npos) continue;
+            const bool uvs = kind.find("uv") != std::string::npos;
+            const bool frame = kind == "evaluate" || kind == "uv frame";
             auto time_batch = [&](int threads) {
                 const loopsub::Options o = options(loopsub::Kernel::Auto, threads);
                 std::unique_ptr<loopsub::Plan> kept;
-                std::vector<float> out;
-                if (kind == "evaluate") {
-                    kept = std::make_unique<loopsub::Plan>(view(m), o);
+                std::vector<float> out, uv_out;
+                if (frame) {
+                    kept = std::make_unique<loopsub::Plan>(view(m, uvs), o);
                     out.resize(std::size_t(kept->num_output_vertices()) * 3);
+                    if (uvs) uv_out.resize(std::size_t(kept->num_output_face_varying_values(0)) * 2);
                 }
                 std::vector<double> ms;
                 ms.reserve(batch);
@@ -705,11 +712,19 @@ int measure_thread_scaling(int rounds) {
                     const auto start = std::chrono::steady_clock::now();
                     if (kind == "evaluate") {
                         kept->evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3));
+                    } else if (kind == "uv frame") {
+                        kept->evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2), loopsub::interleaved(uv_out.data(), 2));
+                        benchmark::DoNotOptimize(uv_out.data());
                     } else {
-                        loopsub::Plan plan(view(m), o);
-                        if (kind == "full") {
+                        loopsub::Plan plan(view(m, uvs), o);
+                        if (kind == "full" || kind == "full+uv") {
                             const std::unique_ptr<float[]> result(new float[std::size_t(plan.num_output_vertices()) * 3]);
                             plan.evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(result.get(), 3));
+                            benchmark::DoNotOptimize(result.get());
+                        }
+                        if (kind == "full+uv") {
+                            const std::unique_ptr<float[]> result(new float[std::size_t(plan.num_output_face_varying_values(0)) * 2]);
+                            plan.evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2), loopsub::interleaved(result.get(), 2));
                             benchmark::DoNotOptimize(result.get());
                         }
                         benchmark::DoNotOptimize(plan.output_triangles());
@@ -751,7 +766,7 @@ int main(int argc, char** argv) {
         --argc;
     }
     if (argc >= 2 && std::string(argv[1]) == "--memory") return measure_memory(argc >= 3 ? std::atoi(argv[2]) : 6);
-    if (argc >= 2 && std::string(argv[1]) == "--thread-scaling") return measure_thread_scaling(argc >= 3 ? std::atoi(argv[2]) : 40);
+    if (argc >= 2 && std::string(argv[1]) == "--thread-scaling") return measure_thread_scaling(argc >= 3 ? std::atoi(argv[2]) : 40, argc >= 4 ? argv[3] : "");
     Osd::OmpEvaluator::SetNumThreads(2);
     register_all();
     benchmark::Initialize(&argc, argv);

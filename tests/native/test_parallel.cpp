@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include <atomic>
@@ -289,5 +291,78 @@ TEST(LargeAllocator, APlanBuiltAgainFaultsInNoNewPages) {
     EXPECT_LT(minor_faults() - before, 32);
 }
 #endif
+
+// Face-varying layers planned and evaluated in parts: any thread count gives the same indices and values, bit for bit,
+// as one thread (the OpenSubdiv comparisons check the values themselves). Levels large enough to be split, with seams,
+// islands, semi-sharp creases and corners, three layers, every interpolation mode, with and without the limit; the
+// last mesh's base level large enough that the layers' base steps are split too.
+TEST(FaceVaryingThreads, AnyThreadCountEqualsOneBitForBit) {
+    using namespace loopsub;
+    namespace gen = loopsub::testing;
+    using gen::TestMesh;
+    TestMesh sphere = gen::icosphere(3);
+    TestMesh sheet = gen::grid(40, 40);
+    TestMesh big = gen::icosphere(5);
+    for (TestMesh* mesh : {&sphere, &sheet, &big}) {
+        gen::jitter(*mesh, 7, 0.01f);
+        gen::add_random_creases(*mesh, 11, 0.04, true);
+        gen::add_random_corners(*mesh, 13, 6, true);
+        gen::add_uvs_with_seam(*mesh);
+    }
+    for (const TestMesh* mesh : {&sphere, &sheet, &big}) {
+        // Layer 0: a seam; layer 1: none (a value per vertex); layer 2: islands, a triangle's own three values where
+        // its first vertex has z > 0, shared per vertex elsewhere.
+        const int n = mesh->num_vertices();
+        std::vector<std::int32_t> islands(mesh->triangles.size());
+        std::vector<float> island_values(2 * std::size_t(n));
+        for (int v = 0; v < n; ++v) island_values[2 * v] = mesh->positions[3 * v + 2], island_values[2 * v + 1] = float(v % 7);
+        for (std::size_t c = 0; c < islands.size(); ++c) {
+            const bool own = mesh->positions[3 * mesh->triangles[c - c % 3] + 2] > 0.0f;
+            islands[c] = own ? std::int32_t(island_values.size() / 2) : mesh->triangles[c];
+            if (own) island_values.insert(island_values.end(), {0.1f * float(c % 5), float(c % 3)});
+        }
+        std::vector<float> vertex_values(2 * std::size_t(n));
+        for (int v = 0; v < n; ++v) vertex_values[2 * v] = mesh->positions[3 * v], vertex_values[2 * v + 1] = mesh->positions[3 * v + 1];
+        const FaceVaryingLayer layers[3] = {{mesh->triangle_uvs.data(), int(mesh->uvs.size() / 2)},
+                                            {mesh->triangles.data(), n},
+                                            {islands.data(), int(island_values.size() / 2)}};
+        const std::vector<float>* values[3] = {&mesh->uvs, &vertex_values, &island_values};
+        MeshView view = mesh->view();
+        view.face_varying = layers;
+        view.num_face_varying = 3;
+        for (int m = 0; m <= int(FaceVaryingInterpolation::All); ++m) {
+            for (bool limit : {false, true}) {
+                Options options;
+                options.rules = Rules::OpenSubdiv;
+                options.levels = mesh == &big ? 1 : 3;
+                options.face_varying = FaceVaryingInterpolation(m);
+                options.limit_surface = limit;
+                std::vector<std::vector<std::int32_t>> indices_one;
+                std::vector<std::vector<float>> values_one;
+                for (int threads : {1, 2, 3, 8}) {
+                    SCOPED_TRACE(mesh->name + ", mode " + std::to_string(m) + (limit ? ", limit" : "") + ", threads " + std::to_string(threads));
+                    options.threads = threads;
+                    Plan plan(view, options);
+                    ASSERT_EQ(plan.num_face_varying_layers(), 3);
+                    for (int layer = 0; layer < 3; ++layer) {
+                        const std::int32_t* corners = plan.output_face_varying_indices(layer);
+                        std::vector<std::int32_t> indices(corners, corners + 3 * std::size_t(plan.num_output_triangles()));
+                        std::vector<float> out(2 * std::size_t(plan.num_output_face_varying_values(layer)));
+                        plan.evaluate_face_varying(layer, interleaved(values[layer]->data(), 2), interleaved(out.data(), 2));
+                        if (threads == 1) {
+                            indices_one.push_back(std::move(indices));
+                            values_one.push_back(std::move(out));
+                            continue;
+                        }
+                        EXPECT_EQ(indices, indices_one[std::size_t(layer)]) << "layer " << layer;
+                        // Bit for bit: the same float, not merely close (memcmp, so that equal NaNs would count as equal).
+                        ASSERT_EQ(out.size(), values_one[std::size_t(layer)].size()) << "layer " << layer;
+                        EXPECT_EQ(std::memcmp(out.data(), values_one[std::size_t(layer)].data(), out.size() * sizeof(float)), 0) << "layer " << layer;
+                    }
+                }
+            }
+        }
+    }
+}
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <deque>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <utility>
@@ -179,5 +180,27 @@ struct LargeAllocator {
 
 template <typename T>
 using LargeVector = std::vector<T, LargeAllocator<T>>;
+
+// Malloc's memory, sized uninitialised as LargeVector's, for the builder's arrays that live a level or two and are
+// written in parts: malloc hands the same blocks back plan after plan, where the pool, whose budget the plan's tables
+// fill, would give some of them fresh pages to fault in (and, from 1 MiB, whole huge pages to clear).
+template <typename T>
+struct TransientAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+        using other = TransientAllocator<U>;
+    };
+    TransientAllocator() = default;
+    template <typename U>
+    TransientAllocator(const TransientAllocator<U>&) noexcept {}
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+        if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
+        else ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+template <typename T>
+using TransientVector = std::vector<T, TransientAllocator<T>>;
 
 }  // namespace loopsub::detail

@@ -62,8 +62,10 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
     for (int v = 0; v < counts[0]; ++v)
         for (std::size_t c = 0; c < padded; ++c) first[v * padded + c] = c < std::size_t(channels) ? load(v, int(c)) : 0.0f;
 
-    std::vector<ChannelsView<const float>> sources(n);
-    std::vector<ChannelsView<float>> targets(n);
+    std::vector<ChannelsView<const float>>& sources = p.frame.sources;
+    std::vector<ChannelsView<float>>& targets = p.frame.targets;
+    sources.resize(std::size_t(n));
+    targets.resize(std::size_t(n));
     for (int i = 0; i < n; ++i) {
         sources[i] = quads((i + 1) % 2);
         targets[i] = i + 1 < n ? quads(i % 2) : out;
@@ -103,10 +105,12 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         fail("evaluate: missing (null) data");
     detail::validate_vertex_values(in, p.num_input_vertices, largest_refinable(p), p.max_summed_terms);
     if (p.num_input_vertices > 0) {  // otherwise nothing to refine (and the output may be a null pointer)
-        std::vector<const detail::LevelStencils*> passes;
+        std::vector<const detail::LevelStencils*>& passes = p.frame.passes;
+        passes.clear();
         for (const detail::LevelStencils& s : p.stencils) passes.push_back(&s);
         if (p.limit) passes.push_back(&p.limit->positions);
-        std::vector<int> counts = p.level_num_vertices;
+        std::vector<int>& counts = p.frame.counts;
+        counts.assign(p.level_num_vertices.begin(), p.level_num_vertices.end());
         if (p.limit) counts.push_back(counts.back());
         run_passes(p, passes, counts, channels,
                    [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out);
@@ -138,7 +142,8 @@ void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, Channe
         fail("evaluate_face_varying: missing (null) data");
     detail::validate_vertex_values(in, plan.num_input_values, largest_refinable(p), p.max_summed_terms, "face-varying value");
     if (plan.counts[0] == 0) return;
-    std::vector<const detail::LevelStencils*> passes;
+    std::vector<const detail::LevelStencils*>& passes = p.frame.passes;
+    passes.clear();
     for (const detail::LevelStencils& s : plan.passes) passes.push_back(&s);
     run_passes(p, passes, plan.counts, channels,
                [&in, &plan](int x, int c) { return in.data[c * in.channel_stride + std::size_t(plan.base_values[x]) * in.element_stride]; }, out);

@@ -46,34 +46,68 @@ public:
     FaceVaryingPlan finish();
 
 private:
-    // A value's class on the current level (OpenSubdiv's FVarLevel::ValueTag, reduced to what the masks read).
+    // A value's class on the current level (OpenSubdiv's FVarLevel::ValueTag, reduced to what the masks read). No
+    // member initialisers: the tags of a level are sized uninitialised and written in parts (Tag{} is all false).
     struct Tag {
-        bool mismatch = false;    // its vertex has a seam, or the mode makes it linear: the seam rules apply
-        bool crease = false;      // follows the seam as a B-spline; otherwise (mismatched) it stays where it is
-        bool semi_sharp = false;  // held while semi-sharp features around it decay, then a crease
-        bool dep_sharp = false;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
+        bool mismatch;    // its vertex has a seam, or the mode makes it linear: the seam rules apply
+        bool crease;      // follows the seam as a B-spline; otherwise (mismatched) it stays where it is
+        bool semi_sharp;  // held while semi-sharp features around it decay, then a crease
+        bool dep_sharp;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
+    };
+    // A part's own lists for its walks around values (the parts of a level run at once on the plan's threads).
+    struct Walk {
+        std::vector<Index> edges, inner, around;
+        std::vector<Tag*> value_tags;
+        std::vector<float> parent_edges, child_edges;
+    };
+    // A part's share of a level's special masks, joined in part order (the order of one part).
+    struct PartOutput {
+        std::vector<SpecialVertex> vertices;
+        std::vector<SpecialEdge> edges;
+        std::vector<RingWeightedVertex> ring_weighted;  // the limit's: `first` counts in the part's own ring_weights
+        std::vector<float> ring_weights;
     };
     // The base level's value -> vertex and layer edge -> edge maps, and its seams, from the faces' corners.
     void map_to_vertices(const LevelState& base);
-    // The child level's, from this level's through refine_topology's numbering (`t`: this level's vertex mesh).
-    void inherit_mapping(const Topology& t);
+    // The child level's, from this level's through refine_topology's numbering (`t`: this level's vertex mesh), in
+    // `parts` parts.
+    void inherit_mapping(const Topology& t, int parts);
     void classify_base(const LevelState& base);
     // The layer's current level as the queries below read it: its own arrays, or its parent's where it is not built.
     VertexNeighbourhood layer() const { return VertexNeighbourhood(values_, values_built_ ? nullptr : &parent_values_); }
-    // The layer edges at value x, into edges_at_value_.
-    const std::vector<Index>& edges_at(Index x) const;
+    // How many parts a level of `items` values and edges is planned in: one where the parts' meetings would cost
+    // more than their share.
+    int parts_for(std::size_t items) const;
+    // The layer edges at value x, into walk.edges.
+    const std::vector<Index>& edges_at(Index x, Walk& walk) const;
     // The layer edges at value x with two faces in the layer (inside its span) and their vertex-mesh edges.
-    void inner_edges(Index x, std::vector<Index>& edges) const;
+    void inner_edges(Index x, std::vector<Index>& edges, Walk& walk) const;
     // The far ends of the layer's boundary edges at x (its seam neighbours); false unless there are exactly two.
-    bool seam_ends(Index x, Index ends[2]) const;
-    Index neighbour_at_vertex(Index x, Index vertex) const;  // x's neighbour value lying on `vertex`, or -1
+    bool seam_ends(Index x, Index ends[2], Walk& walk) const;
+    Index neighbour_at_vertex(Index x, Index vertex, Walk& walk) const;  // x's neighbour value lying on `vertex`, or -1
     // A vertex's mask `m` for value x on that vertex: its crease neighbours read through the layer.
-    SpecialVertex on_layer(Index x, const SpecialVertex& m) const;
+    SpecialVertex on_layer(Index x, const SpecialVertex& m, Walk& walk) const;
+    // plan_level's steps over a part of the level: the children's tags at vertices [v0, v1) where semi-sharp features
+    // decay, the value points of values [x0, x1), the edge points of layer edges [e0, e1) and their children's tags.
+    void release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
+                        const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index v0, Index v1,
+                        TransientVector<Tag>& child_tags, Walk& walk) const;
+    void plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
+                           const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex,
+                           const TransientVector<const SpecialVertex*>& special_vertex, const TransientVector<Tag>& child_tags,
+                           Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const;
+    void plan_edge_points(const VertexNeighbourhood& vertex_level, const TransientVector<const SpecialEdge*>& special_edge,
+                          bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
+                          std::vector<SpecialEdge>& out) const;
     // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and whose
     // own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the features
     // inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
     template <typename InnerSemi>
     static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi);
+    // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
+    void plan_limit_points(const LevelStencils& vertex_limit, const TransientVector<const SpecialVertex*>& special_vertex,
+                           const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
+                           std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
     // Where a value held on the last level goes: held until its features are spent, then along its seam.
     void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
 
@@ -85,12 +119,11 @@ private:
     bool skip_level_before_last_ = false;
     bool values_built_ = true;
     Topology parent_values_;
-    mutable std::vector<Index> edges_at_value_;
     // Up to date for the levels still to be planned (after the last level without a limit surface: partial, stale):
-    std::vector<Tag> tags_;            // per value
-    std::vector<Index> vertex_of_;     // per value: its vertex
-    std::vector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
-    std::vector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
+    TransientVector<Tag> tags_;            // per value
+    TransientVector<Index> vertex_of_;     // per value: its vertex
+    TransientVector<Index> edge_of_;       // per layer edge: its vertex-mesh edge
+    TransientVector<std::uint8_t> split_;  // per vertex-mesh edge: a seam (or linear boundary) runs along it
 };
 
 }  // namespace loopsub::detail

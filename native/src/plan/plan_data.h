@@ -93,6 +93,11 @@ struct PlanImpl {
     struct Frame {
         detail::LargeVector<float> scratch[2];            // the passes' sources and targets, in turn (run_passes)
         std::vector<float> normals;  // the compact limit normals, for the per-corner evaluate to gather from
+        // run_passes' lists, kept so that a frame allocates nothing once the plan has run one of each kind.
+        std::vector<const detail::LevelStencils*> passes;
+        std::vector<int> counts;
+        std::vector<ChannelsView<const float>> sources;
+        std::vector<ChannelsView<float>> targets;
         double evaluate_ms = 0.0;
     };
     Frame frame;
