@@ -12,7 +12,8 @@
 //   opensubdiv_cpu_evaluator      Osd::CpuEvaluator::EvalStencils over that table (per frame)
 //   opensubdiv_omp_evaluator      Osd::OmpEvaluator::EvalStencils with 2 OpenMP threads (per frame)
 //   opensubdiv_limit              Interpolate, levels 1-4, then Limit with both tangents (per frame)
-//   opensubdiv_face_varying       InterpolateFaceVarying of a UV layer with a seam, levels 1-4, FVAR_LINEAR_CORNERS_ONLY
+//   opensubdiv_face_varying       InterpolateFaceVarying of a UV layer with a seam, levels 1-4,
+//   FVAR_LINEAR_CORNERS_ONLY
 //                                 (per frame)
 //   opensubdiv_far_full_uvs       the full pipeline with that layer: TopologyRefinerFactory with its channel +
 //                                 RefineUniform(4) + Interpolate + InterpolateFaceVarying, levels 1-4
@@ -23,10 +24,10 @@
 //   loopsub_*_derived             the same with Options::level_tables = Derived (best kernel only); the rows above
 //                                 use Auto, which stores the tables at this size
 //   loopsub_limit                 Plan::evaluate with the limit surface and its normals per corner (per frame)
-//   loopsub_limit_compact         the same with the normals in compact form, one per vertex and side (Plan::LimitNormals)
-//   loopsub_topology_limit        Plan construction with the limit surface
-//   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
-//   loopsub_full_uvs              Plan construction with that layer + evaluate + evaluate_face_varying (what the add-on
+//   loopsub_limit_compact         the same with the normals in compact form, one per vertex and side
+//   (Plan::LimitNormals) loopsub_topology_limit        Plan construction with the limit surface loopsub_face_varying
+//   Plan::evaluate_face_varying of the same layer, corners only (per frame) loopsub_full_uvs              Plan
+//   construction with that layer + evaluate + evaluate_face_varying (what the add-on
 //                                 and the CLI do with a mesh that has UVs)
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
@@ -81,14 +82,14 @@ constexpr int kLevels = 4;
 
 struct Mesh {
     std::string name;
-    std::vector<float> positions;  // 3 per vertex
-    std::vector<int> triangles;    // 3 per triangle
+    std::vector<float> positions;   // 3 per vertex
+    std::vector<int> triangles;     // 3 per triangle
     std::vector<int> crease_edges;  // pairs
     std::vector<float> crease_sharpness;
     std::vector<int> corners;
     std::vector<float> corner_sharpness;
     // A UV layer with a seam: the triangles with x > 0 take their own copies of their values.
-    std::vector<float> uvs;      // 2 per value
+    std::vector<float> uvs;       // 2 per value
     std::vector<int> uv_indices;  // 3 per triangle
 
     int num_vertices() const { return int(positions.size() / 3); }
@@ -99,10 +100,10 @@ struct Mesh {
 Mesh icosphere(int splits) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
     Mesh m;
-    m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
-                   0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-    m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-                   3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    m.positions = {-1, t,  0,  1, t, 0,  -1, -t, 0,  1, -t, 0, 0,  -1, t,  0,  1, t,
+                   0,  -1, -t, 0, 1, -t, t,  0,  -1, t, 0,  1, -t, 0,  -1, -t, 0, 1};
+    m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4,  11, 10, 2,  10, 7, 6, 7, 1, 8,
+                   3, 9,  4, 3, 4, 2, 3, 2, 6, 3, 6, 8,  3, 8,  9,  4, 9, 5, 2, 4,  11, 6,  2,  10, 8,  6, 7, 9, 8, 1};
     for (int s = 0; s < splits; ++s) {
         std::map<std::pair<int, int>, int> midpoint;
         auto split = [&](int a, int b) {
@@ -214,8 +215,7 @@ std::unique_ptr<Far::TopologyRefiner> osd_refiner(const Mesh& m, bool full_last_
     d.numFVarChannels = with_uvs ? 1 : 0;
     d.fvarChannels = with_uvs ? &uv_channel : nullptr;
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    std::unique_ptr<Far::TopologyRefiner> refiner(
-        Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
+    std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(d, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
     Far::TopologyRefiner::UniformOptions uniform(levels);
     uniform.fullTopologyInLastLevel = full_last_level;  // what Limit needs
     refiner->RefineUniform(uniform);
@@ -366,7 +366,8 @@ loopsub::MeshView view(const Mesh& m, bool with_uvs = false) {
     return v;
 }
 
-loopsub::Options options(loopsub::Kernel kernel, int threads, loopsub::LevelTables tables = loopsub::LevelTables::Auto) {
+loopsub::Options options(loopsub::Kernel kernel, int threads,
+                         loopsub::LevelTables tables = loopsub::LevelTables::Auto) {
     loopsub::Options o;
     o.level_tables = tables;
     o.rules = loopsub::Rules::OpenSubdiv;
@@ -378,7 +379,8 @@ loopsub::Options options(loopsub::Kernel kernel, int threads, loopsub::LevelTabl
     return o;
 }
 
-void ours_full(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads, loopsub::LevelTables tables) {
+void ours_full(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads,
+               loopsub::LevelTables tables) {
     int vertices = 0;
     for (auto _ : state) {
         loopsub::Plan plan(view(*m), options(kernel, threads, tables));
@@ -400,7 +402,8 @@ void ours_topology(benchmark::State& state, const Mesh* m, int threads, loopsub:
     set_rate(state, vertices);
 }
 
-void ours_evaluate(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads, loopsub::LevelTables tables) {
+void ours_evaluate(benchmark::State& state, const Mesh* m, loopsub::Kernel kernel, int threads,
+                   loopsub::LevelTables tables) {
     loopsub::Plan plan(view(*m), options(kernel, threads, tables));
     std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
     for (auto _ : state) {
@@ -414,9 +417,11 @@ void ours_limit(benchmark::State& state, const Mesh* m, int threads) {
     loopsub::Options o = options(loopsub::Kernel::Auto, threads);
     o.limit_surface = true;
     loopsub::Plan plan(view(*m), o);
-    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3), normals(std::size_t(plan.num_output_triangles()) * 9);
+    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3),
+        normals(std::size_t(plan.num_output_triangles()) * 9);
     for (auto _ : state) {
-        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3), normals.data());
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3),
+                      normals.data());
         benchmark::DoNotOptimize(normals.data());
     }
     set_rate(state, plan.num_output_vertices());
@@ -427,9 +432,11 @@ void ours_limit_compact(benchmark::State& state, const Mesh* m, int threads) {
     loopsub::Options o = options(loopsub::Kernel::Auto, threads);
     o.limit_surface = true;
     loopsub::Plan plan(view(*m), o);
-    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3), normals(std::size_t(plan.num_limit_normals()) * 3);
+    std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3),
+        normals(std::size_t(plan.num_limit_normals()) * 3);
     for (auto _ : state) {
-        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3), loopsub::Plan::LimitNormals{normals.data()});
+        plan.evaluate(loopsub::interleaved(m->positions.data(), 3), loopsub::interleaved(out.data(), 3),
+                      loopsub::Plan::LimitNormals{normals.data()});
         benchmark::DoNotOptimize(normals.data());
     }
     set_rate(state, plan.num_output_vertices());
@@ -476,8 +483,8 @@ void ours_full_uvs(benchmark::State& state, const Mesh* m, int threads) {
 constexpr loopsub::Kernel kKernels[] = {loopsub::Kernel::Scalar, loopsub::Kernel::SSE41, loopsub::Kernel::AVX2};
 
 std::string ours_name(const char* what, const Mesh& m, loopsub::Kernel kernel, int threads) {
-    return std::string("loopsub_") + what + "/" + m.name + "/" + loopsub::kernel_name(kernel) + "/threads:" +
-           std::to_string(threads);
+    return std::string("loopsub_") + what + "/" + m.name + "/" + loopsub::kernel_name(kernel) +
+           "/threads:" + std::to_string(threads);
 }
 
 void register_all() {
@@ -495,20 +502,26 @@ void register_all() {
         add("opensubdiv_far_full_uvs/" + m.name, osd_far_full_uvs, &m);
         for (int threads : {1, 2}) {
             add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
-            add("loopsub_limit_compact/" + m.name + "/threads:" + std::to_string(threads), ours_limit_compact, &m, threads);
-            add("loopsub_topology_limit/" + m.name + "/threads:" + std::to_string(threads), ours_topology_limit, &m, threads);
-            add("loopsub_face_varying/" + m.name + "/threads:" + std::to_string(threads), ours_face_varying, &m, threads);
+            add("loopsub_limit_compact/" + m.name + "/threads:" + std::to_string(threads), ours_limit_compact, &m,
+                threads);
+            add("loopsub_topology_limit/" + m.name + "/threads:" + std::to_string(threads), ours_topology_limit, &m,
+                threads);
+            add("loopsub_face_varying/" + m.name + "/threads:" + std::to_string(threads), ours_face_varying, &m,
+                threads);
             add("loopsub_full_uvs/" + m.name + "/threads:" + std::to_string(threads), ours_full_uvs, &m, threads);
             const std::string suffix = m.name + "/threads:" + std::to_string(threads);
             add("loopsub_topology/" + suffix, ours_topology, &m, threads, loopsub::LevelTables::Auto);
             add("loopsub_topology_derived/" + suffix, ours_topology, &m, threads, loopsub::LevelTables::Derived);
             for (loopsub::Kernel kernel : kKernels) {
                 add(ours_name("full", m, kernel, threads), ours_full, &m, kernel, threads, loopsub::LevelTables::Auto);
-                add(ours_name("evaluate", m, kernel, threads), ours_evaluate, &m, kernel, threads, loopsub::LevelTables::Auto);
+                add(ours_name("evaluate", m, kernel, threads), ours_evaluate, &m, kernel, threads,
+                    loopsub::LevelTables::Auto);
             }
             const loopsub::Kernel best = loopsub::best_kernel();
-            add(ours_name("full_derived", m, best, threads), ours_full, &m, best, threads, loopsub::LevelTables::Derived);
-            add(ours_name("evaluate_derived", m, best, threads), ours_evaluate, &m, best, threads, loopsub::LevelTables::Derived);
+            add(ours_name("full_derived", m, best, threads), ours_full, &m, best, threads,
+                loopsub::LevelTables::Derived);
+            add(ours_name("evaluate_derived", m, best, threads), ours_evaluate, &m, best, threads,
+                loopsub::LevelTables::Derived);
         }
     }
 }
@@ -522,7 +535,8 @@ public:
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& run : runs) {
             const std::string& name = run.run_name.function_name;
-            if (run.run_type == Run::RT_Aggregate && run.aggregate_name == "median") median_[name] = run.GetAdjustedRealTime();
+            if (run.run_type == Run::RT_Aggregate && run.aggregate_name == "median")
+                median_[name] = run.GetAdjustedRealTime();
             else if (run.run_type == Run::RT_Iteration) single_[name] = run.GetAdjustedRealTime();
         }
         ConsoleReporter::ReportRuns(runs);
@@ -545,12 +559,14 @@ void print_speedups(const RecordingReporter& r) {
         if (theirs > 0 && ours > 0) std::snprintf(text, sizeof text, "%.1fx", theirs / ours);
         return std::string(text);
     };
-    std::printf("\nSpeedups, OpenSubdiv time / loopsub time (issue 8's targets, one thread: full >= 10x Far, evaluate >= 8x "
-                "PrimvarRefiner):\n");
+    std::printf(
+        "\nSpeedups, OpenSubdiv time / loopsub time (issue 8's targets, one thread: full >= 10x Far, evaluate >= 8x "
+        "PrimvarRefiner):\n");
     std::printf("%-10s %-15s %-8s %16s %22s %21s\n", "mesh", "kernel", "threads", "full vs Far", "evaluate vs Primvar",
                 "evaluate vs stencils");
     for (const Mesh& m : meshes()) {
-        const double far = r.ms("opensubdiv_far_full/" + m.name), primvar = r.ms("opensubdiv_primvar_refiner/" + m.name);
+        const double far = r.ms("opensubdiv_far_full/" + m.name),
+                     primvar = r.ms("opensubdiv_primvar_refiner/" + m.name);
         for (int threads : {1, 2}) {
             // The stencil evaluator with the same thread count: CpuEvaluator for one, OmpEvaluator for two.
             const double stencils = r.ms(threads == 1 ? "opensubdiv_cpu_evaluator/" + m.name
@@ -558,34 +574,42 @@ void print_speedups(const RecordingReporter& r) {
             for (const char* tables : {"", "_derived"}) {
                 for (loopsub::Kernel kernel : kKernels) {
                     const double full = r.ms(ours_name((std::string("full") + tables).c_str(), m, kernel, threads));
-                    const double evaluate = r.ms(ours_name((std::string("evaluate") + tables).c_str(), m, kernel, threads));
+                    const double evaluate =
+                        r.ms(ours_name((std::string("evaluate") + tables).c_str(), m, kernel, threads));
                     if (full < 0 && evaluate < 0) continue;
                     const std::string label = std::string(loopsub::kernel_name(kernel)) + (*tables ? " derived" : "");
                     std::printf("%-10s %-15s %-8d %16s %22s %21s\n", m.name.c_str(), label.c_str(), threads,
-                                ratio(far, full).c_str(), ratio(primvar, evaluate).c_str(), ratio(stencils, evaluate).c_str());
+                                ratio(far, full).c_str(), ratio(primvar, evaluate).c_str(),
+                                ratio(stencils, evaluate).c_str());
                 }
             }
         }
     }
-    std::printf("\nTwo threads against one, loopsub time with 1 / with 2 (issue 8's targets: full >= 1.6x, evaluate >= 1.7x):\n");
+    std::printf(
+        "\nTwo threads against one, loopsub time with 1 / with 2 (issue 8's targets: full >= 1.6x, evaluate >= "
+        "1.7x):\n");
     std::printf("%-10s %-15s %10s %10s %10s\n", "mesh", "kernel", "topology", "full", "evaluate");
     for (const Mesh& m : meshes()) {
         for (const char* tables : {"", "_derived"}) {
             for (loopsub::Kernel kernel : kKernels) {
                 auto two_vs_one = [&](const std::string& what) {
-                    return ratio(r.ms(ours_name((what + tables).c_str(), m, kernel, 1)), r.ms(ours_name((what + tables).c_str(), m, kernel, 2)));
+                    return ratio(r.ms(ours_name((what + tables).c_str(), m, kernel, 1)),
+                                 r.ms(ours_name((what + tables).c_str(), m, kernel, 2)));
                 };
-                const std::string topology = ratio(r.ms("loopsub_topology" + std::string(tables) + "/" + m.name + "/threads:1"),
-                                                   r.ms("loopsub_topology" + std::string(tables) + "/" + m.name + "/threads:2"));
+                const std::string topology =
+                    ratio(r.ms("loopsub_topology" + std::string(tables) + "/" + m.name + "/threads:1"),
+                          r.ms("loopsub_topology" + std::string(tables) + "/" + m.name + "/threads:2"));
                 const std::string full = two_vs_one("full"), evaluate = two_vs_one("evaluate");
                 if (full == "-" && evaluate == "-") continue;
                 const std::string label = std::string(loopsub::kernel_name(kernel)) + (*tables ? " derived" : "");
-                std::printf("%-10s %-15s %10s %10s %10s\n", m.name.c_str(), label.c_str(), topology.c_str(), full.c_str(), evaluate.c_str());
+                std::printf("%-10s %-15s %10s %10s %10s\n", m.name.c_str(), label.c_str(), topology.c_str(),
+                            full.c_str(), evaluate.c_str());
             }
         }
     }
-    std::printf("\nLimit surface and face-varying (best kernel), OpenSubdiv time / loopsub time; per frame, and end to end "
-                "with a UV layer:\n");
+    std::printf(
+        "\nLimit surface and face-varying (best kernel), OpenSubdiv time / loopsub time; per frame, and end to end "
+        "with a UV layer:\n");
     std::printf("%-10s %-8s %34s %38s %38s\n", "mesh", "threads", "limit+normals vs Interpolate+Limit",
                 "UVs vs InterpolateFaceVarying (ms)", "full with UVs vs Far with UVs (ms)");
     auto compared = [&](const std::string& theirs, const std::string& ours) {
@@ -601,7 +625,8 @@ void print_speedups(const RecordingReporter& r) {
             const std::string uvs = compared("opensubdiv_face_varying/" + m.name, "loopsub_face_varying/" + suffix);
             const std::string full = compared("opensubdiv_far_full_uvs/" + m.name, "loopsub_full_uvs/" + suffix);
             if (limit == "-" && uvs == "-" && full == "-") continue;
-            std::printf("%-10s %-8d %34s %38s %38s\n", m.name.c_str(), threads, limit.c_str(), uvs.c_str(), full.c_str());
+            std::printf("%-10s %-8d %34s %38s %38s\n", m.name.c_str(), threads, limit.c_str(), uvs.c_str(),
+                        full.c_str());
         }
     }
 }
@@ -663,14 +688,19 @@ int measure_memory(int levels) {
     std::size_t vertices = std::size_t(m.num_vertices());
     for (int l = 0; l < levels; ++l) vertices = vertices + (std::size_t(m.num_triangles()) << (2 * l)) * 3 / 2;
     const double output_mib = double(vertices * 12 + triangles * 12) / (1 << 20);
-    std::printf("peak resident memory, %s to level %d: %zu triangles, %zu vertices; output arrays (positions + "
-                "triangles) %.1f MiB\n", m.name.c_str(), levels, triangles, vertices, output_mib);
+    std::printf(
+        "peak resident memory, %s to level %d: %zu triangles, %zu vertices; output arrays (positions + "
+        "triangles) %.1f MiB\n",
+        m.name.c_str(), levels, triangles, vertices, output_mib);
     for (const auto& [name, kib] : {std::pair<const char*, long>{"loopsub (tables Auto)", auto_tables},
-                                    {"loopsub (tables Stored)", stored_tables}, {"opensubdiv", theirs}}) {
+                                    {"loopsub (tables Stored)", stored_tables},
+                                    {"opensubdiv", theirs}}) {
         if (kib < 0) continue;
         const double mib = double(kib) / 1024.0;
-        std::printf("  %-24s %8.1f MiB above the process's start = %.2fx the output arrays, %.1f bytes per output "
-                    "triangle\n", name, mib, mib / output_mib, double(kib) * 1024.0 / double(triangles));
+        std::printf(
+            "  %-24s %8.1f MiB above the process's start = %.2fx the output arrays, %.1f bytes per output "
+            "triangle\n",
+            name, mib, mib / output_mib, double(kib) * 1024.0 / double(triangles));
     }
     return auto_tables < 0 || stored_tables < 0 || theirs < 0;
 }
@@ -682,10 +712,12 @@ int measure_memory(int levels) {
 // with the spread of the middle half and the medians' times.
 int measure_thread_scaling(int rounds, const std::string& only) {
     constexpr int batch = 15;
-    std::printf("two threads against one, %d rounds of %d runs each side, pairs measured back to back (AVX2 or the "
-                "best kernel, tables Auto)\n", rounds, batch);
-    std::printf("%-10s %-9s %24s %10s %10s %16s\n", "mesh", "what", "ratio median (middle half)", "1 thread", "2 threads",
-                "fastest runs");
+    std::printf(
+        "two threads against one, %d rounds of %d runs each side, pairs measured back to back (AVX2 or the "
+        "best kernel, tables Auto)\n",
+        rounds, batch);
+    std::printf("%-10s %-9s %24s %10s %10s %16s\n", "mesh", "what", "ratio median (middle half)", "1 thread",
+                "2 threads", "fastest runs");
     auto median = [](std::vector<double> v) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
@@ -711,25 +743,32 @@ int measure_thread_scaling(int rounds, const std::string& only) {
                 for (int i = 0; i < batch; ++i) {
                     const auto start = std::chrono::steady_clock::now();
                     if (kind == "evaluate") {
-                        kept->evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3));
+                        kept->evaluate(loopsub::interleaved(m.positions.data(), 3),
+                                       loopsub::interleaved(out.data(), 3));
                     } else if (kind == "uv frame") {
-                        kept->evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2), loopsub::interleaved(uv_out.data(), 2));
+                        kept->evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2),
+                                                    loopsub::interleaved(uv_out.data(), 2));
                         benchmark::DoNotOptimize(uv_out.data());
                     } else {
                         loopsub::Plan plan(view(m, uvs), o);
                         if (kind == "full" || kind == "full+uv") {
-                            const std::unique_ptr<float[]> result(new float[std::size_t(plan.num_output_vertices()) * 3]);
-                            plan.evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(result.get(), 3));
+                            const std::unique_ptr<float[]> result(
+                                new float[std::size_t(plan.num_output_vertices()) * 3]);
+                            plan.evaluate(loopsub::interleaved(m.positions.data(), 3),
+                                          loopsub::interleaved(result.get(), 3));
                             benchmark::DoNotOptimize(result.get());
                         }
                         if (kind == "full+uv") {
-                            const std::unique_ptr<float[]> result(new float[std::size_t(plan.num_output_face_varying_values(0)) * 2]);
-                            plan.evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2), loopsub::interleaved(result.get(), 2));
+                            const std::unique_ptr<float[]> result(
+                                new float[std::size_t(plan.num_output_face_varying_values(0)) * 2]);
+                            plan.evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2),
+                                                       loopsub::interleaved(result.get(), 2));
                             benchmark::DoNotOptimize(result.get());
                         }
                         benchmark::DoNotOptimize(plan.output_triangles());
                     }
-                    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+                    ms.push_back(
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
                 }
                 return std::pair<double, double>(median(ms), *std::min_element(ms.begin(), ms.end()));
             };
@@ -747,9 +786,9 @@ int measure_thread_scaling(int rounds, const std::string& only) {
             }
             std::vector<double> sorted = ratios;
             std::sort(sorted.begin(), sorted.end());
-            std::printf("%-10s %-9s %9.2fx (%.2f-%.2fx) %7.2f ms %7.2f ms %6.2fx (%.2f ms)\n", m.name.c_str(), what, median(ratios),
-                        sorted[sorted.size() / 4], sorted[sorted.size() * 3 / 4], median(one), median(two), fastest_one / fastest_two,
-                        fastest_two);
+            std::printf("%-10s %-9s %9.2fx (%.2f-%.2fx) %7.2f ms %7.2f ms %6.2fx (%.2f ms)\n", m.name.c_str(), what,
+                        median(ratios), sorted[sorted.size() / 4], sorted[sorted.size() * 3 / 4], median(one),
+                        median(two), fastest_one / fastest_two, fastest_two);
         }
     }
     return 0;
@@ -766,7 +805,8 @@ int main(int argc, char** argv) {
         --argc;
     }
     if (argc >= 2 && std::string(argv[1]) == "--memory") return measure_memory(argc >= 3 ? std::atoi(argv[2]) : 6);
-    if (argc >= 2 && std::string(argv[1]) == "--thread-scaling") return measure_thread_scaling(argc >= 3 ? std::atoi(argv[2]) : 40, argc >= 4 ? argv[3] : "");
+    if (argc >= 2 && std::string(argv[1]) == "--thread-scaling")
+        return measure_thread_scaling(argc >= 3 ? std::atoi(argv[2]) : 40, argc >= 4 ? argv[3] : "");
     Osd::OmpEvaluator::SetNumThreads(2);
     register_all();
     benchmark::Initialize(&argc, argv);

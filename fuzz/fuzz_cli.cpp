@@ -18,7 +18,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     argv.push_back(nullptr);
     try {
         loopsub::cli::parse_command_line(int(words.size()), argv.data());
-    } catch (const loopsub::cli::UsageError&) {
-    }
+    } catch (const loopsub::cli::UsageError&) {}
     return 0;
 }

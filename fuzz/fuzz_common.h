@@ -21,8 +21,8 @@ inline void require_finite(const std::vector<float>& values) {
 // Evaluates the plan with the given positions (3 per vertex) and face-varying values (channels per corner).
 // With the limit surface, the normals too; every face-varying layer with `layer_values` (2 channels per value,
 // as many values as the layer has).
-inline void exercise(Plan& plan, const std::vector<float>& positions, const std::vector<float>& corners, int corner_channels,
-                     const std::vector<std::vector<float>>& layer_values = {}) {
+inline void exercise(Plan& plan, const std::vector<float>& positions, const std::vector<float>& corners,
+                     int corner_channels, const std::vector<std::vector<float>>& layer_values = {}) {
     std::vector<float> out(std::size_t(plan.num_output_vertices()) * 3);
     try {
         if (plan.options().limit_surface) {
@@ -33,26 +33,24 @@ inline void exercise(Plan& plan, const std::vector<float>& positions, const std:
             plan.evaluate(interleaved(positions.data(), 3), interleaved(out.data(), 3));
         }
         require_finite(out);
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     for (int layer = 0; layer < plan.num_face_varying_layers() && layer < int(layer_values.size()); ++layer) {
         std::vector<float> refined(std::size_t(plan.num_output_face_varying_values(layer)) * 2);
         const std::int32_t* indices = plan.output_face_varying_indices(layer);
         for (int c = 0; c < 3 * plan.num_output_triangles(); ++c)
             if (indices[c] < 0 || indices[c] >= plan.num_output_face_varying_values(layer)) std::abort();
         try {
-            plan.evaluate_face_varying(layer, interleaved(layer_values[layer].data(), 2), interleaved(refined.data(), 2));
+            plan.evaluate_face_varying(layer, interleaved(layer_values[layer].data(), 2),
+                                       interleaved(refined.data(), 2));
             require_finite(refined);
-        } catch (const InputError&) {
-        }
+        } catch (const InputError&) {}
     }
     if (corner_channels > 0) {
         std::vector<float> refined(std::size_t(plan.num_output_triangles()) * 3 * corner_channels);
         try {
             plan.evaluate_face_varying(corners.data(), refined.data(), corner_channels);
             require_finite(refined);
-        } catch (const InputError&) {
-        }
+        } catch (const InputError&) {}
     }
 }
 

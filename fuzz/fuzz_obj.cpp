@@ -11,9 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     obj::ObjMesh mesh;
     try {
         mesh = obj::parse_obj(std::string(reinterpret_cast<const char*>(data), size), "fuzz.obj");
-    } catch (const InputError&) {
-        return 0;
-    }
+    } catch (const InputError&) { return 0; }
     for (Rules rules : {Rules::Hoppe94, Rules::OpenSubdiv}) {
         Options options;
         options.rules = rules;
@@ -24,11 +22,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         try {
             Plan plan(mesh.view(), options);
             std::vector<float> corners;
-            for (std::int32_t uv : mesh.triangle_uvs) corners.insert(corners.end(), {mesh.uvs[2 * uv], mesh.uvs[2 * uv + 1]});
+            for (std::int32_t uv : mesh.triangle_uvs)
+                corners.insert(corners.end(), {mesh.uvs[2 * uv], mesh.uvs[2 * uv + 1]});
             fuzz::exercise(plan, mesh.positions, corners, mesh.triangle_uvs.empty() ? 0 : 2);
         } catch (const InputError&) {
-        } catch (const MemoryLimitError&) {
-        }
+        } catch (const MemoryLimitError&) {}
     }
     return 0;
 }

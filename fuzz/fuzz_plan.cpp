@@ -85,7 +85,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         Plan plan(view, options);
         fuzz::exercise(plan, mesh.positions, face_varying, 2, values);
     } catch (const InputError&) {
-    } catch (const MemoryLimitError&) {
-    }
+    } catch (const MemoryLimitError&) {}
     return 0;
 }

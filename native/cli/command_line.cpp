@@ -41,12 +41,15 @@ namespace {
 std::int64_t parse_integer(std::string_view flag, std::string_view text, std::int64_t min, std::int64_t max) {
     std::int64_t value = 0;
     auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error == std::errc::result_out_of_range) throw UsageError(std::string(flag) + " is out of range: " + std::string(text));
+    if (error == std::errc::result_out_of_range)
+        throw UsageError(std::string(flag) + " is out of range: " + std::string(text));
     if (error != std::errc() || end != text.data() + text.size() || text.empty()) {
         throw UsageError(std::string(flag) + " expects an integer, got '" + std::string(text) + "'");
     }
-    if (value < min) throw UsageError(std::string(flag) + " must be >= " + std::to_string(min) + ", got " + std::string(text));
-    if (value > max) throw UsageError(std::string(flag) + " must be <= " + std::to_string(max) + ", got " + std::string(text));
+    if (value < min)
+        throw UsageError(std::string(flag) + " must be >= " + std::to_string(min) + ", got " + std::string(text));
+    if (value > max)
+        throw UsageError(std::string(flag) + " must be <= " + std::to_string(max) + ", got " + std::string(text));
     return value;
 }
 
@@ -121,7 +124,8 @@ Command parse_command_line(int argc, char** argv) {
             no_value();
             command.options.kernel = Kernel::Scalar;
         } else if (arg == "--memory-limit-mb") {
-            command.options.memory_limit_bytes = std::uint64_t(parse_integer(arg, value(), 1, std::int64_t(1) << 40)) << 20;
+            command.options.memory_limit_bytes = std::uint64_t(parse_integer(arg, value(), 1, std::int64_t(1) << 40))
+                                                 << 20;
         } else if (arg == "--stats") {
             no_value();
             command.stats = true;

@@ -15,8 +15,8 @@ namespace {
 
 using loopsub::cli::Command;
 using loopsub::cli::kUsage;
-using loopsub::cli::UsageError;
 using loopsub::cli::parse_command_line;
+using loopsub::cli::UsageError;
 
 int run(const Command& command) {
     const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
@@ -24,7 +24,8 @@ int run(const Command& command) {
         std::fprintf(stderr, "loopsub: note: %s: triangulated %d polygon(s) with more than 3 corners\n",
                      command.input.c_str(), in.polygons_triangulated);
     }
-    for (const std::string& note : in.notes) std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
+    for (const std::string& note : in.notes)
+        std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
 
     loopsub::Options options = command.options;
     // One evaluation follows: derived tables make the plan quicker and smaller, and cost that evaluation less than
@@ -32,7 +33,8 @@ int run(const Command& command) {
     options.level_tables = loopsub::LevelTables::Derived;
     options.boundary = command.boundary.value_or(in.boundary.value_or(loopsub::Boundary::EdgesOnly));
     options.crease_method = command.crease_method.value_or(in.crease_method.value_or(loopsub::CreaseMethod::Uniform));
-    options.face_varying = command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
+    options.face_varying =
+        command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
 
     // The vt indices are the UV layer's topology: where a vertex's corners name different vt, a seam runs.
     loopsub::MeshView mesh = in.view();
@@ -88,11 +90,12 @@ int run(const Command& command) {
     loopsub::obj::write_obj(command.output, out, options.threads);
 
     if (command.stats) {
-        std::printf("topology_ms=%.3f evaluate_ms=%.3f levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
-                    "triangles_out=%d kernel=%s threads=%d\n",
-                    plan.topology_ms(), evaluate_ms, plan.levels(), in.num_vertices(), in.num_triangles(),
-                    plan.num_output_vertices(), plan.num_output_triangles(), loopsub::kernel_name(plan.kernel()),
-                    plan.options().threads);
+        std::printf(
+            "topology_ms=%.3f evaluate_ms=%.3f levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
+            "triangles_out=%d kernel=%s threads=%d\n",
+            plan.topology_ms(), evaluate_ms, plan.levels(), in.num_vertices(), in.num_triangles(),
+            plan.num_output_vertices(), plan.num_output_triangles(), loopsub::kernel_name(plan.kernel()),
+            plan.options().threads);
     }
     return 0;
 }
@@ -118,9 +121,10 @@ int main(int argc, char** argv) {
         // (A refinement can also be refused for passing 32-bit indices, which no limit would allow.)
         const std::uint64_t limit = command.options.memory_limit_bytes;
         if (e.required_bytes > limit) {
-            std::fprintf(stderr, "loopsub: error: %s (%llu MiB needed, --memory-limit-mb is %llu)\n", e.what(),
-                         static_cast<unsigned long long>(e.required_bytes / (1u << 20) + (e.required_bytes % (1u << 20) != 0)),
-                         static_cast<unsigned long long>(limit >> 20));
+            std::fprintf(
+                stderr, "loopsub: error: %s (%llu MiB needed, --memory-limit-mb is %llu)\n", e.what(),
+                static_cast<unsigned long long>(e.required_bytes / (1u << 20) + (e.required_bytes % (1u << 20) != 0)),
+                static_cast<unsigned long long>(limit >> 20));
         } else {
             std::fprintf(stderr, "loopsub: error: %s\n", e.what());
         }
@@ -128,8 +132,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "loopsub: error: %s\n", e.what());
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "loopsub: error: out of memory (try fewer --levels)\n");
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "loopsub: error: %s\n", e.what());
-    }
+    } catch (const std::exception& e) { std::fprintf(stderr, "loopsub: error: %s\n", e.what()); }
     return 1;
 }

@@ -17,15 +17,15 @@ namespace loopsub::obj {
 
 // The mesh (vertices, triangles, tags) plus what an OBJ file carries besides.
 struct ObjMesh : MeshData {
-    std::vector<float> uvs;                  // 2 per `vt`
-    std::vector<std::int32_t> triangle_uvs;  // 3 per triangle, 0-based `vt` indices; empty when the faces have none
+    std::vector<float> uvs;                     // 2 per `vt`
+    std::vector<std::int32_t> triangle_uvs;     // 3 per triangle, 0-based `vt` indices; empty when the faces have none
     std::optional<Boundary> boundary;           // from `t interpolateboundary`
     std::optional<CreaseMethod> crease_method;  // from `t creasemethod`
     std::optional<FaceVaryingInterpolation> face_varying;  // from `t facevaryinginterpolateboundary`
     // Written only: normals (3 per `vn`) and their index at each corner (3 per triangle; empty: none).
     std::vector<float> normals;
     std::vector<std::int32_t> triangle_normals;
-    int polygons_triangulated = 0;  // faces with more than three corners, split by ear clipping
+    int polygons_triangulated = 0;   // faces with more than three corners, split by ear clipping
     std::vector<std::string> notes;  // what the reader skipped or filled in, one line per kind
 };
 

@@ -116,7 +116,8 @@ private:
         std::string_view digits = !t.empty() && t[0] == '+' ? t.substr(1) : t;
         float value = 0.0f;
         auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-        if (error == std::errc::result_out_of_range) fail(std::string(what) + " '" + std::string(t) + "' is out of range");
+        if (error == std::errc::result_out_of_range)
+            fail(std::string(what) + " '" + std::string(t) + "' is out of range");
         if (error != std::errc() || end != digits.data() + digits.size()) {
             fail("expected a number for " + std::string(what) + ", got '" + std::string(t) + "'");
         }
@@ -262,9 +263,9 @@ private:
         };
         for (const auto& [keyword, count] : skipped_) {
             const auto known = what.find(keyword);
-            mesh_.notes.push_back("skipped " + std::to_string(count) + " '" + keyword + "' statement" +
-                                  (count == 1 ? "" : "s") + " (" +
-                                  (known != what.end() ? known->second : "not part of the surface loopsub reads") + ")");
+            mesh_.notes.push_back(
+                "skipped " + std::to_string(count) + " '" + keyword + "' statement" + (count == 1 ? "" : "s") + " (" +
+                (known != what.end() ? known->second : "not part of the surface loopsub reads") + ")");
         }
     }
 
@@ -280,7 +281,8 @@ private:
     }
 
     void read_vertex() {
-        for (int axis = 0; axis < 3; ++axis) mesh_.positions.push_back(parse_finite(required_token("coordinate"), "coordinate"));
+        for (int axis = 0; axis < 3; ++axis)
+            mesh_.positions.push_back(parse_finite(required_token("coordinate"), "coordinate"));
         // Extra values are a homogeneous w or the common "v x y z r g b" colour extension: read to validate them,
         // then dropped.
         for (std::string_view t = token(); !t.empty(); t = token()) parse_float(t, "vertex value");
@@ -313,8 +315,8 @@ private:
         bool face_has_uvs = false;
         for (std::string_view t = token(); !t.empty(); t = token()) {
             std::size_t slash = t.find('/');
-            corner_vertices_.push_back(resolve(parse_integer(t.substr(0, slash), "vertex index"),
-                                               mesh_.positions.size() / 3, "vertex"));
+            corner_vertices_.push_back(
+                resolve(parse_integer(t.substr(0, slash), "vertex index"), mesh_.positions.size() / 3, "vertex"));
             bool corner_has_uv = false;
             if (slash != std::string_view::npos) {
                 std::string_view rest = t.substr(slash + 1);
@@ -331,7 +333,8 @@ private:
                 fail("some corners of this face have a texture index and some do not");
             }
         }
-        if (corner_vertices_.size() < 3) fail("a face needs at least 3 corners, this one has " + std::to_string(corner_vertices_.size()));
+        if (corner_vertices_.size() < 3)
+            fail("a face needs at least 3 corners, this one has " + std::to_string(corner_vertices_.size()));
 
         if (!face_has_uvs) ++faces_without_uvs_;
 
@@ -350,8 +353,9 @@ private:
                                c = corner_vertices_[face_triangles_[t + 2]];
             if (a == b || b == c || c == a) {
                 fail("the face repeats vertex " + std::to_string((a == b || a == c ? a : b) + 1) +
-                     (corner_vertices_.size() == 3 ? std::string(" (a degenerate face; every corner must be a different vertex)")
-                                                   : std::string(" and cannot be split into triangles that do not")));
+                     (corner_vertices_.size() == 3
+                          ? std::string(" (a degenerate face; every corner must be a different vertex)")
+                          : std::string(" and cannot be split into triangles that do not")));
             }
         }
         face_first_triangle_.push_back(mesh_.num_triangles());
@@ -398,9 +402,9 @@ private:
 
         if (name == "crease") {
             std::size_t edges = ints.size() / 2;
-            require_counts(edges > 0 && ints.size() % 2 == 0 && strings.empty() &&
-                               (floats.size() == 1 || floats.size() == edges),
-                           "vertex pairs and one sharpness or one per pair, as in 2/1/0");
+            require_counts(
+                edges > 0 && ints.size() % 2 == 0 && strings.empty() && (floats.size() == 1 || floats.size() == edges),
+                "vertex pairs and one sharpness or one per pair, as in 2/1/0");
             for (std::size_t e = 0; e < edges; ++e) {
                 crease_indices_.push_back({ints[2 * e], line_});
                 crease_indices_.push_back({ints[2 * e + 1], line_});
@@ -425,7 +429,8 @@ private:
                 case 2: mesh_.boundary = Boundary::EdgesOnly; break;
                 default:
                     fail("interpolateboundary " + std::to_string(ints[0]) +
-                         " is unknown; use 0 (none: boundary faces become holes), 1 (edges and corners) or 2 (edges only)");
+                         " is unknown; use 0 (none: boundary faces become holes), 1 (edges and corners) or 2 (edges "
+                         "only)");
             }
         } else if (name == "facevaryinginterpolateboundary") {
             require_counts(ints.size() == 1 && floats.empty() && strings.empty(), "one integer, as in 1/0/0");
@@ -446,7 +451,8 @@ private:
             mesh_.crease_method = method;
         } else {
             // Ignoring a tag would silently change the surface.
-            fail("unsupported tag '" + name + "' (loopsub reads crease, corner, cone, hole, interpolateboundary, "
+            fail("unsupported tag '" + name +
+                 "' (loopsub reads crease, corner, cone, hole, interpolateboundary, "
                  "facevaryinginterpolateboundary and creasemethod)");
         }
     }
@@ -466,16 +472,18 @@ private:
 
     void check_tag_indices() {
         for (const TaggedIndex& index : crease_indices_) mesh_.crease_edges.push_back(checked_vertex(index, "crease"));
-        for (const TaggedIndex& index : corner_indices_) mesh_.corner_vertices.push_back(checked_vertex(index, "corner"));
+        for (const TaggedIndex& index : corner_indices_)
+            mesh_.corner_vertices.push_back(checked_vertex(index, "corner"));
         for (const TaggedIndex& index : cone_indices_) mesh_.cone_vertices.push_back(checked_vertex(index, "cone"));
         // A hole names a face of the file: every triangle it was split into.
         face_first_triangle_.push_back(mesh_.num_triangles());
         const std::int64_t faces = std::int64_t(face_first_triangle_.size()) - 1;
         for (const TaggedIndex& index : hole_indices_) {
             if (index.value < 0 || index.value >= faces)
-                fail_at(index.line, "hole face " + std::to_string(index.value) + " is out of range (" + std::to_string(faces) +
-                                        " faces, tags count from 0)");
-            for (std::int32_t t = face_first_triangle_[std::size_t(index.value)]; t < face_first_triangle_[std::size_t(index.value) + 1]; ++t)
+                fail_at(index.line, "hole face " + std::to_string(index.value) + " is out of range (" +
+                                        std::to_string(faces) + " faces, tags count from 0)");
+            for (std::int32_t t = face_first_triangle_[std::size_t(index.value)];
+                 t < face_first_triangle_[std::size_t(index.value) + 1]; ++t)
                 mesh_.hole_triangles.push_back(t);
         }
         if (mesh_.crease_edges.empty()) return;
@@ -508,12 +516,11 @@ private:
     std::vector<std::int32_t> corner_vertices_, corner_uvs_;  // of the face being read; reused across faces
     std::vector<std::size_t> face_triangles_;
     int faces_without_uvs_ = 0;
-    bool any_uvs_ = false;  // some face so far had texture indices
+    bool any_uvs_ = false;                // some face so far had texture indices
     std::map<std::string, int> skipped_;  // statements read past, by keyword
     std::vector<TaggedIndex> crease_indices_, corner_indices_, cone_indices_, hole_indices_;
     std::vector<std::int32_t> face_first_triangle_;  // per face read, its first triangle
 };
-
 
 }  // namespace
 
@@ -567,7 +574,8 @@ ObjMesh read_obj(const std::string& path) {
         if (std::ferror(file.get())) throw;
         // Errors come in the order of a file read whole, then checked for NUL bytes, then read line by line: a read
         // error, then a NUL byte anywhere, then the first error in the lines. The rest of the file is looked through.
-        std::size_t newlines = std::size_t(lines_before) + std::size_t(std::count(buffer.data(), buffer.data() + whole, '\n'));
+        std::size_t newlines =
+            std::size_t(lines_before) + std::size_t(std::count(buffer.data(), buffer.data() + whole, '\n'));
         std::size_t nul_line = 0;
         for (std::size_t from = whole;; from = 0) {
             if (!reader.found_nul() && nul_line == 0) {
@@ -588,6 +596,5 @@ ObjMesh read_obj(const std::string& path) {
     }
     return reader.finish();
 }
-
 
 }  // namespace loopsub::obj

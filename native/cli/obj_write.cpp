@@ -23,7 +23,8 @@ namespace {
 // faster on 32 bits: face indices (1-based, so up to 2^31) are written as such.
 char* put_int(char* out, std::int64_t value) { return std::to_chars(out, out + 24, value).ptr; }
 char* put_index(char* out, std::int32_t index) {
-    return index >= 0 ? std::to_chars(out, out + 16, std::uint32_t(index) + 1).ptr : put_int(out, std::int64_t(index) + 1);
+    return index >= 0 ? std::to_chars(out, out + 16, std::uint32_t(index) + 1).ptr
+                      : put_int(out, std::int64_t(index) + 1);
 }
 
 template <std::size_t N>
@@ -75,7 +76,8 @@ private:
     static constexpr std::size_t kBlock = 1 << 20;
 
     void flush() {
-        if (used_ > 0 && std::fwrite(block_.get(), 1, used_, file_) != used_) throw std::runtime_error("cannot write " + path_);
+        if (used_ > 0 && std::fwrite(block_.get(), 1, used_, file_) != used_)
+            throw std::runtime_error("cannot write " + path_);
         used_ = 0;
     }
 
@@ -93,9 +95,12 @@ char* format_lines(char* out, const ObjMesh& mesh, std::size_t first, std::size_
         for (std::size_t k = std::max(first, start); k < std::min(last, start + count); ++k) out = line(out, k - start);
         start += count;
     };
-    lines(mesh.positions.size() / 3, [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "v "), &mesh.positions[3 * k]); });
-    lines(mesh.uvs.size() / 2, [&](char* p, std::size_t k) { return put_floats<2>(put_text(p, "vt "), &mesh.uvs[2 * k]); });
-    lines(mesh.normals.size() / 3, [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "vn "), &mesh.normals[3 * k]); });
+    lines(mesh.positions.size() / 3,
+          [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "v "), &mesh.positions[3 * k]); });
+    lines(mesh.uvs.size() / 2,
+          [&](char* p, std::size_t k) { return put_floats<2>(put_text(p, "vt "), &mesh.uvs[2 * k]); });
+    lines(mesh.normals.size() / 3,
+          [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "vn "), &mesh.normals[3 * k]); });
     const bool with_uvs = !mesh.triangle_uvs.empty(), with_normals = !mesh.triangle_normals.empty();
     lines(mesh.triangles.size() / 3, [&](char* p, std::size_t k) {
         p = put_text(p, "f");
@@ -125,9 +130,11 @@ void write_lines(Writer& out, const ObjMesh& mesh, int threads) {
         std::unique_ptr<char[]> text;  // room for kChunkLines lines, made by the caller when first needed
         std::size_t size = 0;
     };
-    const std::size_t lines = mesh.positions.size() / 3 + mesh.uvs.size() / 2 + mesh.normals.size() / 3 + mesh.triangles.size() / 3;
+    const std::size_t lines =
+        mesh.positions.size() / 3 + mesh.uvs.size() / 2 + mesh.normals.size() / 3 + mesh.triangles.size() / 3;
     const std::size_t chunks = (lines + kChunkLines - 1) / kChunkLines;
-    threads = int(std::clamp<std::size_t>(chunks, 1, std::size_t(std::max(threads, 1))));  // a small file: the caller alone
+    threads =
+        int(std::clamp<std::size_t>(chunks, 1, std::size_t(std::max(threads, 1))));  // a small file: the caller alone
     if (threads == 1) {
         // A thousand lines at a time: the block is written in pieces of about 1 MiB (smaller pieces cost more in
         // the kernel), each while it is still in the cache.
@@ -160,8 +167,10 @@ void write_lines(Writer& out, const ObjMesh& mesh, int threads) {
                 }
                 const std::size_t part = std::size_t(piece - 1);
                 if (part >= now.size()) return;  // more threads than this round has chunks
-                const std::size_t first = (first_chunk + part) * kChunkLines, last = std::min(lines, first + kChunkLines);
-                now[part].size = std::size_t(format_lines(now[part].text.get(), mesh, first, last) - now[part].text.get());
+                const std::size_t first = (first_chunk + part) * kChunkLines,
+                                  last = std::min(lines, first + kChunkLines);
+                now[part].size =
+                    std::size_t(format_lines(now[part].text.get(), mesh, first, last) - now[part].text.get());
             },
             int(now.size()) + 1);
     }

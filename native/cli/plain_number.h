@@ -35,7 +35,8 @@ inline constexpr double kExactPowersOf10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,
 // Reads the run of decimal digits at p into `value` (value * 10^n + the n digits) and adds n to `digits`; returns the
 // end of the run, or nullptr once `digits` would pass max_digits (at most 19, so that value cannot overflow). Where 8
 // bytes can be read, it takes up to 8 digits at once from a little-endian word.
-LOOPSUB_PLAIN_NUMBER_INLINE const char* read_digit_run(const char* p, const char* end, std::uint64_t& value, int& digits, int max_digits) {
+LOOPSUB_PLAIN_NUMBER_INLINE const char* read_digit_run(const char* p, const char* end, std::uint64_t& value,
+                                                       int& digits, int max_digits) {
     if constexpr (kLittleEndian) {
         while (end - p >= 8) {
             std::uint64_t word;
@@ -51,7 +52,9 @@ LOOPSUB_PLAIN_NUMBER_INLINE const char* read_digit_run(const char* p, const char
             // The n digit values moved to the top bytes, with zeros (leading zeros) below: one 8-digit number.
             std::uint64_t v = (word - 0x3030303030303030u) << (8 * (8 - n));
             v = v * 10 + (v >> 8);
-            v = (((v & 0x000000ff000000ffu) * 0x000f424000000064u) + (((v >> 16) & 0x000000ff000000ffu) * 0x0000271000000001u)) >> 32;
+            v = (((v & 0x000000ff000000ffu) * 0x000f424000000064u) +
+                 (((v >> 16) & 0x000000ff000000ffu) * 0x0000271000000001u)) >>
+                32;
             value = value * kPowersOf10[n] + std::uint32_t(v);
             p += n;
             if (n < 8) return p;
@@ -114,7 +117,8 @@ LOOPSUB_PLAIN_NUMBER_INLINE const char* parse_plain_float(const char* p, const c
     if (significand > (std::uint64_t(1) << 53) || exponent < -22 || exponent > 22) return nullptr;
     double x = double(significand);
     x = exponent < 0 ? x / kExactPowersOf10[-exponent] : x * kExactPowersOf10[exponent];
-    if (x != 0.0 && !(x >= double(std::numeric_limits<float>::min()) && x <= double(std::numeric_limits<float>::max()))) {
+    if (x != 0.0 &&
+        !(x >= double(std::numeric_limits<float>::min()) && x <= double(std::numeric_limits<float>::max()))) {
         return nullptr;  // subnormal or out of range
     }
     std::uint64_t bits;

@@ -11,12 +11,10 @@ std::string describe_shape(const std::vector<Dim>& dims) {
     s << '(';
     for (std::size_t i = 0; i < dims.size(); ++i) {
         if (i) s << ", ";
-        if (dims[i].size < 0)
-            s << dims[i].symbol;
+        if (dims[i].size < 0) s << dims[i].symbol;
         else if (dims[i].symbol[0] >= '0' && dims[i].symbol[0] <= '9')
             s << dims[i].size;  // a literal such as the 3 of (M, 3)
-        else
-            s << dims[i].symbol << '=' << dims[i].size;
+        else s << dims[i].symbol << '=' << dims[i].size;
     }
     s << (dims.size() == 1 ? ",)" : ")");
     return s.str();
@@ -43,7 +41,8 @@ void require_layout(const py::array& a, const char* name, bool writeable) {
                               actual_shape(a) + " (use numpy.ascontiguousarray(" + name + "))");
     if (!(a.flags() & py::detail::npy_api::NPY_ARRAY_ALIGNED_))
         throw py::value_error(std::string(name) + " must be aligned to its dtype, got an unaligned buffer");
-    if (writeable && !a.writeable()) throw py::value_error(std::string(name) + " must be writeable, got a read-only array");
+    if (writeable && !a.writeable())
+        throw py::value_error(std::string(name) + " must be writeable, got a read-only array");
 }
 
 int checked_count(long long n, const char* what) {

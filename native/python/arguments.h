@@ -18,9 +18,13 @@ namespace py = pybind11;
 template <typename T>
 const char* dtype_name();
 template <>
-inline const char* dtype_name<float>() { return "float32"; }
+inline const char* dtype_name<float>() {
+    return "float32";
+}
 template <>
-inline const char* dtype_name<std::int32_t>() { return "int32"; }
+inline const char* dtype_name<std::int32_t>() {
+    return "int32";
+}
 
 // One expected dimension: a fixed size, or any size (size < 0) shown by its symbol.
 struct Dim {
@@ -55,7 +59,8 @@ template <typename T>
 py::array require_array(py::handle obj, const char* name, const std::vector<Dim>& dims, bool writeable = false) {
     py::array a = require_dtype<T>(obj, name);
     if (!shape_matches(a, dims))
-        throw py::value_error(std::string(name) + " must have shape " + describe_shape(dims) + ", got " + actual_shape(a));
+        throw py::value_error(std::string(name) + " must have shape " + describe_shape(dims) + ", got " +
+                              actual_shape(a));
     require_layout(a, name, writeable);
     return a;
 }

@@ -35,9 +35,7 @@ void translate_exception(std::exception_ptr p) {
         if (!exc) return;  // PyObject_CallFunction set its own error
         exc.attr("required_bytes") = e.required_bytes;
         PyErr_SetObject(PyExc_MemoryError, exc.ptr());
-    } catch (const loopsub::InputError& e) {
-        PyErr_SetString(PyExc_ValueError, e.what());
-    }
+    } catch (const loopsub::InputError& e) { PyErr_SetString(PyExc_ValueError, e.what()); }
 }
 
 constexpr const char* kModuleDoc = R"doc(Loop subdivision of triangle meshes with creases.
@@ -78,8 +76,9 @@ PYBIND11_MODULE(_loopsub, m) {
     loopsub::python::bind_plan(m);
     loopsub::python::bind_subdivide(m);
 
-    m.def("best_kernel", [] { return loopsub::kernel_name(loopsub::best_kernel()); },
-          "best_kernel()\n\nName of the widest evaluation kernel this CPU runs ('avx2', 'sse4.1' or 'scalar').");
+    m.def(
+        "best_kernel", [] { return loopsub::kernel_name(loopsub::best_kernel()); },
+        "best_kernel()\n\nName of the widest evaluation kernel this CPU runs ('avx2', 'sse4.1' or 'scalar').");
 
     m.def(
         "estimate_plan_bytes",

@@ -15,7 +15,8 @@ template <typename Option>
 Option parse_name(const char* keyword, const std::string& text) {
     Option value{};
     if (!loopsub::parse_option(text, value))
-        throw py::value_error(std::string(keyword) + " must be " + loopsub::option_names<Option>().listed("'") + ", got '" + text + "'");
+        throw py::value_error(std::string(keyword) + " must be " + loopsub::option_names<Option>().listed("'") +
+                              ", got '" + text + "'");
     return value;
 }
 
@@ -29,10 +30,11 @@ struct SharpTags {
 };
 
 // `tags_arg` (K vertex pairs, or K vertices) and `sharpness_arg` (K values, or None) into `out`.
-void read_sharp_tags(py::handle tags_arg, const char* tags_name, bool pairs, py::handle sharpness_arg, const char* sharpness_name,
-                     const char* count_name, SharpTags& out) {
+void read_sharp_tags(py::handle tags_arg, const char* tags_name, bool pairs, py::handle sharpness_arg,
+                     const char* sharpness_name, const char* count_name, SharpTags& out) {
     if (tags_arg.is_none()) {
-        if (!sharpness_arg.is_none()) throw py::value_error(std::string(sharpness_name) + " was given without " + tags_name);
+        if (!sharpness_arg.is_none())
+            throw py::value_error(std::string(sharpness_name) + " was given without " + tags_name);
         return;
     }
     out.tags = pairs ? require_array<std::int32_t>(tags_arg, tags_name, {{-1, "K"}, {2, "2"}})
@@ -89,12 +91,13 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
     mesh.triangles = data_of<std::int32_t>(in.triangles);
     mesh.num_triangles = checked_count(in.triangles.shape(0), "number of triangles");
 
-    read_sharp_tags(o.crease_edges, "crease_edges", true, o.crease_sharpness, "crease_sharpness", "number of crease edges", in.creases);
+    read_sharp_tags(o.crease_edges, "crease_edges", true, o.crease_sharpness, "crease_sharpness",
+                    "number of crease edges", in.creases);
     mesh.crease_edges = in.creases.indices;
     mesh.crease_sharpness = in.creases.sharpness;
     mesh.num_crease_edges = in.creases.count;
-    read_sharp_tags(o.corner_vertices, "corner_vertices", false, o.corner_sharpness, "corner_sharpness", "number of corner vertices",
-                    in.corners);
+    read_sharp_tags(o.corner_vertices, "corner_vertices", false, o.corner_sharpness, "corner_sharpness",
+                    "number of corner vertices", in.corners);
     mesh.corner_vertices = in.corners.indices;
     mesh.corner_sharpness = in.corners.sharpness;
     mesh.num_corners = in.corners.count;
@@ -114,7 +117,8 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
             throw py::type_error("face_varying_indices must be a list of int32 arrays of shape (M, 3), one per layer");
         for (py::handle item : py::reinterpret_borrow<py::sequence>(o.face_varying_indices)) {
             const std::string name = "face_varying_indices[" + std::to_string(in.layer_arrays.size()) + "]";
-            in.layer_arrays.push_back(require_array<std::int32_t>(item, name.c_str(), {{mesh.num_triangles, "M"}, {3, "3"}}));
+            in.layer_arrays.push_back(
+                require_array<std::int32_t>(item, name.c_str(), {{mesh.num_triangles, "M"}, {3, "3"}}));
         }
     }
     in.layer_arrays.insert(in.layer_arrays.end(), welded_layers.begin(), welded_layers.end());
@@ -122,7 +126,8 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
         // A layer has as many values as its largest index says; evaluate_face_varying wants exactly that many.
         const std::int32_t* indices = data_of<std::int32_t>(a);
         const std::int32_t* largest = std::max_element(indices, indices + 3 * std::size_t(mesh.num_triangles));
-        in.layers.push_back({indices, largest == indices + 3 * std::size_t(mesh.num_triangles) ? 0 : std::max(*largest + 1, 0)});
+        in.layers.push_back(
+            {indices, largest == indices + 3 * std::size_t(mesh.num_triangles) ? 0 : std::max(*largest + 1, 0)});
     }
     mesh.face_varying = in.layers.data();
     mesh.num_face_varying = int(in.layers.size());
@@ -134,12 +139,14 @@ int layer_index(const PyPlan& p, py::handle layer) {
     const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(layer.ptr()));
     if (!index) {
         PyErr_Clear();
-        throw py::type_error("layer must be an integer, got " + std::string(py::str(py::type::handle_of(layer).attr("__name__"))));
+        throw py::type_error("layer must be an integer, got " +
+                             std::string(py::str(py::type::handle_of(layer).attr("__name__"))));
     }
     int overflow = 0;
     const long long k = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
     if (overflow != 0 || k < 0 || k >= static_cast<long long>(p.layer_values.size()))
-        throw py::value_error("layer " + std::string(py::str(index)) + " is not a face-varying layer of this Plan (it has " +
+        throw py::value_error("layer " + std::string(py::str(index)) +
+                              " is not a face-varying layer of this Plan (it has " +
                               std::to_string(p.layer_values.size()) + ")");
     return int(k);
 }
@@ -177,7 +184,8 @@ py::array evaluate_face_varying(py::object self, py::handle values, py::handle o
     return result;
 }
 
-constexpr const char* kPlanDoc = R"doc(Plan(triangles, num_vertices, levels=1, *, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296, limit_surface=False, uv_interpolation="corners", face_varying_indices=None, hole_triangles=None, level_tables="auto")
+constexpr const char* kPlanDoc =
+    R"doc(Plan(triangles, num_vertices, levels=1, *, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296, limit_surface=False, uv_interpolation="corners", face_varying_indices=None, hole_triangles=None, level_tables="auto")
 
 The topology work of Loop subdivision, done once for a mesh and reused per frame.
 
@@ -375,10 +383,13 @@ py::array evaluate(py::object self, py::handle values, py::handle out) {
 py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
     PyPlan& p = self.cast<PyPlan&>();
     if (!p.plan.options().limit_surface)
-        throw py::value_error("evaluate_with_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
+        throw py::value_error(
+            "evaluate_with_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
     py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
     const int channels = checked_count(in.shape(1), "number of channels");
-    if (channels < 3) throw py::value_error("positions must have at least 3 channels (x, y, z first), got " + std::to_string(channels));
+    if (channels < 3)
+        throw py::value_error("positions must have at least 3 channels (x, y, z first), got " +
+                              std::to_string(channels));
     py::array result = output_array(out, {{p.plan.num_output_vertices(), "N_out"}, {channels, "C"}}, in);
     py::array normals = output_array(normals_out, {{p.plan.num_output_triangles(), "T_out"}, {3, "3"}, {3, "3"}}, in);
     if (overlaps(normals, result)) throw py::value_error("normals must not share memory with out");
@@ -396,10 +407,13 @@ py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handl
 py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
     PyPlan& p = self.cast<PyPlan&>();
     if (!p.plan.options().limit_surface)
-        throw py::value_error("evaluate_with_limit_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
+        throw py::value_error(
+            "evaluate_with_limit_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
     py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
     const int channels = checked_count(in.shape(1), "number of channels");
-    if (channels < 3) throw py::value_error("positions must have at least 3 channels (x, y, z first), got " + std::to_string(channels));
+    if (channels < 3)
+        throw py::value_error("positions must have at least 3 channels (x, y, z first), got " +
+                              std::to_string(channels));
     py::array result = output_array(out, {{p.plan.num_output_vertices(), "N_out"}, {channels, "C"}}, in);
     py::array normals = output_array(normals_out, {{p.plan.num_limit_normals(), "num_limit_normals"}, {3, "3"}}, in);
     if (overlaps(normals, result)) throw py::value_error("normals must not share memory with out");
@@ -409,7 +423,8 @@ py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py:
     {
         py::gil_scoped_release nogil;
         std::lock_guard<std::mutex> lock(p.evaluate_mutex);
-        p.plan.evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels), loopsub::Plan::LimitNormals{n});
+        p.plan.evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels),
+                        loopsub::Plan::LimitNormals{n});
     }
     return py::make_tuple(result, normals);
 }
@@ -417,7 +432,8 @@ py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py:
 // The plan's limit tables, or ValueError for a plan without the limit surface.
 void require_limit(const PyPlan& p, const char* what) {
     if (!p.plan.options().limit_surface)
-        throw py::value_error(std::string(what) + ": the limit normals are the limit surface's; build the Plan with limit_surface=True");
+        throw py::value_error(std::string(what) +
+                              ": the limit normals are the limit surface's; build the Plan with limit_surface=True");
 }
 
 py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
@@ -438,13 +454,16 @@ py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out
 
 void bind_plan(py::module_& m) {
     py::class_<PyPlan>(m, "Plan", kPlanDoc)
-        .def(py::init([](py::handle triangles, long long num_vertices, int levels LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
-                 return build_plan(triangles, num_vertices, levels, OptionArgs{LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_VALUE)});
+        .def(py::init([](py::handle triangles, long long num_vertices,
+                         int levels LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
+                 return build_plan(triangles, num_vertices, levels,
+                                   OptionArgs{LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_VALUE)});
              }),
-             py::arg("triangles"), py::arg("num_vertices"), py::arg("levels") = 1, py::kw_only() LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_ARG))
+             py::arg("triangles"), py::arg("num_vertices"), py::arg("levels") = 1,
+             py::kw_only() LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_ARG))
         .def("evaluate", &evaluate, kEvaluateDoc, py::arg("values"), py::arg("out") = py::none())
-        .def("evaluate_with_normals", &evaluate_with_normals, kNormalsDoc, py::arg("positions"), py::arg("out") = py::none(),
-             py::arg("normals") = py::none())
+        .def("evaluate_with_normals", &evaluate_with_normals, kNormalsDoc, py::arg("positions"),
+             py::arg("out") = py::none(), py::arg("normals") = py::none())
         .def("evaluate_with_limit_normals", &evaluate_with_limit_normals, kLimitNormalsDoc, py::arg("positions"),
              py::arg("out") = py::none(), py::arg("normals") = py::none())
         .def_property_readonly(
@@ -453,7 +472,8 @@ void bind_plan(py::module_& m) {
                 require_limit(p, "num_limit_normals");
                 return p.plan.num_limit_normals();
             },
-            "Number of limit normals in compact form (evaluate_with_limit_normals): one per output vertex, then one per "
+            "Number of limit normals in compact form (evaluate_with_limit_normals): one per output vertex, then one "
+            "per "
             "side of each vertex whose fan infinitely sharp edges split. ValueError without limit_surface.")
         .def_property_readonly(
             "corner_normal_indices",
@@ -472,9 +492,7 @@ void bind_plan(py::module_& m) {
                 int num_edges = 0;
                 try {
                     num_edges = p.plan.num_output_edges();
-                } catch (const std::logic_error& error) {
-                    throw py::value_error(error.what());
-                }
+                } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
                 py::array_t<bool> split(py::ssize_t{num_edges});
                 static_assert(sizeof(bool) == 1, "bool arrays are written as bytes");
                 std::uint8_t* out = reinterpret_cast<std::uint8_t*>(split.mutable_data());
@@ -499,25 +517,33 @@ void bind_plan(py::module_& m) {
             py::arg("layer"),
             "face_varying_indices(layer)\n\nint32 array (T_out, 3), read-only: the value index (into "
             "evaluate_face_varying(values, layer=layer)'s result) at each corner of each output triangle.")
-        .def_property_readonly("num_face_varying_layers", [](PyPlan& p) { return int(p.layer_values.size()); },
-                               "Number of face-varying layers (face_varying_indices given to the Plan).")
-        .def_property_readonly("limit_surface", [](PyPlan& p) { return p.plan.options().limit_surface; },
-                               "Whether the last level is put on the limit surface.")
-        .def_property_readonly("uv_interpolation", [](PyPlan& p) { return loopsub::option_name(p.plan.options().face_varying); },
-                               "How face-varying layers are interpolated (see the Plan's uv_interpolation).")
-        .def_property_readonly("level_tables", [](PyPlan& p) { return loopsub::option_name(p.plan.options().level_tables); },
-                               "The level_tables option the Plan was built with ('auto', 'stored' or 'derived').")
-        .def_property_readonly("levels", [](PyPlan& p) { return p.plan.levels(); }, "Levels of subdivision.")
-        .def_property_readonly("rules", [](PyPlan& p) { return loopsub::option_name(p.plan.options().rules); },
-                               "The rule set: 'hoppe94' or 'opensubdiv'.")
+        .def_property_readonly(
+            "num_face_varying_layers", [](PyPlan& p) { return int(p.layer_values.size()); },
+            "Number of face-varying layers (face_varying_indices given to the Plan).")
+        .def_property_readonly(
+            "limit_surface", [](PyPlan& p) { return p.plan.options().limit_surface; },
+            "Whether the last level is put on the limit surface.")
+        .def_property_readonly(
+            "uv_interpolation", [](PyPlan& p) { return loopsub::option_name(p.plan.options().face_varying); },
+            "How face-varying layers are interpolated (see the Plan's uv_interpolation).")
+        .def_property_readonly(
+            "level_tables", [](PyPlan& p) { return loopsub::option_name(p.plan.options().level_tables); },
+            "The level_tables option the Plan was built with ('auto', 'stored' or 'derived').")
+        .def_property_readonly(
+            "levels", [](PyPlan& p) { return p.plan.levels(); }, "Levels of subdivision.")
+        .def_property_readonly(
+            "rules", [](PyPlan& p) { return loopsub::option_name(p.plan.options().rules); },
+            "The rule set: 'hoppe94' or 'opensubdiv'.")
         .def_property_readonly("num_input_vertices", [](PyPlan& p) { return p.plan.num_input_vertices(); })
         .def_property_readonly("num_input_triangles", [](PyPlan& p) { return p.num_input_triangles; })
         .def_property_readonly("num_output_vertices", [](PyPlan& p) { return p.plan.num_output_vertices(); })
         .def_property_readonly("num_output_triangles", [](PyPlan& p) { return p.plan.num_output_triangles(); })
-        .def_property_readonly("kernel", [](PyPlan& p) { return loopsub::kernel_name(p.plan.kernel()); },
-                               "Name of the evaluation kernel in use: 'scalar', 'sse4.1' or 'avx2'.")
-        .def_property_readonly("topology_ms", [](PyPlan& p) { return p.plan.topology_ms(); },
-                               "Milliseconds the constructor spent on the topology work.")
+        .def_property_readonly(
+            "kernel", [](PyPlan& p) { return loopsub::kernel_name(p.plan.kernel()); },
+            "Name of the evaluation kernel in use: 'scalar', 'sse4.1' or 'avx2'.")
+        .def_property_readonly(
+            "topology_ms", [](PyPlan& p) { return p.plan.topology_ms(); },
+            "Milliseconds the constructor spent on the topology work.")
         .def_property_readonly(
             "last_evaluate_ms",
             [](PyPlan& p) {
@@ -558,7 +584,8 @@ void bind_plan(py::module_& m) {
             "(S, 2) int32: every output edge the rules treat as sharp: creases that pass the rules, boundary and "
             "non-manifold edges (read-only view). With level_vertex_types(levels), what to tag the output with.")
         .def_property_readonly(
-            "sharp_edge_sharpness", [](py::object self) { return tag_view(self, &loopsub::Plan::output_sharp_edge_sharpness); },
+            "sharp_edge_sharpness",
+            [](py::object self) { return tag_view(self, &loopsub::Plan::output_sharp_edge_sharpness); },
             "(S,) float32: sharpness of each of sharp_edges (10: infinitely sharp) (read-only view).")
         .def(
             "level_edges",
@@ -571,16 +598,15 @@ void bind_plan(py::module_& m) {
                 return plan_view(v.data(), {py::ssize_t(v.size() / 2), 2}, self);
             },
             py::arg("level"),
-            "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k of level L+1.")
+            "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k "
+            "of level L+1.")
         .def(
             "output_edges",
             [](PyPlan& p) {
                 int num_edges = 0;
                 try {
                     num_edges = p.plan.num_output_edges();
-                } catch (const std::logic_error& error) {
-                    throw py::value_error(error.what());
-                }
+                } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
                 py::array_t<std::int32_t> edge_vertices({py::ssize_t(num_edges), py::ssize_t(2)});
                 py::array_t<std::int32_t> triangle_edges({py::ssize_t(p.plan.num_output_triangles()), py::ssize_t(3)});
                 std::int32_t* ends = edge_vertices.mutable_data();
@@ -591,7 +617,8 @@ void bind_plan(py::module_& m) {
                 }
                 return py::make_tuple(edge_vertices, triangle_edges);
             },
-            "output_edges()\n\n(edge_vertices (E_out, 2) int32, triangle_edges (M_out, 3) int32): the output's edges as the "
+            "output_edges()\n\n(edge_vertices (E_out, 2) int32, triangle_edges (M_out, 3) int32): the output's edges "
+            "as the "
             "last split numbers them (the halves of edge e of level levels - 1 are 2e and 2e + 1, the edges inside its "
             "face f are 2E + 3f + k), and each output triangle's edges (edge k joins corners k and k + 1): a mesh "
             "without an edge search. New arrays. ValueError for a plan of no levels or with holes.")
@@ -610,20 +637,24 @@ void bind_plan(py::module_& m) {
                 auto& p = self.cast<PyPlan&>();
                 if (level < 0 || level > p.plan.levels() || (p.plan.levels() == 0 && !p.plan.options().limit_surface))
                     throw py::index_error("level must be in [0, " + std::to_string(p.plan.levels()) + "], got " +
-                                          std::to_string(level) + (p.plan.levels() == 0 ? " (a plan of no levels has no classes)" : ""));
+                                          std::to_string(level) +
+                                          (p.plan.levels() == 0 ? " (a plan of no levels has no classes)" : ""));
                 const auto& v = p.plan.level_vertex_types(level);
                 static_assert(sizeof(loopsub::VertexType) == 1, "VertexType is viewed as uint8");
                 return plan_view(reinterpret_cast<const std::uint8_t*>(v.data()), {py::ssize_t(v.size())}, self);
             },
             py::arg("level"),
-            "level_vertex_types(level)\n\n(N_L,) uint8: the class of each vertex of level L (0 <= L <= levels) as used to "
+            "level_vertex_types(level)\n\n(N_L,) uint8: the class of each vertex of level L (0 <= L <= levels) as used "
+            "to "
             "reposition it; for L = levels, the output's classes (as a deeper plan or the limit uses them: what to tag "
             "the result with). Names in VERTEX_TYPES (read-only view).")
         .def("__repr__", [](PyPlan& p) {
             return "<_loopsub.Plan rules=" + std::string(loopsub::option_name(p.plan.options().rules)) +
-                   " levels=" + std::to_string(p.plan.levels()) + " vertices=" + std::to_string(p.plan.num_input_vertices()) +
-                   "->" + std::to_string(p.plan.num_output_vertices()) + " triangles=" +
-                   std::to_string(p.num_input_triangles) + "->" + std::to_string(p.plan.num_output_triangles()) + ">";
+                   " levels=" + std::to_string(p.plan.levels()) +
+                   " vertices=" + std::to_string(p.plan.num_input_vertices()) + "->" +
+                   std::to_string(p.plan.num_output_vertices()) +
+                   " triangles=" + std::to_string(p.num_input_triangles) + "->" +
+                   std::to_string(p.plan.num_output_triangles()) + ">";
         });
 
     m.def(

@@ -56,7 +56,7 @@ struct PyPlan {
     PyPlan(loopsub::Plan&& p, int triangles, std::vector<int> values)
         : plan(std::move(p)), num_input_triangles(triangles), layer_values(std::move(values)) {}
     loopsub::Plan plan;
-    int num_input_triangles;  // the core does not keep it; face-varying input is checked against it
+    int num_input_triangles;        // the core does not keep it; face-varying input is checked against it
     std::vector<int> layer_values;  // values of each face-varying layer
     // Plan::evaluate is not reentrant (it owns scratch buffers) and runs without the GIL, so two Python threads
     // evaluating one plan must take turns.

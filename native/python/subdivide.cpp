@@ -19,7 +19,8 @@ namespace {
 
 // Per-corner values, (T, 3, C) or (T, 3) and checked, welded into a face-varying layer: its value indices (T, 3) and
 // its values, (V, C) or (V,).
-std::pair<py::array, py::array> weld_layer(const py::array& triangles, int num_vertices, const py::array& corner_values) {
+std::pair<py::array, py::array> weld_layer(const py::array& triangles, int num_vertices,
+                                           const py::array& corner_values) {
     const int num_triangles = int(triangles.shape(0));
     const int channels = corner_values.ndim() == 3 ? int(corner_values.shape(2)) : 1;
     const std::int32_t* corner_vertices = data_of<std::int32_t>(triangles);
@@ -29,7 +30,8 @@ std::pair<py::array, py::array> weld_layer(const py::array& triangles, int num_v
     int num_values = 0;
     {
         py::gil_scoped_release nogil;
-        num_values = loopsub::weld_corner_values(corner_indices, corner_vertices, num_triangles, num_vertices, values_in, channels);
+        num_values = loopsub::weld_corner_values(corner_indices, corner_vertices, num_triangles, num_vertices,
+                                                 values_in, channels);
     }
     std::vector<py::ssize_t> shape{num_values};
     if (corner_values.ndim() == 3) shape.push_back(channels);
@@ -54,8 +56,8 @@ py::object map_data(py::handle data, Eval eval) {
     return eval(data);
 }
 
-py::dict subdivide(py::handle positions, py::handle triangles, int levels, const OptionArgs& args, py::handle vertex_data,
-                   py::handle face_varying) {
+py::dict subdivide(py::handle positions, py::handle triangles, int levels, const OptionArgs& args,
+                   py::handle vertex_data, py::handle face_varying) {
     py::array pos = require_array<float>(positions, "positions", {{-1, "N"}, {3, "3"}});
     // Every array is checked before the (possibly long) topology work, so a bad argument fails fast.
     py::array tris = require_array<std::int32_t>(triangles, "triangles", {{-1, "M"}, {3, "3"}});
@@ -80,7 +82,8 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
     std::vector<py::array> corner_arrays;
     if (!face_varying.is_none()) {
         if (py::isinstance<py::dict>(face_varying)) {
-            for (auto item : py::reinterpret_borrow<py::dict>(face_varying)) corner_arrays.push_back(py::reinterpret_borrow<py::array>(item.second));
+            for (auto item : py::reinterpret_borrow<py::dict>(face_varying))
+                corner_arrays.push_back(py::reinterpret_borrow<py::array>(item.second));
         } else {
             corner_arrays.push_back(py::reinterpret_borrow<py::array>(face_varying));
         }
@@ -88,8 +91,8 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
     // Only triangles a plan takes are welded: a vertex index out of range is the plan's to refuse, after the options,
     // as without face-varying data; until then a layer of one value holds each layer's place.
     const std::int32_t* corner_vertices = data_of<std::int32_t>(tris);
-    const bool plan_takes_them =
-        std::all_of(corner_vertices, corner_vertices + 3 * std::size_t(m), [n](std::int32_t v) { return v >= 0 && v < n; });
+    const bool plan_takes_them = std::all_of(corner_vertices, corner_vertices + 3 * std::size_t(m),
+                                             [n](std::int32_t v) { return v >= 0 && v < n; });
     std::vector<py::array> welded, layer_values;
     for (const py::array& a : corner_arrays) {
         const std::size_t channels = a.ndim() == 3 ? std::size_t(a.shape(2)) : 1, corners = 3 * std::size_t(m);
@@ -97,8 +100,9 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
         // Checked here, where the value's place is still its corner.
         for (std::size_t i = 0; i < corners * channels; ++i)
             if (!std::isfinite(v[i]))
-                throw py::value_error("face-varying values must be finite: triangle " + std::to_string(i / channels / 3) +
-                                      ", corner " + std::to_string(i / channels % 3) + ", channel " + std::to_string(i % channels) +
+                throw py::value_error("face-varying values must be finite: triangle " +
+                                      std::to_string(i / channels / 3) + ", corner " +
+                                      std::to_string(i / channels % 3) + ", channel " + std::to_string(i % channels) +
                                       " is " + std::to_string(v[i]));
         if (!plan_takes_them) {
             welded.push_back(py::array(py::dtype::of<std::int32_t>(), {py::ssize_t(m), py::ssize_t(3)}));
@@ -127,7 +131,8 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
         const std::int32_t* indices = q.plan.output_face_varying_indices(layer);
         const float* src = data_of<float>(values);
         float* dst = static_cast<float*>(result.mutable_data());
-        for (py::ssize_t c = 0; c < 3 * t_out; ++c) std::copy_n(src + std::size_t(indices[c]) * channels, channels, dst + c * channels);
+        for (py::ssize_t c = 0; c < 3 * t_out; ++c)
+            std::copy_n(src + std::size_t(indices[c]) * channels, channels, dst + c * channels);
         return result;
     };
 
@@ -153,7 +158,8 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
     return r;
 }
 
-constexpr const char* kSubdivideDoc = R"doc(subdivide(positions, triangles, levels=1, *, <the options of Plan>, vertex_data=None, face_varying=None)
+constexpr const char* kSubdivideDoc =
+    R"doc(subdivide(positions, triangles, levels=1, *, <the options of Plan>, vertex_data=None, face_varying=None)
 
 Subdivide a mesh in one call (builds a Plan and evaluates it).
 

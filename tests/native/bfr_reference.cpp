@@ -19,7 +19,8 @@ using namespace OpenSubdiv;
 namespace {
 
 std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, const Plan& plan, bool face_varying) {
-    if (!mesh.hole_triangles.empty() || std::int64_t(plan.num_output_triangles()) != (std::int64_t(mesh.num_triangles()) << 2 * plan.levels()))
+    if (!mesh.hole_triangles.empty() ||
+        std::int64_t(plan.num_output_triangles()) != (std::int64_t(mesh.num_triangles()) << 2 * plan.levels()))
         throw std::runtime_error("bfr_limit: output triangles must be the split's, without holes");
     std::vector<int> vertices_per_face(std::size_t(mesh.num_triangles()), 3);
     Far::TopologyDescriptor desc;
@@ -34,10 +35,12 @@ std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, const P
     desc.cornerVertexIndices = mesh.corner_vertices.data();
     desc.cornerWeights = mesh.corner_sharpness.data();
     Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(mesh.boundary == Boundary::EdgesAndCorners ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                    : mesh.boundary == Boundary::None          ? Sdc::Options::VTX_BOUNDARY_NONE
-                                                                               : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    sdc.SetCreasingMethod(mesh.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN : Sdc::Options::CREASE_UNIFORM);
+    sdc.SetVtxBoundaryInterpolation(mesh.boundary == Boundary::EdgesAndCorners
+                                        ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                    : mesh.boundary == Boundary::None ? Sdc::Options::VTX_BOUNDARY_NONE
+                                                                      : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    sdc.SetCreasingMethod(mesh.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
+                                                                      : Sdc::Options::CREASE_UNIFORM);
     // FaceVaryingInterpolation is declared in OpenSubdiv's order.
     sdc.SetFVarLinearInterpolation(Sdc::Options::FVarLinearInterpolation(int(plan.options().face_varying)));
     Far::TopologyDescriptor::FVarChannel channel;
@@ -98,7 +101,8 @@ BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan) {
     const std::int32_t* triangles = plan.output_triangles();
     const std::size_t per_face = std::size_t(1) << 2 * levels;
     for (int f = 0; f < mesh.num_triangles(); ++f) {
-        if (!factory.InitVertexSurface(f, &surface) || !surface.IsValid()) throw std::runtime_error("Bfr: no surface for a face");
+        if (!factory.InitVertexSurface(f, &surface) || !surface.IsValid())
+            throw std::runtime_error("Bfr: no surface for a face");
         patch_points.resize(3 * std::size_t(surface.GetNumPatchPoints()));
         surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
         for (std::size_t child = 0; child < per_face; ++child) {
@@ -110,7 +114,8 @@ BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan) {
                 surface.Evaluate(uv[corner], patch_points.data(), point, p, du, dv);
                 const std::size_t v = std::size_t(triangles[3 * t + corner]);
                 for (int c = 0; c < 3; ++c) out.positions[3 * v + c] = p[c];
-                const double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
+                const double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
+                                     du[0] * dv[1] - du[1] * dv[0]};
                 const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
                 if (length > 0.0)
                     for (int c = 0; c < 3; ++c) out.normals[9 * t + 3 * std::size_t(corner) + c] = n[c] / length;
@@ -136,14 +141,16 @@ std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& pla
     Bfr::Surface<double> surface;
     const std::size_t per_face = std::size_t(1) << 2 * levels;
     for (int f = 0; f < mesh.num_triangles(); ++f) {
-        if (!factory.InitFaceVaryingSurface(f, &surface) || !surface.IsValid()) throw std::runtime_error("Bfr: no face-varying surface for a face");
+        if (!factory.InitFaceVaryingSurface(f, &surface) || !surface.IsValid())
+            throw std::runtime_error("Bfr: no face-varying surface for a face");
         patch_points.resize(2 * std::size_t(surface.GetNumPatchPoints()));
         surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
         for (std::size_t child = 0; child < per_face; ++child) {
             const std::size_t t = std::size_t(f) * per_face + child;
             double uv[3][2];
             corner_parameters(child, levels, uv);
-            for (int corner = 0; corner < 3; ++corner) surface.Evaluate(uv[corner], patch_points.data(), point, &out[6 * t + 2 * std::size_t(corner)]);
+            for (int corner = 0; corner < 3; ++corner)
+                surface.Evaluate(uv[corner], patch_points.data(), point, &out[6 * t + 2 * std::size_t(corner)]);
         }
     }
     return out;

@@ -24,8 +24,8 @@ struct BfrLimit {
 
 // The plan must have been built for `mesh` (its tags, boundary and crease method; no holes) with the OpenSubdiv rules.
 BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan);
-// The limit of the mesh's UVs (its face-varying layer, interpolated by the plan's Options::face_varying) at the output's
-// corners: 2 per corner (3 t + k).
+// The limit of the mesh's UVs (its face-varying layer, interpolated by the plan's Options::face_varying) at the
+// output's corners: 2 per corner (3 t + k).
 std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& plan);
 
 }  // namespace loopsub::testing

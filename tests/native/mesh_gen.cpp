@@ -98,12 +98,12 @@ TestMesh icosahedron() {
     mesh.name = "icosahedron";
     const double g = (1.0 + std::sqrt(5.0)) / 2.0;
     const double s = 1.0 / std::sqrt(1.0 + g * g);  // unit sphere
-    const double base[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                                {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    const double base[12][3] = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                                {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
     for (const auto& v : base) add_vertex(mesh, v[0] * s, v[1] * s, v[2] * s);
-    const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    const int faces[20][3] = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                               {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                              {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                              {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (const auto& f : faces) add_triangle(mesh, f[0], f[1], f[2]);
     orient_outward(mesh);
     return mesh;
@@ -253,8 +253,9 @@ TestMesh hemisphere(int splits) {
     std::vector<int> new_index(sphere.num_vertices(), -1);
     for (int t = 0; t < sphere.num_triangles(); ++t) {
         const std::int32_t* tri = &sphere.triangles[3 * t];
-        double z = (sphere.positions[3 * tri[0] + 2] + sphere.positions[3 * tri[1] + 2] +
-                    sphere.positions[3 * tri[2] + 2]) / 3.0;
+        double z =
+            (sphere.positions[3 * tri[0] + 2] + sphere.positions[3 * tri[1] + 2] + sphere.positions[3 * tri[2] + 2]) /
+            3.0;
         if (z <= -0.05) continue;
         for (int k = 0; k < 3; ++k) {
             int v = tri[k];
@@ -406,7 +407,8 @@ std::vector<float> evaluate_positions(Plan& plan, const TestMesh& mesh) {
 LimitEvaluation evaluate_limit(Plan& plan, const TestMesh& mesh) {
     LimitEvaluation result{std::vector<float>(3 * std::size_t(plan.num_output_vertices())),
                            std::vector<float>(9 * std::size_t(plan.num_output_triangles()))};
-    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(result.positions.data(), 3), result.normals.data());
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(result.positions.data(), 3),
+                  result.normals.data());
     return result;
 }
 

@@ -48,9 +48,9 @@ const char* rule_name(Sdc::Crease::Rule rule) {
 struct OsdReference::Impl {
     std::unique_ptr<Far::TopologyRefiner> refiner;
     int levels = 0;
-    std::vector<std::vector<Point>> points;  // per level, OpenSubdiv's order
-    std::vector<std::vector<double>> flat;   // the same, 3 doubles per vertex
-    std::vector<UV> last_uvs, limit_uvs;     // last level's face-varying values, refined and at the limit
+    std::vector<std::vector<Point>> points;        // per level, OpenSubdiv's order
+    std::vector<std::vector<double>> flat;         // the same, 3 doubles per vertex
+    std::vector<UV> last_uvs, limit_uvs;           // last level's face-varying values, refined and at the limit
     std::vector<Point> limit, tangent1, tangent2;  // Limit() of the last level
     bool has_uvs = false;
 };
@@ -82,9 +82,10 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
     }
 
     Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(options.boundary == Boundary::EdgesAndCorners ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                    : options.boundary == Boundary::None          ? Sdc::Options::VTX_BOUNDARY_NONE
-                                                                                  : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    sdc.SetVtxBoundaryInterpolation(options.boundary == Boundary::EdgesAndCorners
+                                        ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                    : options.boundary == Boundary::None ? Sdc::Options::VTX_BOUNDARY_NONE
+                                                                         : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     sdc.SetCreasingMethod(options.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
                                                                          : Sdc::Options::CREASE_UNIFORM);
     // FaceVaryingInterpolation is declared in OpenSubdiv's order.
@@ -176,9 +177,9 @@ MappedReference OsdReference::map(const Plan& plan) const {
             return fail(where + "plan has " + std::to_string(ne) + " edges, OpenSubdiv " +
                         std::to_string(osd.GetNumEdges()));
         if (plan.level_num_vertices(level + 1) != nv + ne)
-            return fail(where + "level_num_vertices(" + std::to_string(level + 1) + ") = " +
-                        std::to_string(plan.level_num_vertices(level + 1)) + ", expected vertices + edges = " +
-                        std::to_string(nv + ne));
+            return fail(where + "level_num_vertices(" + std::to_string(level + 1) +
+                        ") = " + std::to_string(plan.level_num_vertices(level + 1)) +
+                        ", expected vertices + edges = " + std::to_string(nv + ne));
         std::vector<std::int32_t>& child_map = out.our_to_osd[level + 1];
         child_map.resize(std::size_t(nv) + ne);
         for (int v = 0; v < nv; ++v) child_map[v] = osd.GetVertexChildVertex(parent_map[v]);
@@ -341,8 +342,8 @@ int canonical_rotation(std::int32_t a, std::int32_t b, std::int32_t c) {
     return 2;
 }
 
-std::string compare_positions(const OsdReference& reference, const Plan& plan, const MappedReference& mapped,
-                              int level, const std::vector<float>& ours, double tolerance) {
+std::string compare_positions(const OsdReference& reference, const Plan& plan, const MappedReference& mapped, int level,
+                              const std::vector<float>& ours, double tolerance) {
     const std::vector<double>& expected = mapped.positions.at(level);
     std::ostringstream s;
     if (ours.size() != expected.size()) {
@@ -353,7 +354,8 @@ std::string compare_positions(const OsdReference& reference, const Plan& plan, c
     std::vector<std::pair<double, int>> bad;  // (distance, vertex)
     for (std::size_t v = 0; 3 * v < ours.size(); ++v) {
         double d2 = 0;
-        for (int k = 0; k < 3; ++k) d2 += (ours[3 * v + k] - expected[3 * v + k]) * (ours[3 * v + k] - expected[3 * v + k]);
+        for (int k = 0; k < 3; ++k)
+            d2 += (ours[3 * v + k] - expected[3 * v + k]) * (ours[3 * v + k] - expected[3 * v + k]);
         const double d = std::sqrt(d2);
         if (!(d <= tolerance)) bad.emplace_back(std::isnan(d) ? INFINITY : d, int(v));
     }
@@ -403,8 +405,8 @@ std::string compare_triangles(const Plan& plan, const MappedReference& mapped) {
                   << ") is not an OpenSubdiv face with that winding\n";
         } else {
             if (wrong_parent++ < 5)
-                s << "  our triangle " << f << " has parent " << parents[f] << ", OpenSubdiv's "
-                  << range.first->second << "\n";
+                s << "  our triangle " << f << " has parent " << parents[f] << ", OpenSubdiv's " << range.first->second
+                  << "\n";
             theirs.erase(range.first);
         }
     }

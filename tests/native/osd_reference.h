@@ -119,8 +119,8 @@ int canonical_rotation(std::int32_t a, std::int32_t b, std::int32_t c);
 // Compares output positions (3 floats per vertex, our order) with the mapped reference at `level`; every vertex must
 // be within tolerance (absolute distance). Returns an empty string when all match, otherwise a report of the count
 // and the worst few mismatches with their origin (describe_origin).
-std::string compare_positions(const OsdReference& reference, const Plan& plan, const MappedReference& mapped,
-                              int level, const std::vector<float>& ours, double tolerance);
+std::string compare_positions(const OsdReference& reference, const Plan& plan, const MappedReference& mapped, int level,
+                              const std::vector<float>& ours, double tolerance);
 
 // Compares the Plan's output triangles with OpenSubdiv's last level as sets of oriented faces; also the level-0
 // parent of each (output_parent_triangles against OpenSubdiv's parent links). Returns "" when equal.

@@ -43,7 +43,8 @@ void expect_plan_error(const loopsub::MeshView& mesh, const loopsub::Options& op
         ADD_FAILURE() << "no InputError";
     } catch (const loopsub::InputError& e) {
         for (const std::string& fragment : fragments) {
-            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << "'" << fragment << "' not in: " << e.what();
+            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
+                << "'" << fragment << "' not in: " << e.what();
         }
     }
 }
@@ -136,7 +137,8 @@ TEST(BadInput, FaceVaryingValuesNonFiniteOrHuge) {
             plan.evaluate_face_varying(corners.data(), out.data(), 2);
             ADD_FAILURE() << "no InputError";
         } catch (const loopsub::InputError& e) {
-            EXPECT_NE(std::string(e.what()).find("triangle 2, corner 1 has a non-finite value"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("triangle 2, corner 1 has a non-finite value"), std::string::npos)
+                << e.what();
         }
     }
 }
@@ -245,7 +247,8 @@ TEST(BadInput, TagIndexOutOfRange) {
 
 TEST(BadInput, NegativeOrNonFiniteSharpness) {
     for (Rules rules : kBothRules) {
-        for (float bad : {-1.0f, -0.0001f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        for (float bad :
+             {-1.0f, -0.0001f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
             Tetrahedron crease;
             crease.crease_edges = {0, 1};
             crease.crease_sharpness = {bad};
@@ -263,7 +266,8 @@ TEST(BadInput, BadOptions) {
     for (Rules rules : kBothRules) {
         Tetrahedron mesh;
         expect_plan_error(mesh.view(), options_for(rules, -1), {"levels", "-1"});
-        expect_plan_error(mesh.view(), options_for(rules, loopsub::kMaxLevels + 1), {"levels must be between 0 and 64", "65"});
+        expect_plan_error(mesh.view(), options_for(rules, loopsub::kMaxLevels + 1),
+                          {"levels must be between 0 and 64", "65"});
         loopsub::Options options = options_for(rules);
         for (int threads : {0, -1, loopsub::kMaxThreads + 1, std::numeric_limits<int>::max()}) {
             options.threads = threads;
@@ -323,7 +327,8 @@ TEST(BadInput, LevelPastTheMemoryLimit) {
 
 // Beyond ~31 levels 4^L triangles no longer fit in 64 bits: the check must not wrap around.
 TEST(BadInput, LevelFarPastTheMemoryLimit) {
-    for (int levels : {20, 31, 32, 40, loopsub::kMaxLevels}) expect_memory_error(levels, loopsub::Options().memory_limit_bytes);
+    for (int levels : {20, 31, 32, 40, loopsub::kMaxLevels})
+        expect_memory_error(levels, loopsub::Options().memory_limit_bytes);
 }
 
 TEST(BadInput, WrongChannelCount) {
@@ -442,7 +447,8 @@ TEST(EdgeCases, IsolatedVerticesStayWhereTheyAre) {
         EXPECT_EQ(plan.num_output_triangles(), 4 * 16);
         std::vector<float> out = evaluate(plan, mesh.positions);
         for (float value : out) ASSERT_TRUE(std::isfinite(value));
-        for (int k = 12; k < 18; ++k) EXPECT_EQ(out[std::size_t(k)], mesh.positions[std::size_t(k)]) << "coordinate " << k;
+        for (int k = 12; k < 18; ++k)
+            EXPECT_EQ(out[std::size_t(k)], mesh.positions[std::size_t(k)]) << "coordinate " << k;
     }
 }
 

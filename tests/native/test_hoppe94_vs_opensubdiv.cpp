@@ -35,7 +35,9 @@ struct Vec3 {
 };
 Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-double distance(Vec3 a, Vec3 b) { return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z)); }
+double distance(Vec3 a, Vec3 b) {
+    return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z));
+}
 std::ostream& operator<<(std::ostream& os, Vec3 v) { return os << "(" << v.x << ", " << v.y << ", " << v.z << ")"; }
 
 template <typename T>
@@ -86,10 +88,10 @@ struct SeedValue {
 // Runs Hoppe94 for `levels` and OpenSubdiv (sharp creases, edges-only boundary) on the same mesh. Every vertex not
 // in `differences` must equal OpenSubdiv; each one in it must equal its seed value, and that value must differ from
 // OpenSubdiv's (or the case would not test the difference it is about).
-void expect_seed_values_and_opensubdiv_elsewhere(const TestMesh& mesh, int levels,
-                                                  const std::function<std::vector<SeedValue>(
-                                                      const Plan&, const MappedReference&)>& differences,
-                                                  float crease_threshold = 0.0f, const TestMesh* osd_mesh = nullptr) {
+void expect_seed_values_and_opensubdiv_elsewhere(
+    const TestMesh& mesh, int levels,
+    const std::function<std::vector<SeedValue>(const Plan&, const MappedReference&)>& differences,
+    float crease_threshold = 0.0f, const TestMesh* osd_mesh = nullptr) {
     Options options = hoppe_options(levels);
     options.crease_threshold = crease_threshold;
     Plan plan(mesh.view(), options);
@@ -109,8 +111,8 @@ void expect_seed_values_and_opensubdiv_elsewhere(const TestMesh& mesh, int level
         special.insert(s.vertex);
         const Vec3 got = point(ours, s.vertex), opensubdiv = point(osd, s.vertex);
         EXPECT_LE(distance(got, s.expected), tolerance)
-            << s.rule << ": level-" << levels << " vertex " << s.vertex << " expected " << s.expected << " got "
-            << got << " (OpenSubdiv's value " << opensubdiv << ")";
+            << s.rule << ": level-" << levels << " vertex " << s.vertex << " expected " << s.expected << " got " << got
+            << " (OpenSubdiv's value " << opensubdiv << ")";
         EXPECT_GT(distance(s.expected, opensubdiv), 10 * tolerance)
             << "test set-up: the seed's value at vertex " << s.vertex << " (" << s.rule
             << ") does not differ from OpenSubdiv's, so this case tests nothing";
@@ -153,41 +155,57 @@ std::vector<AgreementCase> agreement_cases() {
             cases.push_back({name + "_L" + std::to_string(level), make, level});
     };
     // Smooth closed meshes: smooth vertex and edge masks only.
-    add("icosphere320", [] {
-        TestMesh m = icosphere(2);
-        jitter(m, 7, 0.01f);
-        return m;
-    }, 3);
-    for (int n : {3, 4, 5, 7, 12, 32, 64}) {
-        add("bipyramid" + std::to_string(n), [n] {
-            TestMesh m = bipyramid(n);
-            jitter(m, 200 + n, 0.01f);
+    add(
+        "icosphere320",
+        [] {
+            TestMesh m = icosphere(2);
+            jitter(m, 7, 0.01f);
             return m;
-        }, 2);
+        },
+        3);
+    for (int n : {3, 4, 5, 7, 12, 32, 64}) {
+        add(
+            "bipyramid" + std::to_string(n),
+            [n] {
+                TestMesh m = bipyramid(n);
+                jitter(m, 200 + n, 0.01f);
+                return m;
+            },
+            2);
     }
     // Closed crease loops of regular crease vertices, parallel and adjacent (rows 0 and 1), and a lone one.
-    add("torus_crease_loops", [] {
-        TestMesh m = torus_with_crease_loops({0, 1, 4});
-        jitter(m, 8, 0.01f);
-        return m;
-    }, 3);
+    add(
+        "torus_crease_loops",
+        [] {
+            TestMesh m = torus_with_crease_loops({0, 1, 4});
+            jitter(m, 8, 0.01f);
+            return m;
+        },
+        3);
     // An open tube: every boundary vertex has valence 4 (regular), so the boundary is a regular crease curve;
     // once smooth, once with an interior crease loop too.
-    add("open_cylinder", [] { return open_cylinder(10, 4); }, 3);
-    add("open_cylinder_crease_loop", [] {
-        TestMesh m = open_cylinder(10, 4);
-        for (int i = 0; i < 10; ++i) m.add_crease(i * 5 + 2, ((i + 1) % 10) * 5 + 2, kInfiniteSharpness);
-        jitter(m, 9, 0.01f);
-        return m;
-    }, 3);
+    add(
+        "open_cylinder", [] { return open_cylinder(10, 4); }, 3);
+    add(
+        "open_cylinder_crease_loop",
+        [] {
+            TestMesh m = open_cylinder(10, 4);
+            for (int i = 0; i < 10; ++i) m.add_crease(i * 5 + 2, ((i + 1) % 10) * 5 + 2, kInfiniteSharpness);
+            jitter(m, 9, 0.01f);
+            return m;
+        },
+        3);
     // All cube edges sharp: the corners (three crease edges) touch only corners, so no {5,3} at level 1 (from
     // level 2 on, the corners have regular crease neighbours: see CubeCornersFromLevel2 below).
-    add("cube_all_edges_sharp", [] {
-        TestMesh m = cube();
-        for (const auto& e : unique_edges(m.triangles))
-            if (__builtin_popcount(unsigned(e[0] ^ e[1])) == 1) m.add_crease(e[0], e[1], kInfiniteSharpness);
-        return m;
-    }, 1);
+    add(
+        "cube_all_edges_sharp",
+        [] {
+            TestMesh m = cube();
+            for (const auto& e : unique_edges(m.triangles))
+                if (__builtin_popcount(unsigned(e[0] ^ e[1])) == 1) m.add_crease(e[0], e[1], kInfiniteSharpness);
+            return m;
+        },
+        1);
     return cases;
 }
 
@@ -195,8 +213,8 @@ class HoppeAgreesWithOpenSubdiv : public ::testing::TestWithParam<AgreementCase>
 
 TEST_P(HoppeAgreesWithOpenSubdiv, EveryVertex) {
     const TestMesh mesh = GetParam().make();
-    expect_seed_values_and_opensubdiv_elsewhere(mesh, GetParam().level,
-                                                [](const Plan&, const MappedReference&) { return std::vector<SeedValue>{}; });
+    expect_seed_values_and_opensubdiv_elsewhere(
+        mesh, GetParam().level, [](const Plan&, const MappedReference&) { return std::vector<SeedValue>{}; });
 }
 
 INSTANTIATE_TEST_SUITE_P(Hoppe94, HoppeAgreesWithOpenSubdiv, ::testing::ValuesIn(agreement_cases()),
@@ -234,12 +252,13 @@ TEST(Hoppe94VsOpenSubdiv, FiveThreeNextToIrregularInteriorCreaseVertices) {
     TestMesh mesh = torus(nu, nv);
     jitter(mesh, 17, 0.01f);
     auto v = [&](int i, int j) { return torus_vertex(nv, (i + nu) % nu, j); };
-    std::vector<int> loop;  // the crease loop as a vertex sequence
+    std::vector<int> loop;                                      // the crease loop as a vertex sequence
     for (int i = 9; i <= 12 + 3; ++i) loop.push_back(v(i, 0));  // j = 0 from i = 9 round to i = 3
     loop.push_back(v(4, 1));                                    // diagonal (3,0)-(4,1)-(5,2)
     for (int i = 5; i <= 9; ++i) loop.push_back(v(i, 2));       // j = 2 from 5 to 9
     loop.push_back(v(9, 1));                                    // down (9,2)-(9,1)-(9,0)
-    for (std::size_t k = 0; k < loop.size(); ++k) mesh.add_crease(loop[k], loop[(k + 1) % loop.size()], kInfiniteSharpness);
+    for (std::size_t k = 0; k < loop.size(); ++k)
+        mesh.add_crease(loop[k], loop[(k + 1) % loop.size()], kInfiniteSharpness);
 
     // (regular end, bend) of each {5,3} edge.
     const int pairs[8][2] = {{v(2, 0), v(3, 0)}, {v(4, 1), v(3, 0)}, {v(4, 1), v(5, 2)}, {v(6, 2), v(5, 2)},
@@ -269,8 +288,9 @@ TEST(Hoppe94VsOpenSubdiv, FiveThreeNextToBoundaryCorners) {
         std::vector<SeedValue> values;
         for (const auto& p : pairs) {
             const Vec3 regular = point(mesh.positions, p[0]), corner = point(mesh.positions, p[1]);
-            values.push_back({edge_point(plan, 0, p[0], p[1]), (1.0 / 8) * (5 * regular + 3 * corner),
-                              "boundary {5,3}: regular " + std::to_string(p[0]) + ", irregular " + std::to_string(p[1])});
+            values.push_back(
+                {edge_point(plan, 0, p[0], p[1]), (1.0 / 8) * (5 * regular + 3 * corner),
+                 "boundary {5,3}: regular " + std::to_string(p[0]) + ", irregular " + std::to_string(p[1])});
         }
         return values;
     });
@@ -406,8 +426,8 @@ TEST(Hoppe94VsOpenSubdiv, ConeOnCreaseBecomesCorner) {
 
 enum class SeedClass { Smooth, Dart, RegularCrease, IrregularCrease, Corner };
 
-// docs/rules.md, "Vertex classes": s = crease edges at the vertex (boundary edges count); 0 smooth, 1 dart, 2 crease, >= 3 or
-// tagged corner. A crease vertex is regular when interior with valence 6 and three faces on each side of its
+// docs/rules.md, "Vertex classes": s = crease edges at the vertex (boundary edges count); 0 smooth, 1 dart, 2 crease,
+// >= 3 or tagged corner. A crease vertex is regular when interior with valence 6 and three faces on each side of its
 // crease, or on the boundary with valence 4 (three faces) and its crease edges the boundary edges.
 // For manifold meshes only.
 std::vector<SeedClass> classify_by_hand(const TestMesh& mesh, const std::set<std::pair<int, int>>& creases) {
@@ -504,9 +524,10 @@ TEST(Hoppe94VsOpenSubdiv, RandomCreaseSetsLevel1) {
                 if (type[a] == SeedClass::Dart || type[b] == SeedClass::Dart) {
                     const std::vector<int> cd = opposite_vertices(mesh, a, b);
                     if (cd.size() != 2) continue;  // a boundary edge cannot have a dart end
-                    values.push_back({edge_point(plan, 0, a, b),
-                                      (1.0 / 8) * (3 * pa + 3 * pb + point(mesh.positions, cd[0]) + point(mesh.positions, cd[1])),
-                                      "dart-ended crease edge " + std::to_string(a) + "-" + std::to_string(b)});
+                    values.push_back(
+                        {edge_point(plan, 0, a, b),
+                         (1.0 / 8) * (3 * pa + 3 * pb + point(mesh.positions, cd[0]) + point(mesh.positions, cd[1])),
+                         "dart-ended crease edge " + std::to_string(a) + "-" + std::to_string(b)});
                     ++dart;
                     continue;
                 }
@@ -517,9 +538,10 @@ TEST(Hoppe94VsOpenSubdiv, RandomCreaseSetsLevel1) {
                 if (type[a] == SeedClass::RegularCrease && irregular_or_corner(b)) regular = a, other = b;
                 if (type[b] == SeedClass::RegularCrease && irregular_or_corner(a)) regular = b, other = a;
                 if (regular < 0) continue;
-                values.push_back({edge_point(plan, 0, a, b),
-                                  (1.0 / 8) * (5 * point(mesh.positions, regular) + 3 * point(mesh.positions, other)),
-                                  "{5,3} edge, regular " + std::to_string(regular) + ", other " + std::to_string(other)});
+                values.push_back(
+                    {edge_point(plan, 0, a, b),
+                     (1.0 / 8) * (5 * point(mesh.positions, regular) + 3 * point(mesh.positions, other)),
+                     "{5,3} edge, regular " + std::to_string(regular) + ", other " + std::to_string(other)});
                 ++fivethree;
             }
             return values;

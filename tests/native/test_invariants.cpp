@@ -69,38 +69,50 @@ std::vector<InvariantCase> invariant_cases() {
         Kind kind;
     };
     const std::vector<NamedMesh> meshes = {
-        {"icosphere80", [] {
+        {"icosphere80",
+         [] {
              TestMesh m = icosphere(1);
              jitter(m, 71, 0.01f);
              return m;
-         }, Kind::ClosedManifold},
-        {"torus8x6_creased", [] {
+         },
+         Kind::ClosedManifold},
+        {"torus8x6_creased",
+         [] {
              TestMesh m = torus(8, 6);
              for (int i = 0; i < 8; ++i) m.add_crease(torus_vertex(6, i, 0), torus_vertex(6, (i + 1) % 8, 0), 3.5f);
              m.add_corner(torus_vertex(6, 3, 0), kInfiniteSharpness);
              return m;
-         }, Kind::ClosedManifold},
-        {"cube_sharp_edges", [] {
+         },
+         Kind::ClosedManifold},
+        {"cube_sharp_edges",
+         [] {
              TestMesh m = cube();
              for (const auto& e : unique_edges(m.triangles))
                  if (__builtin_popcount(unsigned(e[0] ^ e[1])) == 1) m.add_crease(e[0], e[1], kInfiniteSharpness);
              return m;
-         }, Kind::ClosedManifold},
-        {"bipyramid7_cone", [] {
+         },
+         Kind::ClosedManifold},
+        {"bipyramid7_cone",
+         [] {
              TestMesh m = bipyramid(7);
              m.cone_vertices.push_back(0);  // Hoppe94 only; OpenSubdiv ignores cones
              return m;
-         }, Kind::ClosedManifold},
-        {"grid5x4", [] {
+         },
+         Kind::ClosedManifold},
+        {"grid5x4",
+         [] {
              TestMesh m = grid(5, 4);
              add_random_creases(m, 72, 0.2, true);
              return m;
-         }, Kind::OpenManifold},
-        {"hemisphere80_edges_and_corners", [] {
+         },
+         Kind::OpenManifold},
+        {"hemisphere80_edges_and_corners",
+         [] {
              TestMesh m = hemisphere(1);
              m.boundary = Boundary::EdgesAndCorners;
              return m;
-         }, Kind::OpenManifold},
+         },
+         Kind::OpenManifold},
         {"open_cylinder6x2", [] { return open_cylinder(6, 2); }, Kind::OpenManifold},
         {"fin_on_grid", [] { return fin_on_grid(); }, Kind::NonManifold},
         {"bowtie3", [] { return bowtie(3); }, Kind::NonManifold},
@@ -109,9 +121,9 @@ std::vector<InvariantCase> invariant_cases() {
     for (const NamedMesh& m : meshes)
         for (Rules rules : {Rules::Hoppe94, Rules::OpenSubdiv})
             for (int levels = 1; levels <= 3; ++levels)
-                cases.push_back({m.name + (rules == Rules::Hoppe94 ? "_hoppe94" : "_opensubdiv") + "_L" +
-                                     std::to_string(levels),
-                                 m.make, m.kind, rules, levels});
+                cases.push_back(
+                    {m.name + (rules == Rules::Hoppe94 ? "_hoppe94" : "_opensubdiv") + "_L" + std::to_string(levels),
+                     m.make, m.kind, rules, levels});
     return cases;
 }
 
@@ -137,7 +149,8 @@ TEST_P(Invariants, FourToTheLevelChildrenPerTriangle) {
     int wrong = 0;
     for (int t = 0; t < plan.num_output_triangles(); ++t) {
         if (parents[t] != t / per_triangle && wrong++ < 5)
-            ADD_FAILURE() << "output triangle " << t << " has parent " << parents[t] << ", expected " << t / per_triangle;
+            ADD_FAILURE() << "output triangle " << t << " has parent " << parents[t] << ", expected "
+                          << t / per_triangle;
     }
 }
 
@@ -177,7 +190,8 @@ TEST_P(Invariants, OutputEdgesAreTheTrianglesEdgesNumberedBySplit) {
     std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), sides(3 * std::size_t(plan.num_output_triangles()));
     plan.output_edges(ends.data(), sides.data());
     std::vector<std::array<std::int32_t, 2>> listed;
-    for (int e = 0; e < num_edges; ++e) listed.push_back({std::min(ends[2 * e], ends[2 * e + 1]), std::max(ends[2 * e], ends[2 * e + 1])});
+    for (int e = 0; e < num_edges; ++e)
+        listed.push_back({std::min(ends[2 * e], ends[2 * e + 1]), std::max(ends[2 * e], ends[2 * e + 1])});
     std::vector<std::array<std::int32_t, 2>> sorted = listed;
     std::sort(sorted.begin(), sorted.end());
     const std::vector<std::int32_t> triangles(plan.output_triangles(), plan.output_triangles() + sides.size());
@@ -185,7 +199,8 @@ TEST_P(Invariants, OutputEdgesAreTheTrianglesEdgesNumberedBySplit) {
     for (std::size_t t = 0; t < sides.size() / 3; ++t) {
         for (int k = 0; k < 3; ++k) {
             const std::int32_t a = triangles[3 * t + k], b = triangles[3 * t + (k + 1) % 3];
-            ASSERT_EQ(listed[std::size_t(sides[3 * t + k])], (std::array<std::int32_t, 2>{std::min(a, b), std::max(a, b)}))
+            ASSERT_EQ(listed[std::size_t(sides[3 * t + k])],
+                      (std::array<std::int32_t, 2>{std::min(a, b), std::max(a, b)}))
                 << "triangle " << t << ", edge " << k;
         }
     }
@@ -212,7 +227,8 @@ TEST_P(ManifoldInvariants, ManifoldnessAndConsistentOrientation) {
     for (const auto& [edge, faces] : counts.faces) {
         boundary_edges += faces == 1;
         const bool ok = GetParam().kind == Kind::ClosedManifold ? faces == 2 : (faces == 1 || faces == 2);
-        if (!ok && bad++ < 5) ADD_FAILURE() << "edge " << edge.first << "-" << edge.second << " has " << faces << " faces";
+        if (!ok && bad++ < 5)
+            ADD_FAILURE() << "edge " << edge.first << "-" << edge.second << " has " << faces << " faces";
     }
     for (const auto& [edge, uses] : counts.directed)
         if (uses != 1 && bad++ < 10)
@@ -286,8 +302,9 @@ TEST_P(Invariants, ChildTrianglesFollowTheDocumentedOrderAndWinding) {
                 return it == edge_vertex.end() ? -1 : it->second;
             };
             const int ab = mid(p[0], p[1]), bc = mid(p[1], p[2]), ca = mid(p[2], p[0]);
-            const std::array<std::int32_t, 3> expected[4] = {canonical_triangle(p[0], ab, ca), canonical_triangle(p[1], bc, ab),
-                                                             canonical_triangle(p[2], ca, bc), canonical_triangle(ab, bc, ca)};
+            const std::array<std::int32_t, 3> expected[4] = {
+                canonical_triangle(p[0], ab, ca), canonical_triangle(p[1], bc, ab), canonical_triangle(p[2], ca, bc),
+                canonical_triangle(ab, bc, ca)};
             for (int k = 0; k < 4; ++k) {
                 const std::int32_t* child = &level_tris[3 * (4 * f + k)];
                 if (canonical_triangle(child[0], child[1], child[2]) != expected[k] && bad++ < 5)
@@ -334,8 +351,9 @@ std::string invariant_case_name(const ::testing::TestParamInfo<InvariantCase>& i
 
 std::vector<InvariantCase> manifold_cases() {
     std::vector<InvariantCase> cases = invariant_cases();
-    cases.erase(std::remove_if(cases.begin(), cases.end(), [](const InvariantCase& c) { return c.kind == Kind::NonManifold; }),
-                cases.end());
+    cases.erase(
+        std::remove_if(cases.begin(), cases.end(), [](const InvariantCase& c) { return c.kind == Kind::NonManifold; }),
+        cases.end());
     return cases;
 }
 
@@ -402,7 +420,8 @@ TEST_P(FeedBack, OneLevelTwiceEqualsTwoLevels) {
     ASSERT_EQ(second_edges.size(), both_edges.size());
     for (std::size_t k = 0; 2 * k < second_edges.size(); ++k) {
         auto it = both_edge_vertex.find(undirected(second_edges[2 * k], second_edges[2 * k + 1]));
-        ASSERT_NE(it, both_edge_vertex.end()) << "level-1 edge " << second_edges[2 * k] << "-" << second_edges[2 * k + 1];
+        ASSERT_NE(it, both_edge_vertex.end())
+            << "level-1 edge " << second_edges[2 * k] << "-" << second_edges[2 * k + 1];
         to_both[n1 + k] = it->second;
     }
 
@@ -448,16 +467,17 @@ TEST_P(FeedBack, OneLevelTwiceEqualsTwoLevels) {
 std::vector<FeedBackCase> feed_back_cases() {
     std::vector<FeedBackCase> cases;
     for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
-        cases.push_back({std::string("opensubdiv_semisharp_") + (method == CreaseMethod::Chaikin ? "chaikin" : "uniform"),
-                         [method] {
-                             TestMesh m = icosphere(2);
-                             jitter(m, 81, 0.01f);
-                             add_random_creases(m, 81, 0.25, true);
-                             add_random_corners(m, 82, 6, true);
-                             m.crease_method = method;
-                             return m;
-                         },
-                         Rules::OpenSubdiv, 0.0f});
+        cases.push_back(
+            {std::string("opensubdiv_semisharp_") + (method == CreaseMethod::Chaikin ? "chaikin" : "uniform"),
+             [method] {
+                 TestMesh m = icosphere(2);
+                 jitter(m, 81, 0.01f);
+                 add_random_creases(m, 81, 0.25, true);
+                 add_random_corners(m, 82, 6, true);
+                 m.crease_method = method;
+                 return m;
+             },
+             Rules::OpenSubdiv, 0.0f});
     }
     cases.push_back({"opensubdiv_grid_edges_and_corners",
                      [] {

@@ -77,18 +77,22 @@ TEST_P(FoldedSheet, EachSideOfTheFoldHasItsPlanesNormal) {
             }
         }
         EXPECT_EQ(bad, 0) << "level " << levels;
-        EXPECT_TRUE(flat_on_fold && folded_on_fold) << "level " << levels << ": the fold's corners should take both planes' normals";
+        EXPECT_TRUE(flat_on_fold && folded_on_fold)
+            << "level " << levels << ": the fold's corners should take both planes' normals";
         // The limit stays in the planes too.
         for (int v = 0; v < plan.num_output_vertices(); ++v) {
             const double x = limit[3 * v] - 0.5, z = limit[3 * v + 2];
-            const double off_plane = x <= 0 ? std::abs(z) : std::abs(-x * std::sin(kFoldAngle) + z * std::cos(kFoldAngle));
+            const double off_plane =
+                x <= 0 ? std::abs(z) : std::abs(-x * std::sin(kFoldAngle) + z * std::cos(kFoldAngle));
             ASSERT_LE(off_plane, 1e-6) << "level " << levels << " vertex " << v;
         }
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(BothRules, FoldedSheet, ::testing::Values(Rules::Hoppe94, Rules::OpenSubdiv),
-                         [](const auto& info) { return std::string(info.param == Rules::Hoppe94 ? "hoppe94" : "opensubdiv"); });
+                         [](const auto& info) {
+                             return std::string(info.param == Rules::Hoppe94 ? "hoppe94" : "opensubdiv");
+                         });
 
 // An octahedron with a creased equator (irregular crease vertices: two faces on each side), a corner on it, and a
 // cone at the bottom apex: under Hoppe 94 the crease next to the corner takes the {5,3} edges, so its limit is not
@@ -129,7 +133,8 @@ TEST(HoppeLimit, IsWhereItsOwnRefinementConverges) {
         const double tolerance = types[v] == VertexType::Cone || types[v] == VertexType::IrregularCrease ? 1e-4 : 2e-5;
         EXPECT_LE(distance, tolerance) << "vertex " << v << " of class " << int(types[v]);
     }
-    for (VertexType type : {VertexType::Smooth, VertexType::RegularCrease, VertexType::IrregularCrease, VertexType::Corner, VertexType::Cone})
+    for (VertexType type : {VertexType::Smooth, VertexType::RegularCrease, VertexType::IrregularCrease,
+                            VertexType::Corner, VertexType::Cone})
         EXPECT_TRUE(seen.count(type)) << "the mesh should have a vertex of class " << int(type) << " at level 1";
 }
 
@@ -138,11 +143,14 @@ TEST(LimitSurface, NormalsNeedTheLimitAndPositions) {
     Options options;
     options.levels = 1;
     Plan plan(mesh.view(), options);
-    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(9 * std::size_t(plan.num_output_triangles()));
-    EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), normals.data()), InputError);
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())),
+        normals(9 * std::size_t(plan.num_output_triangles()));
+    EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), normals.data()),
+                 InputError);
     options.limit_surface = true;
     Plan limit_plan(mesh.view(), options);
-    EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 2), interleaved(out.data(), 2), normals.data()), InputError);
+    EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 2), interleaved(out.data(), 2), normals.data()),
+                 InputError);
     EXPECT_EQ(limit_plan.level_vertex_types(1).size(), std::size_t(limit_plan.num_output_vertices()));
     EXPECT_THROW(plan.level_vertex_types(2), std::out_of_range);
 }
@@ -184,9 +192,7 @@ TEST(LimitSurface, HugeButAcceptedCoordinatesGiveUnitNormals) {
                 LimitEvaluation limit;
                 try {
                     limit = evaluate_limit(plan, mesh);
-                } catch (const InputError&) {
-                    continue;
-                }
+                } catch (const InputError&) { continue; }
                 accepted = true;
                 for (float value : limit.positions) EXPECT_TRUE(std::isfinite(value)) << value << " at scale " << scale;
                 ASSERT_EQ(limit.normals.size(), 9 * std::size_t(plan.num_output_triangles()));
@@ -233,7 +239,8 @@ TEST(VertexTypes, EveryLevelUpToTheLast) {
     options.levels = 2;
     const Plan two(mesh.view(), options);
     for (int level = 0; level <= 2; ++level)
-        EXPECT_EQ(two.level_vertex_types(level).size(), std::size_t(two.level_num_vertices(level))) << "level " << level;
+        EXPECT_EQ(two.level_vertex_types(level).size(), std::size_t(two.level_num_vertices(level)))
+            << "level " << level;
     EXPECT_THROW(two.level_vertex_types(3), std::out_of_range);
     EXPECT_THROW(two.level_vertex_types(-1), std::out_of_range);
 }

@@ -1,5 +1,5 @@
-// The limit surface against OpenSubdiv's true limit, semi-sharp creases that outlast the last level included (issue 23):
-// positions within 1e-5 of the bounding box's diagonal, normals' directions within kNormalAngle.
+// The limit surface against OpenSubdiv's true limit, semi-sharp creases that outlast the last level included (issue
+// 23): positions within 1e-5 of the bounding box's diagonal, normals' directions within kNormalAngle.
 //
 // The reference is Bfr::Surface::Evaluate (bfr_reference.h), what Blender's "Use Limit Surface" shows, except with
 // Chaikin creases on the generated meshes: Bfr builds a face's surface from its corners' neighbourhoods only, so where
@@ -79,7 +79,8 @@ Errors limit_errors(const TestMesh& mesh, int levels, int far_levels) {
     const std::int32_t* triangles = plan.output_triangles();
     const std::size_t corners = 3 * std::size_t(plan.num_output_triangles());
     if (far_levels != kBfr) {
-        OsdReference reference(mesh.view(), mesh.positions.data(), {mesh.boundary, mesh.crease_method, levels + far_levels});
+        OsdReference reference(mesh.view(), mesh.positions.data(),
+                               {mesh.boundary, mesh.crease_method, levels + far_levels});
         const MappedReference mapped = reference.map(plan);
         if (!mapped.errors.empty()) throw std::runtime_error(mapped.errors.front());
         const OsdReference::DescendantLimits expected = reference.descendant_limits(mapped, levels);
@@ -101,8 +102,8 @@ Errors limit_errors(const TestMesh& mesh, int levels, int far_levels) {
 }
 
 const char* const kPeerShapes[] = {
-    "loop_chaikin0.obj",       "loop_cube.obj",           "loop_cube_creases0.obj",   "loop_fvar_bound0.obj",
-    "loop_icos_semisharp.obj", "loop_icosahedron.obj",    "loop_nonman_edges.obj",    "loop_pole8.obj",
+    "loop_chaikin0.obj",          "loop_cube.obj",        "loop_cube_creases0.obj",       "loop_fvar_bound0.obj",
+    "loop_icos_semisharp.obj",    "loop_icosahedron.obj", "loop_nonman_edges.obj",        "loop_pole8.obj",
     "loop_saddle_edgecorner.obj", "loop_tetrahedron.obj", "loop_triangle_edgecorner.obj", "loop_xord_interior.obj",
 };
 
@@ -143,32 +144,40 @@ std::vector<BfrCase> cases() {
     for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
         const std::string suffix = method == CreaseMethod::Chaikin ? "_chaikin" : "_uniform";
         const int far_levels = method == CreaseMethod::Chaikin ? kDeepLevels : kBfr;
-        out.push_back({"icosphere80_semisharp_edges" + suffix, [method] { return semi_sharp_sphere(method); }, far_levels});
-        out.push_back({"icosphere80_semisharp_vertices" + suffix, [method] {
+        out.push_back(
+            {"icosphere80_semisharp_edges" + suffix, [method] { return semi_sharp_sphere(method); }, far_levels});
+        out.push_back({"icosphere80_semisharp_vertices" + suffix,
+                       [method] {
                            TestMesh mesh = semi_sharp_sphere(method);
                            mesh.add_corner(0, 2.3f);   // on the chain
                            mesh.add_corner(20, 0.7f);  // off it
                            mesh.add_corner(30, 3.6f);
                            return mesh;
-                       }, far_levels});
-        out.push_back({"grid6x5_semisharp_boundary" + suffix, [method] {
+                       },
+                       far_levels});
+        out.push_back({"grid6x5_semisharp_boundary" + suffix,
+                       [method] {
                            TestMesh mesh = grid(6, 5);
                            jitter(mesh, 232, 0.02f);
                            // Across the interior to the boundary, along the boundary's neighbours, and a vertex.
                            const float kSharpness[] = {0.5f, 1.3f, 2.7f, 3.6f, 1.3f, 2.7f};
-                           for (int i = 0; i < 6; ++i) mesh.add_crease(grid_vertex(6, i, 2), grid_vertex(6, i + 1, 2), kSharpness[i]);
-                           for (int j = 0; j < 2; ++j) mesh.add_crease(grid_vertex(6, 3, j), grid_vertex(6, 3, j + 1), kSharpness[j + 2]);
+                           for (int i = 0; i < 6; ++i)
+                               mesh.add_crease(grid_vertex(6, i, 2), grid_vertex(6, i + 1, 2), kSharpness[i]);
+                           for (int j = 0; j < 2; ++j)
+                               mesh.add_crease(grid_vertex(6, 3, j), grid_vertex(6, 3, j + 1), kSharpness[j + 2]);
                            mesh.add_corner(grid_vertex(6, 3, 0), 1.5f);
                            mesh.add_corner(grid_vertex(6, 5, 4), 2.2f);
                            mesh.crease_method = method;
                            return mesh;
-                       }, far_levels});
+                       },
+                       far_levels});
     }
     out.push_back({"grid6x5_semisharp_boundary_edges_and_corners", [] {
                        TestMesh mesh = grid(6, 5);
                        jitter(mesh, 233, 0.02f);
                        mesh.boundary = Boundary::EdgesAndCorners;
-                       for (int i = 0; i < 6; ++i) mesh.add_crease(grid_vertex(6, i, 3), grid_vertex(6, i + 1, 3), 0.5f + 0.6f * i);
+                       for (int i = 0; i < 6; ++i)
+                           mesh.add_crease(grid_vertex(6, i, 3), grid_vertex(6, i + 1, 3), 0.5f + 0.6f * i);
                        mesh.add_corner(grid_vertex(6, 0, 3), 1.7f);
                        return mesh;
                    }});
@@ -188,14 +197,13 @@ TEST_P(LimitAgainstBfr, PositionsAndNormalsAreTheTrueLimits) {
     TestMesh mesh;
     try {
         mesh = GetParam().make();
-    } catch (const PeerShapesMissing& missing) {
-        GTEST_SKIP() << missing.what();
-    }
+    } catch (const PeerShapesMissing& missing) { GTEST_SKIP() << missing.what(); }
     for (int levels = 1; levels <= 3; ++levels) {
         const Errors errors = limit_errors(mesh, levels, GetParam().far_levels);
         std::ostringstream where;
-        where << GetParam().name << " level " << levels << ": position error " << errors.position << " of the diagonal (vertex "
-              << errors.worst_vertex << "), normal " << errors.angle << " rad (corner " << errors.worst_corner << ")";
+        where << GetParam().name << " level " << levels << ": position error " << errors.position
+              << " of the diagonal (vertex " << errors.worst_vertex << "), normal " << errors.angle << " rad (corner "
+              << errors.worst_corner << ")";
         // The errors themselves, for a report of how close each shape comes.
         if (std::getenv("LOOPSUB_PRINT_BFR_ERRORS")) std::printf("%s\n", where.str().c_str());
         EXPECT_LE(errors.position, 1e-5) << where.str();
@@ -219,7 +227,8 @@ TEST(FaceVaryingLimitAgainstBfr, ValuesAtSemiSharpVertices) {
     MeshView view = mesh.view();
     view.face_varying = &layer;
     view.num_face_varying = 1;
-    for (FaceVaryingInterpolation mode : {FaceVaryingInterpolation::None, FaceVaryingInterpolation::CornersOnly, FaceVaryingInterpolation::Boundaries})
+    for (FaceVaryingInterpolation mode :
+         {FaceVaryingInterpolation::None, FaceVaryingInterpolation::CornersOnly, FaceVaryingInterpolation::Boundaries})
         for (int levels = 1; levels <= 3; ++levels) {
             Options options;
             options.rules = Rules::OpenSubdiv;
@@ -233,7 +242,8 @@ TEST(FaceVaryingLimitAgainstBfr, ValuesAtSemiSharpVertices) {
             std::vector<std::uint8_t> semi_sharp(std::size_t(plan.num_output_vertices()), 0);
             const std::vector<std::int32_t>& sharp = plan.output_sharp_edges();
             for (std::size_t k = 0; k < plan.output_sharp_edge_sharpness().size(); ++k)
-                if (plan.output_sharp_edge_sharpness()[k] < kInfiniteSharpness) semi_sharp[sharp[2 * k]] = semi_sharp[sharp[2 * k + 1]] = 1;
+                if (plan.output_sharp_edge_sharpness()[k] < kInfiniteSharpness)
+                    semi_sharp[sharp[2 * k]] = semi_sharp[sharp[2 * k + 1]] = 1;
             const std::int32_t* triangles = plan.output_triangles();
             const std::int32_t* value_of = plan.output_face_varying_indices(0);
             double worst = 0.0;

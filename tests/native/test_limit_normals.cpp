@@ -70,7 +70,8 @@ TEST(CompactLimitNormals, GatheredByTheirIndicesAreThePerCornerNormals) {
                 std::vector<float> out(3 * std::size_t(nv)), corner_normals(3 * std::size_t(corners));
                 plan.evaluate(interleaved(in.data(), 3), interleaved(out.data(), 3), corner_normals.data());
                 std::vector<float> compact_out(out.size()), normals(3 * std::size_t(plan.num_limit_normals()));
-                plan.evaluate(interleaved(in.data(), 3), interleaved(compact_out.data(), 3), Plan::LimitNormals{normals.data()});
+                plan.evaluate(interleaved(in.data(), 3), interleaved(compact_out.data(), 3),
+                              Plan::LimitNormals{normals.data()});
                 EXPECT_EQ(out, compact_out);
                 ASSERT_GE(plan.num_limit_normals(), nv);
                 const std::int32_t* index = plan.corner_normal_indices();
@@ -88,7 +89,8 @@ TEST(CompactLimitNormals, GatheredByTheirIndicesAreThePerCornerNormals) {
                         ASSERT_EQ(vertex, triangles[k]) << "corner " << k;
                     }
                     for (int a = 0; a < 3; ++a)
-                        ASSERT_EQ(normals[3 * std::size_t(index[k]) + a], corner_normals[3 * std::size_t(k) + a]) << "corner " << k;
+                        ASSERT_EQ(normals[3 * std::size_t(index[k]) + a], corner_normals[3 * std::size_t(k) + a])
+                            << "corner " << k;
                 }
                 // Every side is some corners' normal.
                 for (int vertex : side_vertex) EXPECT_GE(vertex, 0);
@@ -105,7 +107,8 @@ TEST(CompactLimitNormals, CornersOfAVertexOnNoSharpEdgeShareAnIndex) {
         const std::vector<float>& sharpness = plan.output_sharp_edge_sharpness();
         std::vector<std::uint8_t> on_sharp(std::size_t(plan.num_output_vertices()), 0);
         for (std::size_t e = 0; e < sharpness.size(); ++e)
-            if (sharpness[e] >= kInfiniteSharpness) on_sharp[std::size_t(sharp[2 * e])] = on_sharp[std::size_t(sharp[2 * e + 1])] = 1;
+            if (sharpness[e] >= kInfiniteSharpness)
+                on_sharp[std::size_t(sharp[2 * e])] = on_sharp[std::size_t(sharp[2 * e + 1])] = 1;
         std::vector<int> first(std::size_t(plan.num_output_vertices()), -1);
         const std::int32_t* index = plan.corner_normal_indices();
         const std::int32_t* triangles = plan.output_triangles();
@@ -130,10 +133,12 @@ TEST(CompactLimitNormals, SplitEdgesAreWherePerCornerNormalsOfRandomPositionsDif
             SCOPED_TRACE(c.name + ", levels " + std::to_string(levels));
             Plan plan(c.mesh.view(), limit_options(c.rules, levels));
             const std::vector<float> in = random_positions(c.mesh.num_vertices(), 11);
-            std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(9 * std::size_t(plan.num_output_triangles()));
+            std::vector<float> out(3 * std::size_t(plan.num_output_vertices())),
+                normals(9 * std::size_t(plan.num_output_triangles()));
             plan.evaluate(interleaved(in.data(), 3), interleaved(out.data(), 3), normals.data());
             const int num_edges = plan.num_output_edges();
-            std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), triangle_edges(3 * std::size_t(plan.num_output_triangles()));
+            std::vector<std::int32_t> ends(2 * std::size_t(num_edges)),
+                triangle_edges(3 * std::size_t(plan.num_output_triangles()));
             plan.output_edges(ends.data(), triangle_edges.data());
             // Per (edge, vertex), the normals of the corners there.
             std::vector<std::set<std::vector<float>>> at_end(2 * std::size_t(num_edges));
@@ -144,7 +149,8 @@ TEST(CompactLimitNormals, SplitEdgesAreWherePerCornerNormalsOfRandomPositionsDif
                     for (int corner : {k, (k + 1) % 3}) {
                         const std::size_t c3 = 3 * (3 * t + std::size_t(corner));
                         const int v = triangles[3 * t + std::size_t(corner)];
-                        at_end[2 * e + (v == ends[2 * e + 1] ? 1 : 0)].insert({normals[c3], normals[c3 + 1], normals[c3 + 2]});
+                        at_end[2 * e + (v == ends[2 * e + 1] ? 1 : 0)].insert(
+                            {normals[c3], normals[c3 + 1], normals[c3 + 2]});
                     }
                 }
             std::vector<std::uint8_t> split(std::size_t(num_edges), 7);
@@ -152,7 +158,8 @@ TEST(CompactLimitNormals, SplitEdgesAreWherePerCornerNormalsOfRandomPositionsDif
             int splits = 0;
             for (std::size_t e = 0; e < std::size_t(num_edges); ++e) {
                 const bool expected = at_end[2 * e].size() > 1 || at_end[2 * e + 1].size() > 1;
-                ASSERT_EQ(split[e], expected ? 1 : 0) << "edge " << e << " (" << ends[2 * e] << ", " << ends[2 * e + 1] << ")";
+                ASSERT_EQ(split[e], expected ? 1 : 0)
+                    << "edge " << e << " (" << ends[2 * e] << ", " << ends[2 * e + 1] << ")";
                 splits += expected;
             }
             // A boundary's and a bowtie's sides meet at no edge of two faces.
@@ -167,16 +174,19 @@ TEST(CompactLimitNormals, NeedTheLimitSurface) {
     Options options;
     options.levels = 1;
     Plan plan(mesh.view(), options);
-    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(3 * std::size_t(plan.num_output_vertices()));
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())),
+        normals(3 * std::size_t(plan.num_output_vertices()));
     EXPECT_THROW(plan.num_limit_normals(), std::logic_error);
     EXPECT_THROW(plan.corner_normal_indices(), std::logic_error);
     std::vector<std::uint8_t> split(std::size_t(plan.num_output_edges()));
     EXPECT_THROW(plan.limit_normal_split_edges(split.data()), std::logic_error);
-    EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), Plan::LimitNormals{normals.data()}),
+    EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
+                               Plan::LimitNormals{normals.data()}),
                  InputError);
     Plan limit_plan(mesh.view(), limit_options(Rules::OpenSubdiv, 1));
     EXPECT_EQ(limit_plan.num_limit_normals(), limit_plan.num_output_vertices());  // a smooth sphere: no sides
-    EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), Plan::LimitNormals{nullptr}),
+    EXPECT_THROW(limit_plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
+                                     Plan::LimitNormals{nullptr}),
                  InputError);
 }
 
@@ -186,14 +196,17 @@ TEST(CompactLimitNormals, FollowTheTrianglesAroundHoles) {
     add_random_creases(mesh, 9, 0.2, false);
     for (int t = 0; t < mesh.num_triangles(); t += 7) mesh.hole_triangles.push_back(t);
     Plan plan(mesh.view(), limit_options(Rules::OpenSubdiv, 2));
-    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), corner_normals(9 * std::size_t(plan.num_output_triangles()));
+    std::vector<float> out(3 * std::size_t(plan.num_output_vertices())),
+        corner_normals(9 * std::size_t(plan.num_output_triangles()));
     std::vector<float> normals(3 * std::size_t(plan.num_limit_normals()));
     plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), corner_normals.data());
-    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3), Plan::LimitNormals{normals.data()});
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
+                  Plan::LimitNormals{normals.data()});
     const std::int32_t* index = plan.corner_normal_indices();
     for (int k = 0; k < 3 * plan.num_output_triangles(); ++k) {
         ASSERT_TRUE(index[k] == plan.output_triangles()[k] || index[k] >= plan.num_output_vertices()) << "corner " << k;
-        for (int a = 0; a < 3; ++a) ASSERT_EQ(normals[3 * std::size_t(index[k]) + a], corner_normals[3 * std::size_t(k) + a]);
+        for (int a = 0; a < 3; ++a)
+            ASSERT_EQ(normals[3 * std::size_t(index[k]) + a], corner_normals[3 * std::size_t(k) + a]);
     }
 }
 

@@ -34,9 +34,7 @@ constexpr const char* kFourVertices =
 std::string parse_error(const std::string& text) {
     try {
         parse_obj(text, "bad.obj");
-    } catch (const loopsub::InputError& e) {
-        return e.what();
-    }
+    } catch (const loopsub::InputError& e) { return e.what(); }
     ADD_FAILURE() << "no InputError for:\n" << text;
     return "";
 }
@@ -47,7 +45,6 @@ void expect_error(const std::string& text, int line, const std::string& fragment
     EXPECT_EQ(message.rfind(location, 0), 0u) << "expected the message to start with '" << location << "': " << message;
     EXPECT_NE(message.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << message;
 }
-
 
 TEST(ObjRead, VerticesUvsAndEveryFaceForm) {
     ObjMesh mesh = parse_obj(std::string(kFourVertices) +
@@ -113,7 +110,8 @@ TEST(ObjRead, ConvexPolygonsAreTriangulatedAsFansAndCounted) {
 
 // Signed area of triangle (a, b, c) of the xy plane.
 double area(const Floats& p, std::int32_t a, std::int32_t b, std::int32_t c) {
-    return 0.5 * ((p[3 * b] - p[3 * a]) * (p[3 * c + 1] - p[3 * a + 1]) - (p[3 * b + 1] - p[3 * a + 1]) * (p[3 * c] - p[3 * a]));
+    return 0.5 * ((p[3 * b] - p[3 * a]) * (p[3 * c + 1] - p[3 * a + 1]) -
+                  (p[3 * b + 1] - p[3 * a + 1]) * (p[3 * c] - p[3 * a]));
 }
 
 TEST(ObjRead, ConcavePolygonsAreTriangulatedInside) {
@@ -152,11 +150,11 @@ TEST(ObjRead, FacesWithAndWithoutUvsMix) {
 TEST(ObjRead, StatementsThatDescribeNoSurfaceAreSkippedWithOneNoteEach) {
     ObjMesh mesh = parse_obj(std::string(kFourVertices) + "l 1 2 3\nl 3 4\np 1\nvp 0.5\nf 1 2 3\ncstype bezier\n");
     EXPECT_EQ(mesh.triangles, (Indices{0, 1, 2}));
-    EXPECT_EQ(mesh.notes, (std::vector<std::string>{
-                              "skipped 1 'cstype' statement (not part of the surface loopsub reads)",
-                              "skipped 2 'l' statements (polylines, not surfaces)",
-                              "skipped 1 'p' statement (points, not surfaces)",
-                              "skipped 1 'vp' statement (not part of the surface loopsub reads)"}));
+    EXPECT_EQ(mesh.notes,
+              (std::vector<std::string>{"skipped 1 'cstype' statement (not part of the surface loopsub reads)",
+                                        "skipped 2 'l' statements (polylines, not surfaces)",
+                                        "skipped 1 'p' statement (points, not surfaces)",
+                                        "skipped 1 'vp' statement (not part of the surface loopsub reads)"}));
 }
 
 TEST(ObjRead, CreaseTags) {
@@ -312,8 +310,8 @@ TEST(ObjReadErrors, MissingFile) {
 TEST(ObjWrite, RoundTripIsExact) {
     ObjMesh mesh;
     // Values whose shortest decimal form is long or extreme: the writer must not round them.
-    mesh.positions = {0.1f, -1.0f / 3.0f, 1e-7f, 3.4028235e38f, -0.0f, 123456.789f, 2.0f / 7.0f, 5.0f, -6.5f,
-                      1.17549435e-38f, 7.0f, 8.0f};
+    mesh.positions = {0.1f,        -1.0f / 3.0f, 1e-7f, 3.4028235e38f,   -0.0f, 123456.789f,
+                      2.0f / 7.0f, 5.0f,         -6.5f, 1.17549435e-38f, 7.0f,  8.0f};
     mesh.uvs = {0.0f, 0.0f, 1.0f, 0.0f, 0.3f, 0.7f};
     mesh.triangles = {0, 1, 2, 0, 2, 3};
     mesh.triangle_uvs = {0, 1, 2, 0, 2, 1};
@@ -380,7 +378,6 @@ TEST(ObjWrite, FacesWithUvsUseVertexSlashTexture) {
     std::remove(path.c_str());
 }
 
-
 // Formatting on several threads: chunks of 8,192 lines, eight per thread and round, written in order. The mesh (not
 // a surface, only lines to write) has 210,000 v, vt, vn and f lines in 26 chunks: chunks start inside each kind of
 // line, 1, 2 and 3 threads take several rounds (the last one short), 8 threads one, and 64 more threads than there
@@ -415,7 +412,8 @@ TEST(ObjWrite, ThreadsWriteTheSameBytes) {
         expected += "v " + to_chars_text(mesh.positions[k]) + " " + to_chars_text(mesh.positions[k + 1]) + " " +
                     to_chars_text(mesh.positions[k + 2]) + "\n";
     }
-    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2) expected += "vt " + to_chars_text(mesh.uvs[k]) + " " + to_chars_text(mesh.uvs[k + 1]) + "\n";
+    for (std::size_t k = 0; k < mesh.uvs.size(); k += 2)
+        expected += "vt " + to_chars_text(mesh.uvs[k]) + " " + to_chars_text(mesh.uvs[k + 1]) + "\n";
     for (std::size_t k = 0; k < mesh.normals.size(); k += 3) {
         expected += "vn " + to_chars_text(mesh.normals[k]) + " " + to_chars_text(mesh.normals[k + 1]) + " " +
                     to_chars_text(mesh.normals[k + 2]) + "\n";
@@ -423,8 +421,8 @@ TEST(ObjWrite, ThreadsWriteTheSameBytes) {
     for (std::size_t k = 0; k < mesh.triangles.size(); k += 3) {
         expected += "f";
         for (std::size_t c = k; c < k + 3; ++c) {
-            expected += " " + std::to_string(mesh.triangles[c] + 1) + "/" + std::to_string(mesh.triangle_uvs[c] + 1) + "/" +
-                        std::to_string(mesh.triangle_normals[c] + 1);
+            expected += " " + std::to_string(mesh.triangles[c] + 1) + "/" + std::to_string(mesh.triangle_uvs[c] + 1) +
+                        "/" + std::to_string(mesh.triangle_normals[c] + 1);
         }
         expected += "\n";
     }
@@ -437,8 +435,9 @@ TEST(ObjWrite, ThreadsWriteTheSameBytes) {
         const std::string text = read_text(path);
         std::remove(path.c_str());
         EXPECT_EQ(text.size(), expected.size());
-        EXPECT_TRUE(text == expected) << "the text differs first at byte "
-                                      << std::mismatch(text.begin(), text.end(), expected.begin(), expected.end()).first - text.begin();
+        EXPECT_TRUE(text == expected)
+            << "the text differs first at byte "
+            << std::mismatch(text.begin(), text.end(), expected.begin(), expected.end()).first - text.begin();
     }
     const std::string empty = temp_path("ThreadsWriteTheSameBytes_empty.obj");
     loopsub::obj::write_obj(empty, ObjMesh{}, 3);
@@ -483,10 +482,12 @@ TEST(ObjPeerShapes, LoadWithTheirTags) {
         loopsub::obj::read_obj(dir + "/loop_nonman_edges.obj");
         ADD_FAILURE() << "loop_nonman_edges.obj read without an error";
     } catch (const loopsub::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("loop_nonman_edges.obj:193: the face repeats vertex 46"), std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("loop_nonman_edges.obj:193: the face repeats vertex 46"),
+                  std::string::npos)
             << e.what();
     }
-    for (const char* name : {"loop_chaikin0", "loop_cube", "loop_fvar_bound0", "loop_icosahedron", "loop_pole8", "loop_tetrahedron", "loop_triangle_edgecorner", "loop_xord_interior"}) {
+    for (const char* name : {"loop_chaikin0", "loop_cube", "loop_fvar_bound0", "loop_icosahedron", "loop_pole8",
+                             "loop_tetrahedron", "loop_triangle_edgecorner", "loop_xord_interior"}) {
         SCOPED_TRACE(name);
         ObjMesh mesh = loopsub::obj::read_obj(dir + "/" + name + ".obj");
         EXPECT_GT(mesh.num_triangles(), 0);

@@ -43,9 +43,20 @@ std::uint32_t to_bits(float value) {
 // Floats where formatting changes form: every power of two and of ten, the neighbours of both, whole numbers around
 // 2^24 and where fixed notation gives way to scientific, subnormals, the extremes; then a spread of bit patterns.
 std::vector<float> awkward_floats() {
-    std::vector<float> values = {0.0f, -0.0f, 0.1f, 0.2f, 0.3f, 1.0f / 3.0f, 2.0f / 3.0f, 123456.789f, 9.999999e-5f,
-                                 1e-4f, 1.0001e-4f, std::numeric_limits<float>::denorm_min(),
-                                 std::numeric_limits<float>::min(), std::numeric_limits<float>::max(),
+    std::vector<float> values = {0.0f,
+                                 -0.0f,
+                                 0.1f,
+                                 0.2f,
+                                 0.3f,
+                                 1.0f / 3.0f,
+                                 2.0f / 3.0f,
+                                 123456.789f,
+                                 9.999999e-5f,
+                                 1e-4f,
+                                 1.0001e-4f,
+                                 std::numeric_limits<float>::denorm_min(),
+                                 std::numeric_limits<float>::min(),
+                                 std::numeric_limits<float>::max(),
                                  std::numeric_limits<float>::epsilon()};
     for (int e = -149; e <= 127; ++e) {
         const float p = std::ldexp(1.0f, e);
@@ -85,7 +96,8 @@ TEST(ObjFast, FloatsAreWrittenAsToCharsWritesThemAndReadBackExactly) {
     for (std::size_t start = 0, failures = 0; start < text.size() && failures < 10;) {
         const std::size_t end = text.find('\n', start) + 1;
         if (text.compare(start, end - start, expected, start, end - start) != 0) {
-            ADD_FAILURE() << "wrote " << text.substr(start, end - start) << "expected " << expected.substr(start, end - start);
+            ADD_FAILURE() << "wrote " << text.substr(start, end - start) << "expected "
+                          << expected.substr(start, end - start);
             ++failures;
         }
         start = end;
@@ -94,8 +106,8 @@ TEST(ObjFast, FloatsAreWrittenAsToCharsWritesThemAndReadBackExactly) {
     const ObjMesh back = loopsub::obj::read_obj(path);
     ASSERT_EQ(back.positions.size(), mesh.positions.size());
     for (std::size_t k = 0; k < mesh.positions.size(); ++k) {
-        ASSERT_EQ(to_bits(back.positions[k]), to_bits(mesh.positions[k])) << "coordinate " << k << ": "
-                                                                          << to_chars_text(mesh.positions[k]);
+        ASSERT_EQ(to_bits(back.positions[k]), to_bits(mesh.positions[k]))
+            << "coordinate " << k << ": " << to_chars_text(mesh.positions[k]);
     }
     EXPECT_EQ(back.uvs, mesh.uvs);
     std::remove(path.c_str());
@@ -114,8 +126,9 @@ TEST(ObjFast, NonFiniteValuesAreWrittenAsToCharsWritesThem) {
 TEST(ObjFast, IndicesOfEveryLength) {
     ObjMesh mesh;
     mesh.positions = {0, 0, 0};
-    for (std::int32_t v : {0, 8, 9, 98, 99, 998, 999, 9998, 9999, 99998, 99999, 999998, 999999, 9999998, 9999999,
-                           99999998, 99999999, 999999998, 999999999, 2147483646}) {
+    for (std::int32_t v :
+         {0,     8,      9,      98,      99,      998,      999,      9998,      9999,      99998,
+          99999, 999998, 999999, 9999998, 9999999, 99999998, 99999999, 999999998, 999999999, 2147483646}) {
         mesh.triangles.insert(mesh.triangles.end(), {v, v, v});
     }
     mesh.triangle_uvs = mesh.triangles;
@@ -127,9 +140,9 @@ TEST(ObjFast, IndicesOfEveryLength) {
     const std::string path = temp_path("indices.obj");
     loopsub::obj::write_obj(path, mesh);
     std::string expected = "v 0 0 0\n";
-    for (const char* n : {"1", "9", "10", "99", "100", "999", "1000", "9999", "10000", "99999", "100000", "999999",
-                          "1000000", "9999999", "10000000", "99999999", "100000000", "999999999", "1000000000",
-                          "2147483647"}) {
+    for (const char* n : {"1",        "9",        "10",        "99",        "100",        "999",       "1000",
+                          "9999",     "10000",    "99999",     "100000",    "999999",     "1000000",   "9999999",
+                          "10000000", "99999999", "100000000", "999999999", "1000000000", "2147483647"}) {
         const std::string corner = std::string(n) + "/" + n;
         expected += "f " + corner + " " + corner + " " + corner + "\n";
     }
@@ -148,9 +161,9 @@ TEST(ObjFast, FastAndGeneralPathsReadNumbersAlike) {
         "1.0000000596046447753906250", "1.00000005960464477539062499999", "16777217", "16777216.5", "33554434",
         // Within half a double's spacing of the midpoint between two floats, on the side the tie does not round to:
         // rounded to double first, they would land on the midpoint, then on the wrong float.
-        "5.000000298023224e-01", "1.024000288452953e-03", "8.000003337860107", "8.000004291534424",
-        "9007199254740993", "123456789012345678901234567890", "0.000000000000000000000000000000001",
-        "1234567.1234567", "4.9999998e-8", "nan", "inf", "-inf", "infinity", "0x1p3", "1..5", "1e5x", "--1", "x"};
+        "5.000000298023224e-01", "1.024000288452953e-03", "8.000003337860107", "8.000004291534424", "9007199254740993",
+        "123456789012345678901234567890", "0.000000000000000000000000000000001", "1234567.1234567", "4.9999998e-8",
+        "nan", "inf", "-inf", "infinity", "0x1p3", "1..5", "1e5x", "--1", "x"};
     for (const std::string& number : numbers) {
         SCOPED_TRACE(number);
         const std::string fast = "v " + number + " 2 " + number + "\n";
@@ -159,17 +172,14 @@ TEST(ObjFast, FastAndGeneralPathsReadNumbersAlike) {
         ObjMesh a, b;
         try {
             a = parse_obj(fast, "n.obj");
-        } catch (const loopsub::InputError& e) {
-            fast_error = e.what();
-        }
+        } catch (const loopsub::InputError& e) { fast_error = e.what(); }
         try {
             b = parse_obj(general, "n.obj");
-        } catch (const loopsub::InputError& e) {
-            general_error = e.what();
-        }
+        } catch (const loopsub::InputError& e) { general_error = e.what(); }
         EXPECT_EQ(fast_error, general_error);
         ASSERT_EQ(a.positions.size(), b.positions.size());
-        for (std::size_t k = 0; k < a.positions.size(); ++k) EXPECT_EQ(to_bits(a.positions[k]), to_bits(b.positions[k]));
+        for (std::size_t k = 0; k < a.positions.size(); ++k)
+            EXPECT_EQ(to_bits(a.positions[k]), to_bits(b.positions[k]));
     }
 }
 
@@ -210,9 +220,7 @@ TEST(ObjFast, PlainNumbersReadAsFromCharsReadsThem) {
         const auto b = std::from_chars(begin, end, reference);
         ASSERT_EQ(a.ec, b.ec);
         ASSERT_EQ(a.ptr, b.ptr);
-        if (a.ec == std::errc()) {
-            ASSERT_EQ(to_bits(fast), to_bits(reference));
-        }
+        if (a.ec == std::errc()) { ASSERT_EQ(to_bits(fast), to_bits(reference)); }
         std::int64_t fast_integer = 0, reference_integer = 0;
         const auto c = loopsub::obj::read_integer(begin, end, fast_integer);
         const auto d = std::from_chars(begin, end, reference_integer);
@@ -249,16 +257,16 @@ TEST(ObjFast, FastAndGeneralPathsReadFacesAlike) {
         EXPECT_EQ(a.notes, b.notes);
     }
     // Lines the fast path leaves to the general path keep their messages.
-    for (const auto& [face, message] : std::vector<std::pair<std::string, std::string>>{
-             {"f 1 2 5", "n.obj:8: vertex index 5 is out of range"},
-             {"f 1 2 0", "start at 1"},
-             {"f 1/1 2 3/3", "some corners"},
-             {"f 1 1 2", "repeats vertex 1"},
-             {"f 1/4 2/1 3/1", "texture index 4 is out of range"},
-             {"f 1 2 3x", "got '3x'"},
-             {"f 1/x 2 3", "got 'x'"},
-             {"f 1 2", "at least 3 corners"},
-             {"f 1 2 99999999999999999999", "vertex index"}}) {
+    for (const auto& [face, message] :
+         std::vector<std::pair<std::string, std::string>>{{"f 1 2 5", "n.obj:8: vertex index 5 is out of range"},
+                                                          {"f 1 2 0", "start at 1"},
+                                                          {"f 1/1 2 3/3", "some corners"},
+                                                          {"f 1 1 2", "repeats vertex 1"},
+                                                          {"f 1/4 2/1 3/1", "texture index 4 is out of range"},
+                                                          {"f 1 2 3x", "got '3x'"},
+                                                          {"f 1/x 2 3", "got 'x'"},
+                                                          {"f 1 2", "at least 3 corners"},
+                                                          {"f 1 2 99999999999999999999", "vertex index"}}) {
         SCOPED_TRACE(face);
         try {
             parse_obj(head + face + "\n", "n.obj");
@@ -273,9 +281,7 @@ TEST(ObjFast, FastAndGeneralPathsReadFacesAlike) {
 std::string read_error(const std::string& path) {
     try {
         loopsub::obj::read_obj(path);
-    } catch (const loopsub::InputError& e) {
-        return e.what();
-    }
+    } catch (const loopsub::InputError& e) { return e.what(); }
     return "";
 }
 
@@ -308,10 +314,10 @@ TEST(ObjFast, FilesAreReadInBlocksAsTheirWholeText) {
     // The same file without its last newline, then with errors: the messages must be parse_obj's.
     const int lines = int(std::count(text.begin(), text.end(), '\n'));
     std::vector<std::string> broken = {text.substr(0, text.size() - 1)};
-    broken.push_back(std::string(text).insert(text.size() / 2, "f 1 2\n"));        // a bad line in the middle
-    broken.push_back(text + "f 1 2 0\n");                                          // on the last line
-    broken.push_back(text + "\nv 1 2");                                            // the last line, unfinished
-    broken.push_back("v 1 2 x\n" + text + std::string(1, '\0'));                   // a NUL byte after a bad line
+    broken.push_back(std::string(text).insert(text.size() / 2, "f 1 2\n"));  // a bad line in the middle
+    broken.push_back(text + "f 1 2 0\n");                                    // on the last line
+    broken.push_back(text + "\nv 1 2");                                      // the last line, unfinished
+    broken.push_back("v 1 2 x\n" + text + std::string(1, '\0'));             // a NUL byte after a bad line
     broken.push_back("v 1 2 x\n" + std::string(text).insert(text.size() / 3, std::string(1, '\0')));
     broken.push_back(std::string(text).replace(2000, 1, std::string(1, '\0')));  // in the first block
     {
@@ -321,20 +327,16 @@ TEST(ObjFast, FilesAreReadInBlocksAsTheirWholeText) {
         both.replace(both.find('\n', 1'500'000) + 1, 0, "v 1 2 x\n");
         broken.push_back(both);
     }
-    broken.push_back(text + "t crease 2/1/0 5 500000 1\n");                        // found after the last line
+    broken.push_back(text + "t crease 2/1/0 5 500000 1\n");  // found after the last line
     for (std::size_t k = 0; k < broken.size(); ++k) {
         SCOPED_TRACE("case " + std::to_string(k));
         write_text(path, broken[k]);
         std::string expected;
         try {
             parse_obj(broken[k], path);
-        } catch (const loopsub::InputError& e) {
-            expected = e.what();
-        }
+        } catch (const loopsub::InputError& e) { expected = e.what(); }
         EXPECT_EQ(read_error(path), expected);
-        if (k > 0) {
-            EXPECT_FALSE(expected.empty());
-        }
+        if (k > 0) { EXPECT_FALSE(expected.empty()); }
     }
     EXPECT_NE(read_error(path).find(":" + std::to_string(lines + 1) + ": "), std::string::npos);
     std::remove(path.c_str());

@@ -26,8 +26,8 @@ namespace {
 
 // The peer's twelve shapes, listed so that a missing or unreadable file fails instead of shrinking the suite.
 const char* const kPeerShapes[] = {
-    "loop_chaikin0.obj",       "loop_cube.obj",           "loop_cube_creases0.obj",   "loop_fvar_bound0.obj",
-    "loop_icos_semisharp.obj", "loop_icosahedron.obj",    "loop_nonman_edges.obj",    "loop_pole8.obj",
+    "loop_chaikin0.obj",          "loop_cube.obj",        "loop_cube_creases0.obj",       "loop_fvar_bound0.obj",
+    "loop_icos_semisharp.obj",    "loop_icosahedron.obj", "loop_nonman_edges.obj",        "loop_pole8.obj",
     "loop_saddle_edgecorner.obj", "loop_tetrahedron.obj", "loop_triangle_edgecorner.obj", "loop_xord_interior.obj",
 };
 
@@ -46,7 +46,8 @@ std::string level_suffix(int level) { return "_L" + std::to_string(level); }
 // Our per-corner UVs (2 per corner of each output triangle) against OpenSubdiv's for the same oriented face, corner by
 // corner; "" when all are within 1e-5.
 std::string compare_face_uvs(const Plan& plan, const MappedReference& mapped, const std::vector<float>& ours,
-                             const std::vector<double>& expected_uvs, const std::vector<std::uint8_t>* skipped_vertices = nullptr) {
+                             const std::vector<double>& expected_uvs,
+                             const std::vector<std::uint8_t>* skipped_vertices = nullptr) {
     std::map<std::array<std::int32_t, 3>, int> osd_face;
     for (std::size_t f = 0; 3 * f < mapped.triangles.size(); ++f) {
         const std::int32_t* t = &mapped.triangles[3 * f];
@@ -70,8 +71,8 @@ std::string compare_face_uvs(const Plan& plan, const MappedReference& mapped, co
                 const double got = ours[6 * f + 2 * our_corner + c];
                 const double expected = expected_uvs[6 * g + 2 * their_corner + c];
                 if (!(std::abs(got - expected) <= 1e-5) && bad++ < 5)
-                    report << "  triangle " << f << " corner " << our_corner << " (vertex " << t[our_corner] << ") channel " << c
-                           << ": expected " << expected << ", got " << got << "\n";
+                    report << "  triangle " << f << " corner " << our_corner << " (vertex " << t[our_corner]
+                           << ") channel " << c << ": expected " << expected << ", got " << got << "\n";
             }
         }
     }
@@ -139,8 +140,8 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
         for (const auto& [edge, sharpness] : theirs) {
             const auto found = ours.find(edge);
             if ((found == ours.end() || std::abs(found->second - sharpness) > 1e-5f) && differing++ < 5)
-                ADD_FAILURE() << "sharp edge " << edge.first << "-" << edge.second << ": OpenSubdiv " << sharpness << ", ours "
-                              << (found == ours.end() ? 0.0f : found->second);
+                ADD_FAILURE() << "sharp edge " << edge.first << "-" << edge.second << ": OpenSubdiv " << sharpness
+                              << ", ours " << (found == ours.end() ? 0.0f : found->second);
         }
     }
 
@@ -162,7 +163,8 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
         for (int v = 0; v < limit_plan.num_output_vertices(); ++v) {
             if (semi_sharp[v]) continue;
             double distance = 0.0;
-            for (int k = 0; k < 3; ++k) distance = std::max(distance, std::abs(limit[3 * v + k] - mapped.limit_positions[3 * v + k]));
+            for (int k = 0; k < 3; ++k)
+                distance = std::max(distance, std::abs(limit[3 * v + k] - mapped.limit_positions[3 * v + k]));
             if (!(distance <= tolerance) && bad_positions++ < 5)
                 limit_report << "  limit position of vertex " << v << " off by " << distance << "\n";
         }
@@ -172,7 +174,8 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
             if (!mapped.limit_smooth[v] || semi_sharp[v]) continue;
             ++smooth_corners;
             double distance = 0.0;
-            for (int k = 0; k < 3; ++k) distance = std::max(distance, std::abs(normals[3 * c + k] - mapped.limit_normals[3 * v + k]));
+            for (int k = 0; k < 3; ++k)
+                distance = std::max(distance, std::abs(normals[3 * c + k] - mapped.limit_normals[3 * v + k]));
             if (!(distance <= 1e-5) && bad_normals++ < 5)
                 limit_report << "  normal at corner " << c << " (vertex " << v << ") off by " << distance << "\n";
         }
@@ -189,7 +192,8 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     std::vector<float> out_uvs(6 * std::size_t(plan.num_output_triangles()));
     plan.evaluate_face_varying(corner_uvs.data(), out_uvs.data(), 2);
     const std::string linear_report = compare_face_uvs(plan, mapped, out_uvs, mapped.face_uvs);
-    EXPECT_TRUE(linear_report.empty()) << "per-corner face-varying values differ from OpenSubdiv's FVAR_LINEAR_ALL:\n" << linear_report;
+    EXPECT_TRUE(linear_report.empty()) << "per-corner face-varying values differ from OpenSubdiv's FVAR_LINEAR_ALL:\n"
+                                       << linear_report;
 
     // A face-varying layer in every interpolation mode, refined and at the limit.
     const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
@@ -198,7 +202,8 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
     with_layer.num_face_varying = 1;
     for (int m = 0; m <= int(FaceVaryingInterpolation::All); ++m) {
         const auto mode = FaceVaryingInterpolation(m);
-        OsdReference mode_reference(mesh.view(), mesh.positions.data(), {mesh.boundary, mesh.crease_method, levels, mode}, uvs);
+        OsdReference mode_reference(mesh.view(), mesh.positions.data(),
+                                    {mesh.boundary, mesh.crease_method, levels, mode}, uvs);
         for (bool limit : {false, true}) {
             Options layer_options = options;
             layer_options.face_varying = mode;
@@ -207,10 +212,14 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
             const MappedReference mode_mapped = mode_reference.map(layer_plan);
             ASSERT_TRUE(mode_mapped.errors.empty()) << mode_mapped.errors.front();
             const std::vector<float> per_corner = layer_per_corner(layer_plan, mesh.uvs);
-            // LimitFaceVarying stops short at semi-sharp vertices as Limit does; the values there go where the vertex goes.
-            const std::string report = limit ? compare_face_uvs(layer_plan, mode_mapped, per_corner, mode_mapped.face_uvs_limit, &semi_sharp)
-                                             : compare_face_uvs(layer_plan, mode_mapped, per_corner, mode_mapped.face_uvs);
-            EXPECT_TRUE(report.empty()) << "face-varying mode " << m << (limit ? " at the limit" : "") << " differs from OpenSubdiv:\n" << report;
+            // LimitFaceVarying stops short at semi-sharp vertices as Limit does; the values there go where the vertex
+            // goes.
+            const std::string report =
+                limit ? compare_face_uvs(layer_plan, mode_mapped, per_corner, mode_mapped.face_uvs_limit, &semi_sharp)
+                      : compare_face_uvs(layer_plan, mode_mapped, per_corner, mode_mapped.face_uvs);
+            EXPECT_TRUE(report.empty()) << "face-varying mode " << m << (limit ? " at the limit" : "")
+                                        << " differs from OpenSubdiv:\n"
+                                        << report;
         }
     }
 }
@@ -220,9 +229,7 @@ void expect_case_matches_opensubdiv(const ExactCase& exact_case) {
     TestMesh mesh;
     try {
         mesh = exact_case.make();
-    } catch (const PeerShapesMissing& missing) {
-        GTEST_SKIP() << missing.what();
-    }
+    } catch (const PeerShapesMissing& missing) { GTEST_SKIP() << missing.what(); }
     expect_matches_opensubdiv(mesh, exact_case.level);
 }
 
@@ -256,11 +263,14 @@ std::vector<ExactCase> generated_cases() {
         return m;
     });
     for (int splits : {1, 2, 3, 4}) {
-        add(cases, "icosphere" + std::to_string(20 << (2 * splits)), [splits] {
-            TestMesh m = icosphere(splits);
-            jitter(m, 2 + splits, 0.01f);
-            return m;
-        }, splits == 4 ? 2 : 3);
+        add(
+            cases, "icosphere" + std::to_string(20 << (2 * splits)),
+            [splits] {
+                TestMesh m = icosphere(splits);
+                jitter(m, 2 + splits, 0.01f);
+                return m;
+            },
+            splits == 4 ? 2 : 3);
     }
     // Valences 3 to 64 at the two apexes of a bipyramid (and 4 on its ring).
     for (int n : {3, 4, 5, 6, 7, 8, 9, 12, 16, 24, 32, 48, 64}) {
@@ -390,14 +400,16 @@ std::vector<ExactCase> generated_cases() {
     // Harder tag sets. Level 4 lets sharpness up to 3.7 decay all the way (and Chaikin average it along the way).
     for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
         const std::string method_name = method == CreaseMethod::Chaikin ? "chaikin" : "uniform";
-        cases.push_back({"icosphere80_semisharp_" + method_name + "_L4", [method] {
+        cases.push_back({"icosphere80_semisharp_" + method_name + "_L4",
+                         [method] {
                              TestMesh m = icosphere(1);
                              jitter(m, 71, 0.01f);
                              add_random_creases(m, 71, 0.3, true);
                              add_random_corners(m, 72, 5, true);
                              m.crease_method = method;
                              return m;
-                         }, 4});
+                         },
+                         4});
         // Every edge tagged: vertices where many semi-sharp edges meet, and no smooth edge at all.
         add(cases, "icosphere80_every_edge_semisharp_" + method_name, [method] {
             TestMesh m = icosphere(1);
@@ -421,8 +433,9 @@ std::vector<ExactCase> generated_cases() {
         });
         // The peer's non-manifold shape with random semi-sharp creases, in both boundary modes.
         for (Boundary boundary : {Boundary::EdgesOnly, Boundary::EdgesAndCorners}) {
-            add(cases, "loop_nonman_edges_semisharp_" + method_name +
-                           (boundary == Boundary::EdgesOnly ? "_edges" : "_edges_and_corners"),
+            add(cases,
+                "loop_nonman_edges_semisharp_" + method_name +
+                    (boundary == Boundary::EdgesOnly ? "_edges" : "_edges_and_corners"),
                 [method, boundary] {
                     TestMesh m = peer_shape("loop_nonman_edges.obj", true);
                     add_random_creases(m, 75, 0.2, true);
@@ -438,13 +451,16 @@ std::vector<ExactCase> generated_cases() {
     // on the two faces' children share pairs of midpoints by two edges each, which the vertex mapping of this
     // harness (edges named by their ends) cannot tell apart.
     for (bool reversed : {false, true}) {
-        add(cases, std::string("icosphere80_duplicate_triangle") + (reversed ? "_reversed" : "_same_way"), [reversed] {
-            TestMesh m = icosphere(1);
-            jitter(m, 78, 0.01f);
-            const std::int32_t a = m.triangles[0], b = m.triangles[1], c = m.triangles[2];
-            m.triangles.insert(m.triangles.end(), {a, reversed ? c : b, reversed ? b : c});
-            return m;
-        }, 1);
+        add(
+            cases, std::string("icosphere80_duplicate_triangle") + (reversed ? "_reversed" : "_same_way"),
+            [reversed] {
+                TestMesh m = icosphere(1);
+                jitter(m, 78, 0.01f);
+                const std::int32_t a = m.triangles[0], b = m.triangles[1], c = m.triangles[2];
+                m.triangles.insert(m.triangles.end(), {a, reversed ? c : b, reversed ? b : c});
+                return m;
+            },
+            1);
     }
     // Crease pairs given end-first (b, a): the tags name an edge, not a direction.
     add(cases, "icosphere320_reversed_crease_pairs", [] {
@@ -460,9 +476,9 @@ std::vector<ExactCase> generated_cases() {
         TestMesh m = with_boundary(grid(6, 5), Boundary::EdgesAndCorners);
         jitter(m, 78, 0.01f);
         for (int i = 0; i < 6; ++i) m.add_crease(grid_vertex(6, i, 2), grid_vertex(6, i + 1, 2), 1.7f);
-        m.add_corner(grid_vertex(6, 3, 0), 2.2f);    // on the boundary
-        m.add_corner(grid_vertex(6, 2, 2), 0.4f);    // on the crease
-        m.add_corner(grid_vertex(6, 6, 0), 1.0f);    // a boundary corner that the mode already makes sharp
+        m.add_corner(grid_vertex(6, 3, 0), 2.2f);  // on the boundary
+        m.add_corner(grid_vertex(6, 2, 2), 0.4f);  // on the crease
+        m.add_corner(grid_vertex(6, 6, 0), 1.0f);  // a boundary corner that the mode already makes sharp
         return m;
     });
     // UVs with a seam on meshes whose shape also exercises creases and boundaries.
@@ -477,26 +493,30 @@ std::vector<ExactCase> generated_cases() {
     // halves decay differently), and random semi-sharp edges elsewhere, some reaching the seam: the seam values held,
     // then released, level by level as the creases decay.
     for (CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
-        add(cases, std::string("icosphere320_semisharp_seam_") + (method == CreaseMethod::Chaikin ? "chaikin" : "uniform"), [method] {
-            TestMesh m = icosphere(2);
-            jitter(m, 64, 0.01f);
-            add_uvs_with_seam(m);
-            std::map<std::array<std::int32_t, 2>, std::set<std::array<std::int32_t, 2>>> values_at_edge;
-            for (std::size_t c = 0; c < m.triangles.size(); ++c) {
-                const std::size_t next = c % 3 == 2 ? c - 2 : c + 1;
-                const bool forward = m.triangles[c] < m.triangles[next];
-                const std::array<std::int32_t, 2> edge{m.triangles[forward ? c : next], m.triangles[forward ? next : c]};
-                values_at_edge[edge].insert({m.triangle_uvs[forward ? c : next], m.triangle_uvs[forward ? next : c]});
-            }
-            std::mt19937 rng(65);
-            std::bernoulli_distribution take(0.3);
-            const float kSharpness[] = {0.5f, 1.25f, 2.0f, 2.75f, 0.8f, 3.3f};
-            int k = 0;
-            for (const auto& [edge, values] : values_at_edge)
-                if (values.size() > 1 || take(rng)) m.add_crease(edge[0], edge[1], kSharpness[k++ % 6]);
-            m.crease_method = method;
-            return m;
-        });
+        add(cases,
+            std::string("icosphere320_semisharp_seam_") + (method == CreaseMethod::Chaikin ? "chaikin" : "uniform"),
+            [method] {
+                TestMesh m = icosphere(2);
+                jitter(m, 64, 0.01f);
+                add_uvs_with_seam(m);
+                std::map<std::array<std::int32_t, 2>, std::set<std::array<std::int32_t, 2>>> values_at_edge;
+                for (std::size_t c = 0; c < m.triangles.size(); ++c) {
+                    const std::size_t next = c % 3 == 2 ? c - 2 : c + 1;
+                    const bool forward = m.triangles[c] < m.triangles[next];
+                    const std::array<std::int32_t, 2> edge{m.triangles[forward ? c : next],
+                                                           m.triangles[forward ? next : c]};
+                    values_at_edge[edge].insert(
+                        {m.triangle_uvs[forward ? c : next], m.triangle_uvs[forward ? next : c]});
+                }
+                std::mt19937 rng(65);
+                std::bernoulli_distribution take(0.3);
+                const float kSharpness[] = {0.5f, 1.25f, 2.0f, 2.75f, 0.8f, 3.3f};
+                int k = 0;
+                for (const auto& [edge, values] : values_at_edge)
+                    if (values.size() > 1 || take(rng)) m.add_crease(edge[0], edge[1], kSharpness[k++ % 6]);
+                m.crease_method = method;
+                return m;
+            });
     }
     add(cases, "grid6x5_uv_seam_edges_and_corners", [] {
         TestMesh m = with_boundary(grid(6, 5), Boundary::EdgesAndCorners);
@@ -573,7 +593,8 @@ TEST(HoppeFaceVarying, EqualsOpenSubdivOnSmoothClosedMeshes) {
         options.levels = 2;
         options.face_varying = FaceVaryingInterpolation(m);
         Plan plan(view, options);
-        OsdReference reference(mesh.view(), mesh.positions.data(), {Boundary::EdgesOnly, CreaseMethod::Uniform, 2, options.face_varying}, uvs);
+        OsdReference reference(mesh.view(), mesh.positions.data(),
+                               {Boundary::EdgesOnly, CreaseMethod::Uniform, 2, options.face_varying}, uvs);
         const MappedReference mapped = reference.map(plan);
         ASSERT_TRUE(mapped.errors.empty()) << mapped.errors.front();
         const std::string report = compare_face_uvs(plan, mapped, layer_per_corner(plan, mesh.uvs), mapped.face_uvs);
@@ -620,11 +641,12 @@ TEST(FaceVaryingWithoutSeams, RefinesAsThePositions) {
                         double worst = 0;
                         for (std::size_t c = 0; c < 3 * std::size_t(plan.num_output_triangles()); ++c)
                             for (int k = 0; k < 2; ++k)
-                                worst = std::max(worst, double(std::abs(values[2 * std::size_t(value_of[c]) + k] -
-                                                                        uv_of(&positions[3 * std::size_t(triangles[c])], k))));
-                        EXPECT_LT(worst, 2e-5) << (semi_sharp ? "semi-sharp" : "sharp") << " creases, rules "
-                                               << int(rules) << ", mode " << m << ", levels " << levels
-                                               << (limit ? ", limit" : "");
+                                worst = std::max(worst,
+                                                 double(std::abs(values[2 * std::size_t(value_of[c]) + k] -
+                                                                 uv_of(&positions[3 * std::size_t(triangles[c])], k))));
+                        EXPECT_LT(worst, 2e-5)
+                            << (semi_sharp ? "semi-sharp" : "sharp") << " creases, rules " << int(rules) << ", mode "
+                            << m << ", levels " << levels << (limit ? ", limit" : "");
                     }
     }
 }

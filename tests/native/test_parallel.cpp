@@ -48,21 +48,25 @@ TEST(RunLevels, RunsEveryPartOfEveryLevelOnce) {
 }
 
 // Cut into pieces taken in turn, every piece of every level runs exactly once, with the piece count (pieces per
-// thread times threads; one thread runs each level whole), and each level sees every piece's writes of the level before.
+// thread times threads; one thread runs each level whole), and each level sees every piece's writes of the level
+// before.
 TEST(RunLevels, RunsEveryPieceOfEveryLevelOnceInLevelOrder) {
     for (int threads : {1, 2, 3}) {
         const int levels = 20, per_thread = 4, pieces = threads > 1 ? per_thread * threads : 1;
         std::vector<int> runs(std::size_t(levels * pieces), 0), seen(runs.size(), 0);
         std::vector<std::int64_t> values(std::size_t(levels * pieces), 0);
-        run_levels(threads, levels, [&](int level, int piece, int count) {
-            const std::size_t at = std::size_t(level * count + piece);
-            ++runs[at];
-            seen[at] = count;
-            std::int64_t below = 1;  // the sum of the level before, every piece of it
-            if (level > 0)
-                for (int k = 0; k < count; ++k) below += values[std::size_t((level - 1) * count + k)];
-            values[at] = below % 1000003;
-        }, per_thread);
+        run_levels(
+            threads, levels,
+            [&](int level, int piece, int count) {
+                const std::size_t at = std::size_t(level * count + piece);
+                ++runs[at];
+                seen[at] = count;
+                std::int64_t below = 1;  // the sum of the level before, every piece of it
+                if (level > 0)
+                    for (int k = 0; k < count; ++k) below += values[std::size_t((level - 1) * count + k)];
+                values[at] = below % 1000003;
+            },
+            per_thread);
         EXPECT_EQ(runs, std::vector<int>(runs.size(), 1)) << threads << " threads";
         EXPECT_EQ(seen, std::vector<int>(seen.size(), pieces)) << threads << " threads";
         std::int64_t expected = 1;
@@ -75,25 +79,32 @@ TEST(RunLevels, RunsEveryPieceOfEveryLevelOnceInLevelOrder) {
 TEST(Team, AThreadHeldUpLeavesTheRemainingPiecesToTheOthers) {
     const TeamScope scope(2);
     std::vector<std::thread::id> ran_on(8);
-    run_levels(2, 1, [&](int, int piece, int) {
-        if (piece == 0) std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        ran_on[std::size_t(piece)] = std::this_thread::get_id();
-    }, 4);
+    run_levels(
+        2, 1,
+        [&](int, int piece, int) {
+            if (piece == 0) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+            ran_on[std::size_t(piece)] = std::this_thread::get_id();
+        },
+        4);
     for (int piece = 1; piece < 8; ++piece) EXPECT_NE(ran_on[std::size_t(piece)], ran_on[0]) << "piece " << piece;
 }
 
 // A throwing piece reaches the caller after every other piece has ended; the team serves the next run as before.
 TEST(Team, AThrowingPieceReachesTheCallerAfterTheOthersEnd) {
     std::atomic<int> ended{0};
-    EXPECT_THROW(run_levels(2, 1, [&](int, int piece, int) {
-                     if (piece == 3) throw std::bad_alloc();
-                     std::this_thread::sleep_for(std::chrono::milliseconds(2));
-                     ++ended;
-                 }, 4),
+    EXPECT_THROW(run_levels(
+                     2, 1,
+                     [&](int, int piece, int) {
+                         if (piece == 3) throw std::bad_alloc();
+                         std::this_thread::sleep_for(std::chrono::milliseconds(2));
+                         ++ended;
+                     },
+                     4),
                  std::bad_alloc);
     EXPECT_EQ(ended.load(), 7);
     std::vector<int> runs(8, 0);
-    run_levels(2, 1, [&](int, int piece, int) { ++runs[std::size_t(piece)]; }, 4);
+    run_levels(
+        2, 1, [&](int, int piece, int) { ++runs[std::size_t(piece)]; }, 4);
     EXPECT_EQ(runs, std::vector<int>(8, 1));
 }
 
@@ -139,7 +150,8 @@ TEST(Team, ConcurrentCallersEachRunEveryPart) {
     const int levels = 5, calls = 200;
     auto caller = [&](std::vector<int>& runs) {
         for (int call = 0; call < calls; ++call)
-            run_levels(2, levels, [&](int level, int part, int) { ++runs[std::size_t((call * levels + level) * 2 + part)]; });
+            run_levels(2, levels,
+                       [&](int level, int part, int) { ++runs[std::size_t((call * levels + level) * 2 + part)]; });
     };
     std::vector<int> first(std::size_t(calls * levels * 2), 0), second(first.size(), 0);
     std::thread other(caller, std::ref(second));
@@ -154,13 +166,15 @@ TEST(Team, ConcurrentCallersEachRunEveryPart) {
 TEST(Team, AThrowingPartReachesTheCallerAfterTheOthersEnd) {
     for (int thrower : {0, 1}) {
         std::atomic<int> ended{0};
-        EXPECT_THROW(run_levels(2, 3, [&](int level, int part, int) {
-                         if (level == 1 && part == thrower) throw std::bad_alloc();
-                         std::this_thread::sleep_for(std::chrono::milliseconds(part == thrower ? 0 : 5));
-                         ++ended;
-                     }),
+        EXPECT_THROW(run_levels(2, 3,
+                                [&](int level, int part, int) {
+                                    if (level == 1 && part == thrower) throw std::bad_alloc();
+                                    std::this_thread::sleep_for(std::chrono::milliseconds(part == thrower ? 0 : 5));
+                                    ++ended;
+                                }),
                      std::bad_alloc);
-        EXPECT_EQ(ended.load(), 3) << "thrower " << thrower << ": level 0's two parts and level 1's other part, not level 2";
+        EXPECT_EQ(ended.load(), 3) << "thrower " << thrower
+                                   << ": level 0's two parts and level 1's other part, not level 2";
         std::vector<int> runs(2, 0);
         run_levels(2, 1, [&](int, int part, int) { ++runs[std::size_t(part)]; });
         EXPECT_EQ(runs, std::vector<int>(2, 1));
@@ -195,10 +209,11 @@ TEST(Team, RunLevelsInsideAStepRunsEveryPart) {
     std::vector<int> outer(threads, 0), inner(threads, 0);
     run_levels(threads, 1, [&](int, int part, int parts) {
         ++outer[part];
-        if (part == 0) run_levels(threads, 1, [&](int, int inner_part, int inner_parts) {
-            EXPECT_EQ(inner_parts, parts);
-            ++inner[std::size_t(inner_part)];
-        });
+        if (part == 0)
+            run_levels(threads, 1, [&](int, int inner_part, int inner_parts) {
+                EXPECT_EQ(inner_parts, parts);
+                ++inner[std::size_t(inner_part)];
+            });
     });
     EXPECT_EQ(outer, std::vector<int>(threads, 1));
     EXPECT_EQ(inner, std::vector<int>(threads, 1));
@@ -212,7 +227,8 @@ TEST(Team, EachStepSeesThePreviousStepsWrites) {
     std::int64_t expected = 1;
     for (int step = 0; step < steps; ++step) {
         std::vector<std::int64_t> next(threads);
-        run_levels(threads, 1, [&](int, int part, int parts) { next[part] = values[part] + values[(part + 1) % parts]; });
+        run_levels(threads, 1,
+                   [&](int, int part, int parts) { next[part] = values[part] + values[(part + 1) % parts]; });
         values.swap(next);
         expected *= 2;
         expected %= 1000003;
@@ -227,7 +243,8 @@ TEST(Team, EachStepSeesThePreviousStepsWrites) {
 TEST(RunLevels, EachLevelSeesThePreviousLevelsWrites) {
     for (int threads : {2, 3, 8}) {
         const int levels = 40;
-        std::vector<std::int64_t> buffers[2] = {std::vector<std::int64_t>(threads, 1), std::vector<std::int64_t>(threads, 1)};
+        std::vector<std::int64_t> buffers[2] = {std::vector<std::int64_t>(threads, 1),
+                                                std::vector<std::int64_t>(threads, 1)};
         for (int round = 0; round < 50; ++round) {
             buffers[0].assign(threads, 1);
             buffers[1].assign(threads, 1);
@@ -237,7 +254,8 @@ TEST(RunLevels, EachLevelSeesThePreviousLevelsWrites) {
             });
             std::vector<std::int64_t> expected(threads, 1), next(threads);
             for (int level = 0; level < levels; ++level) {
-                for (int part = 0; part < threads; ++part) next[part] = expected[part] + expected[(part + 1) % threads] + level;
+                for (int part = 0; part < threads; ++part)
+                    next[part] = expected[part] + expected[(part + 1) % threads] + level;
                 expected.swap(next);
             }
             ASSERT_EQ(buffers[(levels - 1) % 2], expected) << threads << " threads, round " << round;
@@ -252,7 +270,8 @@ TEST(LargeAllocator, ArraysStartAtDifferentOffsetsInPooledBlocks) {
     using Allocator = loopsub::detail::LargeAllocator<std::int32_t>;
     const std::size_t count = (std::size_t(3) << 20) / sizeof(std::int32_t);  // 3 MiB: two huge pages' block
     const std::uintptr_t block_mask = ~std::uintptr_t(Allocator::kHugePage - 1);
-    loopsub::detail::BlockPool::instance().release_all(Allocator::free_large);  // no block of this size from earlier tests
+    loopsub::detail::BlockPool::instance().release_all(
+        Allocator::free_large);  // no block of this size from earlier tests
     std::uintptr_t block = 0, offset = 0;
     for (int round = 0; round < 200; ++round) {
         LargeVector<std::int32_t> array(count, round);
@@ -315,14 +334,16 @@ TEST(FaceVaryingThreads, AnyThreadCountEqualsOneBitForBit) {
         const int n = mesh->num_vertices();
         std::vector<std::int32_t> islands(mesh->triangles.size());
         std::vector<float> island_values(2 * std::size_t(n));
-        for (int v = 0; v < n; ++v) island_values[2 * v] = mesh->positions[3 * v + 2], island_values[2 * v + 1] = float(v % 7);
+        for (int v = 0; v < n; ++v)
+            island_values[2 * v] = mesh->positions[3 * v + 2], island_values[2 * v + 1] = float(v % 7);
         for (std::size_t c = 0; c < islands.size(); ++c) {
             const bool own = mesh->positions[3 * mesh->triangles[c - c % 3] + 2] > 0.0f;
             islands[c] = own ? std::int32_t(island_values.size() / 2) : mesh->triangles[c];
             if (own) island_values.insert(island_values.end(), {0.1f * float(c % 5), float(c % 3)});
         }
         std::vector<float> vertex_values(2 * std::size_t(n));
-        for (int v = 0; v < n; ++v) vertex_values[2 * v] = mesh->positions[3 * v], vertex_values[2 * v + 1] = mesh->positions[3 * v + 1];
+        for (int v = 0; v < n; ++v)
+            vertex_values[2 * v] = mesh->positions[3 * v], vertex_values[2 * v + 1] = mesh->positions[3 * v + 1];
         const FaceVaryingLayer layers[3] = {{mesh->triangle_uvs.data(), int(mesh->uvs.size() / 2)},
                                             {mesh->triangles.data(), n},
                                             {islands.data(), int(island_values.size() / 2)}};
@@ -340,24 +361,31 @@ TEST(FaceVaryingThreads, AnyThreadCountEqualsOneBitForBit) {
                 std::vector<std::vector<std::int32_t>> indices_one;
                 std::vector<std::vector<float>> values_one;
                 for (int threads : {1, 2, 3, 8}) {
-                    SCOPED_TRACE(mesh->name + ", mode " + std::to_string(m) + (limit ? ", limit" : "") + ", threads " + std::to_string(threads));
+                    SCOPED_TRACE(mesh->name + ", mode " + std::to_string(m) + (limit ? ", limit" : "") + ", threads " +
+                                 std::to_string(threads));
                     options.threads = threads;
                     Plan plan(view, options);
                     ASSERT_EQ(plan.num_face_varying_layers(), 3);
                     for (int layer = 0; layer < 3; ++layer) {
                         const std::int32_t* corners = plan.output_face_varying_indices(layer);
-                        std::vector<std::int32_t> indices(corners, corners + 3 * std::size_t(plan.num_output_triangles()));
+                        std::vector<std::int32_t> indices(corners,
+                                                          corners + 3 * std::size_t(plan.num_output_triangles()));
                         std::vector<float> out(2 * std::size_t(plan.num_output_face_varying_values(layer)));
-                        plan.evaluate_face_varying(layer, interleaved(values[layer]->data(), 2), interleaved(out.data(), 2));
+                        plan.evaluate_face_varying(layer, interleaved(values[layer]->data(), 2),
+                                                   interleaved(out.data(), 2));
                         if (threads == 1) {
                             indices_one.push_back(std::move(indices));
                             values_one.push_back(std::move(out));
                             continue;
                         }
                         EXPECT_EQ(indices, indices_one[std::size_t(layer)]) << "layer " << layer;
-                        // Bit for bit: the same float, not merely close (memcmp, so that equal NaNs would count as equal).
+                        // Bit for bit: the same float, not merely close (memcmp, so that equal NaNs would count as
+                        // equal).
                         ASSERT_EQ(out.size(), values_one[std::size_t(layer)].size()) << "layer " << layer;
-                        EXPECT_EQ(std::memcmp(out.data(), values_one[std::size_t(layer)].data(), out.size() * sizeof(float)), 0) << "layer " << layer;
+                        EXPECT_EQ(
+                            std::memcmp(out.data(), values_one[std::size_t(layer)].data(), out.size() * sizeof(float)),
+                            0)
+                            << "layer " << layer;
                     }
                 }
             }

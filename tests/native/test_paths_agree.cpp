@@ -133,13 +133,15 @@ void expect_same_results_bit_for_bit(Plan& a, Plan& b, const TestMesh& mesh, con
     b.evaluate(interleaved(channels.data(), 5), interleaved(out_b.data(), 5));
     EXPECT_TRUE(bitwise_equal(out_a, out_b)) << "5 channels";
     ASSERT_EQ(a.num_output_triangles(), b.num_output_triangles());
-    EXPECT_TRUE(std::equal(a.output_triangles(), a.output_triangles() + 3 * a.num_output_triangles(), b.output_triangles()));
+    EXPECT_TRUE(
+        std::equal(a.output_triangles(), a.output_triangles() + 3 * a.num_output_triangles(), b.output_triangles()));
 }
 
 // What the plans report besides the output: each level's edges and vertex classes, the output's tags.
 void expect_same_levels_and_tags(const Plan& a, const Plan& b) {
     for (int level = 0; level < a.levels(); ++level) EXPECT_EQ(a.level_edges(level), b.level_edges(level));
-    for (int level = 0; level <= a.levels(); ++level) EXPECT_EQ(a.level_vertex_types(level), b.level_vertex_types(level)) << "level " << level;
+    for (int level = 0; level <= a.levels(); ++level)
+        EXPECT_EQ(a.level_vertex_types(level), b.level_vertex_types(level)) << "level " << level;
     EXPECT_EQ(a.output_sharp_edges(), b.output_sharp_edges());
     EXPECT_EQ(a.output_crease_edges(), b.output_crease_edges());
     EXPECT_EQ(a.output_corner_vertices(), b.output_corner_vertices());
@@ -161,9 +163,7 @@ TEST_P(PathsAgree, SimdKernelsMatchScalar) {
             continue;
         }
         Plan plan(mesh.view(), options_for(GetParam(), mesh, kernel, 1));
-        if (kernel != Kernel::Auto) {
-            EXPECT_EQ(plan.kernel(), kernel) << "the plan did not use the kernel asked for";
-        }
+        if (kernel != Kernel::Auto) { EXPECT_EQ(plan.kernel(), kernel) << "the plan did not use the kernel asked for"; }
         const std::vector<float> got = evaluate_positions(plan, mesh);
         ASSERT_EQ(got.size(), expected.size());
         EXPECT_LE(max_relative_difference(expected, got), 1e-6);
@@ -263,7 +263,8 @@ TEST_P(PathsAgree, ChannelsInAnyLayoutEqualOneChannelAtATime) {
         std::vector<float> padded_in(8 * n_in, kPad), padded_out(8 * n_out, kPad);
         for (std::size_t v = 0; v < n_in; ++v)
             for (int c = 0; c < 5; ++c) padded_in[8 * v + c] = channels[5 * v + c];
-        plan.evaluate(ChannelsView<const float>{padded_in.data(), 5, 1, 8}, ChannelsView<float>{padded_out.data(), 5, 1, 8});
+        plan.evaluate(ChannelsView<const float>{padded_in.data(), 5, 1, 8},
+                      ChannelsView<float>{padded_out.data(), 5, 1, 8});
 
         for (int c = 0; c < 5; ++c) {
             SCOPED_TRACE("channel " + std::to_string(c));

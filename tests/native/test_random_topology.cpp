@@ -26,7 +26,8 @@ MeshData random_soup(std::mt19937& rng) {
     std::bernoulli_distribution allow_degenerate(0.05);
     for (int f = 0; f < triangles; ++f) {
         int a = vertex(rng), b = vertex(rng), c = vertex(rng);
-        while (!allow_degenerate(rng) && (a == b || b == c || a == c)) a = vertex(rng), b = vertex(rng), c = vertex(rng);
+        while (!allow_degenerate(rng) && (a == b || b == c || a == c))
+            a = vertex(rng), b = vertex(rng), c = vertex(rng);
         mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
     }
     std::uniform_real_distribution<float> sharpness(0.0f, 12.0f);
@@ -35,8 +36,8 @@ MeshData random_soup(std::mt19937& rng) {
         // Mostly edges of the mesh, sometimes a pair that is not one (which must be refused, not ignored).
         const int f = std::uniform_int_distribution<int>(0, triangles - 1)(rng), corner = f % 3;
         const bool real_edge = std::bernoulli_distribution(0.9)(rng);
-        mesh.add_crease(mesh.triangles[3 * f + corner], real_edge ? mesh.triangles[3 * f + (corner + 1) % 3] : vertex(rng),
-                        sharpness(rng));
+        mesh.add_crease(mesh.triangles[3 * f + corner],
+                        real_edge ? mesh.triangles[3 * f + (corner + 1) % 3] : vertex(rng), sharpness(rng));
     }
     const int corners = std::uniform_int_distribution<int>(0, 3)(rng);
     for (int k = 0; k < corners; ++k) mesh.add_corner(vertex(rng), sharpness(rng));
@@ -72,7 +73,9 @@ TEST(RandomTopology, RefinesOrRefusesCleanly) {
             // Every output point is an affine combination of input points: finite and inside their bounding box.
             float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
             for (int v = 0; v < mesh.num_vertices(); ++v)
-                for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], mesh.positions[3 * v + c]), hi[c] = std::max(hi[c], mesh.positions[3 * v + c]);
+                for (int c = 0; c < 3; ++c)
+                    lo[c] = std::min(lo[c], mesh.positions[3 * v + c]),
+                    hi[c] = std::max(hi[c], mesh.positions[3 * v + c]);
             for (std::size_t i = 0; i < out.size(); ++i) {
                 ASSERT_TRUE(std::isfinite(out[i]));
                 // Loop's masks have negative-free weights except OpenSubdiv's Chaikin blend (weights can exceed 1):

@@ -38,7 +38,9 @@ Vec3 rim_point(int i, double angle) {
     return {radius * std::cos(angle), radius * std::sin(angle), 0.05 * ((i * 3) % 5) - 0.1};
 }
 
-void add_point(TestMesh& mesh, Vec3 p) { mesh.positions.insert(mesh.positions.end(), {float(p.x), float(p.y), float(p.z)}); }
+void add_point(TestMesh& mesh, Vec3 p) {
+    mesh.positions.insert(mesh.positions.end(), {float(p.x), float(p.y), float(p.z)});
+}
 
 TestMesh closed_fan(int n) {
     TestMesh mesh;
@@ -61,7 +63,8 @@ TestMesh half_fan(int k) {
 TestMesh grid() {
     TestMesh mesh;
     for (int row = 0; row < 3; ++row) {
-        for (int column = 0; column < 4; ++column) add_point(mesh, {double(column), double(row), 0.1 * ((column * 7 + row * 3) % 5)});
+        for (int column = 0; column < 4; ++column)
+            add_point(mesh, {double(column), double(row), 0.1 * ((column * 7 + row * 3) % 5)});
     }
     for (int row = 0; row < 2; ++row) {
         for (int column = 0; column < 3; ++column) {
@@ -131,18 +134,18 @@ Refined refine(const TestMesh& mesh, int levels = 1, float crease_threshold = 0.
     return refined;
 }
 
-#define EXPECT_POINT_NEAR(actual, expected)                                    \
-    do {                                                                       \
-        const Vec3 actual_ = (actual), expected_ = (expected);                 \
-        EXPECT_NEAR(actual_.x, expected_.x, kTolerance) << "x of " #actual;   \
-        EXPECT_NEAR(actual_.y, expected_.y, kTolerance) << "y of " #actual;   \
-        EXPECT_NEAR(actual_.z, expected_.z, kTolerance) << "z of " #actual;   \
+#define EXPECT_POINT_NEAR(actual, expected)                                 \
+    do {                                                                    \
+        const Vec3 actual_ = (actual), expected_ = (expected);              \
+        EXPECT_NEAR(actual_.x, expected_.x, kTolerance) << "x of " #actual; \
+        EXPECT_NEAR(actual_.y, expected_.y, kTolerance) << "y of " #actual; \
+        EXPECT_NEAR(actual_.z, expected_.z, kTolerance) << "z of " #actual; \
     } while (0)
 
-#define EXPECT_EDGE_POINT_NEAR(refined, a, b, expected)                        \
-    do {                                                                       \
-        std::optional<Vec3> point_ = (refined).edge_point(a, b);               \
-        if (point_) EXPECT_POINT_NEAR(*point_, expected);                      \
+#define EXPECT_EDGE_POINT_NEAR(refined, a, b, expected)          \
+    do {                                                         \
+        std::optional<Vec3> point_ = (refined).edge_point(a, b); \
+        if (point_) EXPECT_POINT_NEAR(*point_, expected);        \
     } while (0)
 
 // cos(2 pi / 5) = (sqrt 5 - 1) / 4, so b(5) = (3 + (sqrt 5 - 1) / 2) / 8 = (5 + sqrt 5) / 16.
@@ -348,7 +351,8 @@ TEST(Hoppe94Hand, BoundaryRegularityIsValenceFour) {
         // Rim vertex 1 has a single face: an irregular crease vertex (boundary valence 2).
         EXPECT_EQ(refined.type(1), VertexType::IrregularCrease);
         EXPECT_POINT_NEAR(refined.p(0), average(mesh, {{6, 0}, {1, 1}, {1, faces + 1}}));
-        EXPECT_EDGE_POINT_NEAR(refined, 0, 1, regular ? average(mesh, {{5, 0}, {3, 1}}) : average(mesh, {{1, 0}, {1, 1}}));
+        EXPECT_EDGE_POINT_NEAR(refined, 0, 1,
+                               regular ? average(mesh, {{5, 0}, {3, 1}}) : average(mesh, {{1, 0}, {1, 1}}));
     }
 }
 
@@ -373,7 +377,8 @@ TEST(Hoppe94Hand, NewVerticesOnCreaseEdgesAreRegularAndClassificationIsRedone) {
     for (std::size_t k = 0; k < edges.size(); k += 2) {
         const int a = edges[k], b = edges[k + 1];
         const bool boundary = !((a == 0 && b == 2) || (a == 2 && b == 0));  // 0-2 is the only interior edge
-        EXPECT_EQ(refined.type(level0_vertices + int(k / 2), 1), boundary ? VertexType::RegularCrease : VertexType::Smooth)
+        EXPECT_EQ(refined.type(level0_vertices + int(k / 2), 1),
+                  boundary ? VertexType::RegularCrease : VertexType::Smooth)
             << "vertex on edge " << a << "-" << b;
     }
     // Old vertices keep their valence: the centre still has three neighbours on the boundary.

@@ -43,7 +43,8 @@ void expect_face_order_agrees(const Topology& t, const std::string& where) {
     SCOPED_TRACE(where);
     const std::vector<std::uint8_t> expected = places_by_lookup(t);
     ASSERT_EQ(t.face_edge_places.size(), expected.size());
-    for (std::size_t c = 0; c < expected.size(); ++c) ASSERT_EQ(int(t.face_edge_places[c]), int(expected[c])) << "corner " << c;
+    for (std::size_t c = 0; c < expected.size(); ++c)
+        ASSERT_EQ(int(t.face_edge_places[c]), int(expected[c])) << "corner " << c;
 
     // The halves' wings: in edge order (child_edges, what derived tables use) and in face order, in two parts.
     const int halves = 2 * t.num_edges();
@@ -51,7 +52,8 @@ void expect_face_order_agrees(const Topology& t, const std::string& where) {
     loopsub::detail::child_edges(t, 0, halves, ends.data(), c.data(), d.data());
     const int faces_split = t.num_faces() / 3, edges_split = 2 * t.num_edges() / 3;
     loopsub::detail::write_half_wings(t, 0, faces_split, 0, edges_split, face_c.data(), face_d.data());
-    loopsub::detail::write_half_wings(t, faces_split, t.num_faces(), edges_split, t.num_edges(), face_c.data(), face_d.data());
+    loopsub::detail::write_half_wings(t, faces_split, t.num_faces(), edges_split, t.num_edges(), face_c.data(),
+                                      face_d.data());
     EXPECT_EQ(face_c, c);
     EXPECT_EQ(face_d, d);
     std::vector<Index> half_ends(ends.size(), -1);
@@ -61,11 +63,12 @@ void expect_face_order_agrees(const Topology& t, const std::string& where) {
 
 TEST(Topology, FaceOrderAgreesWithLookups) {
     using namespace loopsub::testing;
-    const std::pair<const char*, TestMesh> meshes[] = {{"icosphere", icosphere(2)},  {"grid", grid(5, 4)},
-                                                       {"fin on grid", fin_on_grid()}, {"bowtie", bowtie(5)},
-                                                       {"open fan", open_fan(5)},      {"open cylinder", open_cylinder(6, 3)}};
+    const std::pair<const char*, TestMesh> meshes[] = {
+        {"icosphere", icosphere(2)}, {"grid", grid(5, 4)},      {"fin on grid", fin_on_grid()},
+        {"bowtie", bowtie(5)},       {"open fan", open_fan(5)}, {"open cylinder", open_cylinder(6, 3)}};
     for (const auto& [name, mesh] : meshes) {
-        Topology t = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        Topology t =
+            loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
         expect_face_order_agrees(t, std::string(name) + ", base");
         for (int level = 1; level <= 3; ++level) {
             t = loopsub::detail::refine_topology(t, loopsub::detail::Refined::Full, level % 2 + 1);
@@ -80,7 +83,8 @@ TEST(Topology, FaceOrderAgreesWithLookups) {
 void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
     SCOPED_TRACE(mesh.name + ", " + std::to_string(threads) + " threads");
     const loopsub::detail::TeamScope scope(threads);
-    const Topology t = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices(), threads);
+    const Topology t =
+        loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices(), threads);
     std::map<std::pair<Index, Index>, Index> numbers;
     std::vector<Index> face_edges, edge_vertices;
     std::vector<std::vector<Index>> edge_faces, vertex_edges(mesh.num_vertices()), vertex_vertices(mesh.num_vertices());
@@ -104,7 +108,8 @@ void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
     ASSERT_EQ(std::vector<Index>(t.edge_vertices.begin(), t.edge_vertices.end()), edge_vertices);
     int max_faces = 0, max_valence = 0;
     for (Index e = 0; e < t.num_edges(); ++e) {
-        const std::vector<Index> faces(t.edge_faces.begin() + t.edge_face_offsets[e], t.edge_faces.begin() + t.edge_face_offsets[e + 1]);
+        const std::vector<Index> faces(t.edge_faces.begin() + t.edge_face_offsets[e],
+                                       t.edge_faces.begin() + t.edge_face_offsets[e + 1]);
         ASSERT_EQ(faces, edge_faces[e]) << "edge " << e;
         max_faces = std::max(max_faces, int(faces.size()));
         auto opposite = [&](Index f) {
@@ -117,15 +122,19 @@ void expect_base_matches_lookup(const TestMesh& mesh, int threads) {
     }
     // Non-manifold edges: more than two faces, or two whose corners run along the edge the same way.
     std::vector<int> direction(edge_faces.size(), 0);
-    for (std::size_t c = 0; c < mesh.triangles.size(); ++c) direction[face_edges[c]] += mesh.triangles[c] == edge_vertices[2 * face_edges[c]] ? 1 : -1;
+    for (std::size_t c = 0; c < mesh.triangles.size(); ++c)
+        direction[face_edges[c]] += mesh.triangles[c] == edge_vertices[2 * face_edges[c]] ? 1 : -1;
     std::vector<std::uint8_t> non_manifold;
     for (std::size_t e = 0; e < edge_faces.size(); ++e)
         non_manifold.push_back(edge_faces[e].size() > 2 || (edge_faces[e].size() == 2 && direction[e] != 0));
     EXPECT_EQ(loopsub::detail::non_manifold_edges(t), non_manifold);
     for (Index v = 0; v < t.num_vertices; ++v) {
         const auto first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
-        ASSERT_EQ(std::vector<Index>(t.vertex_edges.begin() + first, t.vertex_edges.begin() + last), vertex_edges[v]) << "vertex " << v;
-        ASSERT_EQ(std::vector<Index>(t.vertex_vertices.begin() + first, t.vertex_vertices.begin() + last), vertex_vertices[v]) << "vertex " << v;
+        ASSERT_EQ(std::vector<Index>(t.vertex_edges.begin() + first, t.vertex_edges.begin() + last), vertex_edges[v])
+            << "vertex " << v;
+        ASSERT_EQ(std::vector<Index>(t.vertex_vertices.begin() + first, t.vertex_vertices.begin() + last),
+                  vertex_vertices[v])
+            << "vertex " << v;
         max_valence = std::max(max_valence, int(vertex_edges[v].size()));
     }
     EXPECT_EQ(t.max_edge_face_count, max_faces);
@@ -142,7 +151,8 @@ TEST(Topology, BaseLevelMatchesLookups) {
     for (int k = 0; k < 5; ++k) {
         const int a = grid_vertex(40, 3 + 7 * k, 2 + 5 * k), b = grid_vertex(40, 4 + 7 * k, 3 + 5 * k);
         grid_with_fins.positions.insert(grid_with_fins.positions.end(), {0.0f, 0.0f, 1.0f});
-        grid_with_fins.triangles.insert(grid_with_fins.triangles.end(), {b, a, Index(grid_with_fins.num_vertices() - 1)});
+        grid_with_fins.triangles.insert(grid_with_fins.triangles.end(),
+                                        {b, a, Index(grid_with_fins.num_vertices() - 1)});
     }
     // A soup: 3,000 triangles drawn at random over 300 vertices, so edges of many faces, faces repeated or flipped.
     TestMesh soup;
@@ -154,7 +164,8 @@ TEST(Topology, BaseLevelMatchesLookups) {
         const Index a = draw(), b = draw(), c = draw();
         if (a != b && b != c && c != a) soup.triangles.insert(soup.triangles.end(), {a, b, c});
     }
-    for (const TestMesh& mesh : {icosphere(4), grid_with_fins, hemisphere(4), soup, open_fan(40), fin_on_grid(), bowtie(5)})
+    for (const TestMesh& mesh :
+         {icosphere(4), grid_with_fins, hemisphere(4), soup, open_fan(40), fin_on_grid(), bowtie(5)})
         for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
 }
 
@@ -163,12 +174,13 @@ TEST(Topology, BaseLevelMatchesLookups) {
 // ends, wings or rings are off.
 TEST(Topology, SplitsFollowTheirNumbering) {
     using namespace loopsub::testing;
-    using loopsub::detail::Refined;
     using loopsub::detail::follows_split_numbering;
     using loopsub::detail::refine_topology;
+    using loopsub::detail::Refined;
     for (const TestMesh& mesh : {icosphere(2), grid(4, 3), open_fan(7), fin_on_grid(), bowtie(5)}) {
         SCOPED_TRACE(mesh.name);
-        Topology level = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        Topology level =
+            loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
         for (int split = 1; split <= 2; ++split) {
             for (Refined form : {Refined::Full, Refined::Connectivity, Refined::ForStencils, Refined::FacesOnly})
                 for (int threads : {1, 2})
@@ -199,7 +211,8 @@ TEST(Topology, ChildRingsOrderedCounterClockwise) {
     using loopsub::detail::Index;
     for (const TestMesh& mesh : {icosphere(2), grid(4, 3), open_fan(7), fin_on_grid(), bowtie(5)}) {
         SCOPED_TRACE(mesh.name);
-        Topology level = loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        Topology level =
+            loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
         for (int split = 1; split <= 2; ++split) {
             Topology child = loopsub::detail::refine_topology(level, loopsub::detail::Refined::Full, 1);
             std::vector<std::uint8_t> apart(std::size_t(child.num_vertices), 0);
@@ -217,17 +230,20 @@ TEST(Topology, ChildRingsOrderedCounterClockwise) {
             }
             for (std::size_t c = 0; c < child.face_vertices.size(); ++c) {
                 const std::size_t face = c - c % 3;
-                const Index v = child.face_vertices[c], a = child.face_vertices[face + (c + 1) % 3], b = child.face_vertices[face + (c + 2) % 3];
+                const Index v = child.face_vertices[c], a = child.face_vertices[face + (c + 1) % 3],
+                            b = child.face_vertices[face + (c + 2) % 3];
                 // A vertex of a boundary edge can be no disk.
                 if (apart[v]) continue;
                 const Index first = child.vertex_edge_offsets[v], n = child.vertex_edge_offsets[v + 1] - first;
-                const Index at = Index(std::find(ring.begin() + first, ring.begin() + first + n, a) - (ring.begin() + first));
+                const Index at =
+                    Index(std::find(ring.begin() + first, ring.begin() + first + n, a) - (ring.begin() + first));
                 ASSERT_LT(at, n) << "corner " << c;
                 ASSERT_EQ(ring[first + (at + 1) % n], b) << "split " << split << ", corner " << c << " of vertex " << v;
             }
             for (Index e = 0; e < child.num_edges(); ++e)
                 if (child.edge_face_count(e) == 1) {
-                    EXPECT_TRUE(apart[child.edge_vertices[2 * e]] && apart[child.edge_vertices[2 * e + 1]]) << "boundary edge " << e;
+                    EXPECT_TRUE(apart[child.edge_vertices[2 * e]] && apart[child.edge_vertices[2 * e + 1]])
+                        << "boundary edge " << e;
                 }
             EXPECT_GT(disks, 0);
             level = std::move(child);
@@ -240,7 +256,8 @@ TEST(Topology, ChildRingsOrderedCounterClockwise) {
 // level for the walks around its vertices where `with_base`.
 template <typename Check>
 void for_each_split(const loopsub::testing::TestMesh& mesh, bool with_base, const Check& check) {
-    std::vector<Topology> levels{loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
+    std::vector<Topology> levels{
+        loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
     std::vector<int> history{levels[0].num_vertices};
     for (int level = 1; level <= 3; ++level) {
         levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
@@ -261,26 +278,29 @@ TEST(Topology, FacesBetweenHalvesOfAVertexsEdgeWithoutAWalk) {
     using namespace loopsub::testing;
     for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2)}) {
         SCOPED_TRACE(mesh.name);
-        for_each_split(mesh, false, [](int level, const std::vector<Topology>& levels, const std::vector<int>& history,
-                                       const loopsub::detail::VertexNeighbourhood& built,
-                                       const loopsub::detail::VertexNeighbourhood& derived) {
-            const Topology& t = levels.back();
-            int checked = 0;
-            for (Index v = history[0]; v < t.num_vertices; ++v) {
-                // v is the midpoint of edge e of level `made - 1`; follow e's halves at v down to this level.
-                int made = 1;
-                while (v >= history[made]) ++made;
-                const Index e = v - history[made - 1];
-                Index halves[2] = {2 * e, 2 * e + 1};
-                for (int l = made; l < level; ++l)
-                    for (Index& x : halves) x = levels[l].edge_vertices[2 * x] == v ? 2 * x : 2 * x + 1;
-                const int walked = loopsub::detail::faces_between(t, v, halves[0], halves[1]);
-                ASSERT_EQ(built.faces_between(v, halves[0], halves[1]), walked) << "level " << level << ", vertex " << v;
-                ASSERT_EQ(derived.faces_between(v, halves[0], halves[1]), walked) << "level " << level << ", vertex " << v;
-                ++checked;
-            }
-            EXPECT_GT(checked, 0);
-        });
+        for_each_split(
+            mesh, false,
+            [](int level, const std::vector<Topology>& levels, const std::vector<int>& history,
+               const loopsub::detail::VertexNeighbourhood& built, const loopsub::detail::VertexNeighbourhood& derived) {
+                const Topology& t = levels.back();
+                int checked = 0;
+                for (Index v = history[0]; v < t.num_vertices; ++v) {
+                    // v is the midpoint of edge e of level `made - 1`; follow e's halves at v down to this level.
+                    int made = 1;
+                    while (v >= history[made]) ++made;
+                    const Index e = v - history[made - 1];
+                    Index halves[2] = {2 * e, 2 * e + 1};
+                    for (int l = made; l < level; ++l)
+                        for (Index& x : halves) x = levels[l].edge_vertices[2 * x] == v ? 2 * x : 2 * x + 1;
+                    const int walked = loopsub::detail::faces_between(t, v, halves[0], halves[1]);
+                    ASSERT_EQ(built.faces_between(v, halves[0], halves[1]), walked)
+                        << "level " << level << ", vertex " << v;
+                    ASSERT_EQ(derived.faces_between(v, halves[0], halves[1]), walked)
+                        << "level " << level << ", vertex " << v;
+                    ++checked;
+                }
+                EXPECT_GT(checked, 0);
+            });
     }
 }
 
@@ -291,21 +311,25 @@ TEST(Topology, FacesBetweenAtABaseVertexAreTheBases) {
     for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2), bowtie(5)}) {
         SCOPED_TRACE(mesh.name);
         int checked = 0;
-        for_each_split(mesh, true, [&checked](int level, const std::vector<Topology>& levels, const std::vector<int>& history,
-                                              const loopsub::detail::VertexNeighbourhood& built,
-                                              const loopsub::detail::VertexNeighbourhood& derived) {
-            const Topology& t = levels.back();
-            for (Index v = 0; v < history[0]; ++v)
-                for (Index j = t.vertex_edge_offsets[v]; j < t.vertex_edge_offsets[v + 1]; ++j)
-                    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
-                        const Index from = t.vertex_edges[j], to = t.vertex_edges[k];
-                        if (from == to || t.edge_face_count(from) != 2 || t.edge_face_count(to) != 2) continue;
-                        const int walked = loopsub::detail::faces_between(t, v, from, to);
-                        ASSERT_EQ(built.faces_between(v, from, to), walked) << "level " << level << ", vertex " << v;
-                        ASSERT_EQ(derived.faces_between(v, from, to), walked) << "level " << level << ", vertex " << v;
-                        ++checked;
-                    }
-        });
+        for_each_split(mesh, true,
+                       [&checked](int level, const std::vector<Topology>& levels, const std::vector<int>& history,
+                                  const loopsub::detail::VertexNeighbourhood& built,
+                                  const loopsub::detail::VertexNeighbourhood& derived) {
+                           const Topology& t = levels.back();
+                           for (Index v = 0; v < history[0]; ++v)
+                               for (Index j = t.vertex_edge_offsets[v]; j < t.vertex_edge_offsets[v + 1]; ++j)
+                                   for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+                                       const Index from = t.vertex_edges[j], to = t.vertex_edges[k];
+                                       if (from == to || t.edge_face_count(from) != 2 || t.edge_face_count(to) != 2)
+                                           continue;
+                                       const int walked = loopsub::detail::faces_between(t, v, from, to);
+                                       ASSERT_EQ(built.faces_between(v, from, to), walked)
+                                           << "level " << level << ", vertex " << v;
+                                       ASSERT_EQ(derived.faces_between(v, from, to), walked)
+                                           << "level " << level << ", vertex " << v;
+                                       ++checked;
+                                   }
+                       });
         EXPECT_GT(checked, 0);
     }
 }

@@ -18,7 +18,8 @@ struct Welded {
     std::vector<float> values;
 };
 
-Welded weld(const std::vector<std::int32_t>& triangles, int num_vertices, const std::vector<float>& corner_values, int channels) {
+Welded weld(const std::vector<std::int32_t>& triangles, int num_vertices, const std::vector<float>& corner_values,
+            int channels) {
     const int num_triangles = int(triangles.size() / 3);
     Welded w;
     w.indices.assign(triangles.size(), -1);
@@ -36,7 +37,8 @@ std::uint32_t bits(float value) {
 }
 
 // Written the slow, obvious way: vertex by vertex, each corner's value looked up among the vertex's values so far.
-Welded reference(const std::vector<std::int32_t>& triangles, int num_vertices, const std::vector<float>& corner_values, int channels) {
+Welded reference(const std::vector<std::int32_t>& triangles, int num_vertices, const std::vector<float>& corner_values,
+                 int channels) {
     const std::size_t w = std::size_t(channels);
     Welded r;
     r.indices.assign(triangles.size(), -1);
@@ -50,7 +52,8 @@ Welded reference(const std::vector<std::int32_t>& triangles, int num_vertices, c
                 for (std::size_t j = 0; j < w; ++j) same = same && r.values[k * w + j] == corner_values[c * w + j];
                 if (same) break;
             }
-            if (k == r.values.size() / w) r.values.insert(r.values.end(), &corner_values[c * w], &corner_values[c * w] + w);
+            if (k == r.values.size() / w)
+                r.values.insert(r.values.end(), &corner_values[c * w], &corner_values[c * w] + w);
             r.indices[c] = std::int32_t(k);
         }
     }
@@ -61,7 +64,7 @@ TEST(Welding, CornersOfAVertexWithEqualValuesShareOneAndASeamSplitsThem) {
     // Two triangles over a square, 0 1 2 and 0 2 3; the second one's UVs are shifted at vertices 2 and 0: a seam
     // along their edge. Vertices 1 and 3 have one corner each.
     const std::vector<std::int32_t> triangles = {0, 1, 2, 0, 2, 3};
-    const std::vector<float> uvs = {0, 0, 1, 0, 1, 1,  // triangle 0
+    const std::vector<float> uvs = {0, 0, 1, 0, 1, 1,   // triangle 0
                                     5, 0, 6, 1, 0, 1};  // triangle 1: vertex 0 at (5, 0), vertex 2 at (6, 1)
     const Welded w = weld(triangles, 4, uvs, 2);
     // Vertex 0: (0, 0) then (5, 0); vertex 1: (1, 0); vertex 2: (1, 1) then (6, 1); vertex 3: (0, 1).
@@ -114,7 +117,8 @@ TEST(Welding, VertexOutOfRangeIsAnInputError) {
 TEST(Welding, RandomMeshesAgreeWithTheReference) {
     std::mt19937 random(24);
     for (int trial = 0; trial < 200; ++trial) {
-        const int num_vertices = 1 + int(random() % 12), num_triangles = int(random() % 30), channels = 1 + int(random() % 3);
+        const int num_vertices = 1 + int(random() % 12), num_triangles = int(random() % 30),
+                  channels = 1 + int(random() % 3);
         std::vector<std::int32_t> triangles(3 * std::size_t(num_triangles));
         for (std::int32_t& v : triangles) v = std::int32_t(random() % unsigned(num_vertices));
         // Few distinct values, so that corners often share one.

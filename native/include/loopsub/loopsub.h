@@ -146,8 +146,8 @@ struct MeshView {
 
 // The owning counterpart of MeshView, for C++ callers that build a mesh: view() lends it to a Plan.
 struct MeshData {
-    std::vector<float> positions;         // 3 per vertex
-    std::vector<std::int32_t> triangles;  // 3 per triangle, counter-clockwise
+    std::vector<float> positions;            // 3 per vertex
+    std::vector<std::int32_t> triangles;     // 3 per triangle, counter-clockwise
     std::vector<std::int32_t> crease_edges;  // pairs
     std::vector<float> crease_sharpness;
     std::vector<std::int32_t> corner_vertices;
@@ -162,8 +162,16 @@ struct MeshData {
     MeshView view() const;  // valid while this mesh lives and is not modified
 };
 
-// Vertex classes of docs/rules.md, "Vertex classes" (Hoppe94) and Sdc::Crease::Rule (OpenSubdiv: smooth, dart, crease, corner).
-enum class VertexType : std::uint8_t { Smooth = 0, Dart = 1, RegularCrease = 2, IrregularCrease = 3, Corner = 4, Cone = 5 };
+// Vertex classes of docs/rules.md, "Vertex classes" (Hoppe94) and Sdc::Crease::Rule (OpenSubdiv: smooth, dart, crease,
+// corner).
+enum class VertexType : std::uint8_t {
+    Smooth = 0,
+    Dart = 1,
+    RegularCrease = 2,
+    IrregularCrease = 3,
+    Corner = 4,
+    Cone = 5
+};
 
 // A view of per-vertex float data: value of channel c at vertex i is data[c * channel_stride + i * element_stride].
 // Interleaved (n x C, row-major): channel_stride = 1, element_stride = C. Planar (C x n): channel_stride = n,
@@ -368,7 +376,8 @@ void gather_welded_values(float* values, const std::int32_t* corner_value_indice
 // A size as MemoryLimitError's messages give it: "467.00 MiB (489684798 bytes)", in GiB from 1 GiB.
 std::string describe_bytes(std::uint64_t bytes);
 
-// The seed's coefficient constants (docs/rules.md, "One level"), exposed so that tests can check the seed's worked example.
+// The seed's coefficient constants (docs/rules.md, "One level"), exposed so that tests can check the seed's worked
+// example.
 double loop_b(int valence);  // (3 + 2 cos(2 pi / n)) / 8
 double loop_a(int valence);  // 5/8 - b(n)^2
 

@@ -13,7 +13,7 @@ constexpr const char* kBoundaries[] = {"edges", "edges-and-corners", "none"};
 constexpr const char* kCreaseMethods[] = {"uniform", "chaikin"};
 // OpenSubdiv's FVarLinearInterpolation, LINEAR_NONE to LINEAR_ALL.
 constexpr const char* kFaceVaryingInterpolations[] = {"none",          "corners",    "corners-plus1",
-                                                       "corners-plus2", "boundaries", "all"};
+                                                      "corners-plus2", "boundaries", "all"};
 constexpr const char* kLevelTables[] = {"auto", "stored", "derived"};
 static_assert(std::size(kRules) == std::size_t(Rules::OpenSubdiv) + 1 &&
                   std::size(kBoundaries) == std::size_t(Boundary::None) + 1 &&

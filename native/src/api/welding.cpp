@@ -34,22 +34,25 @@ int weld_corner_values(std::int32_t* corner_value_indices, const std::int32_t* t
                          std::to_string(num_vertices) + " vertices, " + std::to_string(num_channels) + " channels)");
     const std::size_t num_corners = 3 * std::size_t(num_triangles), width = std::size_t(num_channels);
     if (num_corners > std::size_t(std::numeric_limits<std::int32_t>::max()))
-        throw InputError("weld_corner_values: " + std::to_string(num_corners) + " corners are more than 32-bit indices can number");
+        throw InputError("weld_corner_values: " + std::to_string(num_corners) +
+                         " corners are more than 32-bit indices can number");
 
     // The corners grouped by vertex, each vertex's in corner order (a counting sort).
     std::vector<std::int32_t> vertex_start(std::size_t(num_vertices) + 1, 0);
     for (std::size_t c = 0; c < num_corners; ++c) {
         const std::int32_t v = triangles[c];
         if (v < 0 || v >= num_vertices)
-            throw InputError("triangle " + std::to_string(c / 3) + " refers to vertex " + std::to_string(v) + ", outside 0.." +
-                             std::to_string(num_vertices - 1) + " (the mesh has " + std::to_string(num_vertices) + " vertices)");
+            throw InputError("triangle " + std::to_string(c / 3) + " refers to vertex " + std::to_string(v) +
+                             ", outside 0.." + std::to_string(num_vertices - 1) + " (the mesh has " +
+                             std::to_string(num_vertices) + " vertices)");
         ++vertex_start[std::size_t(v) + 1];
     }
     std::partial_sum(vertex_start.begin(), vertex_start.end(), vertex_start.begin());
     std::vector<std::int32_t> corners_by_vertex(num_corners);
     {
         std::vector<std::int32_t> next(vertex_start.begin(), vertex_start.end() - 1);
-        for (std::size_t c = 0; c < num_corners; ++c) corners_by_vertex[std::size_t(next[std::size_t(triangles[c])]++)] = std::int32_t(c);
+        for (std::size_t c = 0; c < num_corners; ++c)
+            corners_by_vertex[std::size_t(next[std::size_t(triangles[c])]++)] = std::int32_t(c);
     }
 
     // A vertex has a few values at most: each corner is compared with the first corner of each value found so far.
@@ -61,7 +64,9 @@ int weld_corner_values(std::int32_t* corner_value_indices, const std::int32_t* t
             const std::int32_t corner = corners_by_vertex[std::size_t(i)];
             const float* value = corner_values + width * std::size_t(corner);
             std::size_t k = 0;
-            while (k < first_corners.size() && !same_value(value, corner_values + width * std::size_t(first_corners[k]), width)) ++k;
+            while (k < first_corners.size() &&
+                   !same_value(value, corner_values + width * std::size_t(first_corners[k]), width))
+                ++k;
             if (k == first_corners.size()) first_corners.push_back(corner);
             corner_value_indices[corner] = num_values + std::int32_t(k);
         }

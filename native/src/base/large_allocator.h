@@ -149,7 +149,8 @@ struct LargeAllocator {
         if (bytes < kPooledFrom) return std::free(p);
         const std::size_t rounded = block_size(bytes);
         // The block starts at the alignment below the array (its colour is less than that).
-        void* block = reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) & ~std::uintptr_t(block_alignment(rounded) - 1));
+        void* block = reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) &
+                                              ~std::uintptr_t(block_alignment(rounded) - 1));
         try {
             if (BlockPool::instance().keep(block, rounded, free_large)) return;
         } catch (...) {  // no memory left to remember the block: give it back
@@ -173,9 +174,13 @@ struct LargeAllocator {
     }
 
     template <typename U>
-    bool operator==(const LargeAllocator<U>&) const noexcept { return true; }
+    bool operator==(const LargeAllocator<U>&) const noexcept {
+        return true;
+    }
     template <typename U>
-    bool operator!=(const LargeAllocator<U>&) const noexcept { return false; }
+    bool operator!=(const LargeAllocator<U>&) const noexcept {
+        return false;
+    }
 };
 
 template <typename T>

@@ -112,7 +112,8 @@ private:
     void run_part(int part) {
         try {
             if (pieces_ == parts_) return job_(context_, part, parts_);
-            for (int piece; (piece = next_piece_.fetch_add(1, std::memory_order_relaxed)) < pieces_;) job_(context_, piece, pieces_);
+            for (int piece; (piece = next_piece_.fetch_add(1, std::memory_order_relaxed)) < pieces_;)
+                job_(context_, piece, pieces_);
         } catch (...) {
             std::lock_guard<std::mutex> lock(mutex_);
             if (!failure_) failure_ = std::current_exception();
@@ -122,7 +123,8 @@ private:
     void serve(int part) {
         int seen = 0;
         while (true) {
-            wait_awake_then_sleep(mutex_, started_, [&] { return generation_.load(std::memory_order_acquire) != seen; }, kAwake);
+            wait_awake_then_sleep(
+                mutex_, started_, [&] { return generation_.load(std::memory_order_acquire) != seen; }, kAwake);
             seen = generation_.load(std::memory_order_acquire);
             if (stopping_) return;
             run_part(part);
@@ -140,7 +142,7 @@ private:
     std::mutex mutex_;
     std::condition_variable started_, ended_;
     std::atomic<int> generation_{0}, finished_{0}, next_piece_{0};
-    int pieces_ = 1;  // of the current run
+    int pieces_ = 1;         // of the current run
     bool stopping_ = false;  // written under mutex_ before the generation that ends the workers
     bool running_ = false;   // the caller's thread is inside run()
     void (*job_)(const void*, int, int) = nullptr;
@@ -231,7 +233,8 @@ void run_levels(int threads, int levels, const Work& work, int pieces_per_thread
     }
     const TeamScope scope(threads);
     for (int l = 0; l < levels; ++l)
-        TeamScope::current()->run([&work, l](int part, int parts) { work(l, part, parts); }, pieces_per_thread * threads);
+        TeamScope::current()->run([&work, l](int part, int parts) { work(l, part, parts); },
+                                  pieces_per_thread * threads);
 }
 
 }  // namespace loopsub::detail

@@ -47,7 +47,8 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
     const int n = int(passes.size());
     if (n == 0) {
         for (int v = 0; v < counts[0]; ++v)
-            for (int c = 0; c < channels; ++c) out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = load(v, c);
+            for (int c = 0; c < channels; ++c)
+                out.data[c * out.channel_stride + std::size_t(v) * out.element_stride] = load(v, c);
         return;
     }
     const std::size_t padded = scratch_stride(channels);
@@ -57,10 +58,13 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         p.frame.scratch[b].resize(needed[b] * padded + 4);
         std::fill(p.frame.scratch[b].end() - 4, p.frame.scratch[b].end(), 0.0f);
     }
-    auto quads = [&](int buffer) { return ChannelsView<float>{p.frame.scratch[buffer].data(), int(padded), 1, padded}; };
+    auto quads = [&](int buffer) {
+        return ChannelsView<float>{p.frame.scratch[buffer].data(), int(padded), 1, padded};
+    };
     float* first = p.frame.scratch[1].data();
     for (int v = 0; v < counts[0]; ++v)
-        for (std::size_t c = 0; c < padded; ++c) first[v * padded + c] = c < std::size_t(channels) ? load(v, int(c)) : 0.0f;
+        for (std::size_t c = 0; c < padded; ++c)
+            first[v * padded + c] = c < std::size_t(channels) ? load(v, int(c)) : 0.0f;
 
     std::vector<ChannelsView<const float>>& sources = p.frame.sources;
     std::vector<ChannelsView<float>>& targets = p.frame.targets;
@@ -74,15 +78,18 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         if (p.kernel == Kernel::Scalar) targets[i].num_channels = channels;
     }
     const detail::Kernels kernels = detail::kernel_functions(p.kernel);
-    run_levels(std::max(1, p.options.threads), n, [&](int pass, int part, int parts) {
-        const detail::LevelStencils& s = *passes[pass];
-        // Small levels are not worth splitting.
-        if (s.num_vertices + s.num_edges < 4096) {
-            if (part == 0) detail::refine_part(kernels, s, sources[pass], targets[pass], 0, 1);
-            return;
-        }
-        detail::refine_part(kernels, s, sources[pass], targets[pass], part, parts);
-    }, kPiecesPerThread);
+    run_levels(
+        std::max(1, p.options.threads), n,
+        [&](int pass, int part, int parts) {
+            const detail::LevelStencils& s = *passes[pass];
+            // Small levels are not worth splitting.
+            if (s.num_vertices + s.num_edges < 4096) {
+                if (part == 0) detail::refine_part(kernels, s, sources[pass], targets[pass], 0, 1);
+                return;
+            }
+            detail::refine_part(kernels, s, sources[pass], targets[pass], part, parts);
+        },
+        kPiecesPerThread);
 }
 
 // Every mask's weights are non-negative and sum to one, so a refined value never exceeds the largest input; only the
@@ -99,7 +106,8 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
     const auto start = Clock::now();
     const int channels = in.num_channels;
     if (channels != out.num_channels)
-        fail("evaluate: input has " + std::to_string(channels) + " channels but output has " + std::to_string(out.num_channels));
+        fail("evaluate: input has " + std::to_string(channels) + " channels but output has " +
+             std::to_string(out.num_channels));
     if (channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(channels));
     if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
         fail("evaluate: missing (null) data");
@@ -112,8 +120,9 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         std::vector<int>& counts = p.frame.counts;
         counts.assign(p.level_num_vertices.begin(), p.level_num_vertices.end());
         if (p.limit) counts.push_back(counts.back());
-        run_passes(p, passes, counts, channels,
-                   [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out);
+        run_passes(
+            p, passes, counts, channels,
+            [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out);
     }
     p.frame.evaluate_ms = ms_since(start);
 }
@@ -123,12 +132,15 @@ int Plan::num_face_varying_layers() const { return int(impl_->face_varying.size(
 namespace {
 const detail::FaceVaryingPlan& layer_plan(const PlanImpl& p, int layer) {
     if (layer < 0 || layer >= int(p.face_varying.size()))
-        throw std::out_of_range("face-varying layer " + std::to_string(layer) + " is not in 0.." + std::to_string(int(p.face_varying.size()) - 1));
+        throw std::out_of_range("face-varying layer " + std::to_string(layer) + " is not in 0.." +
+                                std::to_string(int(p.face_varying.size()) - 1));
     return p.face_varying[layer];
 }
 }  // namespace
 
-const std::int32_t* Plan::output_face_varying_indices(int layer) const { return layer_plan(*impl_, layer).output_corner_values.data(); }
+const std::int32_t* Plan::output_face_varying_indices(int layer) const {
+    return layer_plan(*impl_, layer).output_corner_values.data();
+}
 int Plan::num_output_face_varying_values(int layer) const { return layer_plan(*impl_, layer).counts.back(); }
 
 void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, ChannelsView<float> out) {
@@ -136,24 +148,32 @@ void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, Channe
     const detail::FaceVaryingPlan& plan = layer_plan(p, layer);
     const int channels = in.num_channels;
     if (channels != out.num_channels)
-        fail("evaluate_face_varying: input has " + std::to_string(channels) + " channels but output has " + std::to_string(out.num_channels));
+        fail("evaluate_face_varying: input has " + std::to_string(channels) + " channels but output has " +
+             std::to_string(out.num_channels));
     if (channels < 1) fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(channels));
     if ((in.data == nullptr && plan.num_input_values > 0) || (out.data == nullptr && plan.counts.back() > 0))
         fail("evaluate_face_varying: missing (null) data");
-    detail::validate_vertex_values(in, plan.num_input_values, largest_refinable(p), p.max_summed_terms, "face-varying value");
+    detail::validate_vertex_values(in, plan.num_input_values, largest_refinable(p), p.max_summed_terms,
+                                   "face-varying value");
     if (plan.counts[0] == 0) return;
     std::vector<const detail::LevelStencils*>& passes = p.frame.passes;
     passes.clear();
     for (const detail::LevelStencils& s : plan.passes) passes.push_back(&s);
-    run_passes(p, passes, plan.counts, channels,
-               [&in, &plan](int x, int c) { return in.data[c * in.channel_stride + std::size_t(plan.base_values[x]) * in.element_stride]; }, out);
+    run_passes(
+        p, passes, plan.counts, channels,
+        [&in, &plan](int x, int c) {
+            return in.data[c * in.channel_stride + std::size_t(plan.base_values[x]) * in.element_stride];
+        },
+        out);
 }
 
 namespace {
 
 void check_normals_input(const PlanImpl& p, ChannelsView<const float> in) {
     if (!p.limit) fail("evaluate: normals are the limit surface's; build the plan with Options::limit_surface");
-    if (in.num_channels < 3) fail("evaluate: normals need positions in the first three channels, got " + std::to_string(in.num_channels) + " channels");
+    if (in.num_channels < 3)
+        fail("evaluate: normals need positions in the first three channels, got " + std::to_string(in.num_channels) +
+             " channels");
 }
 
 }  // namespace
@@ -191,7 +211,8 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
             const float* n = &normals[3 * std::size_t(p.output_triangles[c])];
             corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
         }
-        const auto first = std::lower_bound(corner_sides.begin(), corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
+        const auto first =
+            std::lower_bound(corner_sides.begin(), corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
         for (auto it = first; it != corner_sides.end() && std::size_t(it->first) < end; ++it) {
             const float* n = &normals[3 * (side_base + std::size_t(it->second))];
             const std::size_t c = std::size_t(it->first);
@@ -203,7 +224,8 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
 
 void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) const {
     const PlanImpl& p = *impl_;
-    if (num_channels < 1) fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(num_channels));
+    if (num_channels < 1)
+        fail("evaluate_face_varying: at least one channel is needed, got " + std::to_string(num_channels));
     const std::size_t corner = std::size_t(num_channels), face = 3 * corner;
     if ((in == nullptr && p.num_input_triangles > 0) || (out == nullptr && num_output_triangles() > 0))
         fail("evaluate_face_varying: missing (null) data");
@@ -217,7 +239,8 @@ void Plan::evaluate_face_varying(const float* in, float* out, int num_channels) 
             float* child = &next[4 * f * face];
             for (std::size_t c = 0; c < corner; ++c) {
                 const float u0 = u[c], u1 = u[corner + c], u2 = u[2 * corner + c];
-                // Halves first: the same value as (a + b) / 2 without its overflow for values past half the float range.
+                // Halves first: the same value as (a + b) / 2 without its overflow for values past half the float
+                // range.
                 const float m0 = 0.5f * u0 + 0.5f * u1, m1 = 0.5f * u1 + 0.5f * u2, m2 = 0.5f * u2 + 0.5f * u0;
                 // Children (v0, m0, m2), (v1, m1, m0), (v2, m2, m1), (m0, m1, m2), as in refine_topology.
                 const float values[12] = {u0, m0, m2, u1, m1, m0, u2, m2, m1, m0, m1, m2};

@@ -20,13 +20,17 @@ struct Range {
 using RefineFn = void (*)(const LevelStencils& stencils, const StencilView& view, ChannelsView<const float> in,
                           ChannelsView<float> out, Range vertices, Range edges);
 
-void refine_scalar(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
-void refine_sse41(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
-void refine_avx2(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range, Range);
+void refine_scalar(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range,
+                   Range);
+void refine_sse41(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range,
+                  Range);
+void refine_avx2(const LevelStencils&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, Range,
+                 Range);
 
 // Computes, for every channel, the output edge points of the edges inside parent faces [faces.begin, faces.end) of a
 // level whose interior edges are read from its parent's faces (LevelStencils::interior), three per face.
-using InteriorFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out, Range faces);
+using InteriorFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
+                            Range faces);
 
 void refine_interior_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 void refine_interior_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
@@ -37,7 +41,8 @@ void refine_interior_avx2(const LevelStencils&, ChannelsView<const float>, Chann
 // (LevelStencils::fan_midpoints). There a midpoint's ring is its edge's ends and then its halves' wings (a, b, c0, c1,
 // d0, d1), so a midpoint of two faces and its two halves read the same seven points: three outputs from one fan of
 // loads, the same bits as from the tables.
-using FanFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges);
+using FanFn = void (*)(const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
+                       Range parent_edges);
 
 void refine_fans_scalar(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 void refine_fans_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
@@ -54,8 +59,8 @@ struct Kernels {
 // from its parent's faces by kind: old vertices, midpoints with their halves, interior edges), a derived one
 // (LevelStencils::derived_from) a chunk at a time, each chunk's tables filled from the parent just before. The parts
 // together write every output once.
-void refine_part(const Kernels& kernels, const LevelStencils& stencils, ChannelsView<const float> in, ChannelsView<float> out,
-                 int part, int parts);
+void refine_part(const Kernels& kernels, const LevelStencils& stencils, ChannelsView<const float> in,
+                 ChannelsView<float> out, int part, int parts);
 
 // The kernels for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
 Kernel resolve_kernel(Kernel requested);

@@ -49,8 +49,8 @@ inline void store_pair(const QuadTarget& out, std::size_t element, __m256 v, boo
 
 // Four rows of three from two pairs (points 0, 1 in `first`, 2, 3 in `second`).
 inline void store_two_pairs(const PackedRows3& out, std::size_t element, __m256 first, __m256 second) {
-    out.store_four(element, _mm256_castps256_ps128(first), _mm256_extractf128_ps(first, 1), _mm256_castps256_ps128(second),
-                   _mm256_extractf128_ps(second, 1));
+    out.store_four(element, _mm256_castps256_ps128(first), _mm256_extractf128_ps(first, 1),
+                   _mm256_castps256_ps128(second), _mm256_extractf128_ps(second, 1));
 }
 
 // Smooth vertex points i and j (j = i + 1, or j = i for an odd last vertex).
@@ -85,8 +85,10 @@ inline __m256 vertex_pair(const Tables& t, const QuadSource<Step>& in, int i, in
 template <std::size_t Step>
 inline __m256 edge_pair(const Tables& t, const QuadSource<Step>& in, int e, int f) {
     const __m256 ends = _mm256_add_ps(load_pair(in, t.end(e, 0), t.end(f, 0)), load_pair(in, t.end(e, 1), t.end(f, 1)));
-    const __m256 wings = _mm256_add_ps(load_pair(in, t.wing_c(e), t.wing_c(f)), load_pair(in, t.wing_d(e), t.wing_d(f)));
-    return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), ends, _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
+    const __m256 wings =
+        _mm256_add_ps(load_pair(in, t.wing_c(e), t.wing_c(f)), load_pair(in, t.wing_d(e), t.wing_d(f)));
+    return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), ends,
+                           _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
 }
 
 // edge_pair for edges e and e + 1, their indices read a pair at a time.
@@ -95,7 +97,8 @@ inline __m256 next_edges_pair(const Tables& t, const QuadSource<Step>& in, int e
     const EdgePairIndices i = next_edges_indices(t, e);
     const __m256 sum_ends = _mm256_add_ps(load_pair(in, i.a[0], i.a[1]), load_pair(in, i.b[0], i.b[1]));
     const __m256 wings = _mm256_add_ps(load_pair(in, i.c[0], i.c[1]), load_pair(in, i.d[0], i.d[1]));
-    return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), sum_ends, _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
+    return _mm256_fmadd_ps(_mm256_set1_ps(kSmoothEdgeEndWeight), sum_ends,
+                           _mm256_mul_ps(_mm256_set1_ps(kSmoothEdgeWingWeight), wings));
 }
 
 // The pairs' arithmetic on one point (the fans, the interior edges): the same bits per lane.
@@ -104,7 +107,8 @@ constexpr auto smooth_vertex = [](__m128 self, __m128 ring_sum, float w_self, fl
     return _mm_fmadd_ps(_mm_set1_ps(w_ring), ring_sum, _mm_mul_ps(_mm_set1_ps(w_self), self));
 };
 constexpr auto smooth_edge = [](__m128 a, __m128 b, __m128 c, __m128 d) {
-    return _mm_fmadd_ps(_mm_set1_ps(kSmoothEdgeEndWeight), _mm_add_ps(a, b), _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), _mm_add_ps(c, d)));
+    return _mm_fmadd_ps(_mm_set1_ps(kSmoothEdgeEndWeight), _mm_add_ps(a, b),
+                        _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), _mm_add_ps(c, d)));
 };
 
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
@@ -113,7 +117,8 @@ template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     int i = vertices.begin, e = edges.begin;
     if constexpr (std::is_same_v<Out, PackedRows3>) {
-        for (; i + 3 < vertices.end; i += 4) store_two_pairs(out, i, vertex_pair(t, in, i, i + 1), vertex_pair(t, in, i + 2, i + 3));
+        for (; i + 3 < vertices.end; i += 4)
+            store_two_pairs(out, i, vertex_pair(t, in, i, i + 1), vertex_pair(t, in, i + 2, i + 3));
         for (; e + 3 < edges.end; e += 4)
             store_two_pairs(out, t.first_edge_point + e, next_edges_pair(t, in, e), next_edges_pair(t, in, e + 2));
     }
@@ -134,19 +139,23 @@ void refine_avx2(const LevelStencils& s, const StencilView& view, ChannelsView<c
     apply_specials(s, view, in, out, vertices, edges);
 }
 
-void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
+void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                      Range parent_edges) {
     if (!reads_as_quads(in)) return refine_fans_scalar(s, in, out, parent_edges);
     const int nv = s.fan_first_midpoint;
     for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
         auto irregular = [&](int h) {
             const int i = nv + h;
             target.store(std::size_t(i), _mm256_castps256_ps128(vertex_pair(t, source, i, i)));
-            target.store(t.first_edge_point + 2 * std::size_t(h), _mm256_castps256_ps128(edge_pair(t, source, 2 * h, 2 * h)));
-            target.store(t.first_edge_point + 2 * std::size_t(h) + 1, _mm256_castps256_ps128(edge_pair(t, source, 2 * h + 1, 2 * h + 1)));
+            target.store(t.first_edge_point + 2 * std::size_t(h),
+                         _mm256_castps256_ps128(edge_pair(t, source, 2 * h, 2 * h)));
+            target.store(t.first_edge_point + 2 * std::size_t(h) + 1,
+                         _mm256_castps256_ps128(edge_pair(t, source, 2 * h + 1, 2 * h + 1)));
         };
         fan_quad(t, s, source, target, parent_edges, smooth_vertex, smooth_edge, irregular);
     });
-    apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end}, {2 * parent_edges.begin, 2 * parent_edges.end});
+    apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end},
+                   {2 * parent_edges.begin, 2 * parent_edges.end});
 }
 
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

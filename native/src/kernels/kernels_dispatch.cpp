@@ -13,15 +13,16 @@ namespace {
 
 // The interior edges [edges.begin, edges.end) of a level that reads them from its parent's faces: whole faces by the
 // interior kernel, the edges of a face the range cuts through from a table of their own.
-void refine_interior(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
-                     Range edges) {
+void refine_interior(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in,
+                     ChannelsView<float> out, Range edges) {
     const LevelStencils::InteriorFaces& interior = *s.interior;
     auto one_by_one = [&](int first, int last) {
         std::int32_t ends[6], c[3], d[3];
         for (int e = first; e < last; ++e) {
             std::int32_t abcd[4];
             interior.edge(e, abcd);
-            ends[2 * (e - first)] = abcd[0], ends[2 * (e - first) + 1] = abcd[1], c[e - first] = abcd[2], d[e - first] = abcd[3];
+            ends[2 * (e - first)] = abcd[0], ends[2 * (e - first) + 1] = abcd[1], c[e - first] = abcd[2],
+                          d[e - first] = abcd[3];
         }
         kernels.refine(s, {nullptr, nullptr, ends, c, d, 0, first}, in, out, {0, 0}, {first, last});
     };

@@ -57,7 +57,10 @@ struct QuadTarget {
         if (channel_stride == 1) {
             switch (lanes) {
                 case 4: _mm_storeu_ps(q, v); return;
-                case 3: _mm_storel_pi(reinterpret_cast<__m64*>(q), v); _mm_store_ss(q + 2, _mm_movehl_ps(v, v)); return;
+                case 3:
+                    _mm_storel_pi(reinterpret_cast<__m64*>(q), v);
+                    _mm_store_ss(q + 2, _mm_movehl_ps(v, v));
+                    return;
                 case 2: _mm_storel_pi(reinterpret_cast<__m64*>(q), v); return;
                 default: _mm_store_ss(q, v); return;
             }
@@ -110,7 +113,9 @@ struct Tables : StencilView {
     std::size_t first_edge_point;  // output element of edge point 0
 
     Tables(const LevelStencils& s, const StencilView& view)
-        : StencilView(view), smooth_self(s.smooth_self.data()), smooth_ring(s.smooth_ring.data()),
+        : StencilView(view),
+          smooth_self(s.smooth_self.data()),
+          smooth_ring(s.smooth_ring.data()),
           first_edge_point(std::size_t(s.num_vertices)) {}
 };
 
@@ -140,8 +145,8 @@ inline EdgePairIndices next_edges_indices(const StencilView& t, int e) {
 // Runs an instruction set's smooth pass, smooth(tables, source, target), over every quad of channels, with the
 // source and target types that let it compile the common layouts to plain strided loads and stores.
 template <typename SmoothPass>
-void for_each_quad(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
-                   const SmoothPass& smooth) {
+void for_each_quad(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in,
+                   ChannelsView<float> out, const SmoothPass& smooth) {
     const Tables tables(s, view);
     for (int quad = 0; quad * kQuad < in.num_channels; ++quad) {
         const float* first_channel = in.data + quad * kQuad;
@@ -149,14 +154,11 @@ void for_each_quad(const LevelStencils& s, const StencilView& view, ChannelsView
         const bool rows3 = target.channel_stride == 1 && target.element_stride == 3 && target.lanes == 3;
         if (in.element_stride == kQuad && target.packed())
             smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, PackedQuads{target.data});
-        else if (in.element_stride == kQuad)
-            smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, target);
+        else if (in.element_stride == kQuad) smooth(tables, QuadSource<kQuad>{first_channel, kQuad}, target);
         else if (in.element_stride == 3 && rows3)  // positions, from the evaluation's scratch into an n x 3 array
             smooth(tables, QuadSource<3>{first_channel, 3}, PackedRows3{target.data});
-        else if (in.element_stride == 3)
-            smooth(tables, QuadSource<3>{first_channel, 3}, target);
-        else
-            smooth(tables, QuadSource<0>{first_channel, in.element_stride}, target);
+        else if (in.element_stride == 3) smooth(tables, QuadSource<3>{first_channel, 3}, target);
+        else smooth(tables, QuadSource<0>{first_channel, in.element_stride}, target);
     }
 }
 
@@ -173,7 +175,8 @@ void interior_quad(const LevelStencils& s, const QuadSource<Step> in, const Out 
     auto face_points = [&](int f, __m128 points[3]) {
         const std::int32_t* v = face_vertices + 3 * std::size_t(f);
         const std::int32_t* fe = face_edges + 3 * std::size_t(f);
-        const __m128 m0 = _mm_loadu_ps(in.at(nv + fe[0])), m1 = _mm_loadu_ps(in.at(nv + fe[1])), m2 = _mm_loadu_ps(in.at(nv + fe[2]));
+        const __m128 m0 = _mm_loadu_ps(in.at(nv + fe[0])), m1 = _mm_loadu_ps(in.at(nv + fe[1])),
+                     m2 = _mm_loadu_ps(in.at(nv + fe[2]));
         points[0] = smooth(m0, m1, _mm_loadu_ps(in.at(v[1])), m2);
         points[1] = smooth(m1, m2, _mm_loadu_ps(in.at(v[2])), m0);
         points[2] = smooth(m2, m0, _mm_loadu_ps(in.at(v[0])), m1);

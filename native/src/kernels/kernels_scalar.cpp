@@ -26,13 +26,16 @@ void refine_scalar(const LevelStencils& s, const StencilView& t, ChannelsView<co
     apply_specials(s, t, in, out, vertices, edges);
 }
 
-void refine_fans_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
+void refine_fans_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                        Range parent_edges) {
     // The reference reads the same points from the tables.
     const int nv = s.fan_first_midpoint;
-    refine_scalar(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end}, {2 * parent_edges.begin, 2 * parent_edges.end});
+    refine_scalar(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end},
+                  {2 * parent_edges.begin, 2 * parent_edges.end});
 }
 
-void refine_interior_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {
+void refine_interior_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                            Range faces) {
     const LevelStencils::InteriorFaces& interior = *s.interior;
     const std::size_t ie = in.element_stride, oe = out.element_stride;
     for (int c = 0; c < in.num_channels; ++c) {

@@ -40,9 +40,9 @@ inline void apply_specials(const LevelStencils& s, const StencilView& t, Channel
             const float* p = in.data + c * in.channel_stride;
             float ring_sum = 0.0f;
             for (int k = first; k < last; ++k) ring_sum += p[t.ring[k] * ie];
-            out.data[c * out.channel_stride + v->vertex * oe] =
-                v->w_self * p[v->vertex * ie] + v->w_ring * ring_sum +
-                v->w_crease_a * p[v->crease_a * ie] + v->w_crease_b * p[v->crease_b * ie];
+            out.data[c * out.channel_stride + v->vertex * oe] = v->w_self * p[v->vertex * ie] + v->w_ring * ring_sum +
+                                                                v->w_crease_a * p[v->crease_a * ie] +
+                                                                v->w_crease_b * p[v->crease_b * ie];
         }
     }
     const auto [rv_begin, rv_end] =

@@ -45,8 +45,8 @@ inline __m128 vertex_point(const Tables& t, const QuadSource<Step>& in, int i) {
 
 template <std::size_t Step>
 inline __m128 edge_point(const Tables& t, const QuadSource<Step>& in, int e) {
-    return smooth_edge(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))), _mm_loadu_ps(in.at(t.wing_c(e))),
-                       _mm_loadu_ps(in.at(t.wing_d(e))));
+    return smooth_edge(_mm_loadu_ps(in.at(t.end(e, 0))), _mm_loadu_ps(in.at(t.end(e, 1))),
+                       _mm_loadu_ps(in.at(t.wing_c(e))), _mm_loadu_ps(in.at(t.wing_d(e))));
 }
 
 // Edge points e and e + 1, their indices read a pair at a time.
@@ -54,7 +54,8 @@ template <std::size_t Step>
 inline void next_edge_points(const Tables& t, const QuadSource<Step>& in, int e, __m128& first, __m128& second) {
     const EdgePairIndices i = next_edges_indices(t, e);
     auto point = [&](int k) {
-        return smooth_edge(_mm_loadu_ps(in.at(i.a[k])), _mm_loadu_ps(in.at(i.b[k])), _mm_loadu_ps(in.at(i.c[k])), _mm_loadu_ps(in.at(i.d[k])));
+        return smooth_edge(_mm_loadu_ps(in.at(i.a[k])), _mm_loadu_ps(in.at(i.b[k])), _mm_loadu_ps(in.at(i.c[k])),
+                           _mm_loadu_ps(in.at(i.d[k])));
     };
     first = point(0);
     second = point(1);
@@ -67,7 +68,8 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
     int i = vertices.begin, e = edges.begin;
     if constexpr (std::is_same_v<Out, PackedRows3>) {
         for (; i + 3 < vertices.end; i += 4)
-            out.store_four(i, vertex_point(t, in, i), vertex_point(t, in, i + 1), vertex_point(t, in, i + 2), vertex_point(t, in, i + 3));
+            out.store_four(i, vertex_point(t, in, i), vertex_point(t, in, i + 1), vertex_point(t, in, i + 2),
+                           vertex_point(t, in, i + 3));
         for (; e + 3 < edges.end; e += 4) {
             __m128 p0, p1, p2, p3;
             next_edge_points(t, in, e, p0, p1);
@@ -81,8 +83,8 @@ void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Rang
 
 }  // namespace
 
-void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
-                  Range vertices, Range edges) {
+void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<const float> in,
+                  ChannelsView<float> out, Range vertices, Range edges) {
     if (!reads_as_quads(in)) return refine_scalar(s, view, in, out, vertices, edges);
     for_each_quad(s, view, in, out, [&](const Tables& tables, auto source, auto target) {
         smooth_quad(tables, source, target, vertices, edges);
@@ -90,7 +92,8 @@ void refine_sse41(const LevelStencils& s, const StencilView& view, ChannelsView<
     apply_specials(s, view, in, out, vertices, edges);
 }
 
-void refine_fans_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range parent_edges) {
+void refine_fans_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
+                       Range parent_edges) {
     if (!reads_as_quads(in)) return refine_fans_scalar(s, in, out, parent_edges);
     const int nv = s.fan_first_midpoint;
     for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
@@ -101,7 +104,8 @@ void refine_fans_sse41(const LevelStencils& s, ChannelsView<const float> in, Cha
         };
         fan_quad(t, s, source, target, parent_edges, smooth_vertex, smooth_edge, irregular);
     });
-    apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end}, {2 * parent_edges.begin, 2 * parent_edges.end});
+    apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end},
+                   {2 * parent_edges.begin, 2 * parent_edges.end});
 }
 
 void refine_interior_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

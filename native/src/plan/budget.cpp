@@ -24,8 +24,8 @@ std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channel
     // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation (their
     // channels padded to a multiple of four).
     const std::uint64_t padded = (std::uint64_t(num_channels) + 3) / 4 * 4;
-    kept = add(kept, add(mul(16, level.faces),
-                         add(mul(mul(4, std::uint64_t(num_channels)), level.vertices), mul(mul(4, padded), mul(2, previous.vertices)))));
+    kept = add(kept, add(mul(16, level.faces), add(mul(mul(4, std::uint64_t(num_channels)), level.vertices),
+                                                   mul(mul(4, padded), mul(2, previous.vertices)))));
     return add(kept, mul(2, largest_transient));  // a child level is built while its parent still lives
 }
 
@@ -36,8 +36,9 @@ namespace loopsub {
 std::string describe_bytes(std::uint64_t bytes) {
     char text[64];
     const bool gib = bytes >= (std::uint64_t(1) << 30);
-    std::snprintf(text, sizeof text, "%.2f %s (%llu bytes)", double(bytes) / double(std::uint64_t(1) << (gib ? 30 : 20)),
-                  gib ? "GiB" : "MiB", (unsigned long long)bytes);
+    std::snprintf(text, sizeof text, "%.2f %s (%llu bytes)",
+                  double(bytes) / double(std::uint64_t(1) << (gib ? 30 : 20)), gib ? "GiB" : "MiB",
+                  (unsigned long long)bytes);
     return text;
 }
 

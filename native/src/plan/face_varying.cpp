@@ -30,7 +30,8 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
         for (std::size_t x = 0; x < items; ++x) ++offsets[std::size_t(vertex_of[x]) + 1];
         std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
         for (std::size_t x = 0; x < items; ++x) grouped[std::size_t(offsets[std::size_t(vertex_of[x])]++)] = Index(x);
-        std::copy_backward(offsets.begin(), offsets.end() - 1, offsets.end());  // each count was advanced to the next start
+        std::copy_backward(offsets.begin(), offsets.end() - 1,
+                           offsets.end());  // each count was advanced to the next start
         offsets[0] = 0;
         return;
     }
@@ -52,7 +53,8 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
             Index start = std::accumulate(range_items.begin(), range_items.begin() + part, Index(0));
             for (int v = v0; v < v1; ++v) {
                 offsets[std::size_t(v)] = start;
-                for (TransientVector<Index>& part_counts : counts) start += std::exchange(part_counts[std::size_t(v)], start);
+                for (TransientVector<Index>& part_counts : counts)
+                    start += std::exchange(part_counts[std::size_t(v)], start);
             }
             if (part + 1 == parts) offsets[std::size_t(num_vertices)] = start;
         } else {
@@ -68,7 +70,8 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
 template <typename Special, typename Key>
 void specials_by_target(const std::vector<Special>& specials, Index t0, Index t1, Key key, const Special** table) {
     std::fill(table + t0, table + t1, nullptr);
-    auto special = std::lower_bound(specials.begin(), specials.end(), t0, [&key](const Special& s, Index t) { return key(s) < t; });
+    auto special = std::lower_bound(specials.begin(), specials.end(), t0,
+                                    [&key](const Special& s, Index t) { return key(s) < t; });
     for (; special != specials.end() && key(*special) < t1; ++special) table[key(*special)] = &*special;
 }
 
@@ -77,7 +80,8 @@ LargeVector<Index> copy_in_parts(const LargeVector<Index>& from, int parts) {
     LargeVector<Index> to(from.size());
     run_levels(parts, 1, [&](int, int part, int) {
         const auto [i0, i1] = part_of(from.size(), part, parts);
-        std::copy(from.begin() + std::ptrdiff_t(i0), from.begin() + std::ptrdiff_t(i1), to.begin() + std::ptrdiff_t(i0));
+        std::copy(from.begin() + std::ptrdiff_t(i0), from.begin() + std::ptrdiff_t(i1),
+                  to.begin() + std::ptrdiff_t(i0));
     });
     return to;
 }
@@ -112,14 +116,15 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
       skip_level_before_last_(options.levels >= 2 && !options.limit_surface && options.face_varying != Mode::All) {
     const FaceVaryingLayer& input = mesh.face_varying[layer];
     const std::string name = "face-varying layer " + std::to_string(layer);
-    if (input.num_values < 0) fail(name + " has a negative number of values (" + std::to_string(input.num_values) + ")");
+    if (input.num_values < 0)
+        fail(name + " has a negative number of values (" + std::to_string(input.num_values) + ")");
     if (input.corner_values == nullptr && mesh.num_triangles > 0) fail(name + " has no (null) corner values");
     const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
     for (std::size_t c = 0; c < corners; ++c) {
         const Index value = input.corner_values[c];
         if (value < 0 || value >= input.num_values)
-            fail(name + ": corner " + std::to_string(c % 3) + " of triangle " + std::to_string(c / 3) + " refers to value " +
-                 std::to_string(value) + ", outside 0.." + std::to_string(input.num_values - 1));
+            fail(name + ": corner " + std::to_string(c % 3) + " of triangle " + std::to_string(c / 3) +
+                 " refers to value " + std::to_string(value) + ", outside 0.." + std::to_string(input.num_values - 1));
     }
     plan_.num_input_values = input.num_values;
 
@@ -134,7 +139,8 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
     run_levels(parts, 1, [&](int, int part, int) {
         const auto [v0, v1] = part_of(mesh.num_vertices, part, parts);
         for (int v = v0; v < v1; ++v)
-            std::sort(order.begin() + offsets[v], order.begin() + offsets[v + 1], [&](Index a, Index b) { return value_of(a) < value_of(b); });
+            std::sort(order.begin() + offsets[v], order.begin() + offsets[v + 1],
+                      [&](Index a, Index b) { return value_of(a) < value_of(b); });
     });
     // A value per run of corners with the same (vertex, value): each part counts the runs that start in its corners,
     // then numbers them after those of the parts before.
@@ -180,17 +186,20 @@ void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
         const auto [x0, x1] = part_of(values_.num_vertices, part, parts);
         for (Index x = x0; x < x1; ++x) {  // every value has a face: a corner made it
             const Index e = values_.vertex_edges[values_.vertex_edge_offsets[x]];
-            vertex_of_[x] = t.face_vertices[corner_of(values_.face_vertices, values_.edge_faces[values_.edge_face_offsets[e]], x)];
+            vertex_of_[x] =
+                t.face_vertices[corner_of(values_.face_vertices, values_.edge_faces[values_.edge_face_offsets[e]], x)];
         }
         const auto [l0, l1] = part_of(values_.num_edges(), part, parts);
         for (Index e = l0; e < l1; ++e)
-            edge_of_[e] = t.face_edges[corner_of(values_.face_edges, values_.edge_faces[values_.edge_face_offsets[e]], e)];
+            edge_of_[e] =
+                t.face_edges[corner_of(values_.face_edges, values_.edge_faces[values_.edge_face_offsets[e]], e)];
         const auto [e0, e1] = part_of(t.num_edges(), part, parts);
         for (Index e = e0; e < e1; ++e) {
             const Index first = t.edge_face_offsets[e], end = t.edge_face_offsets[e + 1];
             const Index layer_edge = values_.face_edges[corner_of(t.face_edges, t.edge_faces[first], e)];
             bool split = linear && end - first == 1;
-            for (Index k = first + 1; k < end && !split; ++k) split = values_.face_edges[corner_of(t.face_edges, t.edge_faces[k], e)] != layer_edge;
+            for (Index k = first + 1; k < end && !split; ++k)
+                split = values_.face_edges[corner_of(t.face_edges, t.edge_faces[k], e)] != layer_edge;
             split_[e] = split;
         }
     });
@@ -205,7 +214,8 @@ void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
 void FaceVaryingBuilder::inherit_mapping(const Topology& t, int parts) {
     const Index nx = values_.num_vertices, layer_edges = values_.num_edges(), nv = t.num_vertices, ne = t.num_edges();
     const Index inside = 3 * Index(t.num_faces());
-    TransientVector<Index> vertex_of(std::size_t(nx) + layer_edges), edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
+    TransientVector<Index> vertex_of(std::size_t(nx) + layer_edges),
+        edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
     TransientVector<std::uint8_t> split(2 * std::size_t(ne) + std::size_t(inside));
     assert(values_.num_faces() == t.num_faces());
     // Through local pointers: a store of a byte (split) may alias anything, and the loops would otherwise reload every
@@ -225,25 +235,26 @@ void FaceVaryingBuilder::inherit_mapping(const Topology& t, int parts) {
         for (Index e = e0; e < e1; ++e) {
             const Index edge = parent_edge_of[e];
             const bool same_way = parent_vertex_of[layer_ends[2 * std::size_t(e)]] == ends[2 * std::size_t(edge)];
-            assert(parent_vertex_of[layer_ends[2 * std::size_t(e) + (same_way ? 1 : 0)]] == ends[2 * std::size_t(edge) + 1]);
+            assert(parent_vertex_of[layer_ends[2 * std::size_t(e) + (same_way ? 1 : 0)]] ==
+                   ends[2 * std::size_t(edge) + 1]);
             child_vertex_of[std::size_t(nx) + std::size_t(e)] = nv + edge;
             child_edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
             child_edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
         }
         const auto [k0, k1] = part_of(inside, part, parts);
         for (Index k = k0; k < k1; ++k) child_edge_of[2 * std::size_t(layer_edges) + std::size_t(k)] = 2 * ne + k;
-        std::fill(child_split + 2 * std::size_t(ne) + std::size_t(k0), child_split + 2 * std::size_t(ne) + std::size_t(k1), std::uint8_t(0));
+        std::fill(child_split + 2 * std::size_t(ne) + std::size_t(k0),
+                  child_split + 2 * std::size_t(ne) + std::size_t(k1), std::uint8_t(0));
         const auto [E0, E1] = part_of(ne, part, parts);
-        for (Index e = E0; e < E1; ++e) child_split[2 * std::size_t(e)] = child_split[2 * std::size_t(e) + 1] = parent_split[e];
+        for (Index e = E0; e < E1; ++e)
+            child_split[2 * std::size_t(e)] = child_split[2 * std::size_t(e) + 1] = parent_split[e];
     });
     vertex_of_ = std::move(vertex_of);
     edge_of_ = std::move(edge_of);
     split_ = std::move(split);
 }
 
-int FaceVaryingBuilder::parts_for(std::size_t items) const {
-    return items >= 8192 ? std::max(1, options_.threads) : 1;
-}
+int FaceVaryingBuilder::parts_for(std::size_t items) const { return items >= 8192 ? std::max(1, options_.threads) : 1; }
 
 const std::vector<Index>& FaceVaryingBuilder::edges_at(Index x, Walk& walk) const {
     layer().edges(x, walk.edges);
@@ -269,7 +280,8 @@ bool FaceVaryingBuilder::seam_ends(Index x, Index ends[2], Walk& walk) const {
 }
 
 template <typename InnerSemi>
-void FaceVaryingBuilder::release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi) {
+void FaceVaryingBuilder::release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges,
+                                             InnerSemi inner_semi) {
     for (int i = 0; i < n; ++i) {
         Tag& tag = *child_tags[i];
         if (!tag.semi_sharp) continue;
@@ -310,12 +322,16 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
         return;
     }
     const Topology& t = base.topology;
-    const std::vector<std::uint8_t> vertex_non_manifold = non_manifold_vertices(t, non_manifold_edges(t), options_.threads);
-    const std::vector<std::uint8_t> value_non_manifold = non_manifold_vertices(values_, non_manifold_edges(values_), options_.threads);
+    const std::vector<std::uint8_t> vertex_non_manifold =
+        non_manifold_vertices(t, non_manifold_edges(t), options_.threads);
+    const std::vector<std::uint8_t> value_non_manifold =
+        non_manifold_vertices(values_, non_manifold_edges(values_), options_.threads);
     TransientVector<Index> offsets, at_vertex;
-    group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex, parts_for(vertex_of_.size()));
+    group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex,
+                    parts_for(vertex_of_.size()));
 
-    const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode), plus2 = mode == Mode::CornersPlus2;
+    const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode),
+               plus2 = mode == Mode::CornersPlus2;
     const bool sharp_darts = plus2 || linear_b, sharp_fan_corners = mode != Mode::None;
     struct Span {
         int faces = 0, infinite = 0, semi = 0;
@@ -339,9 +355,10 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
                 face_corners += t.edge_face_count(e);
             }
             const bool one_face_corner = boundary && face_corners == 2;
-            const bool mismatched = seam || (linear_b && boundary) ||
-                                    (one_face_corner && mode != Mode::None && options_.boundary != Boundary::EdgesAndCorners) ||
-                                    (vertex_non_manifold[v] && n >= 2);
+            const bool mismatched =
+                seam || (linear_b && boundary) ||
+                (one_face_corner && mode != Mode::None && options_.boundary != Boundary::EdgesAndCorners) ||
+                (vertex_non_manifold[v] && n >= 2);
             if (!mismatched) continue;
             for (int i = 0; i < n; ++i) tags_[values[i]].mismatch = true;
             if (vertex_non_manifold[v]) continue;  // every value stays
@@ -361,7 +378,8 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
                 span.disjoint = value_non_manifold[x] != 0;  // its faces are not one fan, or a seam ends inside it
             }
             const float vertex_sharpness = base.vertex_sharpness(v);
-            bool all_sharp = linear_b || is_infinite(vertex_sharpness) || (dependent && n > 2) || (sharp_darts && n == 1 && !boundary);
+            bool all_sharp = linear_b || is_infinite(vertex_sharpness) || (dependent && n > 2) ||
+                             (sharp_darts && n == 1 && !boundary);
             bool sharpen_dependent = false;
             if (!all_sharp && dependent && n == 2) {
                 all_sharp = spans[0].infinite || spans[1].infinite || spans[0].disjoint || spans[1].disjoint;
@@ -380,8 +398,8 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
     });
 }
 
-void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* level_parent, const LevelStencils& vertex_stencils,
-                                    const LevelState& child, bool last) {
+void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* level_parent,
+                                    const LevelStencils& vertex_stencils, const LevelState& child, bool last) {
     const Topology& t = level.topology;
     const VertexNeighbourhood vertex_level(t, level_parent);
     const VertexNeighbourhood layer = this->layer();
@@ -413,22 +431,28 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         if (step == 0) {
             std::copy(tags_.begin() + x0, tags_.begin() + x1, child_tags.begin() + x0);
             const auto [v0, v1] = part_of(vertex_stencils.num_vertices, part, parts);
-            specials_by_target(vertex_stencils.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; },
-                               special_vertex.data());
+            specials_by_target(
+                vertex_stencils.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; },
+                special_vertex.data());
             const auto [edge0, edge1] = part_of(vertex_stencils.num_edges, part, parts);
-            specials_by_target(vertex_stencils.special_edges, edge0, edge1, [](const SpecialEdge& se) { return se.edge; },
-                               special_edge.data());
+            specials_by_target(
+                vertex_stencils.special_edges, edge0, edge1, [](const SpecialEdge& se) { return se.edge; },
+                special_edge.data());
         } else if (step == 1) {
             const auto [v0, v1] = part_of(t.num_vertices, part, parts);
             release_values(level, child, vertex_level, offsets, at_vertex, v0, v1, child_tags, walk);
         } else {
             plan_value_points(level, child, vertex_level, offsets, at_vertex, special_vertex, child_tags, x0, x1,
                               outputs[std::size_t(part)].vertices, walk);
-            plan_edge_points(vertex_level, special_edge, planned_further, e0, e1, child_tags, outputs[std::size_t(part)].edges);
+            plan_edge_points(vertex_level, special_edge, planned_further, e0, e1, child_tags,
+                             outputs[std::size_t(part)].edges);
         }
     });
-    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<SpecialVertex>& { return out.vertices; }, s.special_vertices);
-    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<SpecialEdge>& { return out.edges; }, s.special_edges);
+    join_in_parts(
+        outputs, [](const PartOutput& out) -> const std::vector<SpecialVertex>& { return out.vertices; },
+        s.special_vertices);
+    join_in_parts(
+        outputs, [](const PartOutput& out) -> const std::vector<SpecialEdge>& { return out.edges; }, s.special_edges);
 
     Topology child_values;
     if (!values_built_) {
@@ -443,10 +467,14 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         parent_values_ = Topology();
     } else {
         if (child_not_built) child_values.num_vertices = nx + ne;
-        else child_values = refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
+        else
+            child_values =
+                refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
         if (planned_further) inherit_mapping(t, parts);
         // A child not built is read through this level: it keeps its offsets and edges (copies to the tables).
-        if (child_not_built) s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, parts), s.edge_ends = copy_in_parts(values_.edge_vertices, parts);
+        if (child_not_built)
+            s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, parts),
+            s.edge_ends = copy_in_parts(values_.edge_vertices, parts);
         else s.ring_offsets = std::move(values_.vertex_edge_offsets), s.edge_ends = std::move(values_.edge_vertices);
         s.ring = std::move(values_.vertex_vertices);
         s.edge_wing_c = std::move(values_.edge_wing_c);
@@ -460,8 +488,9 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
 }
 
 // Vtr::FVarRefinement::reclassifySemisharpValues at vertices [v0, v1) whose values are mismatched.
-void FaceVaryingBuilder::release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                                        const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index v0, Index v1,
+void FaceVaryingBuilder::release_values(const LevelState& level, const LevelState& child,
+                                        const VertexNeighbourhood& vertex_level, const TransientVector<Index>& offsets,
+                                        const TransientVector<Index>& at_vertex, Index v0, Index v1,
                                         TransientVector<Tag>& child_tags, Walk& walk) const {
     const Mode mode = options_.face_varying;
     if (mode == Mode::All) return;
@@ -474,24 +503,30 @@ void FaceVaryingBuilder::release_values(const LevelState& level, const LevelStat
         around.clear();
         for (int i = 0; i < n; ++i)
             for (Index e : edges_at(values[i], walk)) around.push_back(edge_of_[e]);
-        const bool parent_semi = is_semi_sharp(level.vertex_sharpness(v)) ||
-                                 std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
+        const bool parent_semi =
+            is_semi_sharp(level.vertex_sharpness(v)) ||
+            std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
         if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
-        const bool child_semi_edges = std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
+        const bool child_semi_edges =
+            std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
         walk.value_tags.clear();
         for (int i = 0; i < n; ++i) walk.value_tags.push_back(&child_tags[values[i]]);
         release_held_values(mode, walk.value_tags.data(), n, child_semi_edges, [&](int i) {
             inner_edges(values[i], walk.inner, walk);
-            return std::any_of(walk.inner.begin(), walk.inner.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
+            return std::any_of(walk.inner.begin(), walk.inner.end(),
+                               [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
         });
     }
 }
 
 // Value points of values [x0, x1), in value order.
-void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                                           const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex,
-                                           const TransientVector<const SpecialVertex*>& special_vertex, const TransientVector<Tag>& child_tags,
-                                           Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const {
+void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelState& child,
+                                           const VertexNeighbourhood& vertex_level,
+                                           const TransientVector<Index>& offsets,
+                                           const TransientVector<Index>& at_vertex,
+                                           const TransientVector<const SpecialVertex*>& special_vertex,
+                                           const TransientVector<Tag>& child_tags, Index x0, Index x1,
+                                           std::vector<SpecialVertex>& out, Walk& walk) const {
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
     for (Index x = x0; x < x1; ++x) {
         const Tag& tag = tags_[x];
@@ -521,18 +556,21 @@ void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelS
                 walk.parent_edges.push_back(level.edge_sharpness(e));
                 walk.child_edges.push_back(child_sharpness_at(e, v));
             }
-            const float w = transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
-                                              walk.parent_edges.data(), walk.child_edges.data(), int(walk.inner.size()));
+            const float w =
+                transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
+                                  walk.parent_edges.data(), walk.child_edges.data(), int(walk.inner.size()));
             mask = blend(corner_vertex_mask(), w, mask);  // held (a corner) by w, the seam's crease the rest
         }
-        out.push_back({x, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
+        out.push_back(
+            {x, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
     }
 }
 
 // Edge points of layer edges [e0, e1): midpoints along seams, the edge's own mask elsewhere. Their children on a seam
 // follow it (smooth modes) or stay (linear boundaries); the rest match.
-void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_level, const TransientVector<const SpecialEdge*>& special_edge,
-                                          bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
+void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_level,
+                                          const TransientVector<const SpecialEdge*>& special_edge, bool planned_further,
+                                          Index e0, Index e1, TransientVector<Tag>& child_tags,
                                           std::vector<SpecialEdge>& out) const {
     const Mode mode = options_.face_varying;
     const VertexNeighbourhood layer = this->layer();
@@ -540,7 +578,8 @@ void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_leve
     for (Index e = e0; e < e1; ++e) {
         const Index edge = edge_of_[e];
         const bool split = split_[edge] || mode == Mode::All;
-        if (planned_further) child_tags[nx + std::size_t(e)] = split ? Tag{true, !linear_boundaries(mode), false, false} : Tag{};
+        if (planned_further)
+            child_tags[nx + std::size_t(e)] = split ? Tag{true, !linear_boundaries(mode), false, false} : Tag{};
         if (split) {
             const EdgeMask mask = crease_edge_mask();  // the midpoint
             out.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
@@ -562,7 +601,8 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
     std::vector<Index> edges, inner;
     Walk walk;
     TransientVector<Index> offsets, at_vertex;
-    group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex, parts_for(vertex_of_.size()));
+    group_by_vertex(vertex_of_.data(), vertex_of_.size(), last.topology.num_vertices, offsets, at_vertex,
+                    parts_for(vertex_of_.size()));
     std::vector<std::vector<int>> inner_slots;
     std::vector<float> sharpness, child_sharpness, parent_inner, child_inner;
     std::vector<Tag> tags, child_tags;
@@ -576,7 +616,8 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
     for (int v = 0; v < last.topology.num_vertices; ++v) {
         const int n = offsets[v + 1] - offsets[v];
         const Index* values = at_vertex.data() + offsets[v];
-        if (!std::any_of(values, values + n, [&](Index x) { return tags_[x].mismatch && tags_[x].semi_sharp; })) continue;
+        if (!std::any_of(values, values + n, [&](Index x) { return tags_[x].mismatch && tags_[x].semi_sharp; }))
+            continue;
         // The vertex's edges (every one lies in some value's span) and each value's inner edges among them.
         edges.clear();
         for (int i = 0; i < n; ++i)
@@ -586,7 +627,8 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
         inner_slots.assign(n, {});
         for (int i = 0; i < n; ++i) {
             inner_edges(values[i], inner, walk);
-            for (Index e : inner) inner_slots[i].push_back(int(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin()));
+            for (Index e : inner)
+                inner_slots[i].push_back(int(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin()));
         }
         sharpness.clear();
         for (Index e : edges) sharpness.push_back(last.edge_sharpness(e));
@@ -602,8 +644,11 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
         auto is_semi_slot = [](const std::vector<float>& of, const std::vector<int>& slots) {
             return std::any_of(slots.begin(), slots.end(), [&](int k) { return is_semi_sharp(of[k]); });
         };
-        auto all_released = [&] { return std::all_of(held.begin() + first_held, held.end(), [](const Held& h) { return h.released; }); };
-        while (!all_released() && (is_semi_sharp(vertex_sharpness) || std::any_of(sharpness.begin(), sharpness.end(), is_semi_sharp))) {
+        auto all_released = [&] {
+            return std::all_of(held.begin() + first_held, held.end(), [](const Held& h) { return h.released; });
+        };
+        while (!all_released() &&
+               (is_semi_sharp(vertex_sharpness) || std::any_of(sharpness.begin(), sharpness.end(), is_semi_sharp))) {
             const float child_vertex = rules.child_vertex_sharpness(vertex_sharpness);
             child_sharpness.resize(sharpness.size());
             for (std::size_t k = 0; k < sharpness.size(); ++k)
@@ -612,7 +657,8 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
             if (!is_sharp(child_vertex)) {
                 value_tags.clear();
                 for (Tag& tag : child_tags) value_tags.push_back(&tag);
-                release_held_values(mode, value_tags.data(), n, std::any_of(child_sharpness.begin(), child_sharpness.end(), is_semi_sharp),
+                release_held_values(mode, value_tags.data(), n,
+                                    std::any_of(child_sharpness.begin(), child_sharpness.end(), is_semi_sharp),
                                     [&](int i) { return is_semi_slot(child_sharpness, inner_slots[i]); });
             }
             for (std::size_t h = first_held; h < held.size(); ++h) {
@@ -626,19 +672,23 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
                     const int span = tags[i].dep_sharp && n == 2 ? 1 - i : i;
                     parent_inner.clear();
                     child_inner.clear();
-                    for (int k : inner_slots[span]) parent_inner.push_back(sharpness[k]), child_inner.push_back(child_sharpness[k]);
-                    const float w = transition_weight(options_.crease_method, vertex_sharpness, child_vertex, parent_inner.data(),
-                                                      child_inner.data(), int(parent_inner.size()));
+                    for (int k : inner_slots[span])
+                        parent_inner.push_back(sharpness[k]), child_inner.push_back(child_sharpness[k]);
+                    const float w =
+                        transition_weight(options_.crease_method, vertex_sharpness, child_vertex, parent_inner.data(),
+                                          child_inner.data(), int(parent_inner.size()));
                     if (tags[i].semi_sharp) mask = blend(corner_vertex_mask(), w, mask);
                     value.released = true;
                 }
                 // The seam's midpoints are its next ends.
                 const EdgeMask seam = crease_edge_mask();
-                const double step[3][3] = {{mask.self, mask.crease, mask.crease}, {seam.a, seam.b, 0.0}, {seam.a, 0.0, seam.b}};
+                const double step[3][3] = {
+                    {mask.self, mask.crease, mask.crease}, {seam.a, seam.b, 0.0}, {seam.a, 0.0, seam.b}};
                 double product[3][3];
                 for (int r = 0; r < 3; ++r)
                     for (int c = 0; c < 3; ++c)
-                        product[r][c] = step[r][0] * value.refinement[0][c] + step[r][1] * value.refinement[1][c] + step[r][2] * value.refinement[2][c];
+                        product[r][c] = step[r][0] * value.refinement[0][c] + step[r][1] * value.refinement[1][c] +
+                                        step[r][2] * value.refinement[2][c];
                 std::copy(&product[0][0], &product[0][0] + 9, &value.refinement[0][0]);
             }
             tags.swap(child_tags);
@@ -651,8 +701,10 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
         const LimitMask limit = h.released ? crease_limit_mask() : corner_limit_mask();
         const double r[3] = {limit.self, limit.end_a, limit.end_b};
         double pulled[3];
-        for (int c = 0; c < 3; ++c) pulled[c] = r[0] * h.refinement[0][c] + r[1] * h.refinement[1][c] + r[2] * h.refinement[2][c];
-        s.special_vertices.push_back({h.value, h.ends[0], h.ends[1], float(pulled[0]), 0.0f, float(pulled[1]), float(pulled[2])});
+        for (int c = 0; c < 3; ++c)
+            pulled[c] = r[0] * h.refinement[0][c] + r[1] * h.refinement[1][c] + r[2] * h.refinement[2][c];
+        s.special_vertices.push_back(
+            {h.value, h.ends[0], h.ends[1], float(pulled[0]), 0.0f, float(pulled[1]), float(pulled[2])});
     }
     std::sort(s.special_vertices.begin(), s.special_vertices.end(),
               [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
@@ -675,9 +727,12 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     run_levels(parts, 2, [&](int step, int part, int) {
         if (step == 0) {
             const auto [v0, v1] = part_of(vertex_limit.num_vertices, part, parts);
-            specials_by_target(vertex_limit.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; }, special_vertex.data());
-            specials_by_target(vertex_limit.ring_weighted_vertices, v0, v1, [](const RingWeightedVertex& rv) { return rv.vertex; },
-                               ring_weighted.data());
+            specials_by_target(
+                vertex_limit.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; },
+                special_vertex.data());
+            specials_by_target(
+                vertex_limit.ring_weighted_vertices, v0, v1, [](const RingWeightedVertex& rv) { return rv.vertex; },
+                ring_weighted.data());
             return;
         }
         const auto [x0, x1] = part_of(nx, part, parts);
@@ -685,19 +740,24 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
                           outputs[std::size_t(part)]);
     });
     std::vector<std::size_t> weights_before(outputs.size() + 1, 0);
-    for (std::size_t k = 0; k < outputs.size(); ++k) weights_before[k + 1] = weights_before[k] + outputs[k].ring_weights.size();
+    for (std::size_t k = 0; k < outputs.size(); ++k)
+        weights_before[k + 1] = weights_before[k] + outputs[k].ring_weights.size();
     for (std::size_t k = 0; k < outputs.size(); ++k)  // part-local places in the ring weights, made the joined list's
         for (RingWeightedVertex& rv : outputs[k].ring_weighted) rv.first += Index(weights_before[k]);
     std::vector<SpecialVertex> computed;
-    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<SpecialVertex>& { return out.vertices; }, computed);
-    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<RingWeightedVertex>& { return out.ring_weighted; },
-                  s.ring_weighted_vertices);
-    join_in_parts(outputs, [](const PartOutput& out) -> const std::vector<float>& { return out.ring_weights; }, s.ring_weights);
+    join_in_parts(
+        outputs, [](const PartOutput& out) -> const std::vector<SpecialVertex>& { return out.vertices; }, computed);
+    join_in_parts(
+        outputs, [](const PartOutput& out) -> const std::vector<RingWeightedVertex>& { return out.ring_weighted; },
+        s.ring_weighted_vertices);
+    join_in_parts(
+        outputs, [](const PartOutput& out) -> const std::vector<float>& { return out.ring_weights; }, s.ring_weights);
     if (held == 0) {
         s.special_vertices = std::move(computed);
     } else {
         s.special_vertices.insert(s.special_vertices.end(), computed.begin(), computed.end());
-        std::inplace_merge(s.special_vertices.begin(), s.special_vertices.begin() + std::ptrdiff_t(held), s.special_vertices.end(),
+        std::inplace_merge(s.special_vertices.begin(), s.special_vertices.begin() + std::ptrdiff_t(held),
+                           s.special_vertices.end(),
                            [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
     }
     const int copy_parts = parts_for(values_.vertex_vertices.size());
@@ -706,14 +766,17 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     plan_.counts.push_back(nx);
 }
 
-void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit, const TransientVector<const SpecialVertex*>& special_vertex,
-                                           const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
-                                           std::size_t num_held, Index x0, Index x1, PartOutput& out) const {
+void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit,
+                                           const TransientVector<const SpecialVertex*>& special_vertex,
+                                           const TransientVector<const RingWeightedVertex*>& ring_weighted,
+                                           const SpecialVertex* held, std::size_t num_held, Index x0, Index x1,
+                                           PartOutput& out) const {
     const Mode mode = options_.face_varying;
     // Linear everywhere has no limit to go to; seam corners stay; seams go to their B-spline's limit; values with
     // no seam at their vertex go where the vertex goes (Far::PrimvarRefiner::LimitFaceVarying).
     const LimitMask crease = crease_limit_mask();
-    const SpecialVertex* next_held = std::lower_bound(held, held + num_held, x0, [](const SpecialVertex& h, Index x) { return h.vertex < x; });
+    const SpecialVertex* next_held =
+        std::lower_bound(held, held + num_held, x0, [](const SpecialVertex& h, Index x) { return h.vertex < x; });
     Walk walk;
     for (Index x = x0; x < x1; ++x) {
         const Tag& tag = tags_[x];
@@ -723,7 +786,8 @@ void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit, co
         } else if (mode == Mode::All || (tag.mismatch && (!tag.crease || !seam_ends(x, ends, walk)))) {
             out.vertices.push_back(copy_of(x));
         } else if (tag.mismatch) {
-            out.vertices.push_back({x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
+            out.vertices.push_back(
+                {x, ends[0], ends[1], float(crease.self), 0.0f, float(crease.end_a), float(crease.end_b)});
         } else if (const SpecialVertex* m = special_vertex[std::size_t(vertex_of_[x])]) {
             out.vertices.push_back(on_layer(x, *m, walk));
         } else if (const RingWeightedVertex* m = ring_weighted[std::size_t(vertex_of_[x])]) {
@@ -732,7 +796,9 @@ void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit, co
             out.ring_weighted.push_back({x, Index(out.ring_weights.size()), m->w_self});
             for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
                 const Index neighbour = vertex_of_[values_.vertex_vertices[k]];
-                const Index slot = Index(std::find(&vertex_limit.ring[first], &vertex_limit.ring[first] + (last - first), neighbour) - &vertex_limit.ring[first]);
+                const Index slot =
+                    Index(std::find(&vertex_limit.ring[first], &vertex_limit.ring[first] + (last - first), neighbour) -
+                          &vertex_limit.ring[first]);
                 out.ring_weights.push_back(slot < last - first ? vertex_limit.ring_weights[m->first + slot] : 0.0f);
             }
         }

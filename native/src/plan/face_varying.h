@@ -24,10 +24,10 @@ namespace loopsub::detail {
 
 struct FaceVaryingPlan {
     int num_input_values = 0;
-    LargeVector<Index> base_values;            // per value of the layer's base mesh: the caller's value index
-    std::vector<LevelStencils> passes;         // one per level, then the limit
-    std::vector<int> counts;                   // values before each pass, and after the last
-    LargeVector<Index> output_corner_values;   // 3 per output triangle
+    LargeVector<Index> base_values;           // per value of the layer's base mesh: the caller's value index
+    std::vector<LevelStencils> passes;        // one per level, then the limit
+    std::vector<int> counts;                  // values before each pass, and after the last
+    LargeVector<Index> output_corner_values;  // 3 per output triangle
 };
 
 class FaceVaryingBuilder {
@@ -74,7 +74,9 @@ private:
     void inherit_mapping(const Topology& t, int parts);
     void classify_base(const LevelState& base);
     // The layer's current level as the queries below read it: its own arrays, or its parent's where it is not built.
-    VertexNeighbourhood layer() const { return VertexNeighbourhood(values_, values_built_ ? nullptr : &parent_values_); }
+    VertexNeighbourhood layer() const {
+        return VertexNeighbourhood(values_, values_built_ ? nullptr : &parent_values_);
+    }
     // How many parts a level of `items` values and edges is planned in: one where the parts' meetings would cost
     // more than their share.
     int parts_for(std::size_t items) const;
@@ -90,22 +92,25 @@ private:
     // plan_level's steps over a part of the level: the children's tags at vertices [v0, v1) where semi-sharp features
     // decay, the value points of values [x0, x1), the edge points of layer edges [e0, e1) and their children's tags.
     void release_values(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
-                        const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index v0, Index v1,
-                        TransientVector<Tag>& child_tags, Walk& walk) const;
+                        const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index v0,
+                        Index v1, TransientVector<Tag>& child_tags, Walk& walk) const;
     void plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
                            const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex,
-                           const TransientVector<const SpecialVertex*>& special_vertex, const TransientVector<Tag>& child_tags,
-                           Index x0, Index x1, std::vector<SpecialVertex>& out, Walk& walk) const;
-    void plan_edge_points(const VertexNeighbourhood& vertex_level, const TransientVector<const SpecialEdge*>& special_edge,
-                          bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
-                          std::vector<SpecialEdge>& out) const;
-    // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and whose
-    // own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the features
-    // inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
+                           const TransientVector<const SpecialVertex*>& special_vertex,
+                           const TransientVector<Tag>& child_tags, Index x0, Index x1, std::vector<SpecialVertex>& out,
+                           Walk& walk) const;
+    void plan_edge_points(const VertexNeighbourhood& vertex_level,
+                          const TransientVector<const SpecialEdge*>& special_edge, bool planned_further, Index e0,
+                          Index e1, TransientVector<Tag>& child_tags, std::vector<SpecialEdge>& out) const;
+    // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and
+    // whose own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the
+    // features inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
     template <typename InnerSemi>
-    static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges, InnerSemi inner_semi);
+    static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges,
+                                    InnerSemi inner_semi);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
-    void plan_limit_points(const LevelStencils& vertex_limit, const TransientVector<const SpecialVertex*>& special_vertex,
+    void plan_limit_points(const LevelStencils& vertex_limit,
+                           const TransientVector<const SpecialVertex*>& special_vertex,
                            const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
     // Where a value held on the last level goes: held until its features are spent, then along its seam.
@@ -113,7 +118,7 @@ private:
 
     Options options_;
     FaceVaryingPlan plan_;
-    Topology values_;                  // the layer's mesh on the current level
+    Topology values_;  // the layer's mesh on the current level
     // The level before the last is not built where the vertex plan builds none (no limit surface) and the layer is not
     // linear (whose edges inside faces are special): its tables are filled from its parent, kept here meanwhile.
     bool skip_level_before_last_ = false;

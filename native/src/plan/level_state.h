@@ -36,12 +36,22 @@ inline const Feature* find_feature(const std::vector<Feature>& features, Index i
 
 struct LevelState {
     Topology topology;
-    bool own_neighbourhood = true;  // false: refined ForStencils or not built; its vertex neighbourhoods come from its parent
+    bool own_neighbourhood =
+        true;  // false: refined ForStencils or not built; its vertex neighbourhoods come from its parent
     std::vector<Feature> edges, vertices;
 
-    float edge_sharpness(Index e) const { const Feature* f = find_feature(edges, e); return f ? f->sharpness : 0.0f; }
-    float vertex_sharpness(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->sharpness : 0.0f; }
-    float vertex_tag(Index v) const { const Feature* f = find_feature(vertices, v); return f ? f->tag : 0.0f; }
+    float edge_sharpness(Index e) const {
+        const Feature* f = find_feature(edges, e);
+        return f ? f->sharpness : 0.0f;
+    }
+    float vertex_sharpness(Index v) const {
+        const Feature* f = find_feature(vertices, v);
+        return f ? f->sharpness : 0.0f;
+    }
+    float vertex_tag(Index v) const {
+        const Feature* f = find_feature(vertices, v);
+        return f ? f->tag : 0.0f;
+    }
 };
 
 // A vertex next to a feature, with its edges (in VertexNeighbourhood order) and their sharpness and tags.
@@ -50,9 +60,9 @@ struct FeatureVertex {
     const std::vector<Index>& edges;
     const std::vector<float>& sharpness;
     const std::vector<float>& tags;
-    int num_sharp_edges;   // how many of its edges are sharp
-    Index crease[2];   // the first two sharp edges (-1: none)
-    bool tagged_cone;  // Hoppe94
+    int num_sharp_edges;           // how many of its edges are sharp
+    Index crease[2];               // the first two sharp edges (-1: none)
+    bool tagged_cone;              // Hoppe94
     const Feature* own = nullptr;  // the vertex's own sharpness and tag, where it is a feature itself
     // Per edge, its entry in the level's features (null: not a feature), so that what the vertex makes of it can go
     // to the feature's place in a list sorted like the features.
@@ -66,8 +76,8 @@ struct FeatureVertex {
 // vertex order within each of `parts` parts, which run at once on threads and take consecutive ranges of vertices
 // (a caller that collects per part and joins the parts in order keeps vertex order).
 template <typename Visit>
-void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& cones, const VertexNeighbourhood& around,
-                             Visit visit, int parts = 1) {
+void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& cones,
+                             const VertexNeighbourhood& around, Visit visit, int parts = 1) {
     // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that gathering them needs
     // no search per incident edge. A pair is two indices, written in place: structs of pointers pushed one at a time
     // cost more and sorted three times as many bytes (docs/benchmark.md, "Measurements behind the code").
@@ -82,7 +92,8 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         *next++ = {level.edges[k].ends[1], Index(k)};
     }
     for (std::size_t k = 0; k < level.vertices.size(); ++k) *next++ = {level.vertices[k].index, -2 - Index(k)};
-    for (Index v : cones) if (v < level.topology.num_vertices) *next++ = {v, -1};
+    for (Index v : cones)
+        if (v < level.topology.num_vertices) *next++ = {v, -1};
     touches.resize(std::size_t(next - touches.data()));
     if (touches.empty()) return;
     // By vertex, a byte of the index at a time (stable, which the runs do not need), not by comparisons
@@ -130,8 +141,15 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
             Index crease[2] = {-1, -1};
             for (std::size_t k = 0; k < edges.size(); ++k)
                 if (is_sharp(sharpness[k]) && num_sharp_edges++ < 2) crease[num_sharp_edges - 1] = edges[k];
-            visit(FeatureVertex{v, edges, sharpness, tags, num_sharp_edges, {crease[0], crease[1]},
-                                std::binary_search(cones.begin(), cones.end(), v), own, &edge_features},
+            visit(FeatureVertex{v,
+                                edges,
+                                sharpness,
+                                tags,
+                                num_sharp_edges,
+                                {crease[0], crease[1]},
+                                std::binary_search(cones.begin(), cones.end(), v),
+                                own,
+                                &edge_features},
                   part);
         }
     });

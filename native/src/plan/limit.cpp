@@ -75,7 +75,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::vector<Spent> spent;  // by vertex
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
-    const VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &plan_.level_num_vertices, base_for_walks_);
+    const VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &plan_.level_num_vertices,
+                                     base_for_walks_);
     std::vector<Index> far_edges;
     std::vector<float> far_sharpness;
     for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
@@ -100,16 +101,18 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             const Index e = c.crease[k], other = t.other_end(e, v);
             ends[k] = other;
             const bool v_first = t.edge_vertices[2 * e] == v;
-            const EdgeMask edge = rules_->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
-                                                     v_first ? types[other] : types[v], around.edge_face_count(e), true});
+            const EdgeMask edge =
+                rules_->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
+                                   v_first ? types[other] : types[v], around.edge_face_count(e), true});
             vertex_weight[k] = crease_end_weight(edge, v_first);
         }
-        const VertexSituation situation{types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0,
-                                        {c.crease[0], c.crease[1]}, {-1, -1}};
+        const VertexSituation situation{
+            types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0, {c.crease[0], c.crease[1]}, {-1, -1}};
         const LimitMask mask = rules_->limit_mask(situation, vertex_weight[0], vertex_weight[1]);
         const LimitMask smooth = smooth_limit_mask(c.valence);
         if (mask.self != smooth.self || mask.ring != smooth.ring || mask.end_a != 0.0 || mask.end_b != 0.0)
-            s.special_vertices.push_back({v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
+            s.special_vertices.push_back(
+                {v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
     }
 
     // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. A level known
@@ -122,7 +125,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         order_child_rings(parent, lt.by_side.data(), s.ring.data());
     } else {
         LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
-        auto end_of = [&t](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v); };
+        auto end_of = [&t](Index e, Index v) {
+            return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v);
+        };
         for (Index v = 0, slot = 0; v < nv; ++v) {
             around.edges(v, far_edges);  // before the level's offsets go to the tables: the level's own arrays answer
             for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
@@ -135,7 +140,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             if (lt.by_side[v]) continue;
             const std::size_t face = c - c % 3;
             const int k = int(c % 3);
-            follower[slot_at[end_of(t.face_edges[face + k], v)]] = slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
+            follower[slot_at[end_of(t.face_edges[face + k], v)]] =
+                slot_at[end_of(t.face_edges[face + prev_corner(k)], v)];
         }
         std::vector<Index> ordered;
         for (int v = 0; v < nv; ++v) {
@@ -163,15 +169,17 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     // Sides: the corners at each such vertex, chained across the smooth edges they share.
     struct Corner {
         Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
-        bool operator<(const Corner& other) const { return vertex != other.vertex ? vertex < other.vertex : corner < other.corner; }
+        bool operator<(const Corner& other) const {
+            return vertex != other.vertex ? vertex < other.vertex : corner < other.corner;
+        }
     };
     std::vector<Corner> at_sides;
     for (std::size_t c = 0; c < corners; ++c) {
         if (!lt.by_side[tri[c]]) continue;
         const std::size_t face = c - c % 3;
         const int k = int(c % 3);
-        at_sides.push_back({tri[c], Index(c), tri[face + next_corner(k)], tri[face + prev_corner(k)], t.face_edges[face + k],
-                            t.face_edges[face + prev_corner(k)]});
+        at_sides.push_back({tri[c], Index(c), tri[face + next_corner(k)], tri[face + prev_corner(k)],
+                            t.face_edges[face + k], t.face_edges[face + prev_corner(k)]});
     }
     std::sort(at_sides.begin(), at_sides.end());
     std::vector<int> next, previous;
@@ -184,7 +192,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         next.assign(n, -1);
         previous.assign(n, -1);
         for (int i = 0; i < n; ++i) {
-            // Semi-sharp edges are smooth at the limit (their vertices were spent): only infinitely sharp ones part sides.
+            // Semi-sharp edges are smooth at the limit (their vertices were spent): only infinitely sharp ones part
+            // sides.
             if (is_infinite(level.edge_sharpness(fan[i].edge_b))) continue;
             for (int j = 0; j < n; ++j) {
                 if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
@@ -262,7 +271,8 @@ detail::PlanBuilder::Spent detail::PlanBuilder::spend(const LevelState& level, c
         }
         far[k] = rules_->child_edge_sharpness(sharpness, far_sharpness.data(), int(far_sharpness.size()));
     }
-    out.ring = rules_->refine_until_spent({n, vertex.own_sharpness(), vertex.sharpness.data(), far.data(), faces.data(), wings.data()});
+    out.ring = rules_->refine_until_spent(
+        {n, vertex.own_sharpness(), vertex.sharpness.data(), far.data(), faces.data(), wings.data()});
     return out;
 }
 
@@ -300,8 +310,16 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
     for (const Spent& x : spent) {
         const Index v = x.vertex;
         const int n = int(x.neighbours.size());
-        const LimitMask limit = rules_->limit_mask({VertexType::Smooth, x.ring.rule, n, 0.0f, 0.0f, nullptr, nullptr, 0,
-                                                    {x.ring.crease[0], x.ring.crease[1]}, {-1, -1}},
+        const LimitMask limit = rules_->limit_mask({VertexType::Smooth,
+                                                    x.ring.rule,
+                                                    n,
+                                                    0.0f,
+                                                    0.0f,
+                                                    nullptr,
+                                                    nullptr,
+                                                    0,
+                                                    {x.ring.crease[0], x.ring.crease[1]},
+                                                    {-1, -1}},
                                                    0.5, 0.5);
         mask.assign(n + 1, limit.ring);
         mask[0] = limit.self;
@@ -313,14 +331,17 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         for (Index k = first; k < last; ++k) s.ring_weights.push_back(float(pulled[x.slot(s.ring[k])]));
         // Smooth once spent, its ring counter-clockwise: one normal.
         if (!lt.by_side[v]) {
-            lt.own_vertex_tangents.push_back({v, own_tangents(x, &s.ring[first], n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
+            lt.own_vertex_tangents.push_back(
+                {v, own_tangents(x, &s.ring[first], n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
         }
     }
     for (LimitTables::Side& side : lt.sides) {
-        const auto found = std::lower_bound(spent.begin(), spent.end(), side.vertex, [](const Spent& x, Index v) { return x.vertex < v; });
+        const auto found = std::lower_bound(spent.begin(), spent.end(), side.vertex,
+                                            [](const Spent& x, Index v) { return x.vertex < v; });
         if (found == spent.end() || found->vertex != side.vertex) continue;
         const Index* points = &lt.side_points[side.first];
-        side.own = side.closed ? own_tangents(*found, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data())
+        side.own = side.closed ? own_tangents(*found, points, side.faces, lt.smooth_t1[side.faces].data(),
+                                              lt.smooth_t2[side.faces].data())
                                : own_tangents(*found, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
                                               lt.side_t2[side.faces].data() + 1);
     }
@@ -373,7 +394,8 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* normals) {
     auto at = [points_data, stride](Index i, int c) { return points_data[std::size_t(i) * stride + std::size_t(c)]; };
     // Tangent masks sum to zero, so they apply to the neighbours' offsets from the vertex: small numbers, where the
     // positions themselves would lose the tangents' low bits at deep levels.
-    auto scalar_tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
+    auto scalar_tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1,
+                               Vec3& t2) {
         const float vx = at(v, 0), vy = at(v, 1), vz = at(v, 2);
         for (int i = 0; i < count; ++i) {
             const float dx = at(points[i], 0) - vx, dy = at(points[i], 1) - vy, dz = at(points[i], 2) - vz;
@@ -424,27 +446,42 @@ void PlanImpl::limit_normals(ChannelsView<const float> p, float* normals) {
         if (phase == 0) {
             const auto [begin, end] = detail::part_of(std::size_t(s.num_vertices), part, parts);
             // The vertices with tangents of their own, met in vertex order.
-            auto own = std::lower_bound(lt.own_vertex_tangents.begin(), lt.own_vertex_tangents.end(), std::pair<Index, Index>(Index(begin), -1));
-            in_batches(begin, end, [&](std::size_t v, Vec3& t1, Vec3& t2) {
-                if (lt.by_side[v]) return;  // zero: its corners take their sides' normals
-                const Index first = s.ring_offsets[v];
-                const int valence = s.ring_offsets[v + 1] - first;
-                if (own != lt.own_vertex_tangents.end() && std::size_t(own->first) == v) {
-                    tangents(Index(v), s.ring.data() + first, valence, lt.own_t1.data() + own->second, lt.own_t2.data() + own->second, t1, t2);
-                    ++own;
-                    return;
-                }
-                tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data(), t1, t2);
-            }, vertex_normals);
+            auto own = std::lower_bound(lt.own_vertex_tangents.begin(), lt.own_vertex_tangents.end(),
+                                        std::pair<Index, Index>(Index(begin), -1));
+            in_batches(
+                begin, end,
+                [&](std::size_t v, Vec3& t1, Vec3& t2) {
+                    if (lt.by_side[v]) return;  // zero: its corners take their sides' normals
+                    const Index first = s.ring_offsets[v];
+                    const int valence = s.ring_offsets[v + 1] - first;
+                    if (own != lt.own_vertex_tangents.end() && std::size_t(own->first) == v) {
+                        tangents(Index(v), s.ring.data() + first, valence, lt.own_t1.data() + own->second,
+                                 lt.own_t2.data() + own->second, t1, t2);
+                        ++own;
+                        return;
+                    }
+                    tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(),
+                             lt.smooth_t2[valence].data(), t1, t2);
+                },
+                vertex_normals);
         } else {
             const auto [begin, end] = detail::part_of(lt.sides.size(), part, parts);
-            in_batches(begin, end, [&](std::size_t i, Vec3& t1, Vec3& t2) {
-                const detail::LimitTables::Side& side = lt.sides[i];
-                const Index* points = lt.side_points.data() + side.first;
-                if (side.own >= 0) tangents(side.vertex, points, side.closed ? side.faces : side.faces + 1, lt.own_t1.data() + side.own, lt.own_t2.data() + side.own, t1, t2);
-                else if (side.closed) tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(), lt.smooth_t2[side.faces].data(), t1, t2);
-                else tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1, lt.side_t2[side.faces].data() + 1, t1, t2);
-            }, side_normals);
+            in_batches(
+                begin, end,
+                [&](std::size_t i, Vec3& t1, Vec3& t2) {
+                    const detail::LimitTables::Side& side = lt.sides[i];
+                    const Index* points = lt.side_points.data() + side.first;
+                    if (side.own >= 0)
+                        tangents(side.vertex, points, side.closed ? side.faces : side.faces + 1,
+                                 lt.own_t1.data() + side.own, lt.own_t2.data() + side.own, t1, t2);
+                    else if (side.closed)
+                        tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(),
+                                 lt.smooth_t2[side.faces].data(), t1, t2);
+                    else
+                        tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
+                                 lt.side_t2[side.faces].data() + 1, t1, t2);
+                },
+                side_normals);
         }
     });
 }

@@ -13,7 +13,8 @@ namespace {
 
 void require_edges(const PlanImpl& p) {
     if (p.options.levels < 1) throw std::logic_error("output_edges: a plan of no levels has the input's edges");
-    if (!p.holes.empty()) throw std::logic_error("output_edges: the plan has holes, whose inner edges no triangle gives");
+    if (!p.holes.empty())
+        throw std::logic_error("output_edges: the plan has holes, whose inner edges no triangle gives");
 }
 
 }  // namespace

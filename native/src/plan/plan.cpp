@@ -9,8 +9,8 @@
 
 namespace loopsub {
 
-using detail::LevelCounts;
 using detail::estimate_for_counts;
+using detail::LevelCounts;
 
 PlanImpl::PlanImpl(const Options& plan_options) : options(plan_options) {
     copies.level_edges.resize(std::size_t(std::max(options.levels, 0)));
@@ -33,7 +33,10 @@ const std::int32_t* Plan::output_triangles() const { return impl_->output_triang
 
 namespace {
 const detail::LimitTables& limit_tables(const PlanImpl& p, const char* what) {
-    if (!p.limit) throw std::logic_error(std::string(what) + ": the limit normals are the limit surface's; build the plan with Options::limit_surface");
+    if (!p.limit)
+        throw std::logic_error(
+            std::string(what) +
+            ": the limit normals are the limit surface's; build the plan with Options::limit_surface");
     return *p.limit;
 }
 }  // namespace
@@ -75,7 +78,9 @@ double Plan::topology_ms() const { return impl_->topology_ms; }
 double Plan::last_evaluate_ms() const { return impl_->frame.evaluate_ms; }
 
 const std::vector<std::int32_t>& Plan::level_edges(int level) const {
-    if (level < 0 || level >= levels()) throw std::out_of_range("level_edges: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels() - 1));
+    if (level < 0 || level >= levels())
+        throw std::out_of_range("level_edges: level " + std::to_string(level) + " is not in 0.." +
+                                std::to_string(levels() - 1));
     const PlanImpl& p = *impl_;
     std::vector<Index>& edges = p.copies.level_edges[level];
     std::call_once(p.copies.level_edges_ready[level], [&p, &edges, level] {
@@ -90,13 +95,17 @@ const std::vector<std::int32_t>& Plan::level_edges(int level) const {
     return edges;
 }
 int Plan::level_num_vertices(int level) const {
-    if (level < 0 || level > levels()) throw std::out_of_range("level_num_vertices: level " + std::to_string(level) + " is not in 0.." + std::to_string(levels()));
+    if (level < 0 || level > levels())
+        throw std::out_of_range("level_num_vertices: level " + std::to_string(level) + " is not in 0.." +
+                                std::to_string(levels()));
     return impl_->level_num_vertices[level];
 }
 const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
     const PlanImpl& p = *impl_;
     const int last = p.options.levels > 0 || p.options.limit_surface ? p.options.levels : -1;
-    if (level < 0 || level > last) throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." + std::to_string(last));
+    if (level < 0 || level > last)
+        throw std::out_of_range("level_vertex_types: level " + std::to_string(level) + " is not in 0.." +
+                                std::to_string(last));
     std::vector<VertexType>& copy = p.copies.level_vertex_types[level];
     std::call_once(p.copies.level_vertex_types_ready[level], [&p, &copy, level] {
         if (level < int(p.level_vertex_types.size())) {
@@ -109,7 +118,8 @@ const std::vector<VertexType>& Plan::level_vertex_types(int level) const {
     return copy;
 }
 
-std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels, std::int64_t num_edges) {
+std::uint64_t Plan::estimate_bytes(int num_vertices, int num_triangles, int levels, int num_channels,
+                                   std::int64_t num_edges) {
     const std::uint64_t triangles = std::uint64_t(std::max(num_triangles, 0));
     const LevelCounts counts{std::uint64_t(std::max(num_vertices, 0)),
                              num_edges < 0 ? triangles * 3 / 2 : std::uint64_t(num_edges), triangles};

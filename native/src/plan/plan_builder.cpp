@@ -45,21 +45,23 @@ VertexType classify_vertex(SdcRule rule, const FeatureVertex& vertex, const Vert
             fan.has_fin |= faces > 2;
             fan.on_boundary |= faces == 1;
         }
-        fan.creases_on_boundary = around.edge_face_count(vertex.crease[0]) == 1 && around.edge_face_count(vertex.crease[1]) == 1;
+        fan.creases_on_boundary =
+            around.edge_face_count(vertex.crease[0]) == 1 && around.edge_face_count(vertex.crease[1]) == 1;
         // The walk round the fan is defined where every edge has two faces.
-        if (!fan.has_fin && !fan.on_boundary) fan.faces_on_one_side = around.faces_between(vertex.vertex, vertex.crease[0], vertex.crease[1]);
+        if (!fan.has_fin && !fan.on_boundary)
+            fan.faces_on_one_side = around.faces_between(vertex.vertex, vertex.crease[0], vertex.crease[1]);
         return fan;
     });
 }
 
 // One level as plan_level's steps share it: the level being planned and its child.
 struct PlanBuilder::Step {
-    LevelState& level;       // its features; its connectivity where it is built (else num_vertices only)
-    const Topology& parent;  // the level before it, through which `around` reads a level that is not built
-    LevelState& child;       // receives the child level's features and connectivity
-    int child_level;         // the child's number: 1 for the base's child
-    bool last_child;         // the child is the last level and no limit pass follows: it needs its triangles only
-    bool grandchild_last;    // likewise for the child's child
+    LevelState& level;           // its features; its connectivity where it is built (else num_vertices only)
+    const Topology& parent;      // the level before it, through which `around` reads a level that is not built
+    LevelState& child;           // receives the child level's features and connectivity
+    int child_level;             // the child's number: 1 for the base's child
+    bool last_child;             // the child is the last level and no limit pass follows: it needs its triangles only
+    bool grandchild_last;        // likewise for the child's child
     VertexNeighbourhood around;  // this level's connectivity, wherever it is held
     int nv, ne;                  // this level's vertices and edges
     LevelStencils& tables;       // this level's, being filled
@@ -80,7 +82,9 @@ struct PlanBuilder::PartOutput {
 struct PlanBuilder::HalvesOfFeatures {
     std::vector<Feature> slots;
     // Whether half `half` (0 at the edge's first end) of the feature-th feature edge is sharp (an empty slot is not).
-    bool sharp(std::size_t feature, int half) const { return is_sharp(slots[2 * feature + std::size_t(half)].sharpness); }
+    bool sharp(std::size_t feature, int half) const {
+        return is_sharp(slots[2 * feature + std::size_t(half)].sharpness);
+    }
 };
 
 // What a feature vertex's child inherits: the sharpness of the halves of its edges at it and its own, decayed.
@@ -93,7 +97,7 @@ struct PlanBuilder::ChildOfVertex {
 
 std::unique_ptr<PlanImpl> PlanBuilder::build(const MeshView& mesh, const Options& options) {
     const auto start = Clock::now();
-    validate_options(options);  // first: the team below starts `threads` threads
+    validate_options(options);              // first: the team below starts `threads` threads
     const TeamScope team(options.threads);  // a kept team, or one whose threads start while the base level is built
     validate_mesh(mesh);
     auto plan = std::make_unique<PlanImpl>(options);
@@ -122,7 +126,8 @@ void PlanBuilder::run() {
         plan_level(level, parent, child, l + 1);
         const bool last = l + 1 == options_.levels;
         for (FaceVaryingBuilder& layer : layers)
-            layer.plan_level(level, skip_level_before_last_ && last ? &parent : nullptr, plan_.stencils[l], child, last);
+            layer.plan_level(level, skip_level_before_last_ && last ? &parent : nullptr, plan_.stencils[l], child,
+                             last);
         retire_parent(parent, l);
         parent = std::move(level.topology);
         level = std::move(child);
@@ -215,16 +220,18 @@ std::uint64_t PlanBuilder::check_memory(const Topology& base) const {
     for (int l = 0; l < options_.levels; ++l) last = last.child();
     const std::uint64_t needed = estimate_for_counts(counts, options_.levels, 3);
     const std::uint64_t index_limit = std::uint64_t(std::numeric_limits<Index>::max());
-    const std::string request = "subdividing " + std::to_string(mesh_.num_triangles) + " triangles " +
-                                std::to_string(options_.levels) + " times gives " +
-                                (last.faces == kSaturated ? std::string("more than 2^64") : std::to_string(last.faces)) + " triangles";
+    const std::string request =
+        "subdividing " + std::to_string(mesh_.num_triangles) + " triangles " + std::to_string(options_.levels) +
+        " times gives " + (last.faces == kSaturated ? std::string("more than 2^64") : std::to_string(last.faces)) +
+        " triangles";
     if (needed > options_.memory_limit_bytes)
-        throw MemoryLimitError(request + " and would need about " + describe_bytes(needed) + ", more than the limit of " +
-                                   describe_bytes(options_.memory_limit_bytes),
+        throw MemoryLimitError(request + " and would need about " + describe_bytes(needed) +
+                                   ", more than the limit of " + describe_bytes(options_.memory_limit_bytes),
                                needed);
     if (mul(3, last.faces) > index_limit || mul(2, last.edges) > index_limit)
-        throw MemoryLimitError(request + ", more than 32-bit indices can address (about " + describe_bytes(needed) + " would be needed)",
-                               needed);
+        throw MemoryLimitError(
+            request + ", more than 32-bit indices can address (about " + describe_bytes(needed) + " would be needed)",
+            needed);
     return needed;
 }
 
@@ -248,12 +255,22 @@ LevelCounts PlanBuilder::base_counts(const Topology& base) const {
 void PlanBuilder::plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level) {
     // With the limit surface, the last level is planned like the others, its limit pass standing in for a child.
     const int final_level = options_.levels + (options_.limit_surface ? 1 : 0);
-    const VertexNeighbourhood around(level.topology, level.own_neighbourhood ? nullptr : &parent, &plan_.level_num_vertices,
-                                     base_for_walks_);
+    const VertexNeighbourhood around(level.topology, level.own_neighbourhood ? nullptr : &parent,
+                                     &plan_.level_num_vertices, base_for_walks_);
     LevelStencils& tables = start_tables(around, level.topology.num_vertices);
-    LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(level.topology.num_vertices, VertexType::Smooth);
-    Step step{level, parent, child, child_level, child_level == final_level, child_level + 1 == final_level, around,
-              level.topology.num_vertices, around.num_edges(), tables, types};
+    LargeVector<VertexType>& types =
+        plan_.level_vertex_types.emplace_back(level.topology.num_vertices, VertexType::Smooth);
+    Step step{level,
+              parent,
+              child,
+              child_level,
+              child_level == final_level,
+              child_level + 1 == final_level,
+              around,
+              level.topology.num_vertices,
+              around.num_edges(),
+              tables,
+              types};
     HalvesOfFeatures halves{std::vector<Feature>(2 * level.edges.size(), Feature{-1, 0.0f, 0.0f})};
     plan_feature_vertices(step, halves);
     if (step.last_child) classify_last_midpoints(step, halves);
@@ -269,7 +286,8 @@ LevelStencils& PlanBuilder::start_tables(const VertexNeighbourhood& around, int 
     s.num_vertices = num_vertices;
     s.num_edges = around.num_edges();
     const int max_valence = around.max_valence();
-    plan_.max_summed_terms = std::max(plan_.max_summed_terms, std::max(max_valence, 2));  // a ring, or an edge's two ends
+    plan_.max_summed_terms =
+        std::max(plan_.max_summed_terms, std::max(max_valence, 2));  // a ring, or an edge's two ends
     set_smooth_masks(s, max_valence, smooth_vertex_mask);
     return s;
 }
@@ -277,21 +295,27 @@ LevelStencils& PlanBuilder::start_tables(const VertexNeighbourhood& around, int 
 // Only vertices next to a feature (or cones) can differ from the smooth pass; they alone are visited, on threads.
 void PlanBuilder::plan_feature_vertices(Step& step, HalvesOfFeatures& halves) const {
     std::vector<PartOutput> parts(std::max(1, options_.threads));
-    for_each_feature_vertex(step.level, cones_, step.around, [&](const FeatureVertex& vertex, int part) {
-        PartOutput& out = parts[part];
-        const ChildOfVertex child = decay_into_child(step, vertex, out, halves);
-        const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
-        step.types[vertex.vertex] = classify_vertex(rule, vertex, step.around);
-        // The last level is refined no further, but its classes are reported too (what the result is tagged with):
-        // an old vertex's from its child sharpness, over this level's neighbourhoods.
-        if (step.last_child) {
-            const FeatureVertex as_child{vertex.vertex, vertex.edges, child.edge_sharpness, vertex.tags, child.num_sharp_edges,
-                                         {child.crease[0], child.crease[1]}, vertex.tagged_cone};
-            out.last_types.push_back(
-                {vertex.vertex, classify_vertex(sdc_vertex_rule(child.vertex_sharpness, child.num_sharp_edges), as_child, step.around)});
-        }
-        add_vertex_mask(step, vertex, rule, child, out.specials);
-    }, int(parts.size()));
+    for_each_feature_vertex(
+        step.level, cones_, step.around,
+        [&](const FeatureVertex& vertex, int part) {
+            PartOutput& out = parts[part];
+            const ChildOfVertex child = decay_into_child(step, vertex, out, halves);
+            const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
+            step.types[vertex.vertex] = classify_vertex(rule, vertex, step.around);
+            // The last level is refined no further, but its classes are reported too (what the result is tagged with):
+            // an old vertex's from its child sharpness, over this level's neighbourhoods.
+            if (step.last_child) {
+                const FeatureVertex as_child{vertex.vertex,         vertex.edges,
+                                             child.edge_sharpness,  vertex.tags,
+                                             child.num_sharp_edges, {child.crease[0], child.crease[1]},
+                                             vertex.tagged_cone};
+                out.last_types.push_back(
+                    {vertex.vertex, classify_vertex(sdc_vertex_rule(child.vertex_sharpness, child.num_sharp_edges),
+                                                    as_child, step.around)});
+            }
+            add_vertex_mask(step, vertex, rule, child, out.specials);
+        },
+        int(parts.size()));
     join_parts(step, parts, halves);
 }
 
@@ -316,30 +340,38 @@ PlanBuilder::ChildOfVertex PlanBuilder::decay_into_child(const Step& step, const
         const Feature half{half_index, decayed, child_tag, {half_index & 1 ? m : v, half_index & 1 ? v : m}};
         if (const Feature* feature = (*vertex.edge_features)[k])
             halves.slots[2 * std::size_t(feature - step.level.edges.data()) + std::size_t(half.index & 1)] = half;
-        else
-            out.edges.push_back(half);
+        else out.edges.push_back(half);
     }
     const float child_vertex_sharpness = rules_->child_vertex_sharpness(vertex.own_sharpness());
     const float child_vertex_tag = rules_->child_tag(vertex.own_tag(), child_vertex_sharpness);
-    if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f) out.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
+    if (child_vertex_sharpness > 0.0f || child_vertex_tag != 0.0f)
+        out.vertices.push_back({v, child_vertex_sharpness, child_vertex_tag});
     return {child_sharpness, num_child_sharp_edges, {child_crease[0], child_crease[1]}, child_vertex_sharpness};
 }
 
 // The vertex point's mask, kept where it is not the smooth pass's.
-void PlanBuilder::add_vertex_mask(const Step& step, const FeatureVertex& vertex, SdcRule rule, const ChildOfVertex& child,
-                                  std::vector<SpecialVertex>& specials) const {
+void PlanBuilder::add_vertex_mask(const Step& step, const FeatureVertex& vertex, SdcRule rule,
+                                  const ChildOfVertex& child, std::vector<SpecialVertex>& specials) const {
     const Index v = vertex.vertex;
     const int valence = int(vertex.edges.size());
     const VertexMask smooth = smooth_vertex_mask(valence);
     Index ends[2];
-    const VertexMask mask = rules_->vertex_mask({step.types[v], rule, valence, vertex.own_sharpness(), child.vertex_sharpness,
-                                                 vertex.sharpness.data(), child.edge_sharpness.data(), child.num_sharp_edges,
-                                                 {vertex.crease[0], vertex.crease[1]}, {child.crease[0], child.crease[1]}},
+    const VertexMask mask = rules_->vertex_mask({step.types[v],
+                                                 rule,
+                                                 valence,
+                                                 vertex.own_sharpness(),
+                                                 child.vertex_sharpness,
+                                                 vertex.sharpness.data(),
+                                                 child.edge_sharpness.data(),
+                                                 child.num_sharp_edges,
+                                                 {vertex.crease[0], vertex.crease[1]},
+                                                 {child.crease[0], child.crease[1]}},
                                                 ends);
     if (mask.self != smooth.self || mask.ring != smooth.ring || mask.crease != 0.0) {
         const bool has_ends = mask.crease != 0.0;
-        specials.push_back({v, has_ends ? step.around.other_end(ends[0], v) : v, has_ends ? step.around.other_end(ends[1], v) : v,
-                            float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
+        specials.push_back({v, has_ends ? step.around.other_end(ends[0], v) : v,
+                            has_ends ? step.around.other_end(ends[1], v) : v, float(mask.self), float(mask.ring),
+                            float(mask.crease), float(mask.crease)});
     }
 }
 
@@ -360,10 +392,13 @@ void PlanBuilder::join_parts(Step& step, std::vector<PartOutput>& parts, const H
         unsorted |= !out.edges.empty();
         step.child.edges.insert(step.child.edges.end(), out.edges.begin(), out.edges.end());
         step.child.vertices.insert(step.child.vertices.end(), out.vertices.begin(), out.vertices.end());
-        step.tables.special_vertices.insert(step.tables.special_vertices.end(), out.specials.begin(), out.specials.end());
+        step.tables.special_vertices.insert(step.tables.special_vertices.end(), out.specials.begin(),
+                                            out.specials.end());
         plan_.last_level_types.insert(plan_.last_level_types.end(), out.last_types.begin(), out.last_types.end());
     }
-    if (unsorted) std::sort(step.child.edges.begin(), step.child.edges.end());  // vertices were visited in order: child.vertices is sorted
+    if (unsorted)
+        std::sort(step.child.edges.begin(),
+                  step.child.edges.end());  // vertices were visited in order: child.vertices is sorted
 }
 
 // The last level's midpoints on sharp edges (its old vertices' classes come from plan_feature_vertices). A midpoint's
@@ -376,8 +411,8 @@ void PlanBuilder::classify_last_midpoints(const Step& step, const HalvesOfFeatur
         if (sharp_halves == 0) continue;
         const int faces = step.around.edge_face_count(f.index);
         const CreaseFan fan{2 + 2 * faces, faces > 2, faces == 1, faces == 1, 3};
-        plan_.last_level_types.push_back(
-            {step.nv + f.index, hoppe94_vertex_type(sdc_vertex_rule(0.0f, sharp_halves), false, [&fan] { return fan; })});
+        plan_.last_level_types.push_back({step.nv + f.index, hoppe94_vertex_type(sdc_vertex_rule(0.0f, sharp_halves),
+                                                                                 false, [&fan] { return fan; })});
     }
 }
 
@@ -401,10 +436,11 @@ void PlanBuilder::refine_child(Step& step) const {
             });
         }
     } else {
-        child = refine_topology(step.level.topology, step.last_child        ? Refined::FacesOnly
-                                                     : step.grandchild_last ? Refined::ForStencils
-                                                     : derive_tables_       ? Refined::Connectivity
-                                                                            : Refined::Full,
+        child = refine_topology(step.level.topology,
+                                step.last_child        ? Refined::FacesOnly
+                                : step.grandchild_last ? Refined::ForStencils
+                                : derive_tables_       ? Refined::Connectivity
+                                                       : Refined::Full,
                                 options_.threads);
     }
     step.child.own_neighbourhood = !step.grandchild_last;
@@ -417,8 +453,8 @@ void PlanBuilder::plan_edge_masks(Step& step, const HalvesOfFeatures& halves) co
         if (!is_sharp(feature.sharpness)) continue;
         const Index a = feature.ends[0], b = feature.ends[1];
         const bool halves_sharp = halves.sharp(i, 0) && halves.sharp(i, 1);
-        const EdgeMask mask = rules_->edge_mask(
-            {feature.sharpness, step.types[a], step.types[b], step.around.edge_face_count(feature.index), halves_sharp});
+        const EdgeMask mask = rules_->edge_mask({feature.sharpness, step.types[a], step.types[b],
+                                                 step.around.edge_face_count(feature.index), halves_sharp});
         if (!(mask == smooth_edge_mask()))
             step.tables.special_edges.push_back({feature.index, float(mask.a), float(mask.b), float(mask.wings)});
     }

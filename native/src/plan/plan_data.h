@@ -71,7 +71,7 @@ struct PlanImpl {
     // What the kernels read: a level's tables per level (their four forms: LevelStencils), then the limit's pass;
     // each face-varying layer's own.
     std::vector<detail::LevelStencils> stencils;
-    std::unique_ptr<detail::LimitTables> limit;  // with Options::limit_surface
+    std::unique_ptr<detail::LimitTables> limit;         // with Options::limit_surface
     std::vector<detail::FaceVaryingPlan> face_varying;  // per MeshView::face_varying layer
     // A kernel sums up to this many input values before it weights them (a vertex's ring): inputs must stay below
     // the float maximum divided by it, or the sums overflow to infinity and give NaN (checked by evaluate).
@@ -91,8 +91,8 @@ struct PlanImpl {
 
     // What an evaluation writes besides its output, kept for the next (Plan::evaluate is not reentrant).
     struct Frame {
-        detail::LargeVector<float> scratch[2];            // the passes' sources and targets, in turn (run_passes)
-        std::vector<float> normals;  // the compact limit normals, for the per-corner evaluate to gather from
+        detail::LargeVector<float> scratch[2];  // the passes' sources and targets, in turn (run_passes)
+        std::vector<float> normals;             // the compact limit normals, for the per-corner evaluate to gather from
         // run_passes' lists, kept so that a frame allocates nothing once the plan has run one of each kind.
         std::vector<const detail::LevelStencils*> passes;
         std::vector<int> counts;

@@ -41,19 +41,23 @@ public:
         // crease vertex takes the {5,3} rule.
         if ((edge.type_a == VertexType::Dart || edge.type_b == VertexType::Dart) && edge.face_count == 2)
             return smooth_edge_mask();
-        if (edge.type_a == VertexType::RegularCrease && irregular_or_corner(edge.type_b)) return five_three_edge_mask(true);
-        if (edge.type_b == VertexType::RegularCrease && irregular_or_corner(edge.type_a)) return five_three_edge_mask(false);
+        if (edge.type_a == VertexType::RegularCrease && irregular_or_corner(edge.type_b))
+            return five_three_edge_mask(true);
+        if (edge.type_b == VertexType::RegularCrease && irregular_or_corner(edge.type_a))
+            return five_three_edge_mask(false);
         return crease_edge_mask();
     }
 
     LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a, double vertex_weight_b) const override {
         switch (vertex.type) {
-            // A cone's ring refines with the cone's weight; its limit follows from that weight as a smooth vertex's does.
+            // A cone's ring refines with the cone's weight; its limit follows from that weight as a smooth vertex's
+            // does.
             case VertexType::Cone: return ring_limit_mask(cone_vertex_mask(vertex.valence), vertex.valence);
             case VertexType::Corner: return corner_limit_mask();
             case VertexType::RegularCrease:
             case VertexType::IrregularCrease:
-                return hoppe94_crease_limit_mask(vertex.type == VertexType::RegularCrease, vertex_weight_a, vertex_weight_b);
+                return hoppe94_crease_limit_mask(vertex.type == VertexType::RegularCrease, vertex_weight_a,
+                                                 vertex_weight_b);
             default: return smooth_limit_mask(vertex.valence);
         }
     }
@@ -87,8 +91,8 @@ public:
         VertexMask mask = mask_for(vertex.rule, vertex.valence);
         const SdcRule child_rule = sdc_vertex_rule(vertex.child_sharpness, vertex.num_child_sharp_edges);
         if (child_rule != vertex.rule) {
-            const float weight = transition_weight(method_, vertex.sharpness, vertex.child_sharpness, vertex.edge_sharpness,
-                                                   vertex.child_edge_sharpness, vertex.valence);
+            const float weight = transition_weight(method_, vertex.sharpness, vertex.child_sharpness,
+                                                   vertex.edge_sharpness, vertex.child_edge_sharpness, vertex.valence);
             mask = blend(mask, weight, mask_for(child_rule, vertex.valence));
             if (child_rule == SdcRule::Crease) ends[0] = vertex.child_crease[0], ends[1] = vertex.child_crease[1];
         }
@@ -151,8 +155,15 @@ SpentRing RuleSet::refine_until_spent(const RingSituation& ring) const {
         std::fill(step.begin(), step.end(), 0.0);
         // The vertex point.
         std::int32_t ends[2];
-        const VertexMask v = vertex_mask({VertexType::Smooth, sdc_vertex_rule(vertex, num_sharp_edges), n, vertex, child_vertex,
-                                          sharpness.data(), child.data(), num_child_sharp_edges, {crease[0], crease[1]},
+        const VertexMask v = vertex_mask({VertexType::Smooth,
+                                          sdc_vertex_rule(vertex, num_sharp_edges),
+                                          n,
+                                          vertex,
+                                          child_vertex,
+                                          sharpness.data(),
+                                          child.data(),
+                                          num_child_sharp_edges,
+                                          {crease[0], crease[1]},
                                           {child_crease[0], child_crease[1]}},
                                          ends);
         step[0] = v.self;
@@ -161,8 +172,8 @@ SpentRing RuleSet::refine_until_spent(const RingSituation& ring) const {
         // The edge points, the vertex as their end A.
         for (int k = 0; k < n; ++k) {
             const EdgeMask e = is_sharp(sharpness[k])
-                                   ? edge_mask({sharpness[k], VertexType::Smooth, VertexType::Smooth, ring.face_count[k],
-                                                is_sharp(child[k]) && is_sharp(far[k])})
+                                   ? edge_mask({sharpness[k], VertexType::Smooth, VertexType::Smooth,
+                                                ring.face_count[k], is_sharp(child[k]) && is_sharp(far[k])})
                                    : smooth_edge_mask();
             double* row = &step[std::size_t(1 + k) * size];
             row[0] += e.a;
@@ -197,7 +208,8 @@ SpentRing RuleSet::refine_until_spent(const RingSituation& ring) const {
 }
 
 std::unique_ptr<RuleSet> make_rule_set(const Options& options) {
-    if (options.rules == Rules::Hoppe94) return std::make_unique<Hoppe94Rules>(options.boundary, options.crease_threshold);
+    if (options.rules == Rules::Hoppe94)
+        return std::make_unique<Hoppe94Rules>(options.boundary, options.crease_threshold);
     return std::make_unique<OpenSubdivRules>(options.boundary, options.crease_method);
 }
 

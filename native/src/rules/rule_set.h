@@ -48,8 +48,8 @@ struct RingSituation {
 };
 
 // The ring refined until no semi-sharp feature is left at the vertex: `refinement` ((n + 1)^2, row-major) takes the
-// ring's points to theirs `levels` levels down, where the vertex has only smooth and infinitely sharp features left, and
-// its rule and crease edges (the first two sharp edges, -1: none) are the ones its limit masks follow.
+// ring's points to theirs `levels` levels down, where the vertex has only smooth and infinitely sharp features left,
+// and its rule and crease edges (the first two sharp edges, -1: none) are the ones its limit masks follow.
 struct SpentRing {
     std::vector<double> refinement;
     int levels = 0;
@@ -108,7 +108,8 @@ public:
     virtual EdgeMask edge_mask(const EdgeSituation& edge) const = 0;
     // Where a vertex of the last level lies on the limit surface; end_a / end_b weight the other ends of
     // vertex.crease[0] / [1]. `vertex_weight_a` / `_b`: the vertex's weight in the edge points of those two edges.
-    virtual LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a, double vertex_weight_b) const = 0;
+    virtual LimitMask limit_mask(const VertexSituation& vertex, double vertex_weight_a,
+                                 double vertex_weight_b) const = 0;
 
     // Refines a vertex's ring by the masks above, level after level, until its semi-sharp features are spent.
     SpentRing refine_until_spent(const RingSituation& ring) const;

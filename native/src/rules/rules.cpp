@@ -74,7 +74,8 @@ LimitMask hoppe94_crease_limit_mask(bool regular, double vertex_weight_a, double
     const double s_self = regular ? 4.0 / 6.0 : 3.0 / 5.0, s_end = regular ? 1.0 / 6.0 : 1.0 / 5.0;
     const VertexMask step = crease_vertex_mask();
     return {s_self * step.self + s_end * (vertex_weight_a + vertex_weight_b), 0.0,
-            s_self * step.crease + s_end * (1.0 - vertex_weight_a), s_self * step.crease + s_end * (1.0 - vertex_weight_b)};
+            s_self * step.crease + s_end * (1.0 - vertex_weight_a),
+            s_self * step.crease + s_end * (1.0 - vertex_weight_b)};
 }
 
 void smooth_tangent_weights(int valence, std::vector<float>& t1, std::vector<float>& t2) {
@@ -159,8 +160,8 @@ float transition_weight(CreaseMethod method, float parent_vertex_sharpness, floa
     }
     for (int i = 0; i < edge_count; ++i) {
         // Uniform decay reaches zero exactly for sharpness in (0, 1]; Chaikin has to be asked.
-        const bool decays = method == CreaseMethod::Uniform ? parent_edge_sharpness[i] <= 1.0f
-                                                            : !is_sharp(child_edge_sharpness[i]);
+        const bool decays =
+            method == CreaseMethod::Uniform ? parent_edge_sharpness[i] <= 1.0f : !is_sharp(child_edge_sharpness[i]);
         if (is_sharp(parent_edge_sharpness[i]) && decays) {
             sum += parent_edge_sharpness[i];
             ++count;

@@ -23,14 +23,14 @@ struct EdgeMask {
 // Loop's smooth vertex mask for valence n: self 1 - a(n), each neighbour a(n) / n (seed: c0 = n / a(n) - n, ci = 1).
 // Valence 6 uses OpenSubdiv's exact 5/8 and 1/16.
 VertexMask smooth_vertex_mask(int valence);
-VertexMask crease_vertex_mask();  // (6 v0 + the two crease neighbours) / 8
-VertexMask corner_vertex_mask();  // the vertex stays
+VertexMask crease_vertex_mask();           // (6 v0 + the two crease neighbours) / 8
+VertexMask corner_vertex_mask();           // the vertex stays
 VertexMask cone_vertex_mask(int valence);  // seed / Hoppe: c0 = n / (5/8 - b(n)) - n, ci = 1
 VertexMask blend(const VertexMask& a, double weight_a, const VertexMask& b);  // weight_a * a + (1 - weight_a) * b
 
 // {3, 3, 1, 1} / 8: the one place it is written (the kernels' smooth pass reads it through stencils.h).
 constexpr EdgeMask smooth_edge_mask() { return {0.375, 0.375, 0.125}; }
-EdgeMask crease_edge_mask();                  // {1, 1, 0, 0} / 2
+EdgeMask crease_edge_mask();                    // {1, 1, 0, 0} / 2
 EdgeMask five_three_edge_mask(bool five_on_a);  // {5, 3, 0, 0} / 8 with the 5 on the regular crease vertex
 EdgeMask blend(const EdgeMask& a, double weight_a, const EdgeMask& b);  // weight_a * a + (1 - weight_a) * b
 

@@ -44,7 +44,8 @@ struct SpecialEdge {
 // A level's tables (one per level of a plan, then the limit's pass; a face-varying layer has its own). They take one of
 // four forms, which the plan builder chooses (PlanBuilder::choose_table_forms and hand_over_tables; how their speed and
 // memory compare: docs/benchmark.md, "Stored or derived tables"; docs/architecture.md, "Level tables"):
-//   stored    ring_offsets, ring, edge_ends and edge_wing_c / _d hold every vertex and edge. The base level's; the limit
+//   stored    ring_offsets, ring, edge_ends and edge_wing_c / _d hold every vertex and edge. The base level's; the
+//   limit
 //             pass's; the built levels of a face-varying layer.
 //   fans      stored, with fan_first_midpoint / fan_midpoints set: the midpoints' rings are laid out so that the fan
 //             kernels compute a midpoint and its two halves from one fan of loads. Every stored level of the vertex
@@ -69,7 +70,7 @@ struct LevelStencils {
     // Smooth mask by valence n: w_self = smooth_self[n], w_ring = smooth_ring[n] (n = 0: copy the vertex).
     std::vector<float> smooth_self;
     std::vector<float> smooth_ring;
-    std::vector<SpecialVertex> special_vertices;  // sorted by vertex
+    std::vector<SpecialVertex> special_vertices;             // sorted by vertex
     std::vector<RingWeightedVertex> ring_weighted_vertices;  // sorted by vertex; limit passes only
     std::vector<float> ring_weights;
 
@@ -93,7 +94,8 @@ struct LevelStencils {
         // Ends and wings of edge e (first_edge or later).
         void edge(int e, std::int32_t abcd[4]) const {
             const std::size_t face = std::size_t(e - first_edge) / 3;
-            face_interior_edge(parent_vertices, &face_vertices[3 * face], &face_edges[3 * face], (e - first_edge) % 3, abcd);
+            face_interior_edge(parent_vertices, &face_vertices[3 * face], &face_edges[3 * face], (e - first_edge) % 3,
+                               abcd);
         }
     };
     std::unique_ptr<InteriorFaces> interior;

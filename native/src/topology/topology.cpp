@@ -88,7 +88,8 @@ inline void corner_halves_sse2(const Topology& p, Index f, __m128i fe, __m128i& 
     int places;
     std::memcpy(&places, &p.face_edge_places[3 * std::size_t(f)], sizeof places);
     const __m128i zero = _mm_setzero_si128();
-    const __m128i starts = _mm_and_si128(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(places), zero), zero), _mm_set1_epi32(1));
+    const __m128i starts =
+        _mm_and_si128(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(places), zero), zero), _mm_set1_epi32(1));
     const __m128i twice = _mm_add_epi32(fe, fe);
     of_edge = _mm_sub_epi32(_mm_add_epi32(twice, _mm_set1_epi32(1)), starts);
     of_edge_before = corner_before(_mm_add_epi32(twice, starts));
@@ -162,7 +163,8 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
         const auto [f0, f1] = part_of(num_triangles, part, parts);
         const int c0 = 3 * f0, c1 = 3 * f1;
         // The part's edges, once the parts have counted theirs (step 2 writes the counts).
-        const Index edge0 = step > 2 ? sum_before(part_edges, part) : 0, edge1 = step > 2 ? edge0 + part_edges[part] : 0;
+        const Index edge0 = step > 2 ? sum_before(part_edges, part) : 0,
+                    edge1 = step > 2 ? edge0 + part_edges[part] : 0;
         switch (step) {
             case 0:
                 for (int c = c0; c < c1; ++c) {
@@ -182,7 +184,7 @@ Topology build_base_topology(const Index* triangles, int num_triangles, int num_
                 }
                 break;
             }
-            case 2: {  // each corner finds its edge's first corner; a first corner ranks the edge's corners
+            case 2: {             // each corner finds its edge's first corner; a first corner ranks the edge's corners
                 Index edges = 0;  // the part's totals are written once: side by side, the parts would share a line
                 for (int c = c0; c < c1; ++c) {
                     const Index hi = high[c], end = bucket_offsets[low[c] + 1];
@@ -282,7 +284,8 @@ void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std
     const Index interior_base = 2 * p.num_edges();
     auto write_places = [&](int f) {
         const std::uint8_t* parent = &p.face_edge_places[3 * std::size_t(f)];
-        const std::uint8_t child[12] = {parent[0], 0, parent[2], parent[1], 0, parent[0], parent[2], 0, parent[1], 3, 3, 3};
+        const std::uint8_t child[12] = {parent[0], 0, parent[2], parent[1], 0, parent[0],
+                                        parent[2], 0, parent[1], 3,         3, 3};
         std::memcpy(places + 12 * std::size_t(f), child, sizeof child);
     };
     int f = f0;
@@ -293,8 +296,10 @@ void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std
         __m128i half_k, half_before;
         corner_halves_sse2(p, f, load_corners(&p.face_edges[3 * std::size_t(f)]), half_k, half_before);
         const Index interior = interior_base + 3 * f;
-        __m128i row[3];  // lanes 0-2 of row k: corner child k's edges; lane 3 is overwritten, but row 2's is interior edge 0
-        corner_rows(half_k, _mm_add_epi32(_mm_set1_epi32(interior), _mm_setr_epi32(2, 0, 1, 0)), half_before, _mm_set1_epi32(interior), row);
+        __m128i row[3];  // lanes 0-2 of row k: corner child k's edges; lane 3 is overwritten, but row 2's is interior
+                         // edge 0
+        corner_rows(half_k, _mm_add_epi32(_mm_set1_epi32(interior), _mm_setr_epi32(2, 0, 1, 0)), half_before,
+                    _mm_set1_epi32(interior), row);
         Index* out = edges + 12 * std::size_t(f);
         _mm_storeu_si128(reinterpret_cast<__m128i*>(out), row[0]);
         _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 3), row[1]);
@@ -349,11 +354,13 @@ Topology sized_child(const Topology& p, const ChildRelations& has) {
     c.max_valence = child_max_valence(p);
     c.max_edge_face_count = child_max_edge_face_count(p);
     c.face_vertices.resize(12 * std::size_t(nf));
-    if (!has.edges) return c;  // a FacesOnly child's parent may lack its edge faces and vertex edges (refined ForStencils)
+    if (!has.edges)
+        return c;  // a FacesOnly child's parent may lack its edge faces and vertex edges (refined ForStencils)
     const std::size_t child_edges = 2 * std::size_t(ne) + 3 * std::size_t(nf);
     // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two halves
     // and, per face of e, the two interior edges that meet it.
-    const std::size_t ring_entries = std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]);
+    const std::size_t ring_entries =
+        std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]);
     c.edge_vertices.resize(2 * child_edges);
     c.face_edges.resize(12 * std::size_t(nf));
     if (has.places) c.face_edge_places.resize(12 * std::size_t(nf));
@@ -387,7 +394,8 @@ void populate_child_faces(const Topology& p, Topology& c, const ChildRelations& 
         out[6] = v[2], out[7] = m2, out[8] = m1;
         out[9] = m0, out[10] = m1, out[11] = m2;
     }
-    if (has.edges) write_child_face_edges(p, f0, f1, c.face_edges.data(), has.places ? c.face_edge_places.data() : nullptr);
+    if (has.edges)
+        write_child_face_edges(p, f0, f1, c.face_edges.data(), has.places ? c.face_edge_places.data() : nullptr);
 }
 
 // Interior edges 2E + 3f + k of parent faces [f0, f1): their ends, their wings, and their two faces (the corner child
@@ -396,11 +404,13 @@ void populate_interior_edges(const Topology& p, Topology& c, const ChildRelation
     const Index interior_base = 2 * p.num_edges();
     const std::size_t first = std::size_t(interior_base) + 3 * std::size_t(f0);
     if (has.neighbourhood) {  // child_edges stores a face's three at a time, ends and wings
-        child_edges(p, int(first), interior_base + 3 * f1, c.edge_vertices.data() + 2 * first, c.edge_wing_c.data() + first,
-                    c.edge_wing_d.data() + first);
+        child_edges(p, int(first), interior_base + 3 * f1, c.edge_vertices.data() + 2 * first,
+                    c.edge_wing_c.data() + first, c.edge_wing_d.data() + first);
     } else {
         for (int f = f0; f < f1; ++f)
-            for (int k = 0; k < 3; ++k) child_edge_ends(p, interior_base + 3 * f + k, &c.edge_vertices[2 * (std::size_t(interior_base) + 3 * f + k)]);
+            for (int k = 0; k < 3; ++k)
+                child_edge_ends(p, interior_base + 3 * f + k,
+                                &c.edge_vertices[2 * (std::size_t(interior_base) + 3 * f + k)]);
     }
     if (!has.incidence) return;
     const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
@@ -432,7 +442,8 @@ void populate_old_vertices(const Topology& p, Topology& c, const ChildRelations&
         c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
         if (!has.incidence) continue;
         Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) *edges++ = child_edge_at(p, p.vertex_edges[k], v);
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k)
+            *edges++ = child_edge_at(p, p.vertex_edges[k], v);
     }
 }
 
@@ -443,7 +454,8 @@ void populate_midpoints(const Topology& p, Topology& c, const ChildRelations& ha
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
     if (!has.incidence) {
         for (int e = e0; e < e1; ++e) c.vertex_edge_offsets[nv + e] = child_ring_offset(p, nv + e);
-        if (has.neighbourhood) write_child_rings(p, nv + e0, nv + e1, c.vertex_vertices.data() + child_ring_offset(p, nv + e0));
+        if (has.neighbourhood)
+            write_child_rings(p, nv + e0, nv + e1, c.vertex_vertices.data() + child_ring_offset(p, nv + e0));
         return;
     }
     for (int e = e0; e < e1; ++e) {
@@ -505,7 +517,8 @@ bool follows_split_numbering(const Topology& p, const Topology& c) {
         const Index* children = &c.face_vertices[12 * std::size_t(f)];
         for (int k = 0; k < 3; ++k) {
             const Index corner_child[3] = {v[k], nv + fe[k], nv + fe[prev_corner(k)]};
-            if (!std::equal(corner_child, corner_child + 3, children + 3 * k) || children[9 + k] != nv + fe[k]) return false;
+            if (!std::equal(corner_child, corner_child + 3, children + 3 * k) || children[9 + k] != nv + fe[k])
+                return false;
         }
     }
     if (c.edge_vertices.empty()) return true;  // FacesOnly
@@ -527,7 +540,8 @@ bool follows_split_numbering(const Topology& p, const Topology& c) {
     for (Index v = 0; v <= c.num_vertices; ++v)
         if (c.vertex_edge_offsets[v] != child_ring_offset(p, v)) return false;
     if (!c.edge_wing_c.empty()) {
-        std::vector<Index> ends(2 * std::size_t(child_edges)), wing_c(child_edges), wing_d(child_edges), ring(c.vertex_vertices.size());
+        std::vector<Index> ends(2 * std::size_t(child_edges)), wing_c(child_edges), wing_d(child_edges),
+            ring(c.vertex_vertices.size());
         detail::child_edges(p, 0, child_edges, ends.data(), wing_c.data(), wing_d.data());
         write_child_rings(p, 0, c.num_vertices, ring.data());
         if (!std::equal(wing_c.begin(), wing_c.end(), c.edge_wing_c.begin()) ||
@@ -555,7 +569,8 @@ void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
     const int split = std::clamp(int(nv), begin, end);  // old vertices [begin, split), midpoints [split, end)
     // An old vertex's ring is the midpoints of its edges, in order; consecutive vertices' edges are consecutive.
     if (begin < split)
-        for (Index k = p.vertex_edge_offsets[begin]; k < p.vertex_edge_offsets[split]; ++k) *ring++ = nv + p.vertex_edges[k];
+        for (Index k = p.vertex_edge_offsets[begin]; k < p.vertex_edge_offsets[split]; ++k)
+            *ring++ = nv + p.vertex_edges[k];
     // The midpoint of edge e: its ends, then per face of e the two midpoints it is joined to.
     for (Index e = split - nv; e < end - nv; ++e) {
         ring = midpoint_ring_ends(p, e, ring);
@@ -573,9 +588,12 @@ void order_child_rings(const Topology& p, std::uint8_t* apart, Index* ring) {
     // An old vertex's ring is the midpoints of its parent edges, in the parent's slots; corner child 4f + k =
     // (v_k, m_k, m_k-1) says that m_k-1 follows m_k. Each parent edge's slot at its ends names them.
     LargeVector<Index> slot(2 * std::size_t(p.num_edges()));
-    auto end_of = [&p](Index e, Index v) { return 2 * std::size_t(e) + std::size_t(p.edge_vertices[2 * std::size_t(e)] != v); };
+    auto end_of = [&p](Index e, Index v) {
+        return 2 * std::size_t(e) + std::size_t(p.edge_vertices[2 * std::size_t(e)] != v);
+    };
     for (Index v = 0; v < nv; ++v)
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k) slot[end_of(p.vertex_edges[k], v)] = k;
+        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k)
+            slot[end_of(p.vertex_edges[k], v)] = k;
     LargeVector<Index> follower(std::size_t(p.vertex_edge_offsets[nv]), -1);
     for (std::size_t c = 0; c < p.face_vertices.size(); ++c) {
         const Index v = p.face_vertices[c];
@@ -597,7 +615,8 @@ void order_child_rings(const Topology& p, std::uint8_t* apart, Index* ring) {
             if (k < 0 || k == first) break;
             ordered.push_back(ring[k]);
         }
-        if (ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first) std::copy(ordered.begin(), ordered.end(), ring + first);
+        if (ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first)
+            std::copy(ordered.begin(), ordered.end(), ring + first);
         else apart[v] = 1;
     }
     // The midpoint of edge e = (a, b) has the ring a, b, then per face of e the midpoints next to a and to b
@@ -649,10 +668,14 @@ void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, I
             const __m128i m = _mm_add_epi32(load_corners(&p.face_edges[3 * std::size_t(f)]), _mm_set1_epi32(nv));
             const __m128i v = load_corners(&p.face_vertices[3 * std::size_t(f)]);
             const int k = halves + 3 * f - begin;
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(ends + 2 * k), _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 1, 1, 0)));  // m0 m1 m1 m2
-            _mm_storel_epi64(reinterpret_cast<__m128i*>(ends + 2 * k + 4), _mm_shuffle_epi32(m, _MM_SHUFFLE(0, 0, 0, 2)));  // m2 m0
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(c + k), _mm_shuffle_epi32(v, _MM_SHUFFLE(3, 0, 2, 1)));  // v1 v2 v0
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(d + k), _mm_shuffle_epi32(m, _MM_SHUFFLE(3, 1, 0, 2)));  // m2 m0 m1
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(ends + 2 * k),
+                             _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 1, 1, 0)));  // m0 m1 m1 m2
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(ends + 2 * k + 4),
+                             _mm_shuffle_epi32(m, _MM_SHUFFLE(0, 0, 0, 2)));  // m2 m0
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(c + k),
+                             _mm_shuffle_epi32(v, _MM_SHUFFLE(3, 0, 2, 1)));  // v1 v2 v0
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(d + k),
+                             _mm_shuffle_epi32(m, _MM_SHUFFLE(3, 1, 0, 2)));  // m2 m0 m1
             continue;
         }
 #endif
@@ -741,7 +764,8 @@ void grandchild_faces(const Topology& p, int f0, int f1, Index* out) {
         }
         for (int child = 0; child < 4; ++child, out += 12) {
             const Index a = corners[child][0], b = corners[child][1], c = corners[child][2];
-            const Index m0 = child_vertices + edges[child][0], m1 = child_vertices + edges[child][1], m2 = child_vertices + edges[child][2];
+            const Index m0 = child_vertices + edges[child][0], m1 = child_vertices + edges[child][1],
+                        m2 = child_vertices + edges[child][2];
             out[0] = a, out[1] = m0, out[2] = m2, out[3] = b, out[4] = m1, out[5] = m0;
             out[6] = c, out[7] = m2, out[8] = m1, out[9] = m0, out[10] = m1, out[11] = m2;
         }
@@ -765,12 +789,14 @@ void grandchild_faces_sse2(const Topology& p, int f0, int f1, Index* out) {
         const __m128i v = load_corners(&p.face_vertices[3 * std::size_t(f)]);
         const __m128i fe = load_corners(&p.face_edges[3 * std::size_t(f)]);
         const __m128i m = _mm_add_epi32(fe, _mm_set1_epi32(nv));
-        // Grandchild midpoints of: the half of edge k at v_k, the half of edge k - 1 at v_k, interior edge k (and k - 1).
+        // Grandchild midpoints of: the half of edge k at v_k, the half of edge k - 1 at v_k, interior edge k (and k -
+        // 1).
         __m128i half_k, half_before;
         corner_halves_sse2(p, f, fe, half_k, half_before);
         half_k = _mm_add_epi32(half_k, child_vertices);
         half_before = _mm_add_epi32(half_before, child_vertices);
-        const __m128i interior = _mm_add_epi32(_mm_add_epi32(child_vertices, _mm_set1_epi32(interior_base + 3 * f)), _mm_setr_epi32(0, 1, 2, 0));
+        const __m128i interior = _mm_add_epi32(_mm_add_epi32(child_vertices, _mm_set1_epi32(interior_base + 3 * f)),
+                                               _mm_setr_epi32(0, 1, 2, 0));
         const __m128i interior_before = corner_before(interior);
         // Corner child k: (v_k, m_k, m_{k-1}), its edges' midpoints half_k, interior_before_k, half_before_k.
         __m128i first[3], second[3], third[3];
@@ -782,10 +808,12 @@ void grandchild_faces_sse2(const Topology& p, int f0, int f1, Index* out) {
             _mm_storeu_si128(o + 3 * k + 1, second[k]);
             _mm_storeu_si128(o + 3 * k + 2, third[k]);
         }
-        // The middle child (m_0, m_1, m_2), its edges' midpoints the interior ones: (m0 i0 i2 m1) (i1 i0 m2 i2) (i1 i0 i1 i2).
+        // The middle child (m_0, m_1, m_2), its edges' midpoints the interior ones: (m0 i0 i2 m1) (i1 i0 m2 i2) (i1 i0
+        // i1 i2).
         const __m128i i0 = _mm_shuffle_epi32(interior, _MM_SHUFFLE(0, 2, 0, 0));
         _mm_storeu_si128(o + 9, select(lanes_0_3, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 0, 0)), i0));
-        _mm_storeu_si128(o + 10, select(lane_2, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 2, 2, 2)), _mm_shuffle_epi32(interior, _MM_SHUFFLE(2, 0, 0, 1))));
+        _mm_storeu_si128(o + 10, select(lane_2, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 2, 2, 2)),
+                                        _mm_shuffle_epi32(interior, _MM_SHUFFLE(2, 0, 0, 1))));
         _mm_storeu_si128(o + 11, _mm_shuffle_epi32(interior, _MM_SHUFFLE(2, 1, 0, 1)));
     }
 }
@@ -822,7 +850,8 @@ std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
     return flags;
 }
 
-std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::vector<std::uint8_t>& non_manifold_edge, int threads) {
+std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::vector<std::uint8_t>& non_manifold_edge,
+                                                int threads) {
     std::vector<std::uint8_t> flags(t.num_vertices, 0);
     run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
         const auto [v0, v1] = part_of(t.num_vertices, part, parts);
@@ -878,9 +907,10 @@ int faces_between(const Topology& t, Index v, Index from, Index to) {
 
 namespace loopsub::detail {
 
-VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history,
-                                         const Topology* base)
-    : level_(level), parent_(parent_if_derived),
+VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived,
+                                         const std::vector<int>* history, const Topology* base)
+    : level_(level),
+      parent_(parent_if_derived),
       history_(history && !history->empty() && history->back() == level.num_vertices ? history : nullptr),
       base_(history_ && base && base->num_vertices == history_->front() ? base : nullptr) {}
 
@@ -888,13 +918,12 @@ int VertexNeighbourhood::num_edges() const {
     return parent_ ? 2 * parent_->num_edges() + 3 * parent_->num_faces() : level_.num_edges();
 }
 
-int VertexNeighbourhood::max_valence() const {
-    return parent_ ? child_max_valence(*parent_) : level_.max_valence;
-}
+int VertexNeighbourhood::max_valence() const { return parent_ ? child_max_valence(*parent_) : level_.max_valence; }
 
 void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
     if (!parent_) {
-        out.assign(level_.vertex_edges.begin() + level_.vertex_edge_offsets[v], level_.vertex_edges.begin() + level_.vertex_edge_offsets[v + 1]);
+        out.assign(level_.vertex_edges.begin() + level_.vertex_edge_offsets[v],
+                   level_.vertex_edges.begin() + level_.vertex_edge_offsets[v + 1]);
         return;
     }
     // Sized once and written in place: the vertices next to creases ask for theirs one by one.
@@ -903,7 +932,8 @@ void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
     if (v < nv) {
         const Index first = p.vertex_edge_offsets[v];
         out.resize(std::size_t(p.vertex_edge_offsets[v + 1] - first));
-        for (std::size_t k = 0; k < out.size(); ++k) out[k] = detail::child_edge_at(p, p.vertex_edges[first + Index(k)], v);
+        for (std::size_t k = 0; k < out.size(); ++k)
+            out[k] = detail::child_edge_at(p, p.vertex_edges[first + Index(k)], v);
         return;
     }
     const Index e = v - nv, first_face = p.edge_face_offsets[e];

@@ -42,7 +42,9 @@ struct Topology {
     int num_edges() const { return int(edge_vertices.size() / 2); }
     int edge_face_count(Index e) const { return edge_face_offsets[e + 1] - edge_face_offsets[e]; }
     int valence(Index v) const { return vertex_edge_offsets[v + 1] - vertex_edge_offsets[v]; }
-    Index other_end(Index e, Index v) const { return edge_vertices[2 * e] == v ? edge_vertices[2 * e + 1] : edge_vertices[2 * e]; }
+    Index other_end(Index e, Index v) const {
+        return edge_vertices[2 * e] == v ? edge_vertices[2 * e + 1] : edge_vertices[2 * e];
+    }
     // The vertex of face f that is not on edge e.
     Index opposite_vertex(Index f, Index e) const;
     // The edge of face f at vertex v other than e (both edges of f at v must exist).
@@ -87,8 +89,8 @@ public:
     // `history`: where known, the vertex counts of the levels up to this one, the base's first (a plan's
     // level_num_vertices while it builds this level), which spares faces_between its walk for vertices made by a split;
     // with `base` (the base level's faces and edge faces) too, a base vertex's walk is the base's.
-    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived, const std::vector<int>* history = nullptr,
-                        const Topology* base = nullptr);
+    VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived,
+                        const std::vector<int>* history = nullptr, const Topology* base = nullptr);
     int num_edges() const;
     int max_valence() const;
     // Inline, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
@@ -174,7 +176,8 @@ void write_grandchild_faces(const Topology& parent, int f0, int f1, Index* out);
 
 // A child level's Topology::max_valence and max_edge_face_count, from its parent's.
 inline int child_max_valence(const Topology& parent) {
-    return parent.num_edges() > 0 ? std::max(parent.max_valence, 2 + 2 * parent.max_edge_face_count) : parent.max_valence;
+    return parent.num_edges() > 0 ? std::max(parent.max_valence, 2 + 2 * parent.max_edge_face_count)
+                                  : parent.max_valence;
 }
 inline int child_max_edge_face_count(const Topology& parent) {
     return parent.num_faces() > 0 ? std::max(parent.max_edge_face_count, 2) : parent.max_edge_face_count;
@@ -189,7 +192,8 @@ inline Index child_edge_at(const Topology& parent, Index e, Index v) {
 // level (it reads face_edge_places as build_base_topology numbers them).
 std::vector<std::uint8_t> non_manifold_edges(const Topology& topology);
 // A vertex is non-manifold when one of its edges is, or its faces do not form a single fan.
-std::vector<std::uint8_t> non_manifold_vertices(const Topology& topology, const std::vector<std::uint8_t>& non_manifold_edge,
+std::vector<std::uint8_t> non_manifold_vertices(const Topology& topology,
+                                                const std::vector<std::uint8_t>& non_manifold_edge,
                                                 int threads = 1);  // threads share the vertices
 
 // Number of faces met walking around vertex v from edge `from` until edge `to` (both with two faces), through
