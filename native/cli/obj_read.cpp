@@ -13,7 +13,6 @@
 
 #include "obj_file.h"
 #include "obj_io.h"
-#include "plain_number.h"
 #include "topology/triangle_corners.h"
 #include "triangulate.h"
 
@@ -143,9 +142,8 @@ private:
     // The fast paths: "v x y z" and "f a b c" (each corner "v", "v/t", "v//n" or "v/t/n") read in one pass over
     // the line, from just after the keyword. They take only what is plainly valid and return the start of the next
     // line; for anything else (a '+' sign, a w, a polygon, an index out of range, a malformed number...) they change
-    // nothing and return nullptr, and read_line() reads the line again with every rule and error message. They read
-    // numbers with read_float and read_integer (plain_number.h), which read as std::from_chars, so both read a line
-    // alike.
+    // nothing and return nullptr, and read_line() reads the line again with every rule and error message. Both read
+    // numbers with std::from_chars, so they read a line alike.
     bool ends_token(const char* p) const { return p == end_ || *p == '\n' || is_blank(*p); }
 
     const char* skip_blanks(const char* p) const {
@@ -164,7 +162,7 @@ private:
         float xyz[3];
         for (float& value : xyz) {
             p = skip_blanks(p);
-            const auto [next, error] = read_float(p, end_, value);
+            const auto [next, error] = std::from_chars(p, end_, value);
             if (error != std::errc() || !ends_token(next) || !std::isfinite(value)) return nullptr;
             p = next;
         }
@@ -187,7 +185,7 @@ private:
         for (p = skip_blanks(p); !ends_token(p); p = skip_blanks(p)) {
             if (corners == 3) return nullptr;  // a polygon
             std::int64_t reference = 0;
-            std::from_chars_result read = read_integer(p, end_, reference);
+            std::from_chars_result read = std::from_chars(p, end_, reference);
             if (read.ec != std::errc()) return nullptr;
             const std::int32_t vertex = resolve_plain(reference, mesh_.positions.size() / 3);
             if (vertex < 0) return nullptr;
@@ -196,7 +194,7 @@ private:
             if (p < end_ && *p == '/') {
                 ++p;
                 if (!ends_token(p) && *p != '/') {
-                    read = read_integer(p, end_, reference);
+                    read = std::from_chars(p, end_, reference);
                     if (read.ec != std::errc() || !(ends_token(read.ptr) || *read.ptr == '/')) return nullptr;
                     uvs[corners] = resolve_plain(reference, mesh_.uvs.size() / 2);
                     if (uvs[corners] < 0) return nullptr;

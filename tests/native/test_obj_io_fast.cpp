@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "obj_io.h"
-#include "plain_number.h"
 #include "test_files.h"
 
 namespace {
@@ -180,53 +179,6 @@ TEST(ObjFast, FastAndGeneralPathsReadNumbersAlike) {
         ASSERT_EQ(a.positions.size(), b.positions.size());
         for (std::size_t k = 0; k < a.positions.size(); ++k)
             EXPECT_EQ(to_bits(a.positions[k]), to_bits(b.positions[k]));
-    }
-}
-
-// read_float and read_integer against std::from_chars on random plain numbers of every length: digits before and
-// after the point, exponents near the ends of float's range, and the midpoints between neighbouring floats.
-TEST(ObjFast, PlainNumbersReadAsFromCharsReadsThem) {
-    std::uint64_t state = 88172645463325252u;
-    auto next = [&state] {
-        state ^= state << 13, state ^= state >> 7, state ^= state << 17;
-        return state;
-    };
-    auto digits = [&](int n) {
-        std::string text;
-        for (int k = 0; k < n; ++k) text += char('0' + next() % 10);
-        return text;
-    };
-    for (int i = 0; i < 200000; ++i) {
-        std::string text = next() % 4 == 0 ? "-" : "";
-        if (i % 3 == 0) {
-            // The decimal midpoint between a float and the next one up, written with enough digits to be exact.
-            float f;
-            const std::uint32_t bits = std::uint32_t(next() % 0x7f000000u) + 0x00800000u;
-            std::memcpy(&f, &bits, sizeof f);
-            char buffer[64];
-            const double midpoint = (double(f) + double(std::nextafter(f, 2.0f * f + 1.0f))) / 2;
-            std::snprintf(buffer, sizeof buffer, "%.*e", int(next() % 17) + 1, midpoint);
-            text += buffer;
-        } else {
-            text += digits(1 + int(next() % 12));
-            if (next() % 2) text += "." + digits(1 + int(next() % 12));
-            if (next() % 2) text += (next() % 2 ? "e-" : "e") + std::to_string(next() % 46);
-        }
-        SCOPED_TRACE(text);
-        const char* begin = text.data();
-        const char* end = begin + text.size();
-        float fast = 0, reference = 0;
-        const auto a = loopsub::obj::read_float(begin, end, fast);
-        const auto b = std::from_chars(begin, end, reference);
-        ASSERT_EQ(a.ec, b.ec);
-        ASSERT_EQ(a.ptr, b.ptr);
-        if (a.ec == std::errc()) { ASSERT_EQ(to_bits(fast), to_bits(reference)); }
-        std::int64_t fast_integer = 0, reference_integer = 0;
-        const auto c = loopsub::obj::read_integer(begin, end, fast_integer);
-        const auto d = std::from_chars(begin, end, reference_integer);
-        ASSERT_EQ(c.ec, d.ec);
-        ASSERT_EQ(c.ptr, d.ptr);
-        ASSERT_EQ(fast_integer, reference_integer);
     }
 }
 
