@@ -1,0 +1,53 @@
+"""The layers of native/src (docs/architecture.md, "Layers") include only the layers below them: a lower layer that
+included a higher one would tie the rules to a mesh, the kernels to the builder, and so on. Each header included
+by folder ("rules/rule_set.h") is checked against the table; an include without a folder must name a file of the
+including layer. Prints one line per breach and `N passed, N failed`.
+
+    python3 tests/lint/check_layers.py [NATIVE_SRC]
+"""
+import os
+import re
+import sys
+
+# Which layers each may include besides itself and the public API (loopsub/loopsub.h).
+MAY_INCLUDE = {
+    "base": set(),
+    "rules": {"base"},
+    "topology": {"base"},
+    "tables": {"base", "rules", "topology"},
+    "kernels": {"base", "tables"},
+    "plan": {"base", "rules", "topology", "tables", "kernels"},
+    "evaluate": {"base", "tables", "kernels", "plan"},
+    "api": {"base"},
+}
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
+
+
+def breaches(source_dir):
+    found, checked = [], 0
+    layers = sorted(name for name in os.listdir(source_dir) if os.path.isdir(os.path.join(source_dir, name)))
+    for layer in layers:
+        if layer not in MAY_INCLUDE:
+            found.append(f"{layer}/: a folder that is no layer of docs/architecture.md")
+            continue
+        folder = os.path.join(source_dir, layer)
+        for name in sorted(os.listdir(folder)):
+            with open(os.path.join(folder, name), encoding="utf-8") as file:
+                for header in INCLUDE.findall(file.read()):
+                    checked += 1
+                    target = header.split("/")[0] if "/" in header else layer
+                    if "/" not in header and not os.path.exists(os.path.join(folder, header)):
+                        found.append(f"{layer}/{name}: includes \"{header}\" without its folder")
+                    elif target not in MAY_INCLUDE[layer] | {layer, "loopsub"}:
+                        found.append(f"{layer}/{name}: includes \"{header}\", but {layer} may only include "
+                                     f"{', '.join(sorted(MAY_INCLUDE[layer])) or 'nothing'} below it")
+    return found, checked
+
+
+if __name__ == "__main__":
+    source = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..", "native", "src")
+    found, checked = breaches(source)
+    for line in found:
+        print(line)
+    print(f"{checked - len(found)} passed, {len(found)} failed")
+    sys.exit(1 if found else 0)
