@@ -380,18 +380,21 @@ py::array evaluate(py::object self, py::handle values, py::handle out) {
     return result;
 }
 
-py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
-    PyPlan& p = self.cast<PyPlan&>();
+// Positions in, refined positions and the limit normals out, in the shape normals_dims() gives (per corner, or
+// compact; asked once the plan is known to have the limit surface): the checks both forms share, then
+// `evaluate(positions in, positions out, normals)` without the GIL.
+template <typename Dims, typename Evaluate>
+py::tuple evaluate_positions_and_normals(PyPlan& p, const std::string& name, py::handle positions, py::handle out,
+                                         py::handle normals_out, Dims normals_dims, Evaluate evaluate) {
     if (!p.plan.options().limit_surface)
-        throw py::value_error(
-            "evaluate_with_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
+        throw py::value_error(name + ": the normals are the limit surface's; build the Plan with limit_surface=True");
     py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
     const int channels = checked_count(in.shape(1), "number of channels");
     if (channels < 3)
         throw py::value_error("positions must have at least 3 channels (x, y, z first), got " +
                               std::to_string(channels));
     py::array result = output_array(out, {{p.plan.num_output_vertices(), "N_out"}, {channels, "C"}}, in);
-    py::array normals = output_array(normals_out, {{p.plan.num_output_triangles(), "T_out"}, {3, "3"}, {3, "3"}}, in);
+    py::array normals = output_array(normals_out, normals_dims(), in);
     if (overlaps(normals, result)) throw py::value_error("normals must not share memory with out");
     const float* src = data_of<float>(in);
     float* dst = static_cast<float*>(result.mutable_data());
@@ -399,34 +402,31 @@ py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handl
     {
         py::gil_scoped_release nogil;
         std::lock_guard<std::mutex> lock(p.evaluate_mutex);
-        p.plan.evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels), n);
+        evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels), n);
     }
     return py::make_tuple(result, normals);
 }
 
+py::tuple evaluate_with_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
+    PyPlan& p = self.cast<PyPlan&>();
+    return evaluate_positions_and_normals(
+        p, "evaluate_with_normals", positions, out, normals_out,
+        [&p] {
+            return std::vector<Dim>{{p.plan.num_output_triangles(), "T_out"}, {3, "3"}, {3, "3"}};
+        },
+        [&p](auto in, auto result, float* normals) { p.plan.evaluate(in, result, normals); });
+}
+
 py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
     PyPlan& p = self.cast<PyPlan&>();
-    if (!p.plan.options().limit_surface)
-        throw py::value_error(
-            "evaluate_with_limit_normals: the normals are the limit surface's; build the Plan with limit_surface=True");
-    py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
-    const int channels = checked_count(in.shape(1), "number of channels");
-    if (channels < 3)
-        throw py::value_error("positions must have at least 3 channels (x, y, z first), got " +
-                              std::to_string(channels));
-    py::array result = output_array(out, {{p.plan.num_output_vertices(), "N_out"}, {channels, "C"}}, in);
-    py::array normals = output_array(normals_out, {{p.plan.num_limit_normals(), "num_limit_normals"}, {3, "3"}}, in);
-    if (overlaps(normals, result)) throw py::value_error("normals must not share memory with out");
-    const float* src = data_of<float>(in);
-    float* dst = static_cast<float*>(result.mutable_data());
-    float* n = static_cast<float*>(normals.mutable_data());
-    {
-        py::gil_scoped_release nogil;
-        std::lock_guard<std::mutex> lock(p.evaluate_mutex);
-        p.plan.evaluate(loopsub::interleaved(src, channels), loopsub::interleaved(dst, channels),
-                        loopsub::Plan::LimitNormals{n});
-    }
-    return py::make_tuple(result, normals);
+    return evaluate_positions_and_normals(
+        p, "evaluate_with_limit_normals", positions, out, normals_out,
+        [&p] {
+            return std::vector<Dim>{{p.plan.num_limit_normals(), "num_limit_normals"}, {3, "3"}};
+        },
+        [&p](auto in, auto result, float* normals) {
+            p.plan.evaluate(in, result, loopsub::Plan::LimitNormals{normals});
+        });
 }
 
 // The plan's limit tables, or ValueError for a plan without the limit surface.
