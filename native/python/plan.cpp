@@ -380,14 +380,20 @@ py::array evaluate(py::object self, py::handle values, py::handle out) {
     return result;
 }
 
+// The plan's limit tables, or ValueError for a plan without the limit surface.
+void require_limit(const PyPlan& p, const char* what) {
+    if (!p.plan.options().limit_surface)
+        throw py::value_error(std::string(what) +
+                              ": the limit normals are the limit surface's; build the Plan with limit_surface=True");
+}
+
 // Positions in, refined positions and the limit normals out, in the shape normals_dims() gives (per corner, or
 // compact; asked once the plan is known to have the limit surface): the checks both forms share, then
 // `evaluate(positions in, positions out, normals)` without the GIL.
 template <typename Dims, typename Evaluate>
-py::tuple evaluate_positions_and_normals(PyPlan& p, const std::string& name, py::handle positions, py::handle out,
+py::tuple evaluate_positions_and_normals(PyPlan& p, const char* name, py::handle positions, py::handle out,
                                          py::handle normals_out, Dims normals_dims, Evaluate evaluate) {
-    if (!p.plan.options().limit_surface)
-        throw py::value_error(name + ": the normals are the limit surface's; build the Plan with limit_surface=True");
+    require_limit(p, name);
     py::array in = require_array<float>(positions, "positions", {{p.plan.num_input_vertices(), "N"}, {-1, "C"}});
     const int channels = checked_count(in.shape(1), "number of channels");
     if (channels < 3)
@@ -427,13 +433,6 @@ py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py:
         [&p](auto in, auto result, float* normals) {
             p.plan.evaluate(in, result, loopsub::Plan::LimitNormals{normals});
         });
-}
-
-// The plan's limit tables, or ValueError for a plan without the limit surface.
-void require_limit(const PyPlan& p, const char* what) {
-    if (!p.plan.options().limit_surface)
-        throw py::value_error(std::string(what) +
-                              ": the limit normals are the limit surface's; build the Plan with limit_surface=True");
 }
 
 py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
