@@ -1,4 +1,5 @@
 #include "bfr_reference.h"
+#include "osd_options.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,15 +35,7 @@ std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, const P
     desc.numCorners = int(mesh.corner_sharpness.size());
     desc.cornerVertexIndices = mesh.corner_vertices.data();
     desc.cornerWeights = mesh.corner_sharpness.data();
-    Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(mesh.boundary == Boundary::EdgesAndCorners
-                                        ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                    : mesh.boundary == Boundary::None ? Sdc::Options::VTX_BOUNDARY_NONE
-                                                                      : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    sdc.SetCreasingMethod(mesh.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
-                                                                      : Sdc::Options::CREASE_UNIFORM);
-    // FaceVaryingInterpolation is declared in OpenSubdiv's order.
-    sdc.SetFVarLinearInterpolation(Sdc::Options::FVarLinearInterpolation(int(plan.options().face_varying)));
+    const Sdc::Options sdc = sdc_options(mesh.boundary, mesh.crease_method, plan.options().face_varying);
     Far::TopologyDescriptor::FVarChannel channel;
     if (face_varying) {
         channel.numValues = int(mesh.uvs.size() / 2);

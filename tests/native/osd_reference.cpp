@@ -1,4 +1,5 @@
 #include "osd_reference.h"
+#include "osd_options.h"
 
 #include <algorithm>
 #include <cmath>
@@ -81,15 +82,7 @@ OsdReference::OsdReference(const MeshView& mesh, const float* positions, const R
         desc.fvarChannels = &channel;
     }
 
-    Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(options.boundary == Boundary::EdgesAndCorners
-                                        ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                    : options.boundary == Boundary::None ? Sdc::Options::VTX_BOUNDARY_NONE
-                                                                         : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    sdc.SetCreasingMethod(options.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
-                                                                         : Sdc::Options::CREASE_UNIFORM);
-    // FaceVaryingInterpolation is declared in OpenSubdiv's order.
-    sdc.SetFVarLinearInterpolation(Sdc::Options::FVarLinearInterpolation(int(options.face_varying)));
+    const Sdc::Options sdc = sdc_options(options.boundary, options.crease_method, options.face_varying);
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     impl_->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
