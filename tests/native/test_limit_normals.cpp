@@ -97,6 +97,38 @@ TEST(CompactLimitNormals, GatheredByTheirIndicesAreThePerCornerNormals) {
             }
 }
 
+// Each kernel takes the normals from the loads of its limit points (kernels_limit.h): asking for them leaves the limit
+// positions the same bits, with positions alone or beside other channels (the first four channels run together), and
+// the normals agree with the scalar reference's within the kernels' rounding (multiply-adds contracted or not).
+TEST(CompactLimitNormals, LeaveTheLimitPointsAsTheyAreInEveryKernel) {
+    for (const Case& c : cases())
+        for (int channels : {3, 5}) {
+            std::vector<float> in(std::size_t(channels) * c.mesh.positions.size() / 3);
+            const std::vector<float> extra = random_positions(int(in.size()), 7);
+            for (std::size_t v = 0; v < c.mesh.positions.size() / 3; ++v)
+                for (int k = 0; k < channels; ++k)
+                    in[v * channels + k] = k < 3 ? c.mesh.positions[3 * v + k] : extra[v * channels + k];
+            std::vector<float> reference;
+            for (Kernel kernel : {Kernel::Scalar, Kernel::SSE41, Kernel::AVX2}) {
+                SCOPED_TRACE(c.name + ", " + std::to_string(channels) + " channels, " + kernel_name(kernel));
+                Options options = limit_options(c.rules, 2);
+                options.kernel = kernel;
+                Plan plan(c.mesh.view(), options);
+                if (plan.kernel() != kernel) continue;  // not on this CPU
+                const std::size_t size = std::size_t(channels) * std::size_t(plan.num_output_vertices());
+                std::vector<float> alone(size), beside(size), normals(3 * std::size_t(plan.num_limit_normals()));
+                plan.evaluate(interleaved(in.data(), channels), interleaved(alone.data(), channels));
+                plan.evaluate(interleaved(in.data(), channels), interleaved(beside.data(), channels),
+                              Plan::LimitNormals{normals.data()});
+                EXPECT_EQ(alone, beside);
+                if (kernel == Kernel::Scalar) reference = normals;
+                ASSERT_EQ(normals.size(), reference.size());
+                for (std::size_t i = 0; i < normals.size(); ++i)
+                    ASSERT_NEAR(normals[i], reference[i], 1e-5) << "component " << i;
+            }
+        }
+}
+
 // Only infinitely sharp edges (creases, boundaries, non-manifold edges) part a vertex's corners: a vertex on none of
 // them has one index for all its corners.
 TEST(CompactLimitNormals, CornersOfAVertexOnNoSharpEdgeShareAnIndex) {

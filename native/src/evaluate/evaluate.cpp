@@ -9,6 +9,7 @@
 
 #include "base/common.h"
 #include "kernels/kernels.h"
+#include "kernels/limit_normals.h"
 #include "base/parallel.h"
 #include "plan/plan_data.h"
 #include "plan/validation.h"
@@ -32,18 +33,20 @@ constexpr int kPiecesPerThread = 4;
 std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : (std::size_t(channels) + 3) / 4 * 4; }
 
 // Runs stencil passes (refinement levels, then the limit) over data of `channels` channels: pass i reads counts[i]
-// elements and writes counts[i + 1]; the first reads load(element, channel), the last writes `out`.
+// elements and writes counts[i + 1]; the first reads load(element, channel), the last writes `out`. With `limit` (the
+// plan's limit tables, then the last of `passes`), the last pass is the limit kernel's, which also writes the vertex
+// normals where `normals` is set, and a step after it the sides' (Plan::LimitNormals' layout).
 //
 // Passes run on quads: an element's channels side by side, padded with zeros to a multiple of four, so that a kernel
 // fetches every channel of a neighbour with one 16-byte load (kernels_quads.h); with gathers from planar arrays each
 // channel of each neighbour is a load of its own (docs/benchmark.md, "Why the kernels evaluate in quads"). The padding
 // refines like a channel (zeros stay zeros). Three channels (positions) are not padded: a 16-byte load then also reads
 // the next element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a
-// quad of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2]; the last
-// pass's source stays there for the limit normals.
+// quad of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2].
 template <typename Load>
 void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
-                int channels, Load load, ChannelsView<float> out) {
+                int channels, Load load, ChannelsView<float> out, const detail::LimitTables* limit = nullptr,
+                float* normals = nullptr) {
     const int n = int(passes.size());
     if (n == 0) {
         for (int v = 0; v < counts[0]; ++v)
@@ -78,14 +81,24 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         if (p.kernel == Kernel::Scalar) targets[i].num_channels = channels;
     }
     const detail::Kernels kernels = detail::kernel_functions(p.kernel);
+    const bool sides = limit != nullptr && normals != nullptr && !limit->sides.empty();
     run_levels(
-        std::max(1, p.options.threads), n,
+        std::max(1, p.options.threads), n + int(sides),
         [&](int pass, int part, int parts) {
+            if (pass == n) {  // the sides' normals, from the last level's points
+                const auto [begin, end] = detail::part_of(int(limit->sides.size()), part, parts);
+                float* side_normals = normals + 3 * std::size_t(limit->positions.num_vertices);
+                return detail::side_normals(*limit, sources[n - 1], side_normals, {begin, end});
+            }
             const detail::LevelStencils& s = *passes[pass];
             // Small levels are not worth splitting.
             if (s.num_vertices + s.num_edges < 4096) {
-                if (part == 0) detail::refine_part(kernels, s, sources[pass], targets[pass], 0, 1);
-                return;
+                if (part != 0) return;
+                part = 0, parts = 1;
+            }
+            if (limit != nullptr && pass == n - 1) {
+                const auto [begin, end] = detail::part_of(s.num_vertices, part, parts);
+                return kernels.limit(*limit, sources[pass], targets[pass], normals, {begin, end});
             }
             detail::refine_part(kernels, s, sources[pass], targets[pass], part, parts);
         },
@@ -101,15 +114,18 @@ float largest_refinable(const PlanImpl& p) {
 
 }  // namespace
 
-void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
-    PlanImpl& p = *impl_;
+namespace {
+
+// Plan::evaluate's work, with the limit normals where `normals` is set (checked by the caller).
+void evaluate_vertices(PlanImpl& p, ChannelsView<const float> in, ChannelsView<float> out, float* normals) {
     const auto start = Clock::now();
     const int channels = in.num_channels;
     if (channels != out.num_channels)
         fail("evaluate: input has " + std::to_string(channels) + " channels but output has " +
              std::to_string(out.num_channels));
     if (channels < 1) fail("evaluate: at least one channel is needed, got " + std::to_string(channels));
-    if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices() > 0))
+    const int num_output_vertices = p.level_num_vertices.back();
+    if ((in.data == nullptr && p.num_input_vertices > 0) || (out.data == nullptr && num_output_vertices > 0))
         fail("evaluate: missing (null) data");
     detail::validate_vertex_values(in, p.num_input_vertices, largest_refinable(p), p.max_summed_terms);
     if (p.num_input_vertices > 0) {  // otherwise nothing to refine (and the output may be a null pointer)
@@ -122,9 +138,16 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
         if (p.limit) counts.push_back(counts.back());
         run_passes(
             p, passes, counts, channels,
-            [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out);
+            [&in](int v, int c) { return in.data[c * in.channel_stride + std::size_t(v) * in.element_stride]; }, out,
+            p.limit.get(), normals);
     }
     p.frame.evaluate_ms = ms_since(start);
+}
+
+}  // namespace
+
+void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out) {
+    evaluate_vertices(*impl_, in, out, nullptr);
 }
 
 int Plan::num_face_varying_layers() const { return int(impl_->face_varying.size()); }
@@ -182,15 +205,7 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, Limit
     PlanImpl& p = *impl_;
     check_normals_input(p, in);
     if (normals.normals == nullptr && num_limit_normals() > 0) fail("evaluate: missing (null) normals");
-    evaluate(in, out);
-    const auto start = Clock::now();
-    if (p.num_input_vertices == 0) return;
-    // The last level's refined points: the limit pass's source, still in scratch.
-    const int levels = p.options.levels;
-    const std::size_t padded = scratch_stride(in.num_channels);
-    const ChannelsView<const float> last{p.frame.scratch[(levels + 1) % 2].data(), in.num_channels, 1, padded};
-    p.limit_normals(last, normals.normals);
-    p.frame.evaluate_ms += ms_since(start);
+    evaluate_vertices(p, in, out, normals.normals);
 }
 
 void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float* corner_normals) {

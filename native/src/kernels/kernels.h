@@ -5,6 +5,7 @@
 #include <cstddef>
 
 #include "loopsub/loopsub.h"
+#include "tables/limit_tables.h"
 #include "tables/stencils.h"
 
 namespace loopsub::detail {
@@ -48,11 +49,24 @@ void refine_fans_scalar(const LevelStencils&, ChannelsView<const float>, Channel
 void refine_fans_sse41(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 void refine_fans_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsView<float>, Range);
 
+// The limit stage of a frame (Options::limit_surface) over last-level vertices [vertices.begin, vertices.end) of the
+// last level's points `in`: their limit points, every channel (the masks of LimitTables::positions, specials
+// included), and, where `normals` is not null, from the first three channels their normals as rows of three at
+// normals + 3 v (limit_normals.h: a vertex's own, or zero where its corners take their sides'). The SIMD kernels take
+// the normals of smooth disk fans from the loads of their limit points (kernels_limit.h).
+using LimitFn = void (*)(const LimitTables& tables, ChannelsView<const float> in, ChannelsView<float> out,
+                         float* normals, Range vertices);
+
+void limit_scalar(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
+void limit_sse41(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
+void limit_avx2(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
+
 // One instruction set's kernels.
 struct Kernels {
     RefineFn refine;
     InteriorFn interior;
     FanFn fans;
+    LimitFn limit;
 };
 
 // Runs the kernels over part `part` of `parts` of a level: a stored level in one call (one whose interior edges come

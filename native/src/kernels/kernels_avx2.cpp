@@ -12,8 +12,10 @@
 #include <type_traits>
 
 #include "kernels/kernels.h"
+#include "kernels/kernels_limit.h"
 #include "kernels/kernels_quads.h"
 #include "kernels/kernels_specials.h"
+#include "kernels/limit_normals.h"
 
 namespace loopsub::detail {
 
@@ -111,6 +113,30 @@ constexpr auto smooth_edge = [](__m128 a, __m128 b, __m128 c, __m128 d) {
                         _mm_mul_ps(_mm_set1_ps(kSmoothEdgeWingWeight), _mm_add_ps(c, d)));
 };
 
+// A step of a tangent's sum (kernels_limit.h).
+constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_fmadd_ps(w, d, sum); };
+
+// The unit normals t1 x t2 of four tangent pairs (x, y, z in a quad's first lanes), in double four at a time: the
+// reference's arithmetic (limit_normals.cpp), zero where the tangents do not span a plane.
+constexpr auto unit_normals = [](const __m128 t1[4], const __m128 t2[4], __m128 normal[4]) {
+    __m128 a0 = t1[0], a1 = t1[1], a2 = t1[2], a3 = t1[3], b0 = t2[0], b1 = t2[1], b2 = t2[2], b3 = t2[3];
+    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0: the four x, a1: y, a2: z
+    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+    const __m256d ax = _mm256_cvtps_pd(a0), ay = _mm256_cvtps_pd(a1), az = _mm256_cvtps_pd(a2);
+    const __m256d bx = _mm256_cvtps_pd(b0), by = _mm256_cvtps_pd(b1), bz = _mm256_cvtps_pd(b2);
+    const __m256d x = _mm256_sub_pd(_mm256_mul_pd(ay, bz), _mm256_mul_pd(az, by));
+    const __m256d y = _mm256_sub_pd(_mm256_mul_pd(az, bx), _mm256_mul_pd(ax, bz));
+    const __m256d z = _mm256_sub_pd(_mm256_mul_pd(ax, by), _mm256_mul_pd(ay, bx));
+    const __m256d length =
+        _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z)));
+    const __m256d positive = _mm256_cmp_pd(length, _mm256_setzero_pd(), _CMP_GT_OQ);
+    const __m256d inverse = _mm256_and_pd(positive, _mm256_div_pd(_mm256_set1_pd(1.0), length));
+    __m128 nx = _mm256_cvtpd_ps(_mm256_mul_pd(x, inverse)), ny = _mm256_cvtpd_ps(_mm256_mul_pd(y, inverse)),
+           nz = _mm256_cvtpd_ps(_mm256_mul_pd(z, inverse)), unused = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(nx, ny, nz, unused);
+    normal[0] = nx, normal[1] = ny, normal[2] = nz, normal[3] = unused;
+};
+
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
 // of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 template <std::size_t Step, typename Out>
@@ -156,6 +182,19 @@ void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, Chan
     });
     apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end},
                    {2 * parent_edges.begin, 2 * parent_edges.end});
+}
+
+void limit_avx2(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
+                Range vertices) {
+    if (!reads_as_quads(in)) return limit_scalar(lt, in, out, normals, vertices);
+    const LevelStencils& s = lt.positions;
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
+        if (normals != nullptr && source.in == in.data)  // the positions: the normals from the same loads
+            return limit_quad(lt, t, source, target, normals, vertices, smooth_vertex, multiply_add, unit_normals);
+        smooth_quad(t, source, target, vertices, {0, 0});
+    });
+    apply_specials(s, stored_view(s), in, out, vertices, {0, 0});
+    if (normals != nullptr) own_vertex_normals(lt, in, normals, vertices);
 }
 
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

@@ -1,6 +1,7 @@
 // The scalar reference kernel: one output at a time, every channel, exactly the masks of stencils.h.
 #include "kernels/kernels.h"
 #include "kernels/kernels_specials.h"
+#include "kernels/limit_normals.h"
 
 namespace loopsub::detail {
 
@@ -32,6 +33,12 @@ void refine_fans_scalar(const LevelStencils& s, ChannelsView<const float> in, Ch
     const int nv = s.fan_first_midpoint;
     refine_scalar(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end},
                   {2 * parent_edges.begin, 2 * parent_edges.end});
+}
+
+void limit_scalar(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
+                  Range vertices) {
+    refine_scalar(lt.positions, stored_view(lt.positions), in, out, vertices, {0, 0});
+    if (normals != nullptr) vertex_normals_reference(lt, in, normals, vertices);
 }
 
 void refine_interior_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,

@@ -11,8 +11,10 @@
 #include <type_traits>
 
 #include "kernels/kernels.h"
+#include "kernels/kernels_limit.h"
 #include "kernels/kernels_quads.h"
 #include "kernels/kernels_specials.h"
+#include "kernels/limit_normals.h"
 
 namespace loopsub::detail {
 
@@ -63,6 +65,35 @@ inline void next_edge_points(const Tables& t, const QuadSource<Step>& in, int e,
 
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
 // of three (the last level's positions) go four points at a time (PackedRows3::store_four).
+// A step of a tangent's sum (kernels_limit.h): the reference's multiply, then add.
+constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_add_ps(sum, _mm_mul_ps(w, d)); };
+
+// The unit normals t1 x t2 of four tangent pairs (x, y, z in a quad's first lanes), in double two at a time: the
+// reference's arithmetic (limit_normals.cpp), zero where the tangents do not span a plane.
+constexpr auto unit_normals = [](const __m128 t1[4], const __m128 t2[4], __m128 normal[4]) {
+    __m128 a0 = t1[0], a1 = t1[1], a2 = t1[2], a3 = t1[3], b0 = t2[0], b1 = t2[1], b2 = t2[2], b3 = t2[3];
+    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0: the four x, a1: y, a2: z
+    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+    __m128 n[3];
+    for (int half = 0; half < 2; ++half) {  // vertices 0 and 1, then 2 and 3
+        auto wide = [half](__m128 v) { return _mm_cvtps_pd(half == 0 ? v : _mm_movehl_ps(v, v)); };
+        const __m128d ax = wide(a0), ay = wide(a1), az = wide(a2), bx = wide(b0), by = wide(b1), bz = wide(b2);
+        const __m128d x = _mm_sub_pd(_mm_mul_pd(ay, bz), _mm_mul_pd(az, by));
+        const __m128d y = _mm_sub_pd(_mm_mul_pd(az, bx), _mm_mul_pd(ax, bz));
+        const __m128d z = _mm_sub_pd(_mm_mul_pd(ax, by), _mm_mul_pd(ay, bx));
+        const __m128d length =
+            _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y)), _mm_mul_pd(z, z)));
+        const __m128d inverse =
+            _mm_and_pd(_mm_cmpgt_pd(length, _mm_setzero_pd()), _mm_div_pd(_mm_set1_pd(1.0), length));
+        const __m128 part[3] = {_mm_cvtpd_ps(_mm_mul_pd(x, inverse)), _mm_cvtpd_ps(_mm_mul_pd(y, inverse)),
+                                _mm_cvtpd_ps(_mm_mul_pd(z, inverse))};
+        for (int c = 0; c < 3; ++c) n[c] = half == 0 ? part[c] : _mm_movelh_ps(n[c], part[c]);
+    }
+    __m128 unused = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(n[0], n[1], n[2], unused);
+    normal[0] = n[0], normal[1] = n[1], normal[2] = n[2], normal[3] = unused;
+};
+
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     int i = vertices.begin, e = edges.begin;
@@ -106,6 +137,19 @@ void refine_fans_sse41(const LevelStencils& s, ChannelsView<const float> in, Cha
     });
     apply_specials(s, stored_view(s), in, out, {nv + parent_edges.begin, nv + parent_edges.end},
                    {2 * parent_edges.begin, 2 * parent_edges.end});
+}
+
+void limit_sse41(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
+                 Range vertices) {
+    if (!reads_as_quads(in)) return limit_scalar(lt, in, out, normals, vertices);
+    const LevelStencils& s = lt.positions;
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
+        if (normals != nullptr && source.in == in.data)  // the positions: the normals from the same loads
+            return limit_quad(lt, t, source, target, normals, vertices, smooth_vertex, multiply_add, unit_normals);
+        smooth_quad(t, source, target, vertices, {0, 0});
+    });
+    apply_specials(s, stored_view(s), in, out, vertices, {0, 0});
+    if (normals != nullptr) own_vertex_normals(lt, in, normals, vertices);
 }
 
 void refine_interior_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

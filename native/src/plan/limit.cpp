@@ -1,7 +1,7 @@
 // The limit surface: where the last level's vertices land when subdivision goes on forever, and the surface's
 // normals there. Planned once (PlanBuilder::plan_limit: the limit masks as one more vertex-only pass for the kernels,
-// the rings put in counter-clockwise order, the sides of every crease), evaluated per frame (the pass runs with the
-// refinement in Plan::evaluate; PlanImpl::limit_normals applies the tangent masks).
+// the rings put in counter-clockwise order, the sides of every crease), evaluated per frame (the limit kernels,
+// kernels.h's LimitFn, after the refinement in Plan::evaluate).
 //
 // Normals follow the seed's attribute table: smooth edges have continuous normals at the limit, crease edges
 // discontinuous ones. A vertex whose fan is a disk of smooth edges (smooth, dart and cone vertices) has one normal,
@@ -16,10 +16,6 @@
 #include <cmath>
 #include <utility>
 
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
-
 #include "plan/level_state.h"
 #include "base/parallel.h"
 #include "plan/plan_builder.h"
@@ -31,7 +27,7 @@ using detail::Index;
 
 namespace {
 
-// limit_normals sums a tangent over offsets between limit points, each up to 2/3 of the float maximum (evaluate
+// The limit kernels sum a tangent over offsets between last-level points, each up to 2/3 of the float maximum (evaluate
 // accepts values up to a third of it, and limit points are weighted means of them). Scaled by a power of two so that
 // its weights' magnitudes sum to at most one, a tangent never overflows; the normal is the same to the last bit, as
 // a power of two scales t1 x t2 and its length exactly.
@@ -62,6 +58,12 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     for (int n = 0; n <= max_valence; ++n) {
         smooth_tangent_weights(n, lt.smooth_t1[n], lt.smooth_t2[n]);
         scale_to_at_most_unit_sum(lt.smooth_t1[n]), scale_to_at_most_unit_sum(lt.smooth_t2[n]);
+    }
+    if (max_valence >= 6) {
+        const std::vector<float>&t1 = lt.smooth_t1[6], &t2 = lt.smooth_t2[6];
+        assert(t1[3] == -t1[0] && t1[2] == -t1[1] && t1[4] == -t1[1] && t1[5] == t1[1]);
+        assert(t2[0] == 0.0f && t2[3] == 0.0f && t2[2] == t2[1] && t2[4] == -t2[1] && t2[5] == -t2[1]);
+        lt.regular_tangents[0] = t1[0], lt.regular_tangents[1] = t1[1], lt.regular_tangents[2] = t2[1];
     }
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
@@ -345,145 +347,6 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
                                : own_tangents(*found, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
                                               lt.side_t2[side.faces].data() + 1);
     }
-}
-
-namespace {
-
-struct Vec3 {
-    float x = 0.0f, y = 0.0f, z = 0.0f;
-};
-
-// The unit normals t1 x t2 of a batch of tangent pairs, zero where the tangents do not span a plane. Over arrays and
-// without branches, the compiler takes two or four square roots and divisions at once, which one at a time cost more
-// than the tangents themselves.
-struct NormalBatch {
-    static constexpr int kSize = 64;
-    float t1[3][kSize], t2[3][kSize], normal[3][kSize];
-
-    void put(int i, const Vec3& tangent1, const Vec3& tangent2) {
-        t1[0][i] = tangent1.x, t1[1][i] = tangent1.y, t1[2][i] = tangent1.z;
-        t2[0][i] = tangent2.x, t2[1][i] = tangent2.y, t2[2][i] = tangent2.z;
-    }
-    void store(int i, float* to) const { to[0] = normal[0][i], to[1] = normal[1][i], to[2] = normal[2][i]; }
-
-    void unit_normals(int count) {
-        for (int i = 0; i < count; ++i) {
-            const double x = double(t1[1][i]) * t2[2][i] - double(t1[2][i]) * t2[1][i];
-            const double y = double(t1[2][i]) * t2[0][i] - double(t1[0][i]) * t2[2][i];
-            const double z = double(t1[0][i]) * t2[1][i] - double(t1[1][i]) * t2[0][i];
-            const double length = std::sqrt(x * x + y * y + z * z);
-            // The tangents are finite (scale_to_at_most_unit_sum), so is their cross product in double: where the
-            // length is zero, so are x, y and z.
-            const double reciprocal = 1.0 / length;
-            const double inverse = length > 0.0 ? reciprocal : 0.0;
-            normal[0][i] = float(x * inverse);
-            normal[1][i] = float(y * inverse);
-            normal[2][i] = float(z * inverse);
-        }
-    }
-};
-
-}  // namespace
-
-void PlanImpl::limit_normals(ChannelsView<const float> p, float* normals) {
-    detail::LimitTables& lt = *limit;
-    const detail::LevelStencils& s = lt.positions;
-    // The last level's points come from the evaluation's scratch: an element's channels side by side.
-    const float* points_data = p.data;
-    const std::size_t stride = p.element_stride;
-    auto at = [points_data, stride](Index i, int c) { return points_data[std::size_t(i) * stride + std::size_t(c)]; };
-    // Tangent masks sum to zero, so they apply to the neighbours' offsets from the vertex: small numbers, where the
-    // positions themselves would lose the tangents' low bits at deep levels.
-    auto scalar_tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1,
-                               Vec3& t2) {
-        const float vx = at(v, 0), vy = at(v, 1), vz = at(v, 2);
-        for (int i = 0; i < count; ++i) {
-            const float dx = at(points[i], 0) - vx, dy = at(points[i], 1) - vy, dz = at(points[i], 2) - vz;
-            t1.x += w1[i] * dx, t1.y += w1[i] * dy, t1.z += w1[i] * dz;
-            t2.x += w2[i] * dx, t2.y += w2[i] * dy, t2.z += w2[i] * dz;
-        }
-    };
-#if defined(__SSE2__)
-    // A point's three coordinates in one 16-byte load (the scratch holds a quad past its last element, as for the
-    // kernels), the fourth lane unused: a third of the scalar loop's loads and arithmetic, and the same operations per
-    // coordinate in the same order (a multiply, then an add), so the same bits. The scalar kernel keeps the reference.
-    const bool simd = kernel != Kernel::Scalar;
-    auto tangents = [&](Index v, const Index* points, int count, const float* w1, const float* w2, Vec3& t1, Vec3& t2) {
-        if (!simd) return scalar_tangents(v, points, count, w1, w2, t1, t2);
-        const __m128 centre = _mm_loadu_ps(points_data + std::size_t(v) * stride);
-        __m128 sum1 = _mm_setzero_ps(), sum2 = _mm_setzero_ps();
-        for (int i = 0; i < count; ++i) {
-            const __m128 d = _mm_sub_ps(_mm_loadu_ps(points_data + std::size_t(points[i]) * stride), centre);
-            sum1 = _mm_add_ps(sum1, _mm_mul_ps(_mm_set1_ps(w1[i]), d));
-            sum2 = _mm_add_ps(sum2, _mm_mul_ps(_mm_set1_ps(w2[i]), d));
-        }
-        alignas(16) float out1[4], out2[4];
-        _mm_store_ps(out1, sum1), _mm_store_ps(out2, sum2);
-        t1 = {out1[0], out1[1], out1[2]}, t2 = {out2[0], out2[1], out2[2]};
-    };
-#else
-    auto& tangents = scalar_tangents;
-#endif
-
-    // Two phases, each split among the threads: the vertices' normals, then the sides' after them.
-    float* vertex_normals = normals;
-    float* side_normals = normals + 3 * std::size_t(s.num_vertices);
-    detail::run_levels(std::max(1, options.threads), 2, [&](int phase, int part, int parts) {
-        // Tangents a batch at a time, then their normals.
-        NormalBatch batch;
-        auto in_batches = [&](std::size_t begin, std::size_t end, auto tangents_of, float* out) {
-            for (std::size_t first = begin; first < end; first += NormalBatch::kSize) {
-                const int count = int(std::min<std::size_t>(NormalBatch::kSize, end - first));
-                for (int i = 0; i < count; ++i) {
-                    Vec3 t1, t2;
-                    tangents_of(first + std::size_t(i), t1, t2);
-                    batch.put(i, t1, t2);
-                }
-                batch.unit_normals(count);
-                for (int i = 0; i < count; ++i) batch.store(i, out + 3 * (first + std::size_t(i)));
-            }
-        };
-        if (phase == 0) {
-            const auto [begin, end] = detail::part_of(std::size_t(s.num_vertices), part, parts);
-            // The vertices with tangents of their own, met in vertex order.
-            auto own = std::lower_bound(lt.own_vertex_tangents.begin(), lt.own_vertex_tangents.end(),
-                                        std::pair<Index, Index>(Index(begin), -1));
-            in_batches(
-                begin, end,
-                [&](std::size_t v, Vec3& t1, Vec3& t2) {
-                    if (lt.by_side[v]) return;  // zero: its corners take their sides' normals
-                    const Index first = s.ring_offsets[v];
-                    const int valence = s.ring_offsets[v + 1] - first;
-                    if (own != lt.own_vertex_tangents.end() && std::size_t(own->first) == v) {
-                        tangents(Index(v), s.ring.data() + first, valence, lt.own_t1.data() + own->second,
-                                 lt.own_t2.data() + own->second, t1, t2);
-                        ++own;
-                        return;
-                    }
-                    tangents(Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(),
-                             lt.smooth_t2[valence].data(), t1, t2);
-                },
-                vertex_normals);
-        } else {
-            const auto [begin, end] = detail::part_of(lt.sides.size(), part, parts);
-            in_batches(
-                begin, end,
-                [&](std::size_t i, Vec3& t1, Vec3& t2) {
-                    const detail::LimitTables::Side& side = lt.sides[i];
-                    const Index* points = lt.side_points.data() + side.first;
-                    if (side.own >= 0)
-                        tangents(side.vertex, points, side.closed ? side.faces : side.faces + 1,
-                                 lt.own_t1.data() + side.own, lt.own_t2.data() + side.own, t1, t2);
-                    else if (side.closed)
-                        tangents(side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(),
-                                 lt.smooth_t2[side.faces].data(), t1, t2);
-                    else
-                        tangents(side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
-                                 lt.side_t2[side.faces].data() + 1, t1, t2);
-                },
-                side_normals);
-        }
-    });
 }
 
 }  // namespace loopsub

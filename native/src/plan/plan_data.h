@@ -11,43 +11,13 @@
 #include "plan/face_varying.h"
 #include "base/large_allocator.h"
 #include "loopsub/loopsub.h"
+#include "tables/limit_tables.h"
 #include "tables/stencils.h"
 #include "topology/topology.h"
 
 namespace loopsub {
 
 namespace detail {
-
-// The limit surface (Options::limit_surface, limit.cpp): one more vertex-only pass over the last level, and the
-// tables of the limit normals.
-struct LimitTables {
-    // Limit positions: the kernels' vertex masks (num_edges == 0). Where a vertex's fan is a disk of smooth edges
-    // its ring is in counter-clockwise order, as the smooth tangent masks read it.
-    LevelStencils positions;
-    // Vertices whose corners take the normal of their side of a crease (crease and corner rules, or a fan that is
-    // not a disk): 1 per such vertex.
-    std::vector<std::uint8_t> by_side;
-    // A side: `faces` faces counter-clockwise around `vertex`, through points side_points[first ..]: faces + 1 of
-    // them from the leading to the trailing sharp edge, or `faces` of them for a closed fan.
-    struct Side {
-        Index vertex, first;
-        int faces;
-        bool closed;
-        Index own;  // where its tangent weights are its own (own_t1 / _t2, one per point), else -1
-    };
-    std::vector<Side> sides;
-    std::vector<Index> side_points;
-    // The corners that take a side's normal: (output corner 3 t + k, side), sorted by corner. The others take their
-    // vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first request).
-    std::vector<std::pair<Index, Index>> corner_sides;
-    // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
-    std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
-    // Where semi-sharp features outlast the last level, the tangent masks that apply once they are spent, pulled back
-    // to the last level: weights per point of a vertex's ring (own_vertex_tangents: (vertex, first), sorted) or of a
-    // side (Side::own). Their vertex's weight is what the points' leave, as in the tables above.
-    std::vector<float> own_t1, own_t2;
-    std::vector<std::pair<Index, Index>> own_vertex_tangents;
-};
 
 // The output's tags (Plan::output_crease_edges and the rest): edges as vertex pairs, a value per edge or vertex.
 struct OutputTags {
@@ -115,11 +85,6 @@ struct PlanImpl {
         std::once_flag corner_normals_ready;
     };
     mutable Copies copies;
-
-    // The compact limit normals (Plan::num_limit_normals of them, 3 floats each) of the last level's points
-    // `last_level` (its first three channels; an element's channels side by side, as in the evaluation's scratch).
-    // limit.cpp.
-    void limit_normals(ChannelsView<const float> last_level, float* normals);
 };
 
 }  // namespace loopsub

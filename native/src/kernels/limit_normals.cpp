@@ -1,0 +1,140 @@
+#include "kernels/limit_normals.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace loopsub::detail {
+
+namespace {
+
+// The tangents of the points around `centre` with weights w1 and w2: a multiply, then an add, per coordinate.
+struct Tangents {
+    float t1[3] = {0.0f, 0.0f, 0.0f}, t2[3] = {0.0f, 0.0f, 0.0f};
+
+    Tangents() = default;
+    Tangents(ChannelsView<const float> in, Index centre, const Index* points, int count, const float* w1,
+             const float* w2) {
+        const float* c = in.data + std::size_t(centre) * in.element_stride;
+        for (int i = 0; i < count; ++i) {
+            const float* p = in.data + std::size_t(points[i]) * in.element_stride;
+            for (int k = 0; k < 3; ++k) {
+                const float d = p[k] - c[k];
+                t1[k] += w1[i] * d;
+                t2[k] += w2[i] * d;
+            }
+        }
+    }
+    // A smooth vertex of valence 6: LimitTables::regular_tangents over its ring's points.
+    static Tangents regular(ChannelsView<const float> in, const Index* ring, const float abc[3]) {
+        const float* p[6];
+        for (int i = 0; i < 6; ++i) p[i] = in.data + std::size_t(ring[i]) * in.element_stride;
+        Tangents t;
+        for (int k = 0; k < 3; ++k) {
+            t.t1[k] = abc[0] * (p[0][k] - p[3][k]) + abc[1] * (p[1][k] - p[2][k]) + abc[1] * (p[5][k] - p[4][k]);
+            t.t2[k] = abc[2] * (p[1][k] - p[4][k]) + abc[2] * (p[2][k] - p[5][k]);
+        }
+        return t;
+    }
+};
+
+// The unit normals of a batch of tangent pairs, zero where the tangents do not span a plane. Over arrays and without
+// branches, the compiler takes two or four square roots and divisions at once, which one at a time cost more than the
+// tangents themselves.
+struct NormalBatch {
+    static constexpr int kSize = 64;
+    double x[kSize], y[kSize], z[kSize];
+
+    void put(int i, const Tangents& t) {
+        x[i] = double(t.t1[1]) * t.t2[2] - double(t.t1[2]) * t.t2[1];
+        y[i] = double(t.t1[2]) * t.t2[0] - double(t.t1[0]) * t.t2[2];
+        z[i] = double(t.t1[0]) * t.t2[1] - double(t.t1[1]) * t.t2[0];
+    }
+    void store(int count, float* to) {
+        for (int i = 0; i < count; ++i) {
+            const double length = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
+            // The tangents are finite (their weights sum to at most one in magnitude: plan/limit.cpp), so is their
+            // cross product in double: where the length is zero, so are x, y and z.
+            const double reciprocal = 1.0 / length;
+            const double inverse = length > 0.0 ? reciprocal : 0.0;
+            to[3 * i] = float(x[i] * inverse);
+            to[3 * i + 1] = float(y[i] * inverse);
+            to[3 * i + 2] = float(z[i] * inverse);
+        }
+    }
+};
+
+// Normals of items [begin, end) in batches: tangents_of(i) gives item i's, written at out + 3 (i - begin).
+template <typename TangentsOf>
+void normals_in_batches(std::size_t begin, std::size_t end, TangentsOf tangents_of, float* out) {
+    NormalBatch batch;
+    for (std::size_t first = begin; first < end; first += NormalBatch::kSize) {
+        const int count = int(std::min<std::size_t>(NormalBatch::kSize, end - first));
+        for (int i = 0; i < count; ++i) batch.put(i, tangents_of(first + std::size_t(i)));
+        batch.store(count, out + 3 * (first - begin));
+    }
+}
+
+// The vertices of [vertices) with tangent weights of their own: (vertex, first weight), in vertex order.
+std::pair<const std::pair<Index, Index>*, const std::pair<Index, Index>*> own_in(const LimitTables& lt,
+                                                                                 Range vertices) {
+    const auto& own = lt.own_vertex_tangents;
+    const auto lo = std::lower_bound(own.begin(), own.end(), std::pair<Index, Index>(vertices.begin, -1));
+    const auto hi = std::lower_bound(lo, own.end(), std::pair<Index, Index>(vertices.end, -1));
+    return {own.data() + (lo - own.begin()), own.data() + (hi - own.begin())};
+}
+
+Tangents own_vertex_tangents(const LimitTables& lt, ChannelsView<const float> in, const std::pair<Index, Index>& own) {
+    const LevelStencils& s = lt.positions;
+    const Index v = own.first, first = s.ring_offsets[v];
+    return Tangents(in, v, s.ring.data() + first, s.ring_offsets[v + 1] - first, lt.own_t1.data() + own.second,
+                    lt.own_t2.data() + own.second);
+}
+
+}  // namespace
+
+void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices) {
+    const LevelStencils& s = lt.positions;
+    auto [own, own_end] = own_in(lt, vertices);
+    normals_in_batches(
+        std::size_t(vertices.begin), std::size_t(vertices.end),
+        [&](std::size_t v) {
+            if (lt.by_side[v]) return Tangents();  // zero: its corners take their sides' normals
+            if (own != own_end && std::size_t(own->first) == v) return own_vertex_tangents(lt, in, *own++);
+            const Index first = s.ring_offsets[v];
+            const int valence = s.ring_offsets[v + 1] - first;
+            if (valence == 6) return Tangents::regular(in, s.ring.data() + first, lt.regular_tangents);
+            return Tangents(in, Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(),
+                            lt.smooth_t2[valence].data());
+        },
+        normals + 3 * std::size_t(vertices.begin));
+}
+
+void own_vertex_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices) {
+    const auto [own, own_end] = own_in(lt, vertices);
+    for (const auto* it = own; it != own_end; ++it) {  // never a vertex by sides (PlanBuilder::pull_back_spent)
+        const std::size_t v = std::size_t(it->first);
+        normals_in_batches(
+            v, v + 1, [&](std::size_t) { return own_vertex_tangents(lt, in, *it); }, normals + 3 * v);
+    }
+}
+
+void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* side_normals, Range sides) {
+    normals_in_batches(
+        std::size_t(sides.begin), std::size_t(sides.end),
+        [&](std::size_t i) {
+            const LimitTables::Side& side = lt.sides[i];
+            const Index* points = lt.side_points.data() + side.first;
+            if (side.own >= 0)
+                return Tangents(in, side.vertex, points, side.closed ? side.faces : side.faces + 1,
+                                lt.own_t1.data() + side.own, lt.own_t2.data() + side.own);
+            if (side.closed)
+                return Tangents(in, side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(),
+                                lt.smooth_t2[side.faces].data());
+            return Tangents(in, side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
+                            lt.side_t2[side.faces].data() + 1);
+        },
+        side_normals + 3 * std::size_t(sides.begin));
+}
+
+}  // namespace loopsub::detail

@@ -1,0 +1,47 @@
+// The limit surface's tables (Options::limit_surface): what PlanBuilder::plan_limit (plan/limit.cpp) writes and the
+// limit kernels (kernels.h, LimitFn; kernels/limit_normals.h) read every frame.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "tables/stencils.h"
+
+namespace loopsub::detail {
+
+// One more vertex-only pass over the last level, and the tables of the limit normals.
+struct LimitTables {
+    // Limit positions: the kernels' vertex masks (num_edges == 0). Where a vertex's fan is a disk of smooth edges
+    // its ring is in counter-clockwise order, as the smooth tangent masks read it.
+    LevelStencils positions;
+    // Vertices whose corners take the normal of their side of a crease (crease and corner rules, or a fan that is
+    // not a disk): 1 per such vertex.
+    std::vector<std::uint8_t> by_side;
+    // A side: `faces` faces counter-clockwise around `vertex`, through points side_points[first ..]: faces + 1 of
+    // them from the leading to the trailing sharp edge, or `faces` of them for a closed fan.
+    struct Side {
+        Index vertex, first;
+        int faces;
+        bool closed;
+        Index own;  // where its tangent weights are its own (own_t1 / _t2, one per point), else -1
+    };
+    std::vector<Side> sides;
+    std::vector<Index> side_points;
+    // The corners that take a side's normal: (output corner 3 t + k, side), sorted by corner. The others take their
+    // vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first request).
+    std::vector<std::pair<Index, Index>> corner_sides;
+    // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
+    std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
+    // Valence 6 (nearly every vertex): the smooth tangent masks are symmetric, t1 = a (p0 - p3) + b (p1 - p2) +
+    // b (p5 - p4) and t2 = c (p1 - p4) + c (p2 - p5) over the ring's points; {a, b, c}, where the plan has valence 6.
+    // A third of the masks' arithmetic, and differences of neighbours are as small as their offsets from the vertex.
+    float regular_tangents[3] = {0.0f, 0.0f, 0.0f};
+    // Where semi-sharp features outlast the last level, the tangent masks that apply once they are spent, pulled back
+    // to the last level: weights per point of a vertex's ring (own_vertex_tangents: (vertex, first), sorted) or of a
+    // side (Side::own). Their vertex's weight is what the points' leave, as in the tables above.
+    std::vector<float> own_t1, own_t2;
+    std::vector<std::pair<Index, Index>> own_vertex_tangents;
+};
+
+}  // namespace loopsub::detail
