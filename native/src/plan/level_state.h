@@ -36,8 +36,7 @@ inline const Feature* find_feature(const std::vector<Feature>& features, Index i
 
 struct LevelState {
     Topology topology;
-    bool own_neighbourhood =
-        true;  // false: refined ForStencils or not built; its vertex neighbourhoods come from its parent
+    bool own_neighbourhood = true;  // false: refined Rings or not built; its vertex neighbourhoods come from its parent
     std::vector<Feature> edges, vertices;
 
     float edge_sharpness(Index e) const {

@@ -100,9 +100,12 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         double vertex_weight[2] = {0.5, 0.5};
         Index ends[2] = {v, v};
         for (int k = 0; k < 2 && c.crease[k] >= 0; ++k) {
-            const Index e = c.crease[k], other = t.other_end(e, v);
+            const Index e = c.crease[k];
+            Index edge_ends[2];
+            around.edge_ends(e, edge_ends);
+            const bool v_first = edge_ends[0] == v;
+            const Index other = v_first ? edge_ends[1] : edge_ends[0];
             ends[k] = other;
-            const bool v_first = t.edge_vertices[2 * e] == v;
             const EdgeMask edge =
                 rules_->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
                                    v_first ? types[other] : types[v], around.edge_face_count(e), true});
@@ -118,23 +121,28 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     }
 
     // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. A level known
-    // through its parent has them from the split's numbering (order_child_rings); a level of its own (the base) from
-    // its triangles, each corner's edges to a and b naming their slots in v's ring (slot_at: an edge's slot at each
-    // end), so that no ring is searched.
+    // through its parent (its faces only) has them written from the split's numbering, in parts on the plan's threads
+    // (write_ordered_child_rings); a level of its own (the base) from its triangles, each corner's edges to a and b
+    // naming their slots in v's ring (slot_at: an edge's slot at each end), so that no ring is searched.
     if (!level.own_neighbourhood) {
-        s.ring_offsets = std::move(t.vertex_edge_offsets);
-        s.ring = std::move(t.vertex_vertices);
-        order_child_rings(parent, lt.by_side.data(), s.ring.data());
+        s.ring_offsets.resize(std::size_t(nv) + 1);
+        s.ring.resize(std::size_t(child_ring_offset(parent, nv)));
+        run_levels(std::max(1, options_.threads), 1, [&](int, int part, int parts) {
+            const auto [v0, v1] = part_of(nv, part, parts);
+            for (Index v = v0; v < v1; ++v) s.ring_offsets[v] = child_ring_offset(parent, v);
+            if (part + 1 == parts) s.ring_offsets[nv] = child_ring_offset(parent, nv);
+            write_ordered_child_rings(parent, v0, v1, lt.by_side.data(), s.ring.data() + child_ring_offset(parent, v0));
+        });
     } else {
         LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
         auto end_of = [&t](Index e, Index v) {
             return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v);
         };
         for (Index v = 0, slot = 0; v < nv; ++v) {
-            around.edges(v, far_edges);  // before the level's offsets go to the tables: the level's own arrays answer
+            around.edges(v, far_edges);
             for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
         }
-        s.ring_offsets = std::move(t.vertex_edge_offsets);
+        s.ring_offsets = t.vertex_edge_offsets;  // a copy: the sides below find their corners through the level
         s.ring = std::move(t.vertex_vertices);
         LargeVector<Index> follower(s.ring.size(), -1);
         for (std::size_t c = 0; c < t.face_vertices.size(); ++c) {
@@ -166,24 +174,25 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         }
     }
     const LargeVector<Index>& tri = t.face_vertices;
-    const std::size_t corners = tri.size();
 
     // Sides: the corners at each such vertex, chained across the smooth edges they share.
     struct Corner {
         Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
-        bool operator<(const Corner& other) const {
-            return vertex != other.vertex ? vertex < other.vertex : corner < other.corner;
-        }
     };
-    std::vector<Corner> at_sides;
-    for (std::size_t c = 0; c < corners; ++c) {
-        if (!lt.by_side[tri[c]]) continue;
-        const std::size_t face = c - c % 3;
-        const int k = int(c % 3);
-        at_sides.push_back({tri[c], Index(c), tri[face + next_corner(k)], tri[face + prev_corner(k)],
-                            t.face_edges[face + k], t.face_edges[face + prev_corner(k)]});
+    std::vector<Corner> at_sides;  // in vertex order, each vertex's corners in order
+    std::vector<Index> corners_at;
+    for (Index v = 0; v < nv; ++v) {
+        if (!lt.by_side[v]) continue;
+        around.corners(v, corners_at);
+        for (const Index c : corners_at) {
+            const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
+            const int k = int(c % 3);
+            Index edges[3];
+            around.face_edges(Index(face / 3), edges);
+            at_sides.push_back(
+                {v, c, tri[face + next_corner(k)], tri[face + prev_corner(k)], edges[k], edges[prev_corner(k)]});
+        }
     }
-    std::sort(at_sides.begin(), at_sides.end());
     std::vector<int> next, previous;
     std::vector<std::uint8_t> placed;
     for (std::size_t begin = 0; begin < at_sides.size();) {
@@ -247,7 +256,6 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
 detail::PlanBuilder::Spent detail::PlanBuilder::spend(const LevelState& level, const VertexNeighbourhood& around,
                                                       const FeatureVertex& vertex, std::vector<Index>& far_edges,
                                                       std::vector<float>& far_sharpness) const {
-    const Topology& t = level.topology;
     const Index v = vertex.vertex;
     const int n = int(vertex.edges.size());
     Spent out;
@@ -261,8 +269,10 @@ detail::PlanBuilder::Spent detail::PlanBuilder::spend(const LevelState& level, c
         const Index e = vertex.edges[k];
         faces[k] = around.edge_face_count(e);
         // A missing face's wing repeats an end, weighted 0 as the edge is sharp.
-        wings[2 * k] = std::max(0, out.slot(t.edge_wing_c[e]));
-        wings[2 * k + 1] = std::max(0, out.slot(t.edge_wing_d[e]));
+        Index c, d;
+        around.wings(e, c, d);
+        wings[2 * k] = std::max(0, out.slot(c));
+        wings[2 * k + 1] = std::max(0, out.slot(d));
         // The half at the other end decays by the edges there (Chaikin).
         const float sharpness = vertex.sharpness[k];
         far_sharpness.assign(1, sharpness);

@@ -436,11 +436,12 @@ void PlanBuilder::refine_child(Step& step) const {
             });
         }
     } else {
+        // With the limit surface the last level is the grandchild's parent: its pass reads rings, which plan_limit
+        // writes from this level's parent, and its few vertices next to features are read through that parent.
         child = refine_topology(step.level.topology,
-                                step.last_child        ? Refined::FacesOnly
-                                : step.grandchild_last ? Refined::ForStencils
-                                : derive_tables_       ? Refined::Connectivity
-                                                       : Refined::Full,
+                                step.last_child || step.grandchild_last ? Refined::FacesOnly
+                                : derive_tables_                        ? Refined::Connectivity
+                                                                        : Refined::Full,
                                 options_.threads);
     }
     step.child.own_neighbourhood = !step.grandchild_last;

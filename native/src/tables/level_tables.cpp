@@ -11,8 +11,9 @@
 namespace loopsub::detail {
 
 void fill_tables_from_parent(const Topology& parent, LevelStencils& s, Index* last_faces, int threads) {
-    // What refine_topology would have written (Refined::ForStencils), without the level's faces and in one pass; the
-    // edges inside the parent's faces are read from those faces (LevelStencils::interior: the caller hands them over).
+    // What refine_topology would have written (Refined::Full, less the edge faces and vertex edges), without the
+    // level's faces and in one pass; the edges inside the parent's faces are read from those faces
+    // (LevelStencils::interior: the caller hands them over).
     const int nv = parent.num_vertices, halves = 2 * parent.num_edges();
     s.ring_offsets.resize(std::size_t(s.num_vertices) + 1);
     s.ring.resize(std::size_t(child_ring_offset(parent, s.num_vertices)));

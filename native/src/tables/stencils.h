@@ -131,10 +131,10 @@ struct LevelStencils {
 bool follows_table_layout(const LevelStencils& s);
 
 // The tables of a level that is not built (form "interior", in the vertex plan and in face-varying layers), from its
-// parent's connectivity, as refine_topology would have written them (Refined::ForStencils) but in one pass and with its
-// edges inside the parent's faces left to `interior`, whose faces the caller hands over from the parent; and the faces
-// of the last level after it (48 indices per parent face). The parent must hold its edge faces and vertex edges.
-// `s.num_vertices` is set; `threads` share the work.
+// parent's connectivity, as refine_topology would have written them (its edges, wings and rings) but in one pass and
+// with its edges inside the parent's faces left to `interior`, whose faces the caller hands over from the parent; and
+// the faces of the last level after it (48 indices per parent face). The parent must hold its edge faces and vertex
+// edges. `s.num_vertices` is set; `threads` share the work.
 void fill_tables_from_parent(const Topology& parent, LevelStencils& s, std::int32_t* last_faces, int threads);
 
 // The index tables of one kernel run, as plain pointers: a stored level's own (bases 0), or a derived level's for a

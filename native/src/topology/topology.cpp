@@ -280,6 +280,22 @@ namespace {
 // k - 1 and the half of edge k - 1 at v_k; the middle child the three interior edges. The corner children's halves
 // keep the parent face's place and direction there; an interior edge has its corner child first (running from
 // m_{k-1} to m_k there) and the middle child second.
+// The edges of child face c (corner child k = c % 4 of parent face f = c / 4: its half of edge k, the interior edge
+// across, its half of edge k - 1; the middle child: the three interior edges).
+void child_face_edges(const Topology& p, Index c, Index edges[3]) {
+    const Index f = c / 4, interior = 2 * p.num_edges() + 3 * f;
+    const int k = int(c % 4);
+    if (k == 3) {
+        edges[0] = interior, edges[1] = interior + 1, edges[2] = interior + 2;
+        return;
+    }
+    const Index* v = &p.face_vertices[3 * std::size_t(f)];
+    const Index* fe = &p.face_edges[3 * std::size_t(f)];
+    edges[0] = child_edge_at(p, fe[k], v[k]);
+    edges[1] = interior + prev_corner(k);
+    edges[2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
+}
+
 void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std::uint8_t* places) {
     const Index interior_base = 2 * p.num_edges();
     auto write_places = [&](int f) {
@@ -318,31 +334,21 @@ void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std
     }
 #endif
     for (; f < f1; ++f) {
-        const Index* v = &p.face_vertices[3 * f];
-        const Index* fe = &p.face_edges[3 * f];
-        const Index interior = interior_base + 3 * f;
-        Index* out = edges + 12 * std::size_t(f);
-        for (int k = 0; k < 3; ++k) {
-            out[3 * k + 0] = child_edge_at(p, fe[k], v[k]);
-            out[3 * k + 1] = interior + prev_corner(k);
-            out[3 * k + 2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
-        }
-        out[9] = interior, out[10] = interior + 1, out[11] = interior + 2;
+        for (int k = 0; k < 4; ++k) child_face_edges(p, 4 * f + k, edges + 12 * std::size_t(f) + 3 * k);
         if (places) write_places(f);
     }
 }
 
 // The relations a child of each Refined form holds (face_vertices always).
 struct ChildRelations {
-    bool edges;          // edge_vertices, face_edges and vertex_edge_offsets: every form but FacesOnly
-    bool incidence;      // edge faces and vertex edges: Full and Connectivity
-    bool neighbourhood;  // the winged-edge neighbourhood, vertex_vertices and edge_wing_c / _d: Full and ForStencils
+    bool edges;          // edge_vertices, face_edges, vertex_edge_offsets, edge faces and vertex edges: Full and
+                         // Connectivity
+    bool neighbourhood;  // the winged-edge neighbourhood, vertex_vertices and edge_wing_c / _d: Full
     bool places;         // face_edge_places: Full
 };
 
 ChildRelations relations_of(Refined what) {
-    return {what != Refined::FacesOnly, what == Refined::Full || what == Refined::Connectivity,
-            what == Refined::Full || what == Refined::ForStencils, what == Refined::Full};
+    return {what != Refined::FacesOnly, what == Refined::Full, what == Refined::Full};
 }
 
 // The child with every array of its relations sized (each is then filled in parts, a slot by exactly one parent
@@ -354,30 +360,27 @@ Topology sized_child(const Topology& p, const ChildRelations& has) {
     c.max_valence = child_max_valence(p);
     c.max_edge_face_count = child_max_edge_face_count(p);
     c.face_vertices.resize(12 * std::size_t(nf));
-    if (!has.edges)
-        return c;  // a FacesOnly child's parent may lack its edge faces and vertex edges (refined ForStencils)
+    if (!has.edges) return c;  // a FacesOnly child's parent may lack its edge faces and vertex edges
     const std::size_t child_edges = 2 * std::size_t(ne) + 3 * std::size_t(nf);
     // An old vertex keeps its valence (the halves of its edges, in order); the midpoint of edge e has its two halves
     // and, per face of e, the two interior edges that meet it.
     const std::size_t ring_entries =
         std::size_t(p.vertex_edge_offsets[nv]) + 2 * std::size_t(ne) + 2 * std::size_t(p.edge_face_offsets[ne]);
+    c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
+    c.vertex_edge_offsets[c.num_vertices] = Index(ring_entries);
     c.edge_vertices.resize(2 * child_edges);
     c.face_edges.resize(12 * std::size_t(nf));
     if (has.places) c.face_edge_places.resize(12 * std::size_t(nf));
-    c.vertex_edge_offsets.resize(std::size_t(c.num_vertices) + 1);
-    c.vertex_edge_offsets[c.num_vertices] = Index(ring_entries);
     if (has.neighbourhood) {
         c.edge_wing_c.resize(child_edges);
         c.edge_wing_d.resize(child_edges);
         c.vertex_vertices.resize(ring_entries);
     }
-    if (has.incidence) {
-        // A half of parent edge e has e's faces; an interior edge has two.
-        c.edge_face_offsets.resize(child_edges + 1);
-        c.edge_face_offsets[child_edges] = 2 * p.edge_face_offsets[ne] + 6 * nf;
-        c.edge_faces.resize(2 * std::size_t(p.edge_face_offsets[ne]) + 6 * std::size_t(nf));
-        c.vertex_edges.resize(ring_entries);
-    }
+    // A half of parent edge e has e's faces; an interior edge has two.
+    c.edge_face_offsets.resize(child_edges + 1);
+    c.edge_face_offsets[child_edges] = 2 * p.edge_face_offsets[ne] + 6 * nf;
+    c.edge_faces.resize(2 * std::size_t(p.edge_face_offsets[ne]) + 6 * std::size_t(nf));
+    c.vertex_edges.resize(ring_entries);
     return c;
 }
 
@@ -412,7 +415,6 @@ void populate_interior_edges(const Topology& p, Topology& c, const ChildRelation
                 child_edge_ends(p, interior_base + 3 * f + k,
                                 &c.edge_vertices[2 * (std::size_t(interior_base) + 3 * f + k)]);
     }
-    if (!has.incidence) return;
     const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
     for (int f = f0; f < f1; ++f) {
         for (int k = 0; k < 3; ++k) {
@@ -440,7 +442,6 @@ void populate_old_vertices(const Topology& p, Topology& c, const ChildRelations&
     if (has.neighbourhood) write_child_rings(p, v0, v1, c.vertex_vertices.data() + p.vertex_edge_offsets[v0]);
     for (int v = v0; v < v1; ++v) {
         c.vertex_edge_offsets[v] = p.vertex_edge_offsets[v];
-        if (!has.incidence) continue;
         Index* edges = c.vertex_edges.data() + p.vertex_edge_offsets[v];
         for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k)
             *edges++ = child_edge_at(p, p.vertex_edges[k], v);
@@ -452,12 +453,6 @@ void populate_old_vertices(const Topology& p, Topology& c, const ChildRelations&
 // them, rather than a pass per relation that each look again (docs/benchmark.md, "Measurements behind the code").
 void populate_midpoints(const Topology& p, Topology& c, const ChildRelations& has, int e0, int e1) {
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
-    if (!has.incidence) {
-        for (int e = e0; e < e1; ++e) c.vertex_edge_offsets[nv + e] = child_ring_offset(p, nv + e);
-        if (has.neighbourhood)
-            write_child_rings(p, nv + e0, nv + e1, c.vertex_vertices.data() + child_ring_offset(p, nv + e0));
-        return;
-    }
     for (int e = e0; e < e1; ++e) {
         const Index first_face = p.edge_face_offsets[e], count = p.edge_face_count(e);
         c.edge_face_offsets[2 * e] = 2 * first_face;
@@ -583,65 +578,89 @@ void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
     }
 }
 
-void order_child_rings(const Topology& p, std::uint8_t* apart, Index* ring) {
+void write_ordered_child_rings(const Topology& p, int begin, int end, std::uint8_t* apart, Index* ring) {
     const Index nv = p.num_vertices;
-    // An old vertex's ring is the midpoints of its parent edges, in the parent's slots; corner child 4f + k =
-    // (v_k, m_k, m_k-1) says that m_k-1 follows m_k. Each parent edge's slot at its ends names them.
-    LargeVector<Index> slot(2 * std::size_t(p.num_edges()));
-    auto end_of = [&p](Index e, Index v) {
-        return 2 * std::size_t(e) + std::size_t(p.edge_vertices[2 * std::size_t(e)] != v);
-    };
-    for (Index v = 0; v < nv; ++v)
-        for (Index k = p.vertex_edge_offsets[v]; k < p.vertex_edge_offsets[v + 1]; ++k)
-            slot[end_of(p.vertex_edges[k], v)] = k;
-    LargeVector<Index> follower(std::size_t(p.vertex_edge_offsets[nv]), -1);
-    for (std::size_t c = 0; c < p.face_vertices.size(); ++c) {
-        const Index v = p.face_vertices[c];
-        if (apart[v]) continue;
-        const std::size_t face = c - c % 3;
-        const int k = int(c % 3);
-        follower[slot[end_of(p.face_edges[face + k], v)]] = slot[end_of(p.face_edges[face + prev_corner(k)], v)];
-    }
-    std::vector<Index> ordered;
-    for (Index v = 0; v < nv; ++v) {
-        const Index first = p.vertex_edge_offsets[v], last = p.vertex_edge_offsets[v + 1];
-        if (apart[v] || first == last) continue;
-        ordered.assign(1, ring[first]);
-        Index k = first;
-        // A chain that comes back to its first slot early, or ends, is no disk; one that runs into a loop elsewhere
-        // never reaches the first slot again, which the check below sees.
-        while (ordered.size() < std::size_t(last - first)) {
-            k = follower[k];
-            if (k < 0 || k == first) break;
-            ordered.push_back(ring[k]);
+    const int split = std::clamp(int(nv), begin, end);  // old vertices [begin, split), midpoints [split, end)
+    // An old vertex's ring is the midpoints of its parent edges. Corner child 4f + k = (v_k, m_k, m_k-1) says that
+    // m_k-1 follows m_k: after the edge that leaves v in a face (its edge k) comes the one that enters v there (its
+    // edge k - 1). Each edge's follower is found on its own (independent loads, where a walk around the fan would wait
+    // on each step's), then the chain is read off.
+    std::vector<Index> follower;
+    std::vector<std::pair<Index, Index>> slots;  // (edge, its slot at v), sorted: for vertices of high valence
+    constexpr Index kSearchedValence = 16;
+    for (Index v = begin; v < split; ++v) {
+        const Index first = p.vertex_edge_offsets[v], n = p.vertex_edge_offsets[v + 1] - first;
+        const Index* edges = p.vertex_edges.data() + first;
+        if (n > kSearchedValence) {
+            slots.resize(std::size_t(n));
+            for (Index k = 0; k < n; ++k) slots[k] = {edges[k], k};
+            std::sort(slots.begin(), slots.end());
         }
-        if (ordered.size() == std::size_t(last - first) && k >= 0 && follower[k] == first)
-            std::copy(ordered.begin(), ordered.end(), ring + first);
-        else apart[v] = 1;
+        auto slot_of = [&](Index e) {
+            if (n <= kSearchedValence) return Index(std::find(edges, edges + n, e) - edges);
+            return std::lower_bound(slots.begin(), slots.end(), std::pair<Index, Index>(e, -1))->second;
+        };
+        bool disk = !apart[v] && n > 0;
+        follower.assign(std::size_t(n), -1);
+        for (Index k = 0; disk && k < n; ++k)
+            for (Index i = p.edge_face_offsets[edges[k]]; i < p.edge_face_offsets[edges[k] + 1]; ++i) {
+                const Index f = p.edge_faces[i];
+                const Index* fe = &p.face_edges[3 * std::size_t(f)];
+                const int local = local_edge(fe, edges[k]);
+                if (p.face_vertices[3 * std::size_t(f) + local] != v) continue;
+                disk = follower[k] < 0;  // two faces leave v along one edge: no disk
+                follower[k] = slot_of(fe[prev_corner(local)]);
+            }
+        // Back at its first edge after exactly n steps, the chain has met every edge of v once.
+        for (Index step = 0, k = 0; disk && step < n; ++step) {
+            ring[step] = nv + edges[k];
+            k = follower[k];
+            disk = k >= 0 && (k == 0) == (step + 1 == n);
+        }
+        if (!disk) {
+            if (n > 0) apart[v] = 1;
+            std::transform(edges, edges + n, ring, [nv](Index e) { return nv + e; });
+        }
+        ring += n;
     }
-    // The midpoint of edge e = (a, b) has the ring a, b, then per face of e the midpoints next to a and to b
-    // (midpoint_face_edges). Around it, the face that runs from a to b (f) gives b, then f's midpoint next to b, then
+    // The midpoint of edge e = (a, b) has a, b, then per face of e the midpoints next to a and to b
+    // (midpoint_ring_face). Around it, the face that runs from a to b (f) gives b, then f's midpoint next to b, then
     // the one next to a, then a; the other face (g) a, g's next to a, g's next to b, b. So a disk of two faces, one
     // each way, is a, g's two, b, f's two reversed.
-    for (Index e = 0; e < p.num_edges(); ++e) {
-        const Index m = nv + e;
-        if (apart[m]) continue;
-        const Index at = p.edge_face_offsets[e];
-        bool a_first[2] = {false, false};
-        for (int i = 0; i < 2 && at + i < p.edge_face_offsets[e + 1]; ++i) {
-            const Index f = p.edge_faces[at + i];
-            const int local = local_edge(&p.face_edges[3 * std::size_t(f)], e);
-            a_first[i] = p.face_vertices[3 * std::size_t(f) + local] == p.edge_vertices[2 * std::size_t(e)];
+    for (Index e = split - nv; e < end - nv; ++e) {
+        const Index m = nv + e, at = p.edge_face_offsets[e];
+        if (!apart[m] && p.edge_face_count(e) == 2) {
+            Index at_a[2], at_b[2];  // per face, the midpoints next to a and to b (scalars: no store to reload)
+            bool a_first[2];
+            for (int i = 0; i < 2; ++i) {
+                const Index f = p.edge_faces[at + i];
+                const Index* fe = &p.face_edges[3 * std::size_t(f)];
+                const int local = local_edge(fe, e);
+                a_first[i] = p.face_vertices[3 * std::size_t(f) + local] == p.edge_vertices[2 * std::size_t(e)];
+                face_wings(nv, fe, local, a_first[i], at_a[i], at_b[i]);
+            }
+            if (a_first[0] != a_first[1]) {
+                const int f = a_first[0] ? 0 : 1, g = 1 - f;
+                ring[0] = p.edge_vertices[2 * std::size_t(e)];
+                ring[1] = at_a[g];
+                ring[2] = at_b[g];
+                ring[3] = p.edge_vertices[2 * std::size_t(e) + 1];
+                ring[4] = at_b[f];
+                ring[5] = at_a[f];
+                ring += 6;
+                continue;
+            }
         }
-        if (p.edge_face_count(e) != 2 || a_first[0] == a_first[1]) {
-            apart[m] = 1;
-            continue;
+        apart[m] = 1;
+        ring = midpoint_ring_ends(p, e, ring);
+        for (Index k = at; k < p.edge_face_offsets[e + 1]; ++k) {
+            const Index f = p.edge_faces[k];
+            const Index* fe = &p.face_edges[3 * std::size_t(f)];
+            const int local = local_edge(fe, e);
+            ring = midpoint_ring_face(
+                nv, fe, local, p.face_vertices[3 * std::size_t(f) + local] == p.edge_vertices[2 * std::size_t(e)],
+                ring);
         }
-        Index* r = ring + child_ring_offset(p, m);
-        const Index* f = r + (a_first[0] ? 2 : 4);
-        const Index* g = r + (a_first[0] ? 4 : 2);
-        const Index ccw[6] = {r[0], g[0], g[1], r[1], f[1], f[0]};
-        std::copy(ccw, ccw + 6, r);
     }
 }
 
@@ -916,6 +935,53 @@ VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* 
 
 int VertexNeighbourhood::num_edges() const {
     return parent_ ? 2 * parent_->num_edges() + 3 * parent_->num_faces() : level_.num_edges();
+}
+
+void VertexNeighbourhood::wings(Index e, Index& c, Index& d) const {
+    if (!parent_) {
+        c = level_.edge_wing_c[e], d = level_.edge_wing_d[e];
+        return;
+    }
+    Index ends[2];
+    child_edges(*parent_, e, e + 1, ends, &c, &d);
+}
+
+void VertexNeighbourhood::face_edges(Index f, Index edges[3]) const {
+    if (!parent_) {
+        std::copy_n(&level_.face_edges[3 * std::size_t(f)], 3, edges);
+        return;
+    }
+    child_face_edges(*parent_, f, edges);
+}
+
+void VertexNeighbourhood::corners(Index v, std::vector<Index>& out) const {
+    out.clear();
+    // Each face at a vertex of `t` starts exactly one of its edges there: found through that edge, once.
+    auto faces_at = [&out](const Topology& t, Index vertex, auto corner_of) {
+        for (Index k = t.vertex_edge_offsets[vertex]; k < t.vertex_edge_offsets[vertex + 1]; ++k) {
+            const Index e = t.vertex_edges[k];
+            for (Index i = t.edge_face_offsets[e]; i < t.edge_face_offsets[e + 1]; ++i) {
+                const Index f = t.edge_faces[i];
+                const int j = local_edge(&t.face_edges[3 * std::size_t(f)], e);
+                if (t.face_vertices[3 * std::size_t(f) + j] == vertex) corner_of(f, j);
+            }
+        }
+    };
+    if (!parent_) {
+        faces_at(level_, v, [&out](Index f, int j) { out.push_back(3 * f + j); });
+    } else if (v < parent_->num_vertices) {  // an old vertex: corner 0 of corner child j of each parent face at it
+        faces_at(*parent_, v, [&out](Index f, int j) { out.push_back(3 * (4 * f + j)); });
+    } else {  // the midpoint of edge e: in each face of e (its edge j), corner 1 of corner child j, corner 2 of
+              // corner child j + 1, corner j of the middle child
+        const Topology& p = *parent_;
+        const Index e = v - p.num_vertices;
+        for (Index i = p.edge_face_offsets[e]; i < p.edge_face_offsets[e + 1]; ++i) {
+            const Index f = p.edge_faces[i];
+            const int j = local_edge(&p.face_edges[3 * std::size_t(f)], e);
+            out.insert(out.end(), {3 * (4 * f + j) + 1, 3 * (4 * f + next_corner(j)) + 2, 3 * (4 * f + 3) + j});
+        }
+    }
+    std::sort(out.begin(), out.end());
 }
 
 int VertexNeighbourhood::max_valence() const { return parent_ ? child_max_valence(*parent_) : level_.max_valence; }

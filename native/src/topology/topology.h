@@ -68,8 +68,9 @@ enum class Refined {
     Full,          // everything
     Connectivity,  // no winged-edge neighbourhood (vertex_vertices, edge_wing_c / _d): a level whose stencils are
                    // derived from its parent (LevelStencils::derived_from)
-    ForStencils,   // no edge faces or vertex edges: a level whose vertices need no classification or further split
-    FacesOnly      // face_vertices only: the last level
+    FacesOnly      // face_vertices only: the last level (with the limit surface, its pass reads the rings from the
+                   // parent, write_ordered_child_rings, and its few vertices next to features through the parent,
+                   // VertexNeighbourhood)
 };
 // `threads` share the work (each writes its own slice of every array).
 Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
@@ -82,7 +83,7 @@ bool follows_split_numbering(const Topology& parent, const Topology& child);
 void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 
 // The connectivity around single vertices and edges of a level, whether the level holds it (Refined::Full and the
-// base) or not (refined ForStencils, or not stored at all): then it is derived from the parent level through the
+// base) or not (faces only, or not stored at all): then it is derived from the parent level through the
 // numbering, as refine_topology would have written it. Classifying the few vertices next to a crease needs no more.
 class VertexNeighbourhood {
 public:
@@ -119,6 +120,14 @@ public:
         if (!parent_) return level_.edge_face_count(e);
         return e < 2 * parent_->num_edges() ? parent_->edge_face_count(e / 2) : 2;
     }
+    // The vertices opposite edge e in its first two faces (each end repeated where a face is missing), as
+    // Topology::edge_wing_c / _d.
+    void wings(Index e, Index& c, Index& d) const;
+    // The edges of face f, as Topology::face_edges.
+    void face_edges(Index f, Index edges[3]) const;
+    // The corners at vertex v (3 f + k where corner k of face f is v), in increasing order. The level, or its
+    // parent, must hold its edge faces and vertex edges.
+    void corners(Index v, std::vector<Index>& out) const;
     // faces_between (below) on this level. Derived: for a midpoint, only between its two halves (the only edges
     // at a midpoint that can be sharp); -1 otherwise.
     int faces_between(Index v, Index from, Index to) const;
@@ -145,11 +154,10 @@ inline Index child_ring_offset(const Topology& parent, Index v) {
 // The one-rings of child vertices [begin, end), in refine_topology's vertex_vertices order, written from ring[0]:
 // vertex v's at child_ring_offset(v) - child_ring_offset(begin).
 void write_child_rings(const Topology& parent, int begin, int end, Index* ring);
-// The child's rings (refine_topology's vertex_vertices, written from ring[0]) put in counter-clockwise order, where in
-// a child triangle (v, a, b) b follows a around v, for every child vertex whose fan closes into one disk; from the
-// numbering, without the child's faces. Vertices with apart[v] set are left as they are; one whose fan is no single
-// disk gets apart[v] set.
-void order_child_rings(const Topology& parent, std::uint8_t* apart, Index* ring);
+// write_child_rings, but counter-clockwise around every vertex whose fan closes into one disk (in a child triangle
+// (v, a, b), b follows a around v), from the numbering, without the child's faces. Vertices with apart[v] set keep
+// write_child_rings' order; one whose fan is no single disk too, and gets apart[v] set.
+void write_ordered_child_rings(const Topology& parent, int begin, int end, std::uint8_t* apart, Index* ring);
 // Ends (A, B) and the vertices opposite (C, D) of child edges [begin, end), as refine_topology's edge_vertices (2 per
 // edge) and edge_wing_c / _d give them; written from index 0 of each array.
 void child_edges(const Topology& parent, int begin, int end, Index* ends, Index* c, Index* d);
