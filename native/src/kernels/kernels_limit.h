@@ -56,17 +56,16 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
             t2 = multiply_add(c, _mm_sub_ps(p[2], p[5]), _mm_mul_ps(c, _mm_sub_ps(p[1], p[4])));
             position = vertex(centre, ring_sum, w_self6, w_ring6);
             return;
-        } else {
-            const float* w1 = smooth_t1[n].data();
-            const float* w2 = smooth_t2[n].data();
-            t1 = t2 = _mm_setzero_ps();
-            for (int k = 0; k < n; ++k) {
-                const __m128 p = _mm_loadu_ps(in.at(ring[k]));
-                ring_sum = _mm_add_ps(ring_sum, p);
-                const __m128 d = _mm_sub_ps(p, centre);
-                t1 = multiply_add(_mm_set1_ps(w1[k]), d, t1);
-                t2 = multiply_add(_mm_set1_ps(w2[k]), d, t2);
-            }
+        }
+        const float* w1 = smooth_t1[n].data();
+        const float* w2 = smooth_t2[n].data();
+        t1 = t2 = _mm_setzero_ps();
+        for (int k = 0; k < n; ++k) {
+            const __m128 p = _mm_loadu_ps(in.at(ring[k]));
+            ring_sum = _mm_add_ps(ring_sum, p);
+            const __m128 d = _mm_sub_ps(p, centre);
+            t1 = multiply_add(_mm_set1_ps(w1[k]), d, t1);
+            t2 = multiply_add(_mm_set1_ps(w2[k]), d, t2);
         }
         position = vertex(centre, ring_sum, t.smooth_self[n], t.smooth_ring[n]);
     };
