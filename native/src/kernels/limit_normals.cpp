@@ -95,7 +95,10 @@ Tangents own_vertex_tangents(const LimitTables& lt, ChannelsView<const float> in
 
 void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices) {
     const LevelStencils& s = lt.positions;
-    auto [own, own_end] = own_in(lt, vertices);
+    // Not a structured binding: C++17 lambdas cannot capture one (clang refuses).
+    const auto own_range = own_in(lt, vertices);
+    const std::pair<Index, Index>* own = own_range.first;
+    const std::pair<Index, Index>* const own_end = own_range.second;
     normals_in_batches(
         std::size_t(vertices.begin), std::size_t(vertices.end),
         [&](std::size_t v) {

@@ -957,7 +957,7 @@ void VertexNeighbourhood::face_edges(Index f, Index edges[3]) const {
 void VertexNeighbourhood::corners(Index v, std::vector<Index>& out) const {
     out.clear();
     // Each face at a vertex of `t` starts exactly one of its edges there: found through that edge, once.
-    auto faces_at = [&out](const Topology& t, Index vertex, auto corner_of) {
+    auto faces_at = [](const Topology& t, Index vertex, auto corner_of) {
         for (Index k = t.vertex_edge_offsets[vertex]; k < t.vertex_edge_offsets[vertex + 1]; ++k) {
             const Index e = t.vertex_edges[k];
             for (Index i = t.edge_face_offsets[e]; i < t.edge_face_offsets[e + 1]; ++i) {
