@@ -48,7 +48,7 @@ def subdivide(obj, options, progress):
 def build_mesh(source, plan, refined, name, holder):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
     groups, tags. refined: source.refine(plan). holder: an object whose data the new mesh may become while vertex
-    groups are written (None: a temporary one). Sets source.auto_loops, which update_mesh takes."""
+    groups are written (None: a temporary one). Sets source.blender_corners, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
     new = bpy.data.meshes.new(name)
@@ -64,13 +64,11 @@ def build_mesh(source, plan, refined, name, holder):
         _write_face_data(new, source, parents)
         _write_creases(new, cage, plan, options, new_edges)
         sharp = _write_edge_data(new, source, plan, new_edges)
-        if source.blender_normals:
-            normals.mark_limit_splits(new, source, plan, sharp)
-        source.auto_loops = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
+        source.blender_corners = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
         _add_value_layers(new, source)
         _write_values(new, source, refined)
         new.update()
-        normals.write_normals(new, source, refined, source.auto_loops)
+        normals.write_normals(new, source, refined, source.blender_corners)
         _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
         tags.write_plan_tags(new, plan, new_edges)
     except Exception:
@@ -79,14 +77,14 @@ def build_mesh(source, plan, refined, name, holder):
     return new
 
 
-def update_mesh(new, source, refined, auto_loops):
+def update_mesh(new, source, refined, blender_corners):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
     positions, point attributes, UVs, corner attributes and normals (what moving vertices in Edit Mode or animation
-    changes). auto_loops: the source.auto_loops of that build."""
+    changes). blender_corners: the source.blender_corners of that build."""
     new.vertices.foreach_set("co", np.ascontiguousarray(refined.vertex[:, source.vertex.columns["position"]]).ravel())
     _write_values(new, source, refined)
     new.update()
-    normals.write_normals(new, source, refined, auto_loops)  # nothing to write with Blender's normals: they follow
+    normals.write_normals(new, source, refined, blender_corners)
 
 
 def _add_value_layers(new, source):
