@@ -158,10 +158,13 @@ class Refined:
         return self.normals[self.normal_indices]
 
     def vertex_normals(self):
-        """The limit normals per output vertex, (N_out, 3), when every corner of a vertex has its vertex's normal (no
-        side splits a fan); else None."""
+        """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no side
+        splits a fan; a boundary vertex's corners all take its one side's); else None."""
         num_vertices = len(self.vertex)
-        return self.normals if len(self.normals) == num_vertices else None
+        if len(self.normals) == num_vertices:
+            return self.normals  # no sides at all
+        rows = geometry.shared_vertex_rows(self.triangles, self.normal_indices, num_vertices)
+        return None if rows is None else self.normals[rows]
 
 
 class _Channels:

@@ -399,7 +399,7 @@ def set_custom_normals(mesh, normals, vertex_normals=None, free=False):
 
     free (HAS_FREE_NORMALS, 4.5+): the normals (unit vectors) go as they are into the float vector attribute
     "custom_normal", on the point domain (vertex_normals) or the corner domain: free normals, which Blender shades
-    with whatever the faces' smooth flags and the marked sharp edges say, and which cost a copy of the array (the
+    with as they are (flat faces and marked sharp edges do not change them), and which cost a copy of the array (the
     cage's own free normals are carried over so, and the limit normals go so where the version has them). Otherwise
     a free "custom_normal" the mesh has goes first: normals_split_custom_set leaves a mesh with free normals
     unchanged (4.5.15, 5.0.1, 5.2.3)."""

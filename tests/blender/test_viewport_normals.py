@@ -3,9 +3,10 @@ entry, each edit, each frame of playback, a setting's change, a render — equal
 with no extra call and no settling step, in every Blender version; and nothing of that with the limit surface off.
 
 Each cage is checked against the add-on's Apply of the same mesh (a copy): positions, faces and the normals Blender
-shades with (compat.read_corner_normals). The cages cover each way the add-on writes them: a smooth icosphere (one
-normal per vertex), a creased cube and a sphere with a creased equator (sides that split fans), a cage with flat faces
-(whose corners keep Blender's own normal) and one with marked sharp edges (the corners on them keep Blender's too).
+shades with (compat.read_corner_normals). The cages cover each way the add-on writes them: a smooth icosphere and an
+open grid (one normal per vertex; the grid's boundary vertices take their one side's), a creased cube and a sphere
+with a creased equator (sides that split fans), a cage with flat faces (whose corners keep Blender's own normal) and
+one with marked sharp edges (the corners on them keep Blender's too).
 """
 import os
 import sys
@@ -112,6 +113,7 @@ def flat_faces_flat(obj, what):
 
 CAGES = (
     ("icosphere", lambda: icosphere("Icosphere"), 'OPENSUBDIV'),
+    ("open grid", lambda: support.shade_smooth(support.object_from_bmesh("Grid", support.grid(6))), 'OPENSUBDIV'),
     ("creased cube", lambda: support.shade_smooth(support.creased_cube(compat)[0]), 'OPENSUBDIV'),
     ("sphere with a creased equator", ringed_sphere, 'HOPPE94'),
     ("icosphere, upper half flat", half_flat, 'OPENSUBDIV'),
