@@ -81,7 +81,7 @@ def update_mesh(new, source, refined, blender_corners):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
     positions, point attributes, UVs, corner attributes and normals (what moving vertices in Edit Mode or animation
     changes). blender_corners: the source.blender_corners of that build."""
-    new.vertices.foreach_set("co", np.ascontiguousarray(refined.vertex[:, source.vertex.columns["position"]]).ravel())
+    compat.write_positions(new, refined.vertex[:, source.vertex.columns["position"]])
     _write_values(new, source, refined)
     new.update()
     normals.write_normals(new, source, refined, blender_corners)
@@ -120,12 +120,11 @@ def _write_geometry(new, positions, plan):
     num_triangles = len(triangles)
     edges, triangle_edges = native.run(plan.output_edges)
     new.vertices.add(len(positions))
-    new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
+    compat.write_positions(new, positions)
     new.edges.add(len(edges))
-    new.edges.foreach_set("vertices", edges.ravel())
+    compat.write_edges(new, edges)
     new.loops.add(3 * num_triangles)
-    new.loops.foreach_set("vertex_index", np.ascontiguousarray(triangles, dtype=np.int32).ravel())
-    new.loops.foreach_set("edge_index", triangle_edges.ravel())
+    compat.write_corners(new, triangles, triangle_edges)
     new.polygons.add(num_triangles)
     compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
     new.update()
