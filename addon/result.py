@@ -108,7 +108,7 @@ def _write_values(new, source, refined):
               geometry.from_refined(refined.vertex[:, vertex.columns["attribute", name]], data_type))
     for uv_name, uvs in zip(source.uv_names, refined.uvs):
         if uvs is not None:
-            new.uv_layers[uv_name].data.foreach_set("uv", np.ascontiguousarray(uvs).ravel())
+            compat.write_uvs(new, uv_name, uvs)
     for name, _, data_type in source.corner if refined.corners is not None else ():
         fill_attribute(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
