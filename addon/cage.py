@@ -139,16 +139,32 @@ def check_memory(mesh, options):
 
 class Refined:
     """What a plan's evaluation gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
-    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the limit normals per output
-    corner (T_out, 3, 3), None without the limit surface, and the output triangles (the plan's). A UV map or the
-    corner channels left as the result holds them (Source.refine's written) are None."""
+    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the limit normals in the core's
+    compact form (None without the limit surface): normals (R, 3), row v vertex v's normal and, past N_out, those of
+    the sides of vertices whose fan a crease, corner or boundary splits, and normal_indices (T_out, 3), the row of
+    each output corner (Plan.evaluate_with_limit_normals, docs/python.md); and the output triangles (the plan's). A
+    UV map or the corner channels left as the result holds them (Source.refine's written) are None."""
 
-    def __init__(self, vertex, uvs, corners, normals, triangles):
+    def __init__(self, vertex, uvs, corners, normals, normal_indices, triangles):
         self.vertex = vertex
         self.uvs = uvs
         self.corners = corners
         self.normals = normals
+        self.normal_indices = normal_indices
         self.triangles = triangles
+
+    def corner_normals(self):
+        """The limit normals per output corner, (T_out, 3, 3): a new array."""
+        return self.normals[self.normal_indices]
+
+    def vertex_normals(self):
+        """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no side
+        splits a fan; a boundary vertex's corners all take its one side's); else None."""
+        num_vertices = len(self.vertex)
+        if len(self.normals) == num_vertices:
+            return self.normals  # no sides at all
+        rows = geometry.shared_vertex_rows(self.triangles, self.normal_indices, num_vertices)
+        return None if rows is None else self.normals[rows]
 
 
 class _Channels:
@@ -213,17 +229,11 @@ class Source:
     obj gives the vertex-group names and the cone group; mesh is its own data (apply) or its evaluated mesh up to the
     Loop Subdivision entry (the live entry). checked_triangles: triangles validated before (the live entry's last
     ones): when the cage has the same, the checks and notes that depend on the topology alone are skipped, and so
-    are the notes (messages) altogether, since the result is then only updated.
+    are the notes (messages) altogether, since the result is then only updated."""
 
-    exact_normals: with the limit surface, write the limit normals as custom split normals (Apply, renders); False
-    (the live entry in the viewport, while it changes) leaves the normals to Blender, with the edges across which the
-    limit normals split marked sharp, which Blender takes and evaluates several times faster (Source.blender_normals;
-    write_limit_normals puts the limit normals in afterwards)."""
-
-    def __init__(self, obj, mesh, options, checked_triangles=None, exact_normals=True):
+    def __init__(self, obj, mesh, options, checked_triangles=None):
         self.mesh = mesh
         self.options = options
-        self.exact_normals = exact_normals
         self.cage = cage = Cage(mesh)
         known = checked_triangles is not None and np.array_equal(cage.triangles, checked_triangles)
         cage.validate(obj.name, topology=not known)
@@ -274,11 +284,9 @@ class Source:
         self.free_normals = self.custom_normals and compat.has_free_normals(mesh)  # 4.5+: the result's are free too
         if self.custom_normals:
             self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])
-        # The result shades with the limit normals as custom split normals, on smooth faces; or, for the viewport,
-        # with Blender's own normals, split where the limit normals split.
+        # The result shades with the limit normals as custom normals, on smooth faces (normals.write_limit_normals).
         self.limit_normals = options.use_limit_surface and not self.custom_normals
-        self.blender_normals = self.limit_normals and not exact_normals
-        self.auto_loops = None  # result corners that keep Blender's own normal (build_mesh sets it)
+        self.blender_corners = None  # result corners that keep Blender's own normal (build_mesh sets it)
 
         self.materials = read_array(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
         self.smooth = read_array(mesh.polygons, "use_smooth", cage.num_polygons, 1, np.bool_)
@@ -295,7 +303,7 @@ class Source:
         """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
         stay the same, a result can be updated in place (update_mesh) instead of built anew."""
         return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names), self.custom_normals,
-                self.free_normals, self.limit_normals, self.blender_normals,
+                self.free_normals, self.limit_normals,
                 tuple(self.edge), tuple(self.group_names), self.group_weights, self.materials, self.smooth,
                 *self.face_values, *self.edge_values, *self.edge_flags.values(), self.cage.edge_weights,
                 self.cage.vertex_weights)
@@ -317,10 +325,11 @@ class Source:
         def unchanged(index, values):  # index: the place of values in Source.inputs
             return written is not None and np.array_equal(written[index], values)
 
-        normals = None
+        normals = normal_indices = None
         if self.options.use_limit_surface:
             # Positions come first among the vertex channels; the others are refined with the same limit weights.
-            vertex, normals = native.run(plan.evaluate_with_normals, self.vertex.packed())
+            vertex, normals = native.run(plan.evaluate_with_limit_normals, self.vertex.packed())
+            normal_indices = plan.corner_normal_indices
         else:
             vertex = native.run(plan.evaluate, self.vertex.packed())
         uvs = [None if unchanged(2 + layer, values)
@@ -334,4 +343,4 @@ class Source:
             # vertices move, nor does any corner value when only a UV does.
             corners = (None if unchanged(1, values) and not self.custom_normals
                        else native.run(plan.evaluate_face_varying, values))
-        return Refined(vertex, uvs, corners, normals, plan.triangles)
+        return Refined(vertex, uvs, corners, normals, normal_indices, plan.triangles)

@@ -119,10 +119,64 @@ def seam_and_normal_attribute_names():
     return {SEAM_ATTRIBUTE, CUSTOM_NORMAL_ATTRIBUTE} if NAMES_SEAMS_AND_NORMALS else set()
 
 
+# Free normals: Blender shades with them as they are (4.5+); set_custom_normals writes them with one copy, where
+# tangent-space normals cost Blender's normal spaces on every write (docs/benchmark.md, by version).
+HAS_FREE_NORMALS = NAMES_SEAMS_AND_NORMALS
+
+
 def has_free_normals(mesh):
     """Whether the mesh shades with free custom normals (4.5+): a float vector "custom_normal", on any domain."""
     attribute = mesh.attributes.get(CUSTOM_NORMAL_ATTRIBUTE) if NAMES_SEAMS_AND_NORMALS else None
     return attribute is not None and attribute.data_type == 'FLOAT_VECTOR'
+
+
+# Where the mesh's own arrays are generic attributes (4.2.23 and later here: "position", ".edge_verts",
+# ".corner_vert", ".corner_edge"; 3.4.1 has MVert, MEdge and MLoop), foreach_set on the attribute copies the array in
+# one block: 25-100 times faster than the legacy collections (MeshVertex.co, MeshEdge.vertices, MeshLoop.vertex_index
+# and edge_index), which go element by element (docs/benchmark.md, Apply). The attributes are looked up by name: a
+# name beginning with "." is Blender's own, and 3.4 keeps no generic layer named "position".
+def write_positions(mesh, positions):
+    """The vertices' positions, (V, 3)."""
+    values = np.ascontiguousarray(positions, dtype=np.float32).ravel()
+    attribute = mesh.attributes.get("position")
+    if attribute is not None:
+        attribute.data.foreach_set("vector", values)
+    else:
+        mesh.vertices.foreach_set("co", values)
+
+
+def write_edges(mesh, edge_vertices):
+    """The edges' vertex pairs, (E, 2)."""
+    values = np.ascontiguousarray(edge_vertices, dtype=np.int32).ravel()
+    attribute = mesh.attributes.get(".edge_verts")
+    if attribute is not None:
+        attribute.data.foreach_set("value", values)
+    else:
+        mesh.edges.foreach_set("vertices", values)
+
+
+def write_corners(mesh, corner_vertices, corner_edges):
+    """Each face corner's (loop's) vertex and edge, (L,) each."""
+    for name, legacy, values in ((".corner_vert", "vertex_index", corner_vertices),
+                                 (".corner_edge", "edge_index", corner_edges)):
+        values = np.ascontiguousarray(values, dtype=np.int32).ravel()
+        attribute = mesh.attributes.get(name)
+        if attribute is not None:
+            attribute.data.foreach_set("value", values)
+        else:
+            mesh.loops.foreach_set(legacy, values)
+
+
+def write_uvs(mesh, name, uvs):
+    """A UV map's values per corner, (L, 2): through its FLOAT2 corner attribute where the version keeps UV maps as
+    attributes (4.2.23 and later here; 3.4.1 has MLoopUV layers, which mesh.attributes does not list), 15-25 times
+    faster than MeshUVLoop.uv."""
+    values = np.ascontiguousarray(uvs, dtype=np.float32).ravel()
+    attribute = mesh.attributes.get(name)
+    if attribute is not None and (attribute.data_type, attribute.domain) == ('FLOAT2', 'CORNER'):
+        attribute.data.foreach_set("vector", values)
+    else:
+        mesh.uv_layers[name].data.foreach_set("uv", values)
 
 
 def set_polygon_loops(mesh, loop_start, loop_total):
@@ -208,12 +262,6 @@ def show_result_field(group, result_socket, show):
     socket = group.interface.items_tree.get(result_socket) if hasattr(group, "interface") else None
     if socket is not None and hasattr(socket, "hide_in_modifier") and not HAS_WARNING_NODE:
         socket.hide_in_modifier = not show
-
-
-def modal_operator_running(window_manager):
-    """Whether a modal operator (a grab, a rotation, a sculpt stroke) runs in any window: Window.modal_operators,
-    from 4.2 (4.2.23 here). 3.4.1 has no way to tell: False."""
-    return any(len(getattr(window, "modal_operators", ())) for window in window_manager.windows)
 
 
 # Handlers Blender runs when writing a file failed, where it has them: as after saving, the results go back.
@@ -389,24 +437,31 @@ def _free_corner_normals(mesh):
 
 
 def set_custom_normals(mesh, normals, vertex_normals=None, free=False):
-    """Custom split normals, one per loop ((L, 3); a zero vector keeps Blender's own normal at that corner), or, when
-    every corner of a vertex has the same one, vertex_normals (V, 3), which Blender takes several times faster. Up to
-    4.0 they show only with Auto Smooth, which this turns on; a mesh that had it off gets the widest angle, so that
-    only marked sharp edges (and the normals themselves) split the shading. Blender marks the edges sharp where the
-    normals of one smooth fan differ (across creases).
+    """Custom normals: one per corner, normals (L, 3), or, when every corner of a vertex has the same one,
+    vertex_normals (V, 3) (normals may then be None).
 
-    free (4.5+, for a cage that has free normals): the normals (unit vectors) go as they are into a float
-    vector corner attribute "custom_normal", free normals, as the cage had them. Otherwise a free "custom_normal" the
-    mesh has goes first: normals_split_custom_set leaves a mesh with free normals unchanged (4.5.15, 5.0.1, 5.2.3)."""
+    In tangent space (every version; normals_split_custom_set and its _from_vertices, which encode each normal in
+    its corner's normal space, and take one per vertex several times faster): a zero vector keeps Blender's own
+    normal at that corner. Up to 4.0 they show only with Auto Smooth, which this turns on; a mesh that had it off
+    gets the widest angle, so that only marked sharp edges (and the normals themselves) split the shading. Blender
+    marks the edges sharp where the normals of one smooth fan differ (across creases).
+
+    free (HAS_FREE_NORMALS, 4.5+): the normals (unit vectors) go as they are into the float vector attribute
+    "custom_normal", on the point domain (vertex_normals) or the corner domain: free normals, which Blender shades
+    with as they are (flat faces and marked sharp edges do not change them), and which cost a copy of the array (the
+    cage's own free normals are carried over so, and the limit normals go so where the version has them). Otherwise
+    a free "custom_normal" the mesh has goes first: normals_split_custom_set leaves a mesh with free normals
+    unchanged (4.5.15, 5.0.1, 5.2.3)."""
     existing = mesh.attributes.get(CUSTOM_NORMAL_ATTRIBUTE) if NAMES_SEAMS_AND_NORMALS else None
     if free:
-        normals = np.ascontiguousarray(normals, dtype=np.float32).reshape(-1, 3)
-        if existing is not None and (existing.data_type, existing.domain) != ('FLOAT_VECTOR', 'CORNER'):
+        domain = 'POINT' if vertex_normals is not None else 'CORNER'
+        values = vertex_normals if vertex_normals is not None else normals
+        if existing is not None and (existing.data_type, existing.domain) != ('FLOAT_VECTOR', domain):
             mesh.attributes.remove(existing)
             existing = None
         if existing is None:
-            existing = mesh.attributes.new(CUSTOM_NORMAL_ATTRIBUTE, 'FLOAT_VECTOR', 'CORNER')
-        existing.data.foreach_set("vector", normals.ravel())
+            existing = mesh.attributes.new(CUSTOM_NORMAL_ATTRIBUTE, 'FLOAT_VECTOR', domain)
+        existing.data.foreach_set("vector", np.ascontiguousarray(values, dtype=np.float32).ravel())
         return
     if existing is not None and existing.data_type == 'FLOAT_VECTOR':
         mesh.attributes.remove(existing)
@@ -415,24 +470,6 @@ def set_custom_normals(mesh, normals, vertex_normals=None, free=False):
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(vertex_normals, dtype=np.float32))
     else:
         mesh.normals_split_custom_set(np.ascontiguousarray(normals, dtype=np.float32).reshape(-1, 3))
-
-
-def shading_state(mesh):
-    """What set_custom_normals may change besides the normals: Auto Smooth and its angle up to 4.0; None from 4.1."""
-    return (mesh.use_auto_smooth, mesh.auto_smooth_angle) if hasattr(mesh, "use_auto_smooth") else None
-
-
-def restore_shading_state(mesh, state):
-    if state is not None:
-        mesh.use_auto_smooth, mesh.auto_smooth_angle = state
-
-
-def clear_custom_normals(mesh, holder):
-    """Removes the custom split normals of mesh, the data of the object holder (Blender's operator is the only way
-    in every version; it needs the object, not the mesh, and works on one linked to no scene)."""
-    if mesh.has_custom_normals:
-        with bpy.context.temp_override(object=holder, active_object=holder):
-            bpy.ops.mesh.customdata_custom_splitnormals_clear()
 
 
 # Blender 4.1 dropped Auto Smooth. Opening a file saved before 4.1, it appends a Geometry Nodes modifier "Auto Smooth"

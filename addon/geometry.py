@@ -171,6 +171,28 @@ def shared_vertex_normals(triangles, corner_normals, num_vertices):
     return shared if np.array_equal(shared[vertices], normals) else None
 
 
+def shared_vertex_rows(triangles, corner_rows, num_vertices):
+    """The row of each vertex, (V,), when every corner of every vertex takes the same row of a table (the limit
+    normals' Plan.corner_normal_indices: a boundary vertex's corners all take its one side's row); None when some
+    vertex has corners on different rows (a crease splits its fan). Vertices in no triangle get row 0."""
+    vertices = np.asarray(triangles).reshape(-1)
+    rows = np.asarray(corner_rows).reshape(-1)
+    shared = np.zeros(num_vertices, dtype=rows.dtype)
+    shared[vertices] = rows
+    return shared if np.array_equal(shared[vertices], rows) else None
+
+
+def triangle_normals(positions, triangles):
+    """(T, 3) float32 unit normals of triangles (T, 3) of positions (V, 3), counter-clockwise facing out, as Blender's
+    face normals (zero for a degenerate triangle)."""
+    p = np.asarray(positions, dtype=np.float32)
+    a, b, c = (p[triangles[:, k]] for k in range(3))
+    normals = np.cross(b - a, c - a)
+    lengths = np.linalg.norm(normals, axis=1, keepdims=True)
+    np.divide(normals, lengths, out=normals, where=lengths > 0)
+    return normals
+
+
 def from_refined(values, data_type):
     """Refined float channels back to the attribute's type: integers rounded to the nearest, booleans true where
     any vertex with a positive weight was (every Loop weight of a contributing vertex is positive)."""

@@ -15,11 +15,9 @@ The core's plan (all topology work) is kept per object while the input's triangl
 (Use Limit Surface and UV Smooth included) stay the same; then only the vertex and face-varying values are refined
 again and written into the result in place.
 
-With Use Limit Surface, a render's result carries the limit normals as custom split normals, as Apply writes them.
-The viewport's shades with Blender's own normals while it changes (edits, playback), smooth and split along the edges
-where the limit normals split (marked sharp): Blender takes and evaluates custom normals several times slower than the
-rest of an update (cage.Source.blender_normals). SETTLE_SECONDS after the last change, settle() writes the limit
-normals into it, so that a still viewport shows them too (docs/addon.md, Normals).
+With Use Limit Surface, every update (an edit, a frame of playback, a setting's change, a render) writes the limit
+normals into the result as custom normals, the same ones Apply writes, the cheapest way the version offers
+(normals.write_limit_normals; docs/addon.md, Normals).
 
 After each update (not on frame changes), after a render, before saving and after loading, stack.collect() frees the
 helpers, results and node group that no live entry uses any more: a deleted object or a removed entry leaves nothing.
@@ -32,7 +30,7 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
-from . import cage, compat, normals, result, stack
+from . import cage, compat, result, stack
 from .native import LoopSubError
 
 
@@ -45,12 +43,7 @@ class Cache:
         self.layout_key = None
         self.result = None  # name of the helper mesh built for plan_key and layout_key
         self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
-        self.auto_loops = None  # the result's corners that keep Blender's own normal (result.build_mesh)
-        # A result showing Blender's normals in place of the limit normals (the viewport): the limit normals and
-        # triangles it was refined with, for settle() to write once the result is still; the shading to go back to.
-        self.limit_normals = None
-        self.exact_shown = False  # settle() wrote them: the next update goes back to Blender's normals
-        self.blender_shading = None
+        self.blender_corners = None  # the result's corners that keep Blender's own normal (result.build_mesh)
         self.plan_builds = 0  # plans built so far (tests check that position edits reuse the plan)
         self.error = ""
         self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
@@ -95,7 +88,7 @@ def refresh(obj, depsgraph, render=False):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
-            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options, render)
+            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options)
             # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
             # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
             stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
@@ -109,7 +102,7 @@ def refresh(obj, depsgraph, render=False):
         _busy = False
 
 
-def _write(cache, obj, evaluated, mesh, helper, options, render):
+def _write(cache, obj, evaluated, mesh, helper, options):
     try:
         if options.levels == 0:
             raise _PassThrough
@@ -117,15 +110,12 @@ def _write(cache, obj, evaluated, mesh, helper, options, render):
         shown = len(helper.data.polygons) if cache.result == helper.data.name else 0
         if (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
             cage.check_memory(mesh, options)
-        # Renders get the limit normals themselves; the viewport Blender's own, split where they split.
-        source = cage.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None,
-                                  exact_normals=render)
+        source = cage.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None)
         plan_key = source.plan_key()
         if not _equal(cache.plan_key, plan_key):
-            # The old plan is of another topology: it goes (with the normals that view its triangles) before the new
-            # one is built, so that a large result's two plans are never held at once, and the new one reuses its
-            # memory.
-            cache.plan = cache.plan_key = cache.limit_normals = None
+            # The old plan is of another topology: it goes before the new one is built, so that a large result's two
+            # plans are never held at once, and the new one reuses its memory.
+            cache.plan = cache.plan_key = None
             cache.plan, cache.plan_key, cache.inputs = source.plan(), plan_key, None
             cache.plan_builds += 1
             cache.messages = source.messages
@@ -137,27 +127,20 @@ def _write(cache, obj, evaluated, mesh, helper, options, render):
             return
         refined = source.refine(cache.plan, written=cache.inputs if in_place else None)
         if in_place:
-            if cache.exact_shown:
-                normals.show_blender_normals(helper.data, helper, cache.blender_shading)
-            result.update_mesh(helper.data, source, refined, cache.auto_loops)
+            result.update_mesh(helper.data, source, refined, cache.blender_corners)
         else:
             old = helper.data
             _swap(helper, old, result.build_mesh(source, cache.plan, refined, helper.name, helper))
-            cache.result, cache.layout_key, cache.auto_loops = helper.data.name, layout_key, source.auto_loops
-            cache.blender_shading = normals.shading_state(helper.data)
-        cache.exact_shown = False
-        cache.limit_normals = (refined.normals, refined.triangles) if source.blender_normals else None
+            cache.result, cache.layout_key = helper.data.name, layout_key
+            cache.blender_corners = source.blender_corners
         cache.inputs = inputs
         cache.error = ""
-        if cache.limit_normals is not None:
-            _settle_later()
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
         if cache.error != str(problem) and str(problem):
             _tell(f"{obj.name}: {problem}")
         cache.error = str(problem)
-        cache.plan_key = cache.result = cache.inputs = cache.limit_normals = None
-        cache.exact_shown = False
+        cache.plan_key = cache.result = cache.inputs = None
         _swap(helper, helper.data, bpy.data.meshes.new_from_object(evaluated))
 
 
@@ -181,67 +164,6 @@ def _tell(text):
             except ReferenceError:
                 pass  # a workspace deleted meanwhile
     bpy.app.timers.register(clear, first_interval=_STATUS_SECONDS)
-
-
-# The viewport's result shows Blender's normals while it changes; this long after the last change, settle() writes the
-# limit normals into it, so that a still viewport (and Blender's own Apply, and a saved file) shows what renders and
-# the add-on's Apply show.
-SETTLE_SECONDS = 0.3
-
-
-def _settle_later():
-    """(Re)starts the countdown to settle(); only where timers run (the interface, not background mode)."""
-    if bpy.app.background:
-        return
-    if bpy.app.timers.is_registered(_settle_timer):
-        bpy.app.timers.unregister(_settle_timer)
-    bpy.app.timers.register(_settle_timer, first_interval=SETTLE_SECONDS)
-
-
-def _playing():
-    return any(window.screen is not None and window.screen.is_animation_playing
-               for window in bpy.context.window_manager.windows)
-
-
-def _settle_timer():
-    # Writing the limit normals stalls the interface for seconds on large results: not while playback, a render or
-    # a modal operator (an artist holding still mid-drag) goes on, where the version lets the add-on tell.
-    if _busy or _rendering or _playing() or compat.modal_operator_running(bpy.context.window_manager):
-        return SETTLE_SECONDS  # ask again later
-    settle()
-    return None
-
-
-def settle():
-    """Writes the limit normals into every result that shows Blender's normals in their place, as custom split
-    normals (what renders and Apply write), and has the depsgraph evaluate them. The next change of a result goes
-    back to Blender's normals. Runs SETTLE_SECONDS after the last change in the interface; tests call it directly.
-    Returns how many results it wrote."""
-    global _busy
-    # Changes not evaluated yet first (the handlers refresh their results), so that the normals written are theirs
-    # and the evaluation below, which the handlers skip, holds no edit.
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    written = 0
-    for name, cache in _caches.items():
-        obj = bpy.data.objects.get(name)
-        modifier = stack.entry(obj)
-        helper = stack.helper_of(obj, modifier, create=False) if modifier is not None else None
-        if cache.limit_normals is None or helper is None:
-            continue
-        limit_normals, triangles = cache.limit_normals
-        if helper.data.name != cache.result or len(helper.data.loops) != limit_normals.size // 3:
-            continue
-        normals.write_limit_normals(helper.data, limit_normals, triangles, cache.auto_loops)
-        helper.data.update()
-        cache.limit_normals, cache.exact_shown = None, True
-        written += 1
-    if written:
-        _busy = True  # the updates this makes are not edits
-        try:
-            depsgraph.update()
-        finally:
-            _busy = False
-    return written
 
 
 class _PassThrough(Exception):
@@ -525,7 +447,6 @@ def register():
 def unregister():
     for name, handler in _handlers:
         getattr(bpy.app.handlers, name).remove(handler)
-    for timer in (_serve, _settle_timer):
-        if bpy.app.timers.is_registered(timer):
-            bpy.app.timers.unregister(timer)
+    if bpy.app.timers.is_registered(_serve):
+        bpy.app.timers.unregister(_serve)
     _caches.clear()

@@ -167,12 +167,12 @@ class _Bytes:
 
 _NONE = _Bytes()
 
-# The constants are the layouts of the arrays named, then raised until the estimate covered the peak RSS growth
-# measured on adding an entry (then settle(), an evaluation and an edit) to a UV-mapped 20,480-triangle icosphere and
-# a triangulated 100 x 100 grid at levels 1-5, limit surface on and off, in Blender 3.4.1 (background and its
-# interface under Xvfb) and the bpy 4.5.15 module (background). Blender 3.5-4.4 and 5.x use 4.5's constants, and
-# everything after 3.4 uses the draw cache measured in 3.4's interface (the wheels have none). The estimate is
-# 1.02-1.36 times the measured peak at levels 3-5 (docs/benchmark.md), e.g. (MiB):
+# The constants are the layouts of the arrays named, then raised until the estimate covered the peak RSS growth measured
+# on adding an entry (then writing its limit normals, an evaluation and an edit) to a UV-mapped 20,480-triangle
+# icosphere and a triangulated 100 x 100 grid at levels 1-5, limit surface on and off, in Blender 3.4.1 (background and
+# its interface under Xvfb) and the bpy 4.5.15 module (background). Blender 3.5-4.4 and 5.x use 4.5's constants, and
+# everything after 3.4 uses the draw cache measured in 3.4's interface (the wheels have none). The estimate is 1.02-1.36
+# times the measured peak at levels 3-5 (docs/benchmark.md), e.g. (MiB):
 #
 #   Blender 3.4.1, icosphere level 5, limit on / off:   measured 15,384 / 8,230    estimated 17,394 / 8,634
 #   Blender 3.4.1, interface, level 4, limit on / off:  measured 4,333 / 3,044     estimated 5,573 / 3,458
@@ -184,14 +184,12 @@ _CORE_UV = _Bytes(uv=4)
 _CORE_UV_LIMIT = _Bytes(uv=10)
 
 # (b) The add-on's numpy arrays. Held through the update: the refined values (4 bytes a channel of a vertex or
-# corner; UV maps, with the copy of their indices that places them), with the limit surface the normals per corner,
-# which the viewport's result keeps for settle(). Temporaries, at two moments: laying out the result's edges
-# (Plan.output_edges), before the mesh exists; with the limit surface, finding where the limit normals split, once the
-# mesh has its geometry. That search evaluated a probe's normals per corner and compared them in numpy, some 150 bytes
-# a corner when calibrated and about 20 later (int32, a side at a time: the peak of level 4 with the limit surface fell
-# from 3,853 to 1,804 MiB in 4.5, from 3,905 to 3,460 in 3.4); the plan now answers it (Plan.limit_normal_split_edges:
-# its temporaries are about 12 bytes a corner, the result a byte an edge). The constant stays the calibrated one, on
-# the safe side, until the limit-surface rows are measured again.
+# corner; UV maps, with the copy of their indices that places them), with the limit surface the normals (per corner
+# when calibrated; now one per vertex and side, with a per-corner copy where a side or a flat face needs one).
+# Temporaries, at two moments: laying out the result's edges (Plan.output_edges), before the mesh exists; with the
+# limit surface, when calibrated, finding where the limit normals split (for the viewport's sharp edges, a step the
+# add-on no longer takes: every update writes the limit normals themselves). The constants stay the calibrated ones,
+# on the safe side, until the limit-surface rows are measured again.
 _REFINED = _Bytes(uv=12)
 _LIMIT_NORMALS = _Bytes(corner=12)
 _LAYOUT = _Bytes(corner=40)
@@ -201,7 +199,8 @@ _SPLIT = _Bytes(corner=185)
 # and corner normals, the triangulation). 3.5 on, generic attributes: position, loop_vertex_type; edge vertices,
 # loop_crease, sharp_edge; corner vertex and edge; face offsets, sharp_face; 8 per UV corner. 3.4: MVert, MEdge,
 # MLoop, MPoly, MLoopUV (12 per UV corner). The limit surface adds custom normals (short2), which 3.4 keeps with its
-# corner normals; writing them (settle(), renders) holds Blender's normal spaces for a moment.
+# corner normals; writing them in tangent space (up to 4.4, and where marked sharp edges keep Blender's normals) holds
+# Blender's normal spaces for a moment; free normals (4.5+) are a float vector a corner or a vertex.
 _STORED = _Bytes(vertex=16, edge=10, corner=8, triangle=5, uv=8)
 _CACHES = _Bytes(vertex=12, corner=12, triangle=28)
 _WRITE_NORMALS = _Bytes(corner=45)

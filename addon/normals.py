@@ -1,95 +1,79 @@
-"""The result's normals: the cage's custom normals carried over, or the limit normals as custom split normals; or,
-for the viewport while it changes, Blender's own normals split where the limit normals split.
+"""The result's normals: the cage's custom normals carried over, or the limit normals as custom normals, written the
+cheapest way each Blender version offers (compat.set_custom_normals; docs/addon.md, Normals).
 """
 import numpy as np
 
-from . import compat, geometry, native
+from . import compat, geometry
+
+
+class BlenderCorners:
+    """The result's corners that keep Blender's own normal with the limit normals: those of flat faces (children of
+    the cage's flat-shaded faces: flat, as Subdivision Surface keeps them with Use Limit Surface on), flat (T_out,)
+    bool per triangle or None; and those at vertices on marked sharp edges, where the mesh shades with them (Auto
+    Smooth up to 4.0), so that a marked sharp edge still shows as one, on_sharp (T_out, 3) bool or None."""
+
+    def __init__(self, flat, on_sharp):
+        self.flat = flat
+        self.on_sharp = on_sharp
+
+    def corners(self):
+        """(T_out, 3) bool: every corner that keeps Blender's own normal."""
+        if self.flat is None:
+            return self.on_sharp
+        flat = np.repeat(self.flat[:, None], 3, axis=1)
+        return flat if self.on_sharp is None else flat | self.on_sharp
 
 
 def blender_normal_corners(source, plan, new_edges, sharp, parents):
-    """(T_out, 3) bool, or None: the result's corners that keep Blender's own normal (a zero custom normal) with the
-    limit normals: those of flat faces (children of the cage's flat-shaded faces: flat, as Subdivision Surface keeps
-    them with Use Limit Surface on), and those at vertices on marked sharp edges, where the mesh shades with them (Auto
-    Smooth up to 4.0), so that a marked sharp edge still shows as one."""
+    """The result's BlenderCorners with the limit normals, None where there are none (or no limit normals)."""
     if not source.limit_normals:
         return None
-    loops = None
+    on_sharp = None
     if sharp is not None and sharp.any() and compat.shades_sharp_edges(source.mesh):
-        on_sharp = np.zeros(plan.num_output_vertices, dtype=bool)
-        on_sharp[new_edges[sharp].ravel()] = True
-        loops = on_sharp[plan.triangles]
+        vertices_on_sharp = np.zeros(plan.num_output_vertices, dtype=bool)
+        vertices_on_sharp[new_edges[sharp].ravel()] = True
+        on_sharp = vertices_on_sharp[plan.triangles]
     flat = ~source.smooth[parents]
-    if flat.any():
-        loops = np.repeat(flat[:, None], 3, axis=1) if loops is None else loops | flat[:, None]
-    return loops
+    flat = flat if flat.any() else None
+    return None if flat is None and on_sharp is None else BlenderCorners(flat, on_sharp)
 
 
-def mark_limit_splits(new, source, plan, sharp):
-    """Blender's normals in place of the limit normals (the viewport): the edges across which the limit normals split
-    are marked sharp, beside the cage's marked sharp edges, and shade so (Auto Smooth on, at 180 degrees when the cage
-    had it off); where nothing splits, the mesh shades smooth with Blender's vertex normals, and Auto Smooth stays as
-    the cage had it.
-
-    Where the limit normals split depends on the plan alone (the sides of crease, corner and boundary vertices), not
-    on the positions: the plan says which edges (Plan.limit_normal_split_edges, in Plan.output_edges' numbering, as
-    the result's edges are), so that even a flat crease, whose sides have one normal, is marked."""
-    split = native.run(plan.limit_normal_split_edges)
-    if not split.any():
-        return
-    marked = split if sharp is None else split | sharp
-    new.edges.foreach_set("use_edge_sharp", marked)
-    compat.shade_sharp_edges(new)
-
-
-def write_normals(new, source, refined, auto_loops):
-    """Custom split normals: the cage's own, interpolated linearly per face (normalised), where it shades with
-    them (free normals stay free, 4.5+); else, with the limit surface, the limit normals (split across creases and
-    boundaries, shared elsewhere), unless the result shows Blender's own normals (Source.blender_normals), which need
-    nothing written."""
-    if source.blender_normals:
-        return
+def write_normals(new, source, refined, blender_corners):
+    """Custom normals: the cage's own, interpolated linearly per face (normalised), where it shades with them (free
+    normals stay free, 4.5+); else, with the limit surface, the limit normals (write_limit_normals)."""
     if source.custom_normals:
         normals = np.array(refined.corners[:, :, source.corners.columns["normal"]], dtype=np.float32)
         lengths = np.linalg.norm(normals, axis=2, keepdims=True)
         np.divide(normals, lengths, out=normals, where=lengths > 0)
         if source.free_normals:
             compat.set_custom_normals(new, normals, free=True)
-            return
+        else:
+            compat.set_custom_normals(new, normals,
+                                      geometry.shared_vertex_normals(refined.triangles, normals, len(new.vertices)))
     elif source.limit_normals:
-        write_limit_normals(new, refined.normals, refined.triangles, auto_loops)
+        write_limit_normals(new, refined, refined.vertex[:, source.vertex.columns["position"]], blender_corners)
+
+
+def write_limit_normals(new, refined, positions, blender_corners):
+    """The limit normals of refined (cage.Refined; the result's positions) as custom normals, but Blender's own at
+    blender_corners (a BlenderCorners, or None). Free normals where the version has them (compat.HAS_FREE_NORMALS),
+    which Blender shades with as they are: there a flat face's corners get its face normal, worked out here (Blender's
+    own, Mesh.polygon_normals, follows the free normals of the update before in 4.5.15); a
+    result with corners on marked sharp edges, whose normals Blender alone works out, gets tangent-space normals,
+    where a zero vector keeps Blender's own. One normal per vertex where no side splits a fan and no corner keeps
+    Blender's normal (from vertices, tangent space would give a marked sharp edge's sides one normal)."""
+    if blender_corners is not None and blender_corners.corners().all():
+        return  # every face flat: Blender's own normals are the face normals
+    free = compat.HAS_FREE_NORMALS and (blender_corners is None or blender_corners.on_sharp is None)
+    vertex_normals = refined.vertex_normals() if blender_corners is None else None
+    if vertex_normals is not None:
+        compat.set_custom_normals(new, None, vertex_normals, free=free)
         return
-    else:
-        return
-    _set_normals(new, normals, refined.triangles, None)
-
-
-def write_limit_normals(new, normals, triangles, auto_loops):
-    """The limit normals (T_out, 3, 3) as custom split normals, but Blender's own at auto_loops (see
-    blender_normal_corners). Also what the live entry writes into a result that showed Blender's normals, once it is
-    still (live.py)."""
-    if auto_loops is not None:
-        if auto_loops.all():
-            return  # every face flat: Blender's own normals are the face normals
-        normals = np.where(auto_loops[:, :, None], np.float32(0), normals)
-    _set_normals(new, normals, triangles, auto_loops)
-
-
-def _set_normals(new, normals, triangles, auto_loops):
-    # One normal per vertex where no crease splits them, several times faster for Blender to take; not with corners
-    # that keep Blender's own normal (from vertices, Blender then gives a marked sharp edge's sides one normal).
-    shared = (geometry.shared_vertex_normals(triangles, normals, len(new.vertices))
-              if auto_loops is None else None)
-    compat.set_custom_normals(new, normals, shared)
-
-
-def shading_state(mesh):
-    """What write_limit_normals may change in a result's shading besides the normals, for show_blender_normals to
-    put back (compat.shading_state)."""
-    return compat.shading_state(mesh)
-
-
-def show_blender_normals(new, holder, state):
-    """Back from write_limit_normals to Blender's own normals: the custom split normals removed (Blender's operator,
-    on holder, an object whose data new is), the shading as it was (state, from shading_state)."""
-    compat.clear_custom_normals(new, holder)
-    compat.restore_shading_state(new, state)
+    normals = refined.corner_normals()
+    if blender_corners is not None:
+        if free:
+            flat = blender_corners.flat
+            normals[flat] = geometry.triangle_normals(positions, refined.triangles[flat])[:, None, :]
+        else:
+            normals[blender_corners.corners()] = 0.0
+    compat.set_custom_normals(new, normals, free=free)

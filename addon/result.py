@@ -48,7 +48,7 @@ def subdivide(obj, options, progress):
 def build_mesh(source, plan, refined, name, holder):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
     groups, tags. refined: source.refine(plan). holder: an object whose data the new mesh may become while vertex
-    groups are written (None: a temporary one). Sets source.auto_loops, which update_mesh takes."""
+    groups are written (None: a temporary one). Sets source.blender_corners, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
     new = bpy.data.meshes.new(name)
@@ -64,13 +64,11 @@ def build_mesh(source, plan, refined, name, holder):
         _write_face_data(new, source, parents)
         _write_creases(new, cage, plan, options, new_edges)
         sharp = _write_edge_data(new, source, plan, new_edges)
-        if source.blender_normals:
-            normals.mark_limit_splits(new, source, plan, sharp)
-        source.auto_loops = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
+        source.blender_corners = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
         _add_value_layers(new, source)
         _write_values(new, source, refined)
         new.update()
-        normals.write_normals(new, source, refined, source.auto_loops)
+        normals.write_normals(new, source, refined, source.blender_corners)
         _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
         tags.write_plan_tags(new, plan, new_edges)
     except Exception:
@@ -79,14 +77,14 @@ def build_mesh(source, plan, refined, name, holder):
     return new
 
 
-def update_mesh(new, source, refined, auto_loops):
+def update_mesh(new, source, refined, blender_corners):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
     positions, point attributes, UVs, corner attributes and normals (what moving vertices in Edit Mode or animation
-    changes). auto_loops: the source.auto_loops of that build."""
-    new.vertices.foreach_set("co", np.ascontiguousarray(refined.vertex[:, source.vertex.columns["position"]]).ravel())
+    changes). blender_corners: the source.blender_corners of that build."""
+    compat.write_positions(new, refined.vertex[:, source.vertex.columns["position"]])
     _write_values(new, source, refined)
     new.update()
-    normals.write_normals(new, source, refined, auto_loops)  # nothing to write with Blender's normals: they follow
+    normals.write_normals(new, source, refined, blender_corners)
 
 
 def _add_value_layers(new, source):
@@ -110,7 +108,7 @@ def _write_values(new, source, refined):
               geometry.from_refined(refined.vertex[:, vertex.columns["attribute", name]], data_type))
     for uv_name, uvs in zip(source.uv_names, refined.uvs):
         if uvs is not None:
-            new.uv_layers[uv_name].data.foreach_set("uv", np.ascontiguousarray(uvs).ravel())
+            compat.write_uvs(new, uv_name, uvs)
     for name, _, data_type in source.corner if refined.corners is not None else ():
         fill_attribute(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
@@ -122,12 +120,11 @@ def _write_geometry(new, positions, plan):
     num_triangles = len(triangles)
     edges, triangle_edges = native.run(plan.output_edges)
     new.vertices.add(len(positions))
-    new.vertices.foreach_set("co", np.ascontiguousarray(positions).ravel())
+    compat.write_positions(new, positions)
     new.edges.add(len(edges))
-    new.edges.foreach_set("vertices", edges.ravel())
+    compat.write_edges(new, edges)
     new.loops.add(3 * num_triangles)
-    new.loops.foreach_set("vertex_index", np.ascontiguousarray(triangles, dtype=np.int32).ravel())
-    new.loops.foreach_set("edge_index", triangle_edges.ravel())
+    compat.write_corners(new, triangles, triangle_edges)
     new.polygons.add(num_triangles)
     compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
     new.update()

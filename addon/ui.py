@@ -88,9 +88,6 @@ def _draw_settings(layout, obj, modifier, columns=None):
     threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
     threshold.prop(settings, "crease_threshold")
     layout.prop(settings, "use_limit_surface")
-    if settings.use_limit_surface:
-        # What the viewport shows (live.settle): the setting's own tooltip is Subdivision Surface's.
-        _note(layout, "Limit normals once still, Blender's while it changes", 'INFO', columns)
     layout.prop(settings, "uv_smooth")
     layout.prop(settings, "boundary")
     layout.prop(settings, "use_creases")

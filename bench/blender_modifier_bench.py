@@ -4,19 +4,21 @@ animation playback. Prints medians; run with scripts/bench_blender.sh (or blende
 
 - Apply: the add-on's operator vs Blender's modifier_apply of Subdivision Surface (Catmull-Clark of the same
   triangles), each with its default, the limit surface on (the add-on then also writes the limit normals as custom
-  split normals), and with the limit surface off (refinement only), on a 200x200 grid (80,000 triangles) at level 2
+  normals), and with the limit surface off (refinement only), on a 200x200 grid (80,000 triangles) at level 2
   and a 20,480-triangle icosphere at level 3, without and with a UV map (Blender's icosphere unwrap, seams
   included); times per output vertex too, since Catmull-Clark of triangles makes more vertices than Loop. Ratios
-  compare like with like (limit on with limit on).
+  compare like with like (limit on with limit on). And the 200x200 grid left as quads, as artists model it: Subdivision
+  Surface gets the quads, the add-on triangulates them itself (Blender's tessellation; the same vertex count at level
+  2 on both sides).
 - Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
   100,352-triangle grid at level 1, limit surface on (both defaults) and off.
-- Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2, stepping frames, limit surface
-  on and off, and with a UV map; and of a Wave-deformed box of 20,172 triangles with its 12 edges creased (limit
-  on), where the limit normals split along the creases.
+- Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2 (the Wave modifier, animated
+  by time, above Loop Subdivision or Subdivision Surface), stepping frames, limit surface on and off, and with a UV
+  map; and of a Wave-deformed box of 20,172 triangles with its 12 edges creased (limit on), where the limit normals
+  split along the creases.
 
-Edits and playback are the viewport's: with the limit surface, the add-on's result then shades with Blender's normals,
-split where the limit normals split, and gets the limit normals themselves only once it is still (a timer in the
-interface, which background mode does not run; docs/addon.md, Normals).
+With the limit surface, every edit and every frame of the add-on's result carries the exact limit normals, as Apply
+writes them (docs/addon.md, Normals).
 """
 import argparse
 import os
@@ -46,12 +48,13 @@ def clear():
         bpy.data.meshes.remove(mesh)
 
 
-def mesh_object(name, build):
+def mesh_object(name, build, triangulate=True):
     """A cage shaded smooth, as artists shade what they subdivide: flat faces stay flat through both subdivisions,
-    and with the limit surface only smooth ones get the limit normals."""
+    and with the limit surface only smooth ones get the limit normals. Triangulated, so that Subdivision Surface sees
+    the add-on's triangles, unless triangulate is False."""
     bm = bmesh.new()
     build(bm)
-    return support.shade_smooth(support.object_from_bmesh(name, bm))
+    return support.shade_smooth(support.object_from_bmesh(name, bm, triangulate))
 
 
 def grid(cuts):
@@ -97,7 +100,7 @@ def subsurf(obj, levels, use_limit_surface=True):
     return modifier
 
 
-def apply_rows(name, build, levels):
+def apply_rows(name, build, levels, triangulate=True):
     def loop(use_limit_surface):
         def run(obj):
             return bpy.ops.object.loop_subdivision_apply(levels=levels, rules='OPENSUBDIV',
@@ -116,7 +119,7 @@ def apply_rows(name, build, levels):
                         ("Loop, limit off", loop(False)), ("Subdivision Surface, limit off", blender(False))):
         samples = []
         for _ in range(args.repeat):
-            obj = mesh_object(name, build)
+            obj = mesh_object(name, build, triangulate)
             samples.append(timed(lambda: apply(obj)))
             vertices = len(obj.data.vertices)
             clear()
@@ -204,6 +207,7 @@ clear()
 print(f"Blender {bpy.app.version_string}, medians of {args.repeat}")
 rows = [
     (apply_rows, "grid 200x200 (80,000 tris)", grid(200), 2, {}),
+    (apply_rows, "quad grid 200x200 (40,000 quads)", grid(200), 2, {"triangulate": False}),
     (apply_rows, "icosphere (20,480 tris)", icosphere(5), 3, {}),
     (apply_rows, "icosphere with UVs (20,480 tris)", icosphere(5, uvs=True), 3, {}),
     (edit_rows, "grid 224x224 (100,352 tris)", grid(224), 1, {}),

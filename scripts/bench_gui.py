@@ -13,18 +13,15 @@ on (Subdivision Surface at quality 3). Measured, each time from a still viewport
   anti-aliasing (8 by default: after every change the viewport draws the scene again for each sample while nothing
   changes), i.e. what a draw of the subdivided mesh costs;
 - edit -> first draw: from an edit of the cage (a round patch raised, mesh.update()) to the end of the next viewport
-  draw; edit -> evaluated is the part before the draw (the add-on's depsgraph handler included);
-- edit -> final shading: Loop Subdivision shades with Blender's normals while its result changes and writes the limit
-  normals SETTLE_SECONDS after its last update (addon/live.py, settle): the end of the first draw after that write.
-  Subdivision Surface's first draw is final;
-- edit -> viewport still: the end of the last draw (anti-aliasing samples, settle) before the viewport goes quiet;
+  draw, its final shading on both sides (Loop Subdivision writes the limit normals on every update); edit ->
+  evaluated is the part before the draw (the add-on's depsgraph handler included);
+- edit -> viewport still: the end of the last draw (anti-aliasing samples) before the viewport goes quiet;
 - longest stall during a drag: 30 edits from a timer at ~30 Hz with a 0.5 s hold after the 15th (an artist holding
-  still mid-drag, long enough for settle to fire); the longest time the main thread did not get back to its event
-  loop, seen as the largest gap between ticks of a 5 ms probe timer, from the first edit to the draw after the last.
+  still mid-drag); the longest time the main thread did not get back to its event loop, seen as the largest gap
+  between ticks of a 5 ms probe timer, from the first edit to the draw after the last.
 
 Everything runs from timers on the main thread, as edits from the interface do, so that Blender's own event loop
-evaluates the depsgraph, runs the add-on's handlers and its settle timer, and draws, in the order it does for an
-artist. The add-on's files are not changed: settle() is observed by wrapping it at run time.
+evaluates the depsgraph, runs the add-on's handlers, and draws, in the order it does for an artist.
 """
 import argparse
 import bisect
@@ -57,13 +54,13 @@ DRAG_EDITS = 30
 DRAG_INTERVAL = 1 / 30
 HOLD_SECONDS = 0.5
 PROBE_SECONDS = 0.005
-IDLE_SECONDS = 0.4  # quiet time (no draw, no evaluation, no pending settle) before each measured edit
+IDLE_SECONDS = 0.4  # quiet time (no draw, no evaluation) before each measured edit
 IDLE_REDRAWS = 3
 # For any single expected draw: Subdivision Surface's first draw of this cage at level 2 (its topology built on the
 # spot) takes tens of seconds here.
 WAIT_SECONDS = 600.0
-# A drag whose every edit takes seconds stops once this is spent (a Loop Subdivision drag only after the hold, where
-# settle is the question): its stall is plain by then, and a full one would take many minutes.
+# A drag whose every edit takes seconds stops once this is spent (after the hold): its stall is plain by then, and a
+# full one would take many minutes.
 DRAG_BUDGET_SECONDS = 60.0
 
 
@@ -76,7 +73,7 @@ def arguments():
     parser.add_argument("--grid", type=int, default=224,
                         help="quads per side of the cage before triangulation: 224 makes 100,352 triangles")
     parser.add_argument("--json", required=True, help="the samples are written here")
-    parser.add_argument("--screenshot", default="", help="the X screen, taken once the first edit has settled")
+    parser.add_argument("--screenshot", default="", help="the X screen, taken once the first edit is drawn")
     args, _ = parser.parse_known_args(argv)
     kind, level = args.config.split(":")
     if kind not in ("loop", "subsurf-gpu", "subsurf-cpu"):
@@ -92,7 +89,6 @@ class Timeline:
         self.draws = []  # ends of 3D-viewport draws (after glFinish: software GL rasterises in its own threads)
         self.ticks = []  # probe timer ticks: the main thread was back in its event loop
         self.evaluations = []  # depsgraph_update_post, after the add-on's own handler (registered before ours)
-        self.settles = []  # (start, end, results written) of each call of the add-on's settle()
 
     @staticmethod
     def first_after(times, t):
@@ -121,20 +117,6 @@ def _probe():
 
 def _on_evaluated(*_):
     timeline.evaluations.append(now())
-
-
-def observe_settle(live):
-    """Wraps the add-on's settle() to timestamp it. Its timer looks the name up in the module when it fires, so the
-    wrapper is what runs."""
-    original = live.settle
-
-    def settle():
-        start = now()
-        written = original()
-        timeline.settles.append((start, now(), written))
-        return written
-
-    live.settle = settle
 
 
 def view3d():
@@ -187,19 +169,15 @@ class Cage:
 
 
 def result_mesh(obj, live):
-    """The mesh that Loop Subdivision's helper object carries: the result that settle() writes the normals into."""
+    """The mesh that Loop Subdivision's helper object carries: the result it writes the limit normals into."""
     stack = live.stack
     helper = getattr(stack, "helper_of", None) or stack.helper  # stack.helper before the add-on's 8dd1d21
     return helper(obj, stack.entry(obj), create=False).data
 
 
-def settle_pending(live):
-    return bpy.app.timers.is_registered(live._settle_timer)
-
-
 def quiet_since():
-    """When the main thread last drew, evaluated or settled."""
-    return max([0.0] + timeline.draws[-1:] + timeline.evaluations[-1:] + [s[1] for s in timeline.settles[-1:]])
+    """When the main thread last drew or evaluated."""
+    return max([0.0] + timeline.draws[-1:] + timeline.evaluations[-1:])
 
 
 # The measurement is a generator run by a timer: it yields how long to wait before it goes on, so that the event loop
@@ -214,9 +192,9 @@ def until(condition, timeout, poll=0.01):
     return True
 
 
-def until_idle(live):
+def until_idle():
     def idle():
-        return not settle_pending(live) and now() - quiet_since() > IDLE_SECONDS
+        return now() - quiet_since() > IDLE_SECONDS
     if not (yield from until(idle, WAIT_SECONDS)):
         raise RuntimeError(f"the interface did not become idle within {WAIT_SECONDS} s")
 
@@ -225,18 +203,6 @@ def until_drawn_after(t):
     if not (yield from until(lambda: Timeline.first_after(timeline.draws, t) is not None, WAIT_SECONDS)):
         raise RuntimeError("no viewport draw after an edit")
     return Timeline.first_after(timeline.draws, t)
-
-
-def until_settled_and_drawn(t):
-    """The first settle() that started after t and wrote, and the first draw after it ends (None when the viewport
-    does not redraw by itself within 3 s)."""
-    def settled():
-        return next((s for s in timeline.settles if s[0] > t and s[2]), None)
-    if not (yield from until(lambda: settled() is not None, WAIT_SECONDS)):
-        raise RuntimeError("settle() did not write after an edit")
-    settle = settled()
-    yield from until(lambda: Timeline.first_after(timeline.draws, settle[1]) is not None, 3.0)
-    return settle, Timeline.first_after(timeline.draws, settle[1])
 
 
 def longest_gap(start, end):
@@ -292,18 +258,17 @@ def measure(args, live):
     _, _, region = view3d()
 
     # Warm-up: the first edit builds Loop's plan and Blender's subdivision topology, which a drag does not repeat.
-    yield from until_idle(live)
+    yield from until_idle()
     t = now()
     cage.raise_patch(0.02)
     drawn = yield from until_drawn_after(t)
     result["warm_up_first_draw_ms"] = [1e3 * (drawn - t)]
     if loop:
-        yield from until_settled_and_drawn(t)
         # What the viewport draws is the object's evaluated mesh: the entry's output, not the cage.
         evaluated = cage.obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         result["evaluated_triangles"] = len(evaluated.polygons)
-        result["limit_normals_after_settle"] = result_mesh(cage.obj, live).has_custom_normals
-    yield from until_idle(live)
+        result["limit_normals_drawn"] = result_mesh(cage.obj, live).has_custom_normals
+    yield from until_idle()
     if args.screenshot:
         screenshot(args.screenshot)
     log("warm-up", {k: v for k, v in result.items() if "triangles" in k or "normals" in k or "warm" in k})
@@ -311,62 +276,46 @@ def measure(args, live):
     # A redraw with nothing changed, asked for as a click or a hover would.
     idle = []
     for _ in range(IDLE_REDRAWS):
-        yield from until_idle(live)
+        yield from until_idle()
         t = now()
         region.tag_redraw()
         idle.append((yield from until_drawn_after(t)) - t)
     result["idle_redraw_ms"] = [1e3 * x for x in idle]
 
     # One edit, then hands off.
-    first, final, evaluated, settle_ms, settle_block, redrawn, still, sample_draws = [], [], [], [], [], [], [], []
+    first, evaluated, still, sample_draws = [], [], [], []
     for i in range(args.repeat):
-        yield from until_idle(live)
+        yield from until_idle()
         t = now()
         cage.raise_patch(0.03 + 0.01 * (i % 2))
         drawn = yield from until_drawn_after(t)
         first.append(drawn - t)
         evaluated.append((Timeline.last_before(timeline.evaluations, drawn) or drawn) - t)
-        if loop:
-            settle, drawn_final = yield from until_settled_and_drawn(t)
-            settle_ms.append(settle[1] - settle[0])
-            # The whole block of the main thread around settle: its write, the evaluation and the draw after it.
-            settle_block.append(longest_gap(settle[0] - 0.05, (drawn_final or settle[1]) + 0.05)[0])
-            redrawn.append(drawn_final is not None)
-            final.append((drawn_final - t) if drawn_final is not None else None)
-        else:
-            final.append(drawn - t)
-        yield from until_idle(live)
+        yield from until_idle()
         draws = [d for d in timeline.draws if d > t]
         still.append(draws[-1] - t)
-        # Back-to-back redraws with no evaluation or settle between them: what one draw of the scene costs.
-        busy = timeline.evaluations + [x for s in timeline.settles for x in s[:2]]
-        sample_draws += [b - a for a, b in zip(draws, draws[1:]) if not any(a < x < b for x in busy)]
+        # Back-to-back redraws with no evaluation between them: what one draw of the scene costs.
+        sample_draws += [b - a for a, b in zip(draws, draws[1:])
+                         if not any(a < x < b for x in timeline.evaluations)]
     result["edit_first_draw_ms"] = [1e3 * x for x in first]
     result["edit_evaluated_ms"] = [1e3 * x for x in evaluated]
-    result["edit_final_shading_ms"] = [1e3 * x if x is not None else None for x in final]
     result["edit_still_ms"] = [1e3 * x for x in still]
     result["sample_draw_ms"] = [1e3 * x for x in sample_draws]
-    if loop:
-        result["settle_ms"] = [1e3 * x for x in settle_ms]
-        result["settle_block_ms"] = [1e3 * x for x in settle_block]
-        result["redrawn_after_settle"] = redrawn
-    log("edits", {k: v for k, v in result.items() if k.endswith("_ms") or k == "redrawn_after_settle"})
+    log("edits", {k: v for k, v in result.items() if k.endswith("_ms")})
 
     # Drags: 30 edits from this timer, 1/30 s apart, with a hold after the 15th.
     drags = result["drags"] = []
     for _ in range(args.repeat):
-        yield from until_idle(live)
-        settles_before = len(timeline.settles)
+        yield from until_idle()
         edits = []
         for k in range(DRAG_EDITS):
             edits.append(now())
             cage.raise_patch(0.15 * (k + 1) / DRAG_EDITS)
-            if now() - edits[0] > DRAG_BUDGET_SECONDS and (k >= DRAG_EDITS // 2 or not loop):
+            if now() - edits[0] > DRAG_BUDGET_SECONDS and k >= DRAG_EDITS // 2:
                 break
             yield HOLD_SECONDS if k == DRAG_EDITS // 2 - 1 else DRAG_INTERVAL
         end = yield from until_drawn_after(edits[-1])
         gap, gap_from, gap_to = longest_gap(edits[0], end)
-        settles = [s for s in timeline.settles[settles_before:] if s[0] < end and s[2]]
         latencies = []
         for k, t in enumerate(edits):
             drawn = Timeline.first_after(timeline.draws, t)
@@ -377,20 +326,16 @@ def measure(args, live):
             "edits": len(edits),
             "longest_stall_ms": 1e3 * gap,
             "longest_stall_at_ms": [1e3 * (gap_from - edits[0]), 1e3 * (gap_to - edits[0])],
-            "longest_stall_holds_settle": any(gap_from <= s[0] and s[1] <= gap_to for s in settles),
             "duration_ms": 1e3 * (end - edits[0]),
             "edit_draw_median_ms": 1e3 * statistics.median(latencies) if latencies else None,
-            # Each settle() that wrote during the drag: [ms after the edit before it, ms it took].
-            "settles": [[1e3 * (s[0] - Timeline.last_before(edits, s[0])), 1e3 * (s[1] - s[0])] for s in settles],
         }
         if len(edits) > DRAG_EDITS // 2:
             hold_from, hold_to = edits[DRAG_EDITS // 2 - 1], edits[DRAG_EDITS // 2]
             drag["hold_ms"] = 1e3 * (hold_to - hold_from)
-            drag["settle_in_hold"] = any(hold_from < s[0] < hold_to for s in settles)
             drag["edit_after_hold_first_draw_ms"] = 1e3 * (Timeline.first_after(timeline.draws, hold_to) - hold_to)
         drags.append(drag)
         log("drag", drag)
-    yield from until_idle(live)
+    yield from until_idle()
     result["load"].append(os.getloadavg()[0])
     with open(args.json, "w") as out:
         json.dump(result, out, indent=1)
@@ -405,7 +350,7 @@ def measure(args, live):
         t = now()
         region.tag_redraw()
         yield from until_drawn_after(t)
-        yield from until_idle(live)
+        yield from until_idle()
         screenshot(args.screenshot.replace(".png", "-wireframe.png"))
 
 
@@ -415,7 +360,6 @@ def main():
     bpy.context.preferences.view.show_splash = False
     package = support.load_addon()
     live = package.live
-    observe_settle(live)
     bpy.types.SpaceView3D.draw_handler_add(_on_draw, (), 'WINDOW', 'POST_PIXEL')
     bpy.app.handlers.depsgraph_update_post.append(_on_evaluated)
     bpy.app.timers.register(_probe, first_interval=PROBE_SECONDS)

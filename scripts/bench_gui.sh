@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Interactive latency in Blender's real interface (under Xvfb, Mesa's software OpenGL): edit -> first draw,
-# edit -> final shading (Loop Subdivision's limit normals, written once the result is still) and the longest stall of
-# the main thread during a 30 Hz drag with a hold, Loop Subdivision against Subdivision Surface (GPU subdivision on, as
+# Interactive latency in Blender's real interface (under Xvfb, Mesa's software OpenGL): edit -> first draw (with
+# Loop Subdivision's limit normals, written on every update) and the longest stall of the main thread during a 30 Hz
+# drag with a hold, Loop Subdivision against Subdivision Surface (GPU subdivision on, as
 # Blender's default, and off) on a 100,352-triangle cage. The add-on is loaded as users install it
 # (build/packaged-addon/). Prints a markdown table; what each number means is in scripts/bench_gui.py.
 # Usage: scripts/bench_gui.sh [--blender /usr/bin/blender] [--repeat N] [--levels 1,2] [--configs "loop subsurf-gpu"]

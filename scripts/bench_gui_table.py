@@ -52,36 +52,29 @@ def table(configs):
         f"{first['viewport_aa']} samples (defaults). Medians over {'/'.join(map(str, runs))} rounds, each "
         f"configuration in a fresh Blender, in ms.", "",
         "| Blender | modifier | level | triangles drawn | redraw, still / AA sample | edit → first draw | "
-        "edit → final shading | edit → viewport still | longest stall during drag | drag: edit → draw |",
-        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        "edit → viewport still | longest stall during drag | drag: edit → draw |",
+        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for c in configs:
         drags = c["drags"]
         lines.append(
             f"| {c['blender']} | {NAMES[c['kind']]} | {c['level']} | {c['drawn_triangles']:,} | "
             f"{ms(median(c['idle_redraw_ms']))} / {ms(median(c['sample_draw_ms']))} | "
-            f"{ms(median(c['edit_first_draw_ms']))} | {ms(median(c['edit_final_shading_ms']))} | "
+            f"{ms(median(c['edit_first_draw_ms']))} | "
             f"{ms(median(c['edit_still_ms']))} | {ms(median([d['longest_stall_ms'] for d in drags]))} | "
             f"{ms(median([d['edit_draw_median_ms'] for d in drags]))} |")
     lines += [
-        "", "Details (medians; settle is Loop Subdivision's write of the limit normals, addon/live.py; a drag stops "
-        "once past its hold and 60 s, Subdivision Surface's once past 60 s).", "",
-        "| modifier | level | first edit (warm-up) → draw | edit → evaluated | settle: write / stall | "
-        "drag: edits / length | settles during a drag | drags with a settle in the hold | "
-        "longest stall holds a settle | edit after the hold → draw |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        "", "Details (medians; a drag stops once past its hold and 60 s).", "",
+        "| modifier | level | first edit (warm-up) → draw | edit → evaluated | drag: edits / length | "
+        "edit after the hold → draw |",
+        "| --- | ---: | ---: | ---: | ---: | ---: |"]
     for c in configs:
         drags = c["drags"]
         held = [d for d in drags if "hold_ms" in d]
-        loop = c["kind"] == "loop"
         lines.append(
             f"| {SHORT[c['kind']]} | {c['level']} | {ms(median(c['warm_up_first_draw_ms']))} | "
             f"{ms(median(c['edit_evaluated_ms']))} | "
-            + (f"{ms(median(c['settle_ms']))} / {ms(median(c['settle_block_ms']))} | " if loop else "- | ")
-            + f"{median([d['edits'] for d in drags]):.0f} / {ms(median([d['duration_ms'] for d in drags]))} | "
-            + (f"{median([len(d['settles']) for d in drags]):.0f} | "
-               f"{sum(d['settle_in_hold'] for d in held)} of {len(held)} | "
-               f"{sum(d['longest_stall_holds_settle'] for d in drags)} of {len(drags)} | " if loop else "- | - | - | ")
-            + f"{ms(median([d['edit_after_hold_first_draw_ms'] for d in held]))} |")
+            f"{median([d['edits'] for d in drags]):.0f} / {ms(median([d['duration_ms'] for d in drags]))} | "
+            f"{ms(median([d['edit_after_hold_first_draw_ms'] for d in held]))} |")
     return "\n".join(lines)
 
 

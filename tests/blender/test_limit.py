@@ -163,7 +163,6 @@ def flat_faces():
     twin = support.copy_object(obj, "HalfFlat live")
     support.select_only(twin)
     bpy.ops.object.loop_subdivision_add(levels=2, rules='OPENSUBDIV')
-    addon.live.settle()
     shown = twin.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     shown_smooth = support.read_array(shown.polygons, "use_smooth", dtype=bool)
     shown_normals = corner_normals(shown)
@@ -183,7 +182,7 @@ def flat_faces():
           f"flat faces shade with their face normals (within {flat_error:.1e}), smooth ones with the limit normals "
           f"(within {smooth_error:.1e})")
     live_error = np.abs(shown_normals - normals).max()
-    check(live_error < 1e-6, f"the settled modifier shows Apply's normals (within {live_error:.1e})")
+    check(live_error < 1e-6, f"the modifier shows Apply's normals (within {live_error:.1e})")
     check("flat" not in output and "shaded smooth" not in output, "no note about shading")
     for other in (obj, twin, subsurf):
         support.remove(other)
@@ -314,7 +313,7 @@ def suzanne():
 # --- the modifier ---------------------------------------------------------------------------------------------------
 
 def modifier_settings():
-    """The live entry honours both settings: each change builds a new plan and shows what Apply writes (once still)."""
+    """The live entry honours both settings: each change builds a new plan and shows what Apply writes."""
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
@@ -325,7 +324,6 @@ def modifier_settings():
     for name, value in (("use_limit_surface", False), ("uv_smooth", 'SMOOTH_ALL'), ("use_limit_surface", True)):
         builds = addon.live.cache_of(obj).plan_builds
         setattr(settings, name, value)
-        addon.live.settle()  # the limit normals, as a still viewport shows them (test_viewport_normals: before it)
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
                  mesh.has_custom_normals)

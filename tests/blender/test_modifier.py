@@ -223,7 +223,6 @@ def uv_edits():
     add_entry(obj)
 
     def shown_and_applied():
-        addon.live.settle()  # the limit normals, as a still viewport shows them (test_viewport_normals: before it)
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
                  support.read_array(mesh.attributes["Paint"].data, "color", 4), corner_normals(mesh))

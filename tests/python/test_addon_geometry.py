@@ -187,6 +187,36 @@ def test_shared_vertex_normals():
     assert geometry.shared_vertex_normals(triangles, split, 5) is None
 
 
+def _grid_triangles(cuts):
+    """A flat grid of cuts x cuts squares, two triangles each: ((cuts + 1)^2, 3) positions and its triangles."""
+    side = cuts + 1
+    positions = np.array([(x, y, 0.0) for y in range(side) for x in range(side)], np.float32)
+    corners = np.array([y * side + x for y in range(cuts) for x in range(cuts)], np.int32)
+    triangles = np.concatenate([np.stack([corners, corners + 1, corners + side + 1], axis=1),
+                                np.stack([corners, corners + side + 1, corners + side], axis=1)])
+    return positions, triangles
+
+
+def test_shared_vertex_rows_give_the_per_corner_limit_normals_of_an_open_grid():
+    positions, triangles = _grid_triangles(4)
+    positions[:, 2] = 0.2 * np.sin(positions[:, 0]) * np.cos(positions[:, 1])
+    plan = _loopsub.Plan(triangles, len(positions), 2, rules="opensubdiv", limit_surface=True)
+    _, compact = plan.evaluate_with_limit_normals(positions)
+    _, per_corner = plan.evaluate_with_normals(positions)
+    assert plan.num_limit_normals > plan.num_output_vertices  # the boundary's vertices take their side's row
+    rows = geometry.shared_vertex_rows(plan.triangles, plan.corner_normal_indices, plan.num_output_vertices)
+    assert rows is not None and np.array_equal(compact[rows][plan.triangles], per_corner)
+
+
+def test_shared_vertex_rows_refuse_a_split_fan():
+    positions, triangles = _grid_triangles(4)
+    middle = np.flatnonzero(positions[:, 0] == 2)
+    plan = _loopsub.Plan(triangles, len(positions), 1, rules="opensubdiv", limit_surface=True,
+                         crease_edges=np.stack([middle[:-1], middle[1:]], axis=1).astype(np.int32),
+                         crease_sharpness=np.full(len(middle) - 1, 10.0, np.float32))
+    assert geometry.shared_vertex_rows(plan.triangles, plan.corner_normal_indices, plan.num_output_vertices) is None
+
+
 def test_every_choice_names_an_option_of_the_core():
     core = _loopsub.option_names()
     for keyword, setting in (("rules", "rules"), ("boundary", "boundary"), ("uv_interpolation", "uv_smooth")):
