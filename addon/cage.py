@@ -158,13 +158,9 @@ class Refined:
         return self.normals[self.normal_indices]
 
     def vertex_normals(self):
-        """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no side
-        splits a fan; a boundary vertex's corners all take its one side's); else None."""
-        num_vertices = len(self.vertex)
-        if len(self.normals) == num_vertices:
-            return self.normals  # no sides at all
-        rows = geometry.shared_vertex_rows(self.triangles, self.normal_indices, num_vertices)
-        return None if rows is None else self.normals[rows]
+        """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no crease
+        splits a fan: the core then gives one normal per vertex, a boundary vertex's its one side's); else None."""
+        return self.normals if len(self.normals) == len(self.vertex) else None
 
 
 class _Channels:

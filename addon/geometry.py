@@ -171,17 +171,6 @@ def shared_vertex_normals(triangles, corner_normals, num_vertices):
     return shared if np.array_equal(shared[vertices], normals) else None
 
 
-def shared_vertex_rows(triangles, corner_rows, num_vertices):
-    """The row of each vertex, (V,), when every corner of every vertex takes the same row of a table (the limit
-    normals' Plan.corner_normal_indices: a boundary vertex's corners all take its one side's row); None when some
-    vertex has corners on different rows (a crease splits its fan). Vertices in no triangle get row 0."""
-    vertices = np.asarray(triangles).reshape(-1)
-    rows = np.asarray(corner_rows).reshape(-1)
-    shared = np.zeros(num_vertices, dtype=rows.dtype)
-    shared[vertices] = rows
-    return shared if np.array_equal(shared[vertices], rows) else None
-
-
 def triangle_normals(positions, triangles):
     """(T, 3) float32 unit normals of triangles (T, 3) of positions (V, 3), counter-clockwise facing out, as Blender's
     face normals (zero for a degenerate triangle)."""

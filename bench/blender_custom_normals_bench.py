@@ -9,11 +9,19 @@ those written (tangent space stores them as 16-bit integers in each corner's nor
     blender --background --factory-startup --python bench/blender_custom_normals_bench.py
     build/bpy-5.2/bin/python tests/blender/run_in_bpy.py bench/blender_custom_normals_bench.py
 """
+import importlib.util
+import os
 import time
 
 import bmesh
 import bpy
 import numpy as np
+
+# The add-on's version differences (its compat.py needs nothing else of the add-on).
+_spec = importlib.util.spec_from_file_location(
+    "compat", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "addon", "compat.py"))
+compat = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(compat)
 
 bm = bmesh.new()
 bmesh.ops.create_grid(bm, x_segments=448, y_segments=448, size=1.0)
@@ -22,9 +30,7 @@ mesh = bpy.data.meshes.new("Grid")
 bm.to_mesh(mesh)
 bm.free()
 mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
-if hasattr(mesh, "use_auto_smooth"):  # up to 4.0 custom normals show only with Auto Smooth
-    mesh.use_auto_smooth = True
-    mesh.auto_smooth_angle = np.pi
+compat.shade_sharp_edges(mesh)  # up to 4.0 custom normals show only with Auto Smooth
 obj = bpy.data.objects.new("Grid", mesh)
 bpy.context.scene.collection.objects.link(obj)
 num_vertices, num_corners = len(mesh.vertices), len(mesh.loops)
@@ -39,17 +45,10 @@ corner_normals = np.ascontiguousarray(vertex_normals[corner_vertices])
 
 
 def shown_normals():
-    """The evaluated mesh's corner normals: Mesh.corner_normals from 4.1, calc_normals_split before."""
+    """The evaluated mesh's corner normals (compat.read_corner_normals)."""
     depsgraph = bpy.context.evaluated_depsgraph_get()
     depsgraph.update()
-    evaluated = obj.evaluated_get(depsgraph).data
-    values = np.empty(num_corners * 3, dtype=np.float32)
-    if bpy.app.version >= (4, 1, 0):
-        evaluated.corner_normals.foreach_get("vector", values)
-    else:
-        evaluated.calc_normals_split()
-        evaluated.loops.foreach_get("normal", values)
-    return values.reshape(-1, 3)
+    return compat.read_corner_normals(obj.evaluated_get(depsgraph).data)
 
 
 def best_ms(function, repeat=3):

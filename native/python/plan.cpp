@@ -321,8 +321,9 @@ Returns
 tuple of numpy.ndarray
     ``(positions, normals)``: limit positions (N_out, C) and the limit normals (num_limit_normals, 3): row v is
     vertex v's normal, rows from N_out on the normals of the sides of vertices whose fan infinitely sharp edges
-    split. ``normals[corner_normal_indices]`` is ``evaluate_with_normals``' per-corner array, bit for bit. A vertex
-    whose corners all take sides' normals has a zero row of its own.
+    split into two sides or more (a vertex of one side, an open fan as at a boundary, has that side's normal as
+    its own). ``normals[corner_normal_indices]`` is ``evaluate_with_normals``' per-corner array, bit for bit. A
+    vertex of a split fan has a zero row of its own.
 )doc";
 
 constexpr const char* kFaceVaryingDoc = R"doc(evaluate_face_varying(values, out=None, *, layer=None)

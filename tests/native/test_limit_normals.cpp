@@ -4,6 +4,7 @@
 // differ.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <set>
@@ -127,6 +128,34 @@ TEST(CompactLimitNormals, LeaveTheLimitPointsAsTheyAreInEveryKernel) {
                     ASSERT_NEAR(normals[i], reference[i], 1e-5) << "component " << i;
             }
         }
+}
+
+// A fan that sharp edges leave whole (open at a boundary) is one side, whose normal is its vertex's own: an open mesh
+// without creases has one normal per vertex, every corner taking its vertex's; unit ones, the boundary's too.
+TEST(CompactLimitNormals, AnOpenFanIsItsVertexsOwnRow) {
+    for (int levels = 0; levels <= 2; ++levels) {
+        SCOPED_TRACE("levels " + std::to_string(levels));
+        const TestMesh mesh = grid(5, 4);
+        Plan plan(mesh.view(), limit_options(Rules::OpenSubdiv, levels));
+        ASSERT_EQ(plan.num_limit_normals(), plan.num_output_vertices());
+        const std::int32_t* index = plan.corner_normal_indices();
+        for (int k = 0; k < 3 * plan.num_output_triangles(); ++k)
+            ASSERT_EQ(index[k], plan.output_triangles()[k]) << "corner " << k;
+        std::vector<float> out(3 * std::size_t(plan.num_output_vertices())), normals(out.size());
+        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
+                      Plan::LimitNormals{normals.data()});
+        for (std::size_t v = 0; v < normals.size() / 3; ++v) {
+            const float length = std::sqrt(normals[3 * v] * normals[3 * v] + normals[3 * v + 1] * normals[3 * v + 1] +
+                                           normals[3 * v + 2] * normals[3 * v + 2]);
+            ASSERT_NEAR(length, 1.0f, 1e-5) << "vertex " << v;
+        }
+    }
+    // A crease through the middle splits its vertices' fans: they keep rows of their own per side.
+    for (const Case& c : cases()) {
+        if (c.name.find("sharp creases") == std::string::npos) continue;
+        Plan plan(c.mesh.view(), limit_options(c.rules, 1));
+        EXPECT_GT(plan.num_limit_normals(), plan.num_output_vertices()) << c.name;
+    }
 }
 
 // Only infinitely sharp edges (creases, boundaries, non-manifold edges) part a vertex's corners: a vertex on none of

@@ -197,24 +197,23 @@ def _grid_triangles(cuts):
     return positions, triangles
 
 
-def test_shared_vertex_rows_give_the_per_corner_limit_normals_of_an_open_grid():
+def test_an_open_grid_has_one_limit_normal_per_vertex_and_a_crease_splits_them():
+    """What Source.vertex_normals relies on: without a crease every corner takes its vertex's row (a boundary
+    vertex's fan is one side, whose normal is its own), and the rows are the per-corner normals; a crease through the
+    grid gives its vertices rows per side."""
     positions, triangles = _grid_triangles(4)
     positions[:, 2] = 0.2 * np.sin(positions[:, 0]) * np.cos(positions[:, 1])
     plan = _loopsub.Plan(triangles, len(positions), 2, rules="opensubdiv", limit_surface=True)
     _, compact = plan.evaluate_with_limit_normals(positions)
     _, per_corner = plan.evaluate_with_normals(positions)
-    assert plan.num_limit_normals > plan.num_output_vertices  # the boundary's vertices take their side's row
-    rows = geometry.shared_vertex_rows(plan.triangles, plan.corner_normal_indices, plan.num_output_vertices)
-    assert rows is not None and np.array_equal(compact[rows][plan.triangles], per_corner)
-
-
-def test_shared_vertex_rows_refuse_a_split_fan():
-    positions, triangles = _grid_triangles(4)
+    assert plan.num_limit_normals == plan.num_output_vertices
+    assert np.array_equal(plan.corner_normal_indices, plan.triangles)
+    assert np.array_equal(compact[plan.triangles], per_corner)
     middle = np.flatnonzero(positions[:, 0] == 2)
-    plan = _loopsub.Plan(triangles, len(positions), 1, rules="opensubdiv", limit_surface=True,
-                         crease_edges=np.stack([middle[:-1], middle[1:]], axis=1).astype(np.int32),
-                         crease_sharpness=np.full(len(middle) - 1, 10.0, np.float32))
-    assert geometry.shared_vertex_rows(plan.triangles, plan.corner_normal_indices, plan.num_output_vertices) is None
+    creased = _loopsub.Plan(triangles, len(positions), 1, rules="opensubdiv", limit_surface=True,
+                            crease_edges=np.stack([middle[:-1], middle[1:]], axis=1).astype(np.int32),
+                            crease_sharpness=np.full(len(middle) - 1, 10.0, np.float32))
+    assert creased.num_limit_normals > creased.num_output_vertices
 
 
 def test_every_choice_names_an_option_of_the_core():

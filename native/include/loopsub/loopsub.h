@@ -266,12 +266,14 @@ public:
 
     // The limit normals in compact form, for Options::limit_surface plans (std::logic_error otherwise): one normal
     // per output vertex, then one per side of each vertex whose fan infinitely sharp edges (creases, corners,
-    // boundaries, non-manifold edges) split; a corner takes its vertex's or its side's. num_limit_normals() is
-    // num_output_vertices() plus the number of sides. corner_normal_indices() gives, per corner of each output
-    // triangle (3 * num_output_triangles()), the index of its normal: v for vertex v's own, num_output_vertices() + s
-    // for side s. Both are the plan's, the same for every evaluation: the corners of a vertex share an index exactly
-    // where no such edge parts them. A vertex whose corners all take their sides' normals has a zero vector as its own.
-    // The indices are made on their first request (safe from several threads) and kept with the plan.
+    // boundaries, non-manifold edges) split into two sides or more; a corner takes its vertex's or its side's. A
+    // vertex of one side only (an open fan, as at a boundary) has that side's normal as its own. num_limit_normals()
+    // is num_output_vertices() plus the number of sides of split fans. corner_normal_indices() gives, per corner of
+    // each output triangle (3 * num_output_triangles()), the index of its normal: v for vertex v's own,
+    // num_output_vertices() + s for the s-th side of a split fan. Both are the plan's, the same for every evaluation:
+    // the corners of a vertex share an index exactly where no such edge parts them, and num_limit_normals() equals
+    // num_output_vertices() exactly where no fan is split. A vertex of a split fan has a zero vector as its own. The
+    // indices are made on their first request (safe from several threads) and kept with the plan.
     int num_limit_normals() const;
     const std::int32_t* corner_normal_indices() const;
     // Per output edge (in output_edges' numbering, num_output_edges() values, so for the plans output_edges serves),

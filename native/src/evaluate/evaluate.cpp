@@ -87,8 +87,7 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
         [&](int pass, int part, int parts) {
             if (pass == n) {  // the sides' normals, from the last level's points
                 const auto [begin, end] = detail::part_of(int(limit->sides.size()), part, parts);
-                float* side_normals = normals + 3 * std::size_t(limit->positions.num_vertices);
-                return detail::side_normals(*limit, sources[n - 1], side_normals, {begin, end});
+                return detail::side_normals(*limit, sources[n - 1], normals, {begin, end});
             }
             const detail::LevelStencils& s = *passes[pass];
             // Small levels are not worth splitting.
@@ -219,7 +218,6 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     if (p.num_input_vertices == 0) return;
     // Each corner its vertex's normal, then the corners on sides their side's, in the same part of the corner range.
     const std::vector<std::pair<Index, Index>>& corner_sides = p.limit->corner_sides;
-    const std::size_t side_base = std::size_t(num_output_vertices());
     run_levels(std::max(1, p.options.threads), 1, [&](int, int part, int parts) {
         const auto [begin, end] = detail::part_of(p.output_triangles.size(), part, parts);
         for (std::size_t c = begin; c < end; ++c) {
@@ -229,7 +227,7 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
         const auto first =
             std::lower_bound(corner_sides.begin(), corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
         for (auto it = first; it != corner_sides.end() && std::size_t(it->first) < end; ++it) {
-            const float* n = &normals[3 * (side_base + std::size_t(it->second))];
+            const float* n = &normals[3 * std::size_t(it->second)];
             const std::size_t c = std::size_t(it->first);
             corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
         }

@@ -52,7 +52,7 @@ void refine_fans_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsV
 // The limit stage of a frame (Options::limit_surface) over last-level vertices [vertices.begin, vertices.end) of the
 // last level's points `in`: their limit points, every channel (the masks of LimitTables::positions, specials
 // included), and, where `normals` is not null, from the first three channels their normals as rows of three at
-// normals + 3 v (limit_normals.h: a vertex's own, or zero where its corners take their sides'). The SIMD kernels take
+// normals + 3 v (limit_normals.h: a vertex's own, or zero where its normals are its sides'). The SIMD kernels take
 // the normals of smooth disk fans from the loads of their limit points (kernels_limit.h).
 using LimitFn = void (*)(const LimitTables& tables, ChannelsView<const float> in, ChannelsView<float> out,
                          float* normals, Range vertices);

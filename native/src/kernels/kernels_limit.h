@@ -23,7 +23,7 @@ namespace loopsub::detail {
 namespace {
 
 // The positions quad (the first) of vertices [vertices.begin, vertices.end) with their normals, rows of three at
-// `normals`: zero for a vertex whose corners take their sides' normals. vertex(self, ring_sum, w_self, w_ring) is the
+// `normals`: zero for a vertex whose normals are its sides'. vertex(self, ring_sum, w_self, w_ring) is the
 // instruction set's smooth vertex mask, multiply_add(w, d, sum) its step of a tangent's sum, unit_normals(t1, t2,
 // normals) its normals of four tangent pairs.
 template <std::size_t Step, typename Out, typename Vertex, typename MultiplyAdd, typename UnitNormals>

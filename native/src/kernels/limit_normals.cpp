@@ -50,30 +50,35 @@ struct NormalBatch {
         y[i] = double(t.t1[2]) * t.t2[0] - double(t.t1[0]) * t.t2[2];
         z[i] = double(t.t1[0]) * t.t2[1] - double(t.t1[1]) * t.t2[0];
     }
-    void store(int count, float* to) {
+    // Normal i to normals + 3 * row_of(i).
+    template <typename RowOf>
+    void store(int count, float* normals, RowOf row_of) {
         for (int i = 0; i < count; ++i) {
             const double length = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
             // The tangents are finite (their weights sum to at most one in magnitude: plan/limit.cpp), so is their
             // cross product in double: where the length is zero, so are x, y and z.
             const double reciprocal = 1.0 / length;
             const double inverse = length > 0.0 ? reciprocal : 0.0;
-            to[3 * i] = float(x[i] * inverse);
-            to[3 * i + 1] = float(y[i] * inverse);
-            to[3 * i + 2] = float(z[i] * inverse);
+            float* to = normals + 3 * std::size_t(row_of(i));
+            to[0] = float(x[i] * inverse);
+            to[1] = float(y[i] * inverse);
+            to[2] = float(z[i] * inverse);
         }
     }
 };
 
-// Normals of items [begin, end) in batches: tangents_of(i) gives item i's, written at out + 3 (i - begin).
-template <typename TangentsOf>
-void normals_in_batches(std::size_t begin, std::size_t end, TangentsOf tangents_of, float* out) {
+// Normals of items [begin, end) in batches: tangents_of(i) gives item i's, written at normals + 3 * row_of(i).
+template <typename TangentsOf, typename RowOf>
+void normals_in_batches(std::size_t begin, std::size_t end, TangentsOf tangents_of, float* normals, RowOf row_of) {
     NormalBatch batch;
     for (std::size_t first = begin; first < end; first += NormalBatch::kSize) {
         const int count = int(std::min<std::size_t>(NormalBatch::kSize, end - first));
         for (int i = 0; i < count; ++i) batch.put(i, tangents_of(first + std::size_t(i)));
-        batch.store(count, out + 3 * (first - begin));
+        batch.store(count, normals, [&](int i) { return row_of(first + std::size_t(i)); });
     }
 }
+
+constexpr auto itself = [](std::size_t v) { return v; };
 
 // The vertices of [vertices) with tangent weights of their own: (vertex, first weight), in vertex order.
 std::pair<const std::pair<Index, Index>*, const std::pair<Index, Index>*> own_in(const LimitTables& lt,
@@ -102,7 +107,7 @@ void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> i
     normals_in_batches(
         std::size_t(vertices.begin), std::size_t(vertices.end),
         [&](std::size_t v) {
-            if (lt.by_side[v]) return Tangents();  // zero: its corners take their sides' normals
+            if (lt.by_side[v]) return Tangents();  // zero: its normals are its sides' (side_normals)
             if (own != own_end && std::size_t(own->first) == v) return own_vertex_tangents(lt, in, *own++);
             const Index first = s.ring_offsets[v];
             const int valence = s.ring_offsets[v + 1] - first;
@@ -110,7 +115,7 @@ void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> i
             return Tangents(in, Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(),
                             lt.smooth_t2[valence].data());
         },
-        normals + 3 * std::size_t(vertices.begin));
+        normals, itself);
 }
 
 void own_vertex_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices) {
@@ -118,11 +123,11 @@ void own_vertex_normals(const LimitTables& lt, ChannelsView<const float> in, flo
     for (const auto* it = own; it != own_end; ++it) {  // never a vertex by sides (PlanBuilder::pull_back_spent)
         const std::size_t v = std::size_t(it->first);
         normals_in_batches(
-            v, v + 1, [&](std::size_t) { return own_vertex_tangents(lt, in, *it); }, normals + 3 * v);
+            v, v + 1, [&](std::size_t) { return own_vertex_tangents(lt, in, *it); }, normals, itself);
     }
 }
 
-void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* side_normals, Range sides) {
+void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range sides) {
     normals_in_batches(
         std::size_t(sides.begin), std::size_t(sides.end),
         [&](std::size_t i) {
@@ -137,7 +142,7 @@ void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* si
             return Tangents(in, side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
                             lt.side_t2[side.faces].data() + 1);
         },
-        side_normals + 3 * std::size_t(sides.begin));
+        normals, [&lt](std::size_t i) { return lt.sides[i].row; });
 }
 
 }  // namespace loopsub::detail

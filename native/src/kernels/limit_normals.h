@@ -16,15 +16,15 @@
 namespace loopsub::detail {
 
 // The normals of last-level vertices [vertices.begin, vertices.end) from the last level's points `in` (their first
-// three channels, an element's channels side by side): a vertex with a smooth disk fan its own, one whose corners take
-// their sides' normals a zero vector. The scalar kernel's.
+// three channels, an element's channels side by side): a vertex with a smooth disk fan its own, one whose normals are
+// its sides' a zero vector (side_normals writes an only side's there). The scalar kernel's.
 void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices);
 
 // Of those, the vertices with tangent weights of their own (LimitTables::own_vertex_tangents): their normals, written
 // over what a SIMD kernel's smooth normals put there.
 void own_vertex_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices);
 
-// The normals of sides [sides.begin, sides.end) (LimitTables::sides), side i's at side_normals + 3 i.
-void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* side_normals, Range sides);
+// The normals of sides [sides.begin, sides.end) (LimitTables::sides), each at normals + 3 * its row.
+void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range sides);
 
 }  // namespace loopsub::detail

@@ -214,18 +214,20 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             }
         }
         placed.assign(n, 0);
+        const std::size_t first_side = lt.sides.size(), first_corner = lt.corner_sides.size();
         auto add_side = [&](int start, bool closed) {
-            const Index side = Index(lt.sides.size());
+            const Index row = nv + lt.num_side_rows++;
             LimitTables::Side& entry = lt.sides.emplace_back();
             entry.vertex = fan[start].vertex;
             entry.first = Index(lt.side_points.size());
             entry.closed = closed;
             entry.own = -1;
+            entry.row = row;
             int faces = 0, i = start, last = start;
             do {
                 placed[i] = 1;
                 lt.side_points.push_back(fan[i].a);
-                lt.corner_sides.push_back({fan[i].corner, side});
+                lt.corner_sides.push_back({fan[i].corner, row});
                 ++faces;
                 last = i;
                 i = next[i];
@@ -237,6 +239,11 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             if (previous[i] < 0) add_side(i, false);
         for (int i = 0; i < n; ++i)
             if (!placed[i]) add_side(i, true);
+        if (lt.sides.size() == first_side + 1) {  // the vertex's only side: its normal is the vertex's own
+            lt.sides.back().row = lt.sides.back().vertex;
+            --lt.num_side_rows;
+            lt.corner_sides.resize(first_corner);
+        }
         begin = end;
     }
     std::sort(lt.corner_sides.begin(), lt.corner_sides.end());

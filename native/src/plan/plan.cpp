@@ -42,7 +42,7 @@ const detail::LimitTables& limit_tables(const PlanImpl& p, const char* what) {
 }  // namespace
 
 int Plan::num_limit_normals() const {
-    return num_output_vertices() + int(limit_tables(*impl_, "num_limit_normals").sides.size());
+    return num_output_vertices() + limit_tables(*impl_, "num_limit_normals").num_side_rows;
 }
 const std::int32_t* Plan::corner_normal_indices() const {
     const PlanImpl& p = *impl_;
@@ -50,8 +50,7 @@ const std::int32_t* Plan::corner_normal_indices() const {
     detail::LargeVector<Index>& indices = p.copies.corner_normals;
     std::call_once(p.copies.corner_normals_ready, [&] {
         indices.assign(p.output_triangles.begin(), p.output_triangles.end());
-        const Index nv = p.level_num_vertices.back();
-        for (const auto& [corner, side] : lt.corner_sides) indices[std::size_t(corner)] = nv + side;
+        for (const auto& [corner, row] : lt.corner_sides) indices[std::size_t(corner)] = row;
     });
     return indices.data();
 }

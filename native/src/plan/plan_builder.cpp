@@ -526,8 +526,8 @@ void PlanBuilder::drop_holes() {
     for (FaceVaryingPlan& layer : plan_.face_varying) compact(layer.output_corner_values);
     if (plan_.limit) {
         std::vector<std::pair<Index, Index>> kept_sides;
-        for (const auto& [corner, side] : plan_.limit->corner_sides)
-            if (renumbered[corner / 3] >= 0) kept_sides.push_back({3 * renumbered[corner / 3] + corner % 3, side});
+        for (const auto& [corner, row] : plan_.limit->corner_sides)
+            if (renumbered[corner / 3] >= 0) kept_sides.push_back({3 * renumbered[corner / 3] + corner % 3, row});
         plan_.limit->corner_sides = std::move(kept_sides);
     }
 }

@@ -15,21 +15,26 @@ struct LimitTables {
     // Limit positions: the kernels' vertex masks (num_edges == 0). Where a vertex's fan is a disk of smooth edges
     // its ring is in counter-clockwise order, as the smooth tangent masks read it.
     LevelStencils positions;
-    // Vertices whose corners take the normal of their side of a crease (crease and corner rules, or a fan that is
-    // not a disk): 1 per such vertex.
+    // Vertices whose normals are their sides' (crease and corner rules, boundaries, or a fan that is not a disk): 1
+    // per such vertex.
     std::vector<std::uint8_t> by_side;
     // A side: `faces` faces counter-clockwise around `vertex`, through points side_points[first ..]: faces + 1 of
-    // them from the leading to the trailing sharp edge, or `faces` of them for a closed fan.
+    // them from the leading to the trailing sharp edge, or `faces` of them for a closed fan. Its normal goes to row
+    // `row` of the compact normals (Plan::LimitNormals): its vertex's own where it is the vertex's only side (an open
+    // fan, as at a boundary: nothing parts it), else a row of its own past the vertices'.
     struct Side {
         Index vertex, first;
         int faces;
         bool closed;
         Index own;  // where its tangent weights are its own (own_t1 / _t2, one per point), else -1
+        Index row;
     };
     std::vector<Side> sides;
     std::vector<Index> side_points;
-    // The corners that take a side's normal: (output corner 3 t + k, side), sorted by corner. The others take their
-    // vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first request).
+    int num_side_rows = 0;  // the sides with rows of their own
+    // The corners that take a side's row of its own: (output corner 3 t + k, row), sorted by corner. The others take
+    // their vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first
+    // request).
     std::vector<std::pair<Index, Index>> corner_sides;
     // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
     std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
