@@ -483,28 +483,8 @@ void bind_plan(py::module_& m) {
                 return plan_view(p.plan.corner_normal_indices(), {p.plan.num_output_triangles(), 3}, self);
             },
             "(M_out, 3) int32, read-only view: at each corner of each output triangle, the row of its normal in "
-            "evaluate_with_limit_normals' normals (v: vertex v's own; N_out + s: side s). The same for every "
+            "evaluate_with_limit_normals' normals (v: vertex v's own; N_out + s: side s of a split fan). The same for every "
             "evaluation. ValueError without limit_surface.")
-        .def(
-            "limit_normal_split_edges",
-            [](PyPlan& p) {
-                require_limit(p, "limit_normal_split_edges");
-                int num_edges = 0;
-                try {
-                    num_edges = p.plan.num_output_edges();
-                } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
-                py::array_t<bool> split(py::ssize_t{num_edges});
-                static_assert(sizeof(bool) == 1, "bool arrays are written as bytes");
-                std::uint8_t* out = reinterpret_cast<std::uint8_t*>(split.mutable_data());
-                {
-                    py::gil_scoped_release nogil;
-                    p.plan.limit_normal_split_edges(out);
-                }
-                return split;
-            },
-            "limit_normal_split_edges()\n\n(E_out,) bool, new: per output edge in output_edges' numbering, whether the "
-            "limit normals split across it (its two faces give one of its ends different normals, for any positions). "
-            "ValueError without limit_surface, for a plan of no levels or with holes.")
         .def("evaluate_face_varying", &evaluate_face_varying, kFaceVaryingDoc, py::arg("values"),
              py::arg("out") = py::none(), py::kw_only(), py::arg("layer") = py::none())
         .def(

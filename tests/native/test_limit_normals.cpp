@@ -1,7 +1,6 @@
-// The compact limit normals (Plan::num_limit_normals, corner_normal_indices, evaluate with LimitNormals) and the
-// edges they split (limit_normal_split_edges), checked against the per-corner normals: gathered by the indices they
-// are those normals bit for bit, and the split edges are those across which per-corner normals of random positions
-// differ.
+// The compact limit normals (Plan::num_limit_normals, corner_normal_indices, evaluate with LimitNormals), checked
+// against the per-corner normals: gathered by the indices they are those normals bit for bit, and the indices at an
+// edge's end differ exactly where the per-corner normals of random positions do.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -186,9 +185,9 @@ TEST(CompactLimitNormals, CornersOfAVertexOnNoSharpEdgeShareAnIndex) {
     }
 }
 
-// The split edges, found independently: per-corner normals of random positions, compared across each edge's two
-// faces at each of its ends (generic positions give each side a normal of its own).
-TEST(CompactLimitNormals, SplitEdgesAreWherePerCornerNormalsOfRandomPositionsDiffer) {
+// Where the normals split, found independently: per-corner normals of random positions, compared across each edge's
+// two faces at each of its ends (generic positions give each side a normal of its own), against the indices there.
+TEST(CompactLimitNormals, IndicesDifferAtAnEdgeWherePerCornerNormalsOfRandomPositionsDo) {
     for (const Case& c : cases())
         for (int levels = 1; levels <= 2; ++levels) {
             SCOPED_TRACE(c.name + ", levels " + std::to_string(levels));
@@ -201,27 +200,27 @@ TEST(CompactLimitNormals, SplitEdgesAreWherePerCornerNormalsOfRandomPositionsDif
             std::vector<std::int32_t> ends(2 * std::size_t(num_edges)),
                 triangle_edges(3 * std::size_t(plan.num_output_triangles()));
             plan.output_edges(ends.data(), triangle_edges.data());
-            // Per (edge, vertex), the normals of the corners there.
+            // Per (edge, vertex), the normals of the corners there, and their indices.
             std::vector<std::set<std::vector<float>>> at_end(2 * std::size_t(num_edges));
+            std::vector<std::set<std::int32_t>> indices_at_end(2 * std::size_t(num_edges));
             const std::int32_t* triangles = plan.output_triangles();
+            const std::int32_t* index = plan.corner_normal_indices();
             for (std::size_t t = 0; t < triangle_edges.size() / 3; ++t)
                 for (int k = 0; k < 3; ++k) {
                     const std::size_t e = std::size_t(triangle_edges[3 * t + k]);
                     for (int corner : {k, (k + 1) % 3}) {
-                        const std::size_t c3 = 3 * (3 * t + std::size_t(corner));
-                        const int v = triangles[3 * t + std::size_t(corner)];
-                        at_end[2 * e + (v == ends[2 * e + 1] ? 1 : 0)].insert(
-                            {normals[c3], normals[c3 + 1], normals[c3 + 2]});
+                        const std::size_t c = 3 * t + std::size_t(corner);
+                        const std::size_t end = 2 * e + (triangles[c] == ends[2 * e + 1] ? 1 : 0);
+                        at_end[end].insert({normals[3 * c], normals[3 * c + 1], normals[3 * c + 2]});
+                        indices_at_end[end].insert(index[c]);
                     }
                 }
-            std::vector<std::uint8_t> split(std::size_t(num_edges), 7);
-            plan.limit_normal_split_edges(split.data());
             int splits = 0;
-            for (std::size_t e = 0; e < std::size_t(num_edges); ++e) {
-                const bool expected = at_end[2 * e].size() > 1 || at_end[2 * e + 1].size() > 1;
-                ASSERT_EQ(split[e], expected ? 1 : 0)
-                    << "edge " << e << " (" << ends[2 * e] << ", " << ends[2 * e + 1] << ")";
-                splits += expected;
+            for (std::size_t end = 0; end < at_end.size(); ++end) {
+                const bool split = at_end[end].size() > 1;
+                ASSERT_EQ(indices_at_end[end].size() > 1, split)
+                    << "edge " << end / 2 << " (" << ends[end - end % 2] << ", " << ends[end - end % 2 + 1] << ")";
+                splits += split;
             }
             // A boundary's and a bowtie's sides meet at no edge of two faces.
             if (c.name.find("grid (") == std::string::npos && c.name.find("bowtie") == std::string::npos) {
@@ -239,8 +238,6 @@ TEST(CompactLimitNormals, NeedTheLimitSurface) {
         normals(3 * std::size_t(plan.num_output_vertices()));
     EXPECT_THROW(plan.num_limit_normals(), std::logic_error);
     EXPECT_THROW(plan.corner_normal_indices(), std::logic_error);
-    std::vector<std::uint8_t> split(std::size_t(plan.num_output_edges()));
-    EXPECT_THROW(plan.limit_normal_split_edges(split.data()), std::logic_error);
     EXPECT_THROW(plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
                                Plan::LimitNormals{normals.data()}),
                  InputError);

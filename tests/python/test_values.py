@@ -553,27 +553,11 @@ def test_compact_limit_normals_gathered_are_the_corner_normals(rules):
     np.testing.assert_array_equal(given, normals)
 
 
-def test_limit_normal_split_edges_are_the_crease_halves():
-    """A crease through a vertex of a fan: the limit normals split on the halves of the crease edges, nowhere else."""
-    triangles = np.array([[0, 1 + k, 1 + (k + 1) % 6] for k in range(6)], np.int32)
-    creases = np.array([[0, 1], [0, 4]], np.int32)
-    plan = _loopsub.Plan(triangles, 7, 1, rules="opensubdiv", limit_surface=True, crease_edges=creases)
-    edges, _ = plan.output_edges()
-    split = plan.limit_normal_split_edges()
-    assert split.dtype == bool and split.shape == (len(edges),)
-    cage_edges = np.asarray(plan.level_edges(0)).tolist()
-    expected = set()
-    for a, b in creases.tolist():
-        midpoint = 7 + next(k for k, pair in enumerate(cage_edges) if sorted(pair) == [a, b])
-        expected |= {tuple(sorted((a, midpoint))), tuple(sorted((midpoint, b)))}
-    assert {tuple(sorted(pair)) for pair in edges[split].tolist()} == expected
-
-
 def test_compact_limit_normals_need_the_limit_surface():
     p, t = tetrahedron()
     plan = _loopsub.Plan(t, len(p), 1)
     for call in (lambda: plan.evaluate_with_limit_normals(p), lambda: plan.corner_normal_indices,
-                 lambda: plan.num_limit_normals, plan.limit_normal_split_edges):
+                 lambda: plan.num_limit_normals):
         with pytest.raises(ValueError, match="limit_surface=True"):
             call()
     limit_plan = _loopsub.Plan(t, len(p), 1, limit_surface=True)

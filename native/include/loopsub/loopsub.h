@@ -276,10 +276,6 @@ public:
     // indices are made on their first request (safe from several threads) and kept with the plan.
     int num_limit_normals() const;
     const std::int32_t* corner_normal_indices() const;
-    // Per output edge (in output_edges' numbering, num_output_edges() values, so for the plans output_edges serves),
-    // 1 where the limit normals split across it: where the two faces of the edge give one of its ends different
-    // normal indices. std::logic_error without the limit surface.
-    void limit_normal_split_edges(std::uint8_t* split) const;
     // evaluate() and the compact limit normals (num_limit_normals() x 3 floats, row-major): the normals of
     // evaluate(in, out, corner_normals), each written once, not once per corner (corner_normals[c] is
     // normals[corner_normal_indices()[c]]). Errors as that call.

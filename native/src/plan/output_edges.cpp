@@ -1,6 +1,5 @@
 // The output's edges, read off the last split's numbering: the halves of each edge of the level before, and the
 // three edges inside each of its faces, which the middle child's corners (the midpoints) name.
-#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -54,29 +53,6 @@ void Plan::output_edges(std::int32_t* edge_vertices, std::int32_t* triangle_edge
         }
         Index* out = triangle_edges + 3 * (4 * std::size_t(f) + 3);
         out[0] = inner, out[1] = inner + 1, out[2] = inner + 2;
-    }
-}
-
-void Plan::limit_normal_split_edges(std::uint8_t* split) const {
-    const std::int32_t* normal = corner_normal_indices();
-    const int num_edges = num_output_edges();
-    std::vector<Index> ends(2 * std::size_t(num_edges)), triangle_edges(3 * std::size_t(num_output_triangles()));
-    output_edges(ends.data(), triangle_edges.data());
-    // Each end of an edge keeps the normal index of the first corner seen there; any other corner there that
-    // differs splits the edge.
-    std::vector<Index> seen(2 * std::size_t(num_edges), -1);
-    std::fill(split, split + num_edges, std::uint8_t(0));
-    const Index* corners = output_triangles();
-    for (std::size_t t = 0; t < triangle_edges.size() / 3; ++t) {
-        for (int k = 0; k < 3; ++k) {
-            const Index e = triangle_edges[3 * t + k];
-            for (const int corner : {k, detail::next_corner(k)}) {
-                const std::size_t c = 3 * t + std::size_t(corner);
-                Index& kept = seen[2 * std::size_t(e) + std::size_t(corners[c] == ends[2 * std::size_t(e) + 1])];
-                if (kept < 0) kept = normal[c];
-                else if (kept != normal[c]) split[e] = 1;
-            }
-        }
     }
 }
 
