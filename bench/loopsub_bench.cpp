@@ -12,9 +12,8 @@
 //   opensubdiv_cpu_evaluator      Osd::CpuEvaluator::EvalStencils over that table (per frame)
 //   opensubdiv_omp_evaluator      Osd::OmpEvaluator::EvalStencils with 2 OpenMP threads (per frame)
 //   opensubdiv_limit              Interpolate, levels 1-4, then Limit with both tangents (per frame)
-//   opensubdiv_face_varying       InterpolateFaceVarying of a UV layer with a seam, levels 1-4,
-//   FVAR_LINEAR_CORNERS_ONLY
-//                                 (per frame)
+//   opensubdiv_face_varying       InterpolateFaceVarying of a UV layer with a seam, levels 1-4, linear at corners
+//                                 only (FVAR_LINEAR_CORNERS_ONLY; per frame)
 //   opensubdiv_far_full_uvs       the full pipeline with that layer: TopologyRefinerFactory with its channel +
 //                                 RefineUniform(4) + Interpolate + InterpolateFaceVarying, levels 1-4
 // loopsub (kernel: scalar, sse4.1, avx2; threads: Options::threads):
@@ -24,11 +23,11 @@
 //   loopsub_*_derived             the same with Options::level_tables = Derived (best kernel only); the rows above
 //                                 use Auto, which stores the tables at this size
 //   loopsub_limit                 Plan::evaluate with the limit surface and its normals per corner (per frame)
-//   loopsub_limit_compact         the same with the normals in compact form, one per vertex and side
-//   (Plan::LimitNormals) loopsub_topology_limit        Plan construction with the limit surface loopsub_face_varying
-//   Plan::evaluate_face_varying of the same layer, corners only (per frame) loopsub_full_uvs              Plan
-//   construction with that layer + evaluate + evaluate_face_varying (what the add-on
-//                                 and the CLI do with a mesh that has UVs)
+//   loopsub_limit_compact         the same with the normals in compact form (Plan::LimitNormals)
+//   loopsub_topology_limit        Plan construction with the limit surface
+//   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
+//   loopsub_full_uvs              Plan construction with that layer + evaluate + evaluate_face_varying (what the
+//                                 add-on and the CLI do with a mesh that has UVs)
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
 //
