@@ -483,7 +483,8 @@ void bind_plan(py::module_& m) {
                 return plan_view(p.plan.corner_normal_indices(), {p.plan.num_output_triangles(), 3}, self);
             },
             "(M_out, 3) int32, read-only view: at each corner of each output triangle, the row of its normal in "
-            "evaluate_with_limit_normals' normals (v: vertex v's own; N_out + s: side s of a split fan). The same for every "
+            "evaluate_with_limit_normals' normals (v: vertex v's own; N_out + s: side s of a split fan). The same for "
+            "every "
             "evaluation. ValueError without limit_surface.")
         .def("evaluate_face_varying", &evaluate_face_varying, kFaceVaryingDoc, py::arg("values"),
              py::arg("out") = py::none(), py::kw_only(), py::arg("layer") = py::none())
