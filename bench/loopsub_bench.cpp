@@ -38,8 +38,9 @@
 // --thread-scaling [ROUNDS] instead times one thread against two in pairs close in time (40 rounds by default): the
 // ratios issue 8 sets targets for, less at the mercy of this shared machine's drifts than rows of separate benchmarks;
 // and the ratio of the fastest run of each side, what two threads give when the machine leaves them both cores. The
-// rows with "+uv" plan the mesh's UV layer too, "uv frame" evaluates it; --thread-scaling ROUNDS WHAT runs only the
-// rows whose name contains WHAT ("uv": the three with the layer).
+// rows with "+uv" plan the mesh's UV layer too, "uv frame" evaluates it; "plan+limit" plans the limit surface,
+// "limit frame" evaluates it with its compact normals; --thread-scaling ROUNDS WHAT runs only the rows whose name
+// contains WHAT ("uv": the three with the layer, "limit": the two with the limit surface).
 //
 // --malloc-keeps-memory (first argument) makes glibc's malloc keep freed memory for reuse (mmap threshold 32 MiB,
 // no trimming): OpenSubdiv then reuses its arrays from one run to the next as loopsub's plans reuse theirs (its
@@ -722,20 +723,25 @@ int measure_thread_scaling(int rounds, const std::string& only) {
         return v[v.size() / 2];
     };
     for (const Mesh& m : meshes()) {
-        // "+uv": with the mesh's UV layer; "uv frame": evaluate_face_varying of that layer.
-        for (const char* what : {"plan", "full", "evaluate", "plan+uv", "full+uv", "uv frame"}) {
+        // "+uv": with the mesh's UV layer; "uv frame": evaluate_face_varying of that layer; "+limit": with the limit
+        // surface; "limit frame": evaluate with the compact limit normals.
+        for (const char* what :
+             {"plan", "full", "evaluate", "plan+uv", "full+uv", "uv frame", "plan+limit", "limit frame"}) {
             const std::string kind = what;
             if (kind.find(only) == std::string::npos) continue;
             const bool uvs = kind.find("uv") != std::string::npos;
-            const bool frame = kind == "evaluate" || kind == "uv frame";
+            const bool limit = kind.find("limit") != std::string::npos;
+            const bool frame = kind == "evaluate" || kind == "uv frame" || kind == "limit frame";
             auto time_batch = [&](int threads) {
-                const loopsub::Options o = options(loopsub::Kernel::Auto, threads);
+                loopsub::Options o = options(loopsub::Kernel::Auto, threads);
+                o.limit_surface = limit;
                 std::unique_ptr<loopsub::Plan> kept;
-                std::vector<float> out, uv_out;
+                std::vector<float> out, uv_out, normals;
                 if (frame) {
                     kept = std::make_unique<loopsub::Plan>(view(m, uvs), o);
                     out.resize(std::size_t(kept->num_output_vertices()) * 3);
                     if (uvs) uv_out.resize(std::size_t(kept->num_output_face_varying_values(0)) * 2);
+                    if (limit) normals.resize(std::size_t(kept->num_limit_normals()) * 3);
                 }
                 std::vector<double> ms;
                 ms.reserve(batch);
@@ -744,6 +750,10 @@ int measure_thread_scaling(int rounds, const std::string& only) {
                     if (kind == "evaluate") {
                         kept->evaluate(loopsub::interleaved(m.positions.data(), 3),
                                        loopsub::interleaved(out.data(), 3));
+                    } else if (kind == "limit frame") {
+                        kept->evaluate(loopsub::interleaved(m.positions.data(), 3), loopsub::interleaved(out.data(), 3),
+                                       loopsub::Plan::LimitNormals{normals.data()});
+                        benchmark::DoNotOptimize(normals.data());
                     } else if (kind == "uv frame") {
                         kept->evaluate_face_varying(0, loopsub::interleaved(m.uvs.data(), 2),
                                                     loopsub::interleaved(uv_out.data(), 2));

@@ -127,11 +127,18 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     if (!level.own_neighbourhood) {
         s.ring_offsets.resize(std::size_t(nv) + 1);
         s.ring.resize(std::size_t(child_ring_offset(parent, nv)));
+        // Old vertices and midpoints shared out each on their own: an old vertex's ring costs more.
         run_levels(std::max(1, options_.threads), 1, [&](int, int part, int parts) {
-            const auto [v0, v1] = part_of(nv, part, parts);
-            for (Index v = v0; v < v1; ++v) s.ring_offsets[v] = child_ring_offset(parent, v);
+            const Index old = parent.num_vertices;
+            const auto [o0, o1] = part_of(old, part, parts);
+            const auto [m0, m1] = part_of(nv - old, part, parts);
+            for (const auto& [v0, v1] :
+                 {std::pair<Index, Index>(o0, o1), std::pair<Index, Index>(old + m0, old + m1)}) {
+                for (Index v = v0; v < v1; ++v) s.ring_offsets[v] = child_ring_offset(parent, v);
+                write_ordered_child_rings(parent, v0, v1, lt.by_side.data(),
+                                          s.ring.data() + child_ring_offset(parent, v0));
+            }
             if (part + 1 == parts) s.ring_offsets[nv] = child_ring_offset(parent, nv);
-            write_ordered_child_rings(parent, v0, v1, lt.by_side.data(), s.ring.data() + child_ring_offset(parent, v0));
         });
     } else {
         LargeVector<Index> slot_at(2 * std::size_t(t.num_edges()));
