@@ -619,7 +619,7 @@ void write_ordered_child_rings(const Topology& p, int begin, int end, std::uint8
         }
         if (!disk) {
             if (n > 0) apart[v] = 1;
-            std::transform(edges, edges + n, ring, [nv](Index e) { return nv + e; });
+            write_child_rings(p, v, v + 1, ring);  // write_child_rings' order
         }
         ring += n;
     }
@@ -652,15 +652,8 @@ void write_ordered_child_rings(const Topology& p, int begin, int end, std::uint8
             }
         }
         apart[m] = 1;
-        ring = midpoint_ring_ends(p, e, ring);
-        for (Index k = at; k < p.edge_face_offsets[e + 1]; ++k) {
-            const Index f = p.edge_faces[k];
-            const Index* fe = &p.face_edges[3 * std::size_t(f)];
-            const int local = local_edge(fe, e);
-            ring = midpoint_ring_face(
-                nv, fe, local, p.face_vertices[3 * std::size_t(f) + local] == p.edge_vertices[2 * std::size_t(e)],
-                ring);
-        }
+        write_child_rings(p, m, m + 1, ring);  // write_child_rings' order
+        ring += child_ring_offset(p, m + 1) - child_ring_offset(p, m);
     }
 }
 
