@@ -15,7 +15,6 @@
 #include "kernels/kernels_limit.h"
 #include "kernels/kernels_quads.h"
 #include "kernels/kernels_specials.h"
-#include "kernels/limit_normals.h"
 
 namespace loopsub::detail {
 
@@ -186,15 +185,10 @@ void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, Chan
 
 void limit_avx2(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
                 Range vertices) {
-    if (!reads_as_quads(in)) return limit_scalar(lt, in, out, normals, vertices);
-    const LevelStencils& s = lt.positions;
-    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
-        if (normals != nullptr && source.in == in.data)  // the positions: the normals from the same loads
-            return limit_quad(lt, t, source, target, normals, vertices, smooth_vertex, multiply_add, unit_normals);
-        smooth_quad(t, source, target, vertices, {0, 0});
-    });
-    apply_specials(s, stored_view(s), in, out, vertices, {0, 0});
-    if (normals != nullptr) own_vertex_normals(lt, in, normals, vertices);
+    limit_pass(lt, in, out, normals, vertices, smooth_vertex, multiply_add, unit_normals,
+               [](const Tables& t, auto source, auto target, Range v) {
+                   smooth_quad(t, source, target, v, {0, 0});
+               });
 }
 
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

@@ -1,4 +1,4 @@
-// The limit stage's smooth pass shared by the SIMD kernels (LimitFn): a last-level vertex's limit point and its two
+// The limit stage shared by the SIMD kernels (LimitFn, limit_pass): a last-level vertex's limit point and its two
 // tangents from one fan of loads of its ring, and its unit normal from the tangents, four vertices at a time.
 //
 // A limit point and the tangents read the same points (the limit mask's ring, the tangent masks' offsets from the
@@ -17,6 +17,8 @@
 #include <type_traits>
 
 #include "kernels/kernels_quads.h"
+#include "kernels/kernels_specials.h"
+#include "kernels/limit_normals.h"
 #include "tables/limit_tables.h"
 
 namespace loopsub::detail {
@@ -101,6 +103,24 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
             }
         }
     }
+}
+
+// A SIMD kernel's LimitFn (kernels.h) from its arithmetic: the positions' quad with the normals (limit_quad), the other
+// quads by smooth_quad(tables, source, target, vertices) as a refinement's vertex pass, then the specials; other
+// layouts run the scalar reference.
+template <typename Vertex, typename MultiplyAdd, typename UnitNormals, typename SmoothQuad>
+void limit_pass(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
+                Range vertices, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals,
+                SmoothQuad smooth_quad) {
+    if (!reads_as_quads(in)) return limit_scalar(lt, in, out, normals, vertices);
+    const LevelStencils& s = lt.positions;
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
+        if (normals != nullptr && source.in == in.data)  // the positions: the normals from the same loads
+            return limit_quad(lt, t, source, target, normals, vertices, vertex, multiply_add, unit_normals);
+        smooth_quad(t, source, target, vertices);
+    });
+    apply_specials(s, stored_view(s), in, out, vertices, {0, 0});
+    if (normals != nullptr) own_vertex_normals(lt, in, normals, vertices);
 }
 
 }  // namespace
