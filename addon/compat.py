@@ -135,36 +135,34 @@ def has_free_normals(mesh):
 # one block: 25-100 times faster than the legacy collections (MeshVertex.co, MeshEdge.vertices, MeshLoop.vertex_index
 # and edge_index), which go element by element (docs/benchmark.md, Apply). The attributes are looked up by name: a
 # name beginning with "." is Blender's own, and 3.4 keeps no generic layer named "position".
+def _write_array(mesh, name, prop, legacy, legacy_prop, values):
+    """values into the attribute `name` (its `prop`) where the mesh keeps one, else into the legacy collection's
+    legacy_prop."""
+    attribute = mesh.attributes.get(name)
+    if attribute is not None:
+        attribute.data.foreach_set(prop, values)
+    else:
+        legacy.foreach_set(legacy_prop, values)
+
+
 def write_positions(mesh, positions):
     """The vertices' positions, (V, 3)."""
     values = np.ascontiguousarray(positions, dtype=np.float32).ravel()
-    attribute = mesh.attributes.get("position")
-    if attribute is not None:
-        attribute.data.foreach_set("vector", values)
-    else:
-        mesh.vertices.foreach_set("co", values)
+    _write_array(mesh, "position", "vector", mesh.vertices, "co", values)
 
 
 def write_edges(mesh, edge_vertices):
     """The edges' vertex pairs, (E, 2)."""
     values = np.ascontiguousarray(edge_vertices, dtype=np.int32).ravel()
-    attribute = mesh.attributes.get(".edge_verts")
-    if attribute is not None:
-        attribute.data.foreach_set("value", values)
-    else:
-        mesh.edges.foreach_set("vertices", values)
+    _write_array(mesh, ".edge_verts", "value", mesh.edges, "vertices", values)
 
 
 def write_corners(mesh, corner_vertices, corner_edges):
     """Each face corner's (loop's) vertex and edge, (L,) each."""
-    for name, legacy, values in ((".corner_vert", "vertex_index", corner_vertices),
-                                 (".corner_edge", "edge_index", corner_edges)):
+    for name, legacy_prop, values in ((".corner_vert", "vertex_index", corner_vertices),
+                                      (".corner_edge", "edge_index", corner_edges)):
         values = np.ascontiguousarray(values, dtype=np.int32).ravel()
-        attribute = mesh.attributes.get(name)
-        if attribute is not None:
-            attribute.data.foreach_set("value", values)
-        else:
-            mesh.loops.foreach_set(legacy, values)
+        _write_array(mesh, name, "value", mesh.loops, legacy_prop, values)
 
 
 def write_uvs(mesh, name, uvs):
