@@ -568,6 +568,16 @@ void bind_plan(py::module_& m) {
             "sharp_edge_sharpness",
             [](py::object self) { return tag_view(self, &loopsub::Plan::output_sharp_edge_sharpness); },
             "(S,) float32: sharpness of each of sharp_edges (10: infinitely sharp) (read-only view).")
+        .def_property_readonly(
+            "crease_edge_indices",
+            [](py::object self) { return tag_view(self, &loopsub::Plan::output_crease_edge_indices); },
+            "(K,) int32: crease_edges as numbers of output_edges()'s edges, for plans of at least one level "
+            "(read-only view).")
+        .def_property_readonly(
+            "sharp_edge_indices",
+            [](py::object self) { return tag_view(self, &loopsub::Plan::output_sharp_edge_indices); },
+            "(S,) int32: sharp_edges as numbers of output_edges()'s edges, for plans of at least one level "
+            "(read-only view).")
         .def(
             "level_edges",
             [](py::object self, int level) {

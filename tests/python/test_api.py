@@ -250,6 +250,24 @@ def test_output_edges_number_every_output_edge_once(levels):
         assert np.array_equal(edges[1:2 * len(before):2], np.column_stack([midpoints, before[:, 1]]))
 
 
+@pytest.mark.parametrize("rules", ["opensubdiv", "hoppe94"])
+@pytest.mark.parametrize("levels", [1, 2, 3])
+def test_tagged_edges_are_numbered_as_output_edges(levels, rules):
+    # An open strip with its inner edge (1, 2) creased: the numbers name the same edges as the pairs, every boundary
+    # edge of the output (in one triangle) is among the sharp ones, and the crease's 2^levels halves are creases.
+    triangles = np.array([[0, 1, 2], [2, 1, 3], [2, 3, 4]], np.int32)
+    plan = _loopsub.Plan(triangles, 5, levels, rules=rules, crease_edges=np.array([[1, 2]], np.int32),
+                         crease_sharpness=np.array([10.0], np.float32))
+    edges, triangle_edges = plan.output_edges()
+    for numbers, pairs in ((plan.sharp_edge_indices, plan.sharp_edges), (plan.crease_edge_indices, plan.crease_edges)):
+        assert numbers.dtype == np.int32 and len(numbers) == len(pairs)
+        np.testing.assert_array_equal(np.sort(edges[numbers], axis=1), np.sort(pairs, axis=1))
+    boundary = np.flatnonzero(np.bincount(triangle_edges.ravel(), minlength=len(edges)) == 1)
+    assert np.isin(boundary, plan.sharp_edge_indices).all()
+    assert len(plan.crease_edge_indices) == 2 ** levels
+    assert np.isin(plan.crease_edge_indices, plan.sharp_edge_indices).all()
+
+
 def test_output_edges_need_a_level_and_no_holes():
     p, t = icosahedron()
     with pytest.raises(ValueError, match="no levels"):

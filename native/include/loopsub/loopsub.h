@@ -233,6 +233,10 @@ public:
     // level_vertex_types(levels()), the one classification to tag the output with.
     const std::vector<std::int32_t>& output_sharp_edges() const;  // pairs
     const std::vector<float>& output_sharp_edge_sharpness() const;
+    // The same edges as numbers of output_edges() (for plans of at least one level), in the same order: a caller
+    // that builds the mesh from output_edges() marks them without matching vertex pairs.
+    const std::vector<std::int32_t>& output_crease_edge_indices() const;
+    const std::vector<std::int32_t>& output_sharp_edge_indices() const;
 
     // Edges of level L (0 <= L < levels()), as vertex pairs: edge k of level L becomes vertex
     // (number of level-L vertices + k) of level L+1.

@@ -72,6 +72,12 @@ const std::vector<std::int32_t>& Plan::output_corner_vertices() const { return i
 const std::vector<float>& Plan::output_corner_sharpness() const { return impl_->output_tags.corner_sharpness; }
 const std::vector<std::int32_t>& Plan::output_sharp_edges() const { return impl_->output_tags.sharp_edges; }
 const std::vector<float>& Plan::output_sharp_edge_sharpness() const { return impl_->output_tags.sharp_edge_sharpness; }
+const std::vector<std::int32_t>& Plan::output_crease_edge_indices() const {
+    return impl_->output_tags.crease_edge_indices;
+}
+const std::vector<std::int32_t>& Plan::output_sharp_edge_indices() const {
+    return impl_->output_tags.sharp_edge_indices;
+}
 Kernel Plan::kernel() const { return impl_->kernel; }
 double Plan::topology_ms() const { return impl_->topology_ms; }
 double Plan::last_evaluate_ms() const { return impl_->frame.evaluate_ms; }

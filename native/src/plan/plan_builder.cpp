@@ -539,11 +539,13 @@ void PlanBuilder::collect_output_tags(const LevelState& last) {
             tags.sharp_edges.push_back(f.ends[0]);
             tags.sharp_edges.push_back(f.ends[1]);
             tags.sharp_edge_sharpness.push_back(f.sharpness);
+            tags.sharp_edge_indices.push_back(f.index);
         }
         if (f.tag <= 0.0f) continue;
         tags.crease_edges.push_back(f.ends[0]);
         tags.crease_edges.push_back(f.ends[1]);
         tags.crease_sharpness.push_back(f.tag);
+        tags.crease_edge_indices.push_back(f.index);
     }
     for (const Feature& f : last.vertices) {
         if (f.tag <= 0.0f) continue;

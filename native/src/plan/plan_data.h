@@ -22,6 +22,7 @@ namespace detail {
 // The output's tags (Plan::output_crease_edges and the rest): edges as vertex pairs, a value per edge or vertex.
 struct OutputTags {
     std::vector<Index> crease_edges, corner_vertices, sharp_edges;
+    std::vector<Index> crease_edge_indices, sharp_edge_indices;  // the last level's edge numbers
     std::vector<float> crease_sharpness, corner_sharpness, sharp_edge_sharpness;
 };
 
