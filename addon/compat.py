@@ -177,6 +177,17 @@ def write_uvs(mesh, name, uvs):
         mesh.uv_layers[name].data.foreach_set("uv", values)
 
 
+def write_smooth(mesh, smooth):
+    """Each face's smooth shading, (F,) bool, on a new mesh. From 4.0 Blender keeps it as the `sharp_face` attribute,
+    absent while every face is smooth (as a new mesh's are): one block copy, where MeshPolygon.use_smooth takes 43 ms
+    per million faces in 4.5. 3.4 keeps it in the faces themselves, flat when new."""
+    smooth = np.ascontiguousarray(smooth, dtype=bool)
+    if bpy.app.version < (4, 0, 0):
+        mesh.polygons.foreach_set("use_smooth", smooth)
+    elif not smooth.all():
+        mesh.attributes.new("sharp_face", 'BOOLEAN', 'FACE').data.foreach_set("value", ~smooth)
+
+
 def set_polygon_loops(mesh, loop_start, loop_total):
     mesh.polygons.foreach_set("loop_start", np.ascontiguousarray(loop_start, dtype=np.int32))
     if not bpy.types.MeshPolygon.bl_rna.properties["loop_total"].is_readonly:

@@ -70,7 +70,7 @@ def build_mesh(source, plan, refined, name, holder):
         new.update()
         normals.write_normals(new, source, refined, source.blender_corners)
         _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
-        tags.write_plan_tags(new, plan, new_edges)
+        tags.write_plan_tags(new, plan, len(new_edges))
     except Exception:
         bpy.data.meshes.remove(new)
         raise
@@ -139,20 +139,18 @@ def _write_face_data(new, source, parent_polygons):
     materials = source.materials[parent_polygons]
     if materials.any():
         add_attribute(new, "material_index", 'FACE', 'INT', materials)
-    new.polygons.foreach_set("use_smooth", np.ascontiguousarray(source.smooth[parent_polygons]))
+    compat.write_smooth(new, source.smooth[parent_polygons])
     for (name, domain, data_type), values in zip(source.face, source.face_values):
         add_attribute(new, name, domain, data_type, values[parent_polygons])
 
 
 def _write_creases(new, cage, plan, options, new_edges):
     """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
-    num_vertices = len(new.vertices)
     edge_weights = np.zeros(len(new_edges), dtype=np.float32)
-    found = geometry.lookup_edges(new_edges, plan.crease_edges, num_vertices)
-    edge_weights[found[found >= 0]] = geometry.child_crease_weights(plan.crease_sharpness[found >= 0], options.rules)
-    if len(found) or cage.edge_weights.any():
+    edge_weights[plan.crease_edge_indices] = geometry.child_crease_weights(plan.crease_sharpness, options.rules)
+    if len(plan.crease_edge_indices) or cage.edge_weights.any():
         compat.write_edge_creases(new, edge_weights)
-    vertex_weights = np.zeros(num_vertices, dtype=np.float32)
+    vertex_weights = np.zeros(len(new.vertices), dtype=np.float32)
     vertex_weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
     if compat.has_vertex_creases(new):
         compat.write_vertex_creases(new, vertex_weights)

@@ -28,12 +28,13 @@ def write_tags(mesh, topology, options, cones):
                                          topology.num_vertices), types)
 
 
-def write_plan_tags(mesh, plan, edges):
-    """The tags of a result, from the plan that made it: the classes its vertices take at the next level and the edges
-    its rules treat as sharp (tagged creases that pass them, boundary and non-manifold edges). No second
-    classification: refining the result further uses exactly these."""
-    _replace_tags(mesh, _sharp_edge_mask(plan, edges, len(mesh.vertices)),
-                  np.asarray(plan.level_vertex_types(plan.levels), dtype=np.int32))
+def write_plan_tags(mesh, plan, num_edges):
+    """The tags of a result built from plan.output_edges(), from the plan that made it: the classes its vertices take
+    at the next level and the edges its rules treat as sharp (tagged creases that pass them, boundary and
+    non-manifold edges). No second classification: refining the result further uses exactly these."""
+    sharp = np.zeros(num_edges, dtype=bool)
+    sharp[plan.sharp_edge_indices] = True
+    _replace_tags(mesh, sharp, np.asarray(plan.level_vertex_types(plan.levels), dtype=np.int32))
 
 
 def _sharp_edge_mask(plan, edges, num_vertices):

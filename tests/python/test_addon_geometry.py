@@ -175,6 +175,10 @@ def test_shared_positions():
     positions = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1], [1, 1, 1]], np.float32)
     assert geometry.shared_positions(positions) == 1
     assert geometry.shared_positions(positions[:4]) == 0
+    # Three at one place are two extra; -0.0 is where 0.0 is; equal x and y alone are not the same place.
+    positions = np.array([[0, 2, 3], [-0.0, 2, 3], [0, 2, 3], [0, 2, 4], [5, 6, 7]], np.float32)
+    assert geometry.shared_positions(positions) == 2
+    assert geometry.shared_positions(positions[2:]) == 0
 
 
 def test_shared_vertex_normals():
