@@ -145,14 +145,20 @@ void expect_matches_opensubdiv(const TestMesh& mesh, int levels) {
         }
     }
 
-    // The limit surface: positions against Far::PrimvarRefiner::Limit, and at OpenSubdiv's smooth and dart vertices
-    // (one normal per vertex) every corner's normal against tan1 x tan2 of its limit tangents. Limit takes semi-sharp
+    // The limit surface: positions against Far::PrimvarRefiner::Limit, and at OpenSubdiv's smooth vertices (one
+    // normal per vertex) every corner's normal against tan1 x tan2 of its limit tangents. Limit takes semi-sharp
     // features left on the last level for infinitely sharp ones, where the limit surface refines on until they are
-    // spent (issue 23): vertices next to them are left to test_limit_bfr.cpp, against the true limit.
+    // spent (issue 23), and a dart (one infinitely sharp edge) for a smooth vertex, whose limit it is not (issue 25):
+    // those vertices are left to test_limit_bfr.cpp, against the true limit.
     std::vector<std::uint8_t> semi_sharp(mapped.vertex_tags.size(), 0);
+    std::vector<int> infinitely_sharp_edges(mapped.vertex_tags.size(), 0);
     for (std::size_t v = 0; v < semi_sharp.size(); ++v) semi_sharp[v] = is_semi(mapped.vertex_tags[v].sharpness);
-    for (const MappedReference::EdgeTag& tag : mapped.edge_tags)
+    for (const MappedReference::EdgeTag& tag : mapped.edge_tags) {
         if (is_semi(tag.sharpness)) semi_sharp[tag.a] = semi_sharp[tag.b] = 1;
+        if (tag.sharpness >= kInfiniteSharpness) ++infinitely_sharp_edges[tag.a], ++infinitely_sharp_edges[tag.b];
+    }
+    for (std::size_t v = 0; v < semi_sharp.size(); ++v)
+        if (infinitely_sharp_edges[v] == 1 && mapped.vertex_tags[v].sharpness == 0.0f) semi_sharp[v] = 1;
     {
         Options limit_options = options;
         limit_options.limit_surface = true;

@@ -38,6 +38,28 @@ struct Tangents {
     }
 };
 
+// An open side at a corner: along its two sharp edges, the first and the last of its points, in the order that makes
+// t1 x t2 point the way its faces do (a side wider than a half turn would turn it over).
+Tangents corner_tangents(ChannelsView<const float> in, Index corner, const Index* points, int faces) {
+    auto at = [&](Index v) { return in.data + std::size_t(v) * in.element_stride; };
+    const float* c = at(corner);
+    Tangents t;
+    double facing = 0.0, cross[3], sum[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < faces; ++i) {
+        const float *p = at(points[i]), *q = at(points[i + 1]);
+        const double a[3] = {double(p[0]) - c[0], double(p[1]) - c[1], double(p[2]) - c[2]},
+                     b[3] = {double(q[0]) - c[0], double(q[1]) - c[1], double(q[2]) - c[2]};
+        sum[0] += a[1] * b[2] - a[2] * b[1], sum[1] += a[2] * b[0] - a[0] * b[2], sum[2] += a[0] * b[1] - a[1] * b[0];
+    }
+    for (int k = 0; k < 3; ++k) t.t1[k] = at(points[0])[k] - c[k], t.t2[k] = at(points[faces])[k] - c[k];
+    cross[0] = double(t.t1[1]) * t.t2[2] - double(t.t1[2]) * t.t2[1];
+    cross[1] = double(t.t1[2]) * t.t2[0] - double(t.t1[0]) * t.t2[2];
+    cross[2] = double(t.t1[0]) * t.t2[1] - double(t.t1[1]) * t.t2[0];
+    for (int k = 0; k < 3; ++k) facing += cross[k] * sum[k];
+    if (facing < 0.0) std::swap(t.t1, t.t2);
+    return t;
+}
+
 // The unit normals of a batch of tangent pairs, zero where the tangents do not span a plane. Over arrays and without
 // branches, the compiler takes two or four square roots and divisions at once, which one at a time cost more than the
 // tangents themselves.
@@ -139,6 +161,7 @@ void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* no
             if (side.closed)
                 return Tangents(in, side.vertex, points, side.faces, lt.smooth_t1[side.faces].data(),
                                 lt.smooth_t2[side.faces].data());
+            if (side.corner) return corner_tangents(in, side.vertex, points, side.faces);
             return Tangents(in, side.vertex, points, side.faces + 1, lt.side_t1[side.faces].data() + 1,
                             lt.side_t2[side.faces].data() + 1);
         },

@@ -95,6 +95,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         classified.push_back({vertex.vertex, rule, int(vertex.edges.size()), {vertex.crease[0], vertex.crease[1]}});
         lt.by_side[vertex.vertex] = normal_per_side(rule);
     });
+    std::vector<std::pair<Index, Index>> darts;  // OpenSubdiv's, with the far end of their sharp edge
     for (const Classified& c : classified) {
         const Index v = c.vertex;
         double vertex_weight[2] = {0.5, 0.5};
@@ -110,6 +111,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
                 rules_->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
                                    v_first ? types[other] : types[v], around.edge_face_count(e), true});
             vertex_weight[k] = crease_end_weight(edge, v_first);
+            if (c.rule == SdcRule::Dart && edge.wings == 0.0) darts.push_back({v, other});
         }
         const VertexSituation situation{
             types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0, {c.crease[0], c.crease[1]}, {-1, -1}};
@@ -228,6 +230,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             entry.vertex = fan[start].vertex;
             entry.first = Index(lt.side_points.size());
             entry.closed = closed;
+            entry.corner = types[fan[start].vertex] == VertexType::Corner;
             entry.own = -1;
             entry.row = row;
             int faces = 0, i = start, last = start;
@@ -262,7 +265,41 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         side_tangent_weights(faces, lt.side_t1[faces], lt.side_t2[faces]);
         scale_to_at_most_unit_sum(lt.side_t1[faces]), scale_to_at_most_unit_sum(lt.side_t2[faces]);
     }
+    plan_darts(darts, lt);
     if (!spent.empty()) pull_back_spent(spent, lt);
+    auto by_vertex = [](const auto& a, const auto& b) { return a.first < b.first; };
+    std::sort(lt.own_vertex_tangents.begin(), lt.own_vertex_tangents.end(), by_vertex);
+    std::sort(s.ring_weighted_vertices.begin(), s.ring_weighted_vertices.end(),
+              [](const RingWeightedVertex& a, const RingWeightedVertex& b) { return a.vertex < b.vertex; });
+}
+
+// Darts whose sharp edge refines as a crease (OpenSubdiv's): their limit point and tangents of their own
+// (rules.h, dart_limit_masks) over their counter-clockwise ring, as weights of their own.
+void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const {
+    LevelStencils& s = lt.positions;
+    std::vector<std::vector<double>> position, t1, t2;  // by valence, made on first use
+    for (const auto& [v, sharp_end] : darts) {
+        const Index first = s.ring_offsets[v];
+        const int n = int(s.ring_offsets[v + 1] - first);
+        const Index* ring = &s.ring[first];
+        const int at = int(std::find(ring, ring + n, sharp_end) - ring);
+        if (at == n || lt.by_side[v]) continue;  // no disk fan to order: its sides' normals
+        if (position.size() <= std::size_t(n)) position.resize(n + 1), t1.resize(n + 1), t2.resize(n + 1);
+        if (position[n].empty()) dart_limit_masks(n, position[n], t1[n], t2[n]);
+        auto weight = [n, at](const std::vector<double>& mask, int k) {
+            return mask[std::size_t(1 + (k - at + n) % n)];
+        };
+        s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(position[n][0])});
+        for (int k = 0; k < n; ++k) s.ring_weights.push_back(float(weight(position[n], k)));
+        lt.own_vertex_tangents.push_back({v, Index(lt.own_t1.size())});
+        for (int tangent = 0; tangent < 2; ++tangent) {
+            std::vector<float> weights(static_cast<std::size_t>(n));
+            for (int k = 0; k < n; ++k) weights[std::size_t(k)] = float(weight(tangent == 0 ? t1[n] : t2[n], k));
+            scale_to_at_most_unit_sum(weights);
+            std::vector<float>& to = tangent == 0 ? lt.own_t1 : lt.own_t2;
+            to.insert(to.end(), weights.begin(), weights.end());
+        }
+    }
 }
 
 // A vertex whose semi-sharp features outlast the last level: its ring refined on until they are spent (the rules'

@@ -75,6 +75,7 @@ private:
     void plan_limit(LevelState& last, const Topology& parent);
     Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
                 std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
+    void plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const;
     void pull_back_spent(const std::vector<Spent>& spent, LimitTables& limit) const;
     void drop_holes();
     void collect_output_tags(const LevelState& last);

@@ -120,6 +120,62 @@ void side_tangent_weights(int faces, std::vector<float>& t1, std::vector<float>&
     }
 }
 
+void dart_limit_masks(int valence, std::vector<double>& position, std::vector<double>& t1, std::vector<double>& t2) {
+    const int n = valence, size = n + 1;
+    // The subdivision matrix of the 1-ring, a row per refined point: the vertex, then the midpoint of each edge.
+    std::vector<double> matrix(std::size_t(size) * size, 0.0);
+    const VertexMask vertex = smooth_vertex_mask(n);
+    matrix[0] = vertex.self;
+    for (int i = 0; i < n; ++i) matrix[std::size_t(1 + i)] = vertex.ring;
+    for (int i = 0; i < n; ++i) {
+        const EdgeMask edge = i == 0 ? crease_edge_mask() : smooth_edge_mask();
+        double* row = &matrix[std::size_t(1 + i) * size];
+        row[0] += edge.a, row[1 + i] += edge.b;
+        row[1 + (i + n - 1) % n] += edge.wings, row[1 + (i + 1) % n] += edge.wings;
+    }
+    auto times_matrix = [&](std::vector<double>& x) {  // x <- x S
+        std::vector<double> y(std::size_t(size), 0.0);
+        for (int i = 0; i < size; ++i)
+            for (int j = 0; j < size; ++j) y[std::size_t(j)] += x[std::size_t(i)] * matrix[std::size_t(i) * size + j];
+        x.swap(y);
+    };
+    // The limit: the vertex's row of S^k converges to the left eigenvector of eigenvalue 1 (its weights sum to 1).
+    position.assign(std::size_t(size), 0.0);
+    position[0] = 1.0;
+    for (int k = 0; k < 400; ++k) times_matrix(position);
+    // The tangent plane: the left invariant plane of the next two eigenvalues, by iterating a plane of weights that
+    // sum to zero (no part of the limit point) from the smooth tangent masks, kept orthonormal.
+    std::vector<float> c, s;
+    smooth_tangent_weights(n, c, s);
+    t1.assign(std::size_t(size), 0.0), t2.assign(std::size_t(size), 0.0);
+    for (int i = 0; i < n; ++i) t1[std::size_t(1 + i)] = c[std::size_t(i)], t2[std::size_t(1 + i)] = s[std::size_t(i)];
+    auto normalise = [&](std::vector<double>& x, const std::vector<double>* against) {
+        double sum = 0.0;
+        for (double w : x) sum += w;
+        for (int i = 0; i < size; ++i) x[std::size_t(i)] -= sum * position[std::size_t(i)];
+        if (against) {
+            double dot = 0.0;
+            for (int i = 0; i < size; ++i) dot += x[std::size_t(i)] * (*against)[std::size_t(i)];
+            for (int i = 0; i < size; ++i) x[std::size_t(i)] -= dot * (*against)[std::size_t(i)];
+        }
+        double length = 0.0;
+        for (double w : x) length += w * w;
+        for (double& w : x) w /= std::sqrt(length);
+    };
+    for (int k = 0; k < 400; ++k) {
+        times_matrix(t1), times_matrix(t2);
+        normalise(t1, nullptr), normalise(t2, &t1);
+    }
+    // Oriented as the smooth masks: on a flat regular ring, counter-clockwise about +z, t1 x t2 points up.
+    double a[2] = {0.0, 0.0}, b[2] = {0.0, 0.0};
+    for (int i = 0; i < n; ++i) {
+        const double angle = 2.0 * kPi * i / n;
+        a[0] += t1[std::size_t(1 + i)] * std::cos(angle), a[1] += t1[std::size_t(1 + i)] * std::sin(angle);
+        b[0] += t2[std::size_t(1 + i)] * std::cos(angle), b[1] += t2[std::size_t(1 + i)] * std::sin(angle);
+    }
+    if (a[0] * b[1] - a[1] * b[0] < 0.0) t1.swap(t2);
+}
+
 SdcRule sdc_vertex_rule(float vertex_sharpness, int sharp_edge_count) {
     if (is_sharp(vertex_sharpness) || sharp_edge_count > 2) return SdcRule::Corner;
     if (sharp_edge_count == 2) return SdcRule::Crease;

@@ -69,6 +69,12 @@ void smooth_tangent_weights(int valence, std::vector<float>& t1, std::vector<flo
 // the leading crease edge: faces + 2 weights each, the vertex's first, then p_0 .. p_faces. t1 runs along the
 // crease, t2 into the side; t1 x t2 is the side's outward normal.
 void side_tangent_weights(int faces, std::vector<float>& t1, std::vector<float>& t2);
+// OpenSubdiv's dart, a vertex with one infinitely sharp edge: the vertex and its other edges refine smoothly, the sharp
+// edge's midpoint as a crease's. Its limit is not the smooth one (which Far::PrimvarRefiner::Limit takes, 2e-3 of the
+// bounding box off Bfr on a torus): it is the dominant left eigenvector of the 1-ring's subdivision matrix, and its
+// tangent plane that of the two next, found here by iterating the matrix. Ring p_0 .. p_{n-1} counter-clockwise, the
+// sharp edge to p_0; n + 1 weights each, the vertex's first; t1 x t2 is the outward normal.
+void dart_limit_masks(int valence, std::vector<double>& position, std::vector<double>& t1, std::vector<double>& t2);
 
 // OpenSubdiv's creasing (Sdc::Crease), single precision as OpenSubdiv computes it.
 enum class SdcRule { Smooth, Dart, Crease, Corner };

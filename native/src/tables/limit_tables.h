@@ -26,6 +26,9 @@ struct LimitTables {
         Index vertex, first;
         int faces;
         bool closed;
+        // At a corner the vertex stays and each sharp edge's limit curve leaves it along the edge: an open side's
+        // tangents are its two sharp edges (OpenSubdiv's corner masks), not the crease's.
+        bool corner;
         Index own;  // where its tangent weights are its own (own_t1 / _t2, one per point), else -1
         Index row;
     };
