@@ -16,6 +16,9 @@
 //                                 only (FVAR_LINEAR_CORNERS_ONLY; per frame)
 //   opensubdiv_far_full_uvs       the full pipeline with that layer: TopologyRefinerFactory with its channel +
 //                                 RefineUniform(4) + Interpolate + InterpolateFaceVarying, levels 1-4
+//   opensubdiv_bfr_tessellate     Bfr: per face, PreparePatchPoints and Surface::Evaluate (position and both
+//                                 derivatives) at every point of its uniform Bfr::Tessellation of rate 16 or 12 (per
+//                                 frame; the faces' surfaces made once and kept, the tessellation's coordinates too)
 // loopsub (kernel: scalar, sse4.1, avx2; threads: Options::threads):
 //   loopsub_full                  Plan construction + evaluate
 //   loopsub_topology              Plan construction
@@ -28,6 +31,8 @@
 //   loopsub_face_varying          Plan::evaluate_face_varying of the same layer, corners only (per frame)
 //   loopsub_full_uvs              Plan construction with that layer + evaluate + evaluate_face_varying (what the
 //                                 add-on and the CLI do with a mesh that has UVs)
+//   loopsub_tessellate            Tessellation::evaluate at the same rate: its points and normals (per frame)
+//   loopsub_tessellation          Tessellation construction at that rate
 // Each reports output vertices per second. At the end, the speedups (OpenSubdiv time / loopsub time, medians when
 // --benchmark_repetitions > 1). Usage and numbers: docs/benchmark.md.
 //
@@ -47,6 +52,9 @@
 // block pool), instead of paying the kernel for fresh pages each time (docs/benchmark.md).
 #include <benchmark/benchmark.h>
 
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/tessellation.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/stencilTable.h>
 #include <opensubdiv/far/stencilTableFactory.h>
@@ -71,6 +79,7 @@
 #include <vector>
 
 #include "loopsub/loopsub.h"
+#include "loopsub/tessellation.h"
 
 namespace {
 
@@ -271,6 +280,35 @@ void osd_limit(benchmark::State& state, const Mesh* m) {
         benchmark::DoNotOptimize(limit.data());
     }
     set_rate(state, count);
+}
+
+// Bfr's own way to tessellate the limit surface: a surface per face (kept), its patch points per frame, and
+// Surface::Evaluate with both derivatives at each point of the face's Bfr::Tessellation.
+void osd_bfr_tessellate(benchmark::State& state, const Mesh* m, int rate) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(*m, false, false, 0);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner);
+    std::vector<Bfr::Surface<float>> surfaces(std::size_t(m->num_triangles()));
+    for (int f = 0; f < m->num_triangles(); ++f) factory.InitVertexSurface(f, &surfaces[std::size_t(f)]);
+    const Bfr::Tessellation tessellation(surfaces[0].GetParameterization(), rate);
+    std::vector<float> coords(2 * std::size_t(tessellation.GetNumCoords()));
+    tessellation.GetCoords(coords.data());
+    const Bfr::Surface<float>::PointDescriptor point(3);
+    std::vector<float> patch_points, out(9 * coords.size() / 2);
+    long long points = 0;
+    for (auto _ : state) {
+        points = 0;
+        for (const Bfr::Surface<float>& surface : surfaces) {
+            patch_points.resize(3 * std::size_t(surface.GetNumPatchPoints()));
+            surface.PreparePatchPoints(m->positions.data(), point, patch_points.data(), point);
+            for (std::size_t i = 0; i < coords.size() / 2; ++i) {
+                float* p = &out[9 * i];
+                surface.Evaluate(&coords[2 * i], patch_points.data(), point, p, p + 3, p + 6);
+            }
+            points += tessellation.GetNumCoords();
+        }
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.counters["points/s"] = benchmark::Counter(double(points), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 struct UV {  // PrimvarRefiner's interface, two floats
@@ -478,7 +516,35 @@ void ours_full_uvs(benchmark::State& state, const Mesh* m, int threads) {
     set_rate(state, vertices);
 }
 
+loopsub::TessellationRates uniform_rate(int rate) {
+    loopsub::TessellationRates rates;
+    rates.uniform_rate = rate;
+    return rates;
+}
+
+void ours_tessellate(benchmark::State& state, const Mesh* m, int rate, int threads) {
+    const loopsub::Tessellation tessellation(view(*m), options(loopsub::Kernel::Auto, threads), uniform_rate(rate));
+    std::vector<float> points(3 * std::size_t(tessellation.num_points())),
+        normals(3 * std::size_t(tessellation.num_face_points()));
+    for (auto _ : state) {
+        tessellation.evaluate(m->positions.data(), points.data(), normals.data());
+        benchmark::DoNotOptimize(normals.data());
+    }
+    state.counters["points/s"] =
+        benchmark::Counter(double(tessellation.num_face_points()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void ours_tessellation(benchmark::State& state, const Mesh* m, int rate, int threads) {
+    for (auto _ : state) {
+        const loopsub::Tessellation tessellation(view(*m), options(loopsub::Kernel::Auto, threads), uniform_rate(rate));
+        benchmark::DoNotOptimize(tessellation.triangles());
+    }
+}
+
 // ---- Registration and the speedup table --------------------------------------------------------------------------
+
+// 16: the points of level 4; 12: a rate between levels, where the points lie inside the level's triangles.
+constexpr int kTessellationRates[] = {16, 12};
 
 constexpr loopsub::Kernel kKernels[] = {loopsub::Kernel::Scalar, loopsub::Kernel::SSE41, loopsub::Kernel::AVX2};
 
@@ -500,6 +566,12 @@ void register_all() {
         add("opensubdiv_limit/" + m.name, osd_limit, &m);
         add("opensubdiv_face_varying/" + m.name, osd_face_varying, &m);
         add("opensubdiv_far_full_uvs/" + m.name, osd_far_full_uvs, &m);
+        for (int rate : kTessellationRates) {
+            const std::string suffix = m.name + "/rate:" + std::to_string(rate);
+            add("opensubdiv_bfr_tessellate/" + suffix, osd_bfr_tessellate, &m, rate);
+            add("loopsub_tessellate/" + suffix + "/threads:1", ours_tessellate, &m, rate, 1);
+            add("loopsub_tessellation/" + suffix + "/threads:1", ours_tessellation, &m, rate, 1);
+        }
         for (int threads : {1, 2}) {
             add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
             add("loopsub_limit_compact/" + m.name + "/threads:" + std::to_string(threads), ours_limit_compact, &m,
@@ -629,6 +701,18 @@ void print_speedups(const RecordingReporter& r) {
                         full.c_str());
         }
     }
+    std::printf(
+        "\nTessellation of the limit surface, one thread, Bfr time / loopsub time (issue 25's target: >= 5x):\n");
+    std::printf("%-10s %-6s %34s %20s\n", "mesh", "rate", "points and normals vs Bfr", "tessellation (ms)");
+    for (const Mesh& m : meshes())
+        for (int rate : kTessellationRates) {
+            const std::string suffix = m.name + "/rate:" + std::to_string(rate);
+            const std::string frame =
+                compared("opensubdiv_bfr_tessellate/" + suffix, "loopsub_tessellate/" + suffix + "/threads:1");
+            const double build = r.ms("loopsub_tessellation/" + suffix + "/threads:1");
+            if (frame == "-" && build < 0) continue;
+            std::printf("%-10s %-6d %34s %20.1f\n", m.name.c_str(), rate, frame.c_str(), build);
+        }
 }
 
 // ---- Peak memory -------------------------------------------------------------------------------------------------

@@ -18,6 +18,7 @@ MAY_INCLUDE = {
     "kernels": {"base", "tables"},
     "plan": {"base", "rules", "topology", "tables", "kernels"},
     "evaluate": {"base", "tables", "kernels", "plan"},
+    "tessellate": {"base", "rules", "topology"},
     "api": {"base"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)

@@ -19,10 +19,9 @@ using namespace OpenSubdiv;
 
 namespace {
 
-std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, const Plan& plan, bool face_varying) {
-    if (!mesh.hole_triangles.empty() ||
-        std::int64_t(plan.num_output_triangles()) != (std::int64_t(mesh.num_triangles()) << 2 * plan.levels()))
-        throw std::runtime_error("bfr_limit: output triangles must be the split's, without holes");
+std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, FaceVaryingInterpolation interpolation,
+                                                   bool face_varying) {
+    if (!mesh.hole_triangles.empty()) throw std::runtime_error("bfr: meshes without holes only");
     std::vector<int> vertices_per_face(std::size_t(mesh.num_triangles()), 3);
     Far::TopologyDescriptor desc;
     desc.numVertices = mesh.num_vertices();
@@ -35,7 +34,7 @@ std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, const P
     desc.numCorners = int(mesh.corner_sharpness.size());
     desc.cornerVertexIndices = mesh.corner_vertices.data();
     desc.cornerWeights = mesh.corner_sharpness.data();
-    const Sdc::Options sdc = sdc_options(mesh.boundary, mesh.crease_method, plan.options().face_varying);
+    const Sdc::Options sdc = sdc_options(mesh.boundary, mesh.crease_method, interpolation);
     Far::TopologyDescriptor::FVarChannel channel;
     if (face_varying) {
         channel.numValues = int(mesh.uvs.size() / 2);
@@ -78,11 +77,23 @@ void corner_parameters(std::size_t child, int levels, double uv[3][2]) {
     }
 }
 
+void require_split(const TestMesh& mesh, const Plan& plan) {
+    if (std::int64_t(plan.num_output_triangles()) != (std::int64_t(mesh.num_triangles()) << 2 * plan.levels()))
+        throw std::runtime_error("bfr_limit: output triangles must be the split's, without holes");
+}
+
+void unit_normal(const double du[3], const double dv[3], double* out) {
+    const double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int c = 0; c < 3; ++c) out[c] = length > 0.0 ? n[c] / length : 0.0;
+}
+
 }  // namespace
 
 BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan) {
+    require_split(mesh, plan);
     const int levels = plan.levels();
-    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, plan, false);
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, plan.options().face_varying, false);
     const Bfr::RefinerSurfaceFactory<> factory(*refiner, exact_at(plan));
 
     BfrLimit out;
@@ -107,11 +118,7 @@ BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan) {
                 surface.Evaluate(uv[corner], patch_points.data(), point, p, du, dv);
                 const std::size_t v = std::size_t(triangles[3 * t + corner]);
                 for (int c = 0; c < 3; ++c) out.positions[3 * v + c] = p[c];
-                const double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
-                                     du[0] * dv[1] - du[1] * dv[0]};
-                const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-                if (length > 0.0)
-                    for (int c = 0; c < 3; ++c) out.normals[9 * t + 3 * std::size_t(corner) + c] = n[c] / length;
+                unit_normal(du, dv, &out.normals[9 * t + 3 * std::size_t(corner)]);
             }
         }
     }
@@ -123,8 +130,9 @@ BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan) {
 namespace loopsub::testing {
 
 std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& plan) {
+    require_split(mesh, plan);
     const int levels = plan.levels();
-    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, plan, true);
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, plan.options().face_varying, true);
     Bfr::SurfaceFactory::Options options = exact_at(plan);
     options.SetDefaultFVarID(0);
     const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
@@ -145,6 +153,40 @@ std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& pla
             for (int corner = 0; corner < 3; ++corner)
                 surface.Evaluate(uv[corner], patch_points.data(), point, &out[6 * t + 2 * std::size_t(corner)]);
         }
+    }
+    return out;
+}
+
+}  // namespace loopsub::testing
+
+namespace loopsub::testing {
+
+BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner =
+        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false);
+    // Isolated as deep as Bfr goes: its approximation near irregular vertices shrinks to 2^-10 of a face.
+    Bfr::SurfaceFactory::Options options;
+    options.SetApproxLevelSmooth(10).SetApproxLevelSharp(10);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
+    BfrLimit out;
+    out.positions.assign(3 * points.size(), 0.0);
+    out.normals.assign(3 * points.size(), 0.0);
+    std::vector<double> control(mesh.positions.begin(), mesh.positions.end()), patch_points;
+    const Bfr::Surface<double>::PointDescriptor point(3);
+    Bfr::Surface<double> surface;
+    int face = -1;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (points[i].face != face) {
+            face = points[i].face;
+            if (!factory.InitVertexSurface(face, &surface) || !surface.IsValid())
+                throw std::runtime_error("Bfr: no surface for a face");
+            patch_points.resize(3 * std::size_t(surface.GetNumPatchPoints()));
+            surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
+        }
+        const double uv[2] = {points[i].u, points[i].v};
+        double du[3], dv[3];
+        surface.Evaluate(uv, patch_points.data(), point, &out.positions[3 * i], du, dv);
+        unit_normal(du, dv, &out.normals[3 * i]);
     }
     return out;
 }

@@ -22,6 +22,17 @@ struct BfrLimit {
     std::vector<double> normals;
 };
 
+// A point of a face of the mesh, in Bfr's parameters: corner 0 + u (corner 1 - corner 0) + v (corner 2 - corner 0).
+struct BfrPoint {
+    int face;
+    double u, v;
+};
+
+// The true limit surface at points of the mesh's faces (grouped by face for speed), its tags, boundary and crease
+// method as Bfr reads them: positions and unit normals per point (normals: 3 per point, not per corner). Bfr's surface
+// near irregular vertices is an approximation, here at its finest (2^-10 of a face).
+BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points);
+
 // The plan must have been built for `mesh` (its tags, boundary and crease method; no holes) with the OpenSubdiv rules.
 BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan);
 // The limit of the mesh's UVs (its face-varying layer, interpolated by the plan's Options::face_varying) at the

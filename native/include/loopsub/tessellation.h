@@ -1,0 +1,71 @@
+// Tessellation of the Loop limit surface at a rate per edge: the run-time level of detail of the seed talk. Each input
+// triangle is cut into a lattice of its own, as fine along each edge as that edge's rate says, and every point of it is
+// placed on the limit surface (the surface that refinement converges to, what Blender's "Use Limit Surface" and
+// OpenSubdiv's Bfr evaluate). A point on an edge of the mesh is computed once and shared by the triangles on both
+// sides, so the result has no cracks whatever the rates. A rate of 2^L on every edge gives the vertices of L levels of
+// refinement, on the limit surface.
+//
+// Usage is two-phase, as with Plan: a Tessellation holds all the work that depends on the mesh and the rates, and
+// evaluate() places the points for one frame's positions.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "loopsub/loopsub.h"
+
+namespace loopsub {
+
+// Segments per edge of the input mesh (each >= 1): uniform_rate, except for the edges listed (vertex pairs, either
+// order) with a rate of their own.
+struct TessellationRates {
+    int uniform_rate = 1;
+    const std::int32_t* edges = nullptr;  // 2 * num_edges vertex indices
+    const std::int32_t* rates = nullptr;  // num_edges rates
+    int num_edges = 0;
+};
+
+// The largest rate accepted: 2^12 segments per edge, 16.8 million points per triangle.
+inline constexpr int kMaxTessellationRate = 4096;
+
+struct TessellationImpl;
+
+class Tessellation {
+public:
+    // The mesh as for Plan (no holes, no face-varying layers, Boundary::EdgesOnly or EdgesAndCorners); of options,
+    // the rules, boundary, crease method, crease threshold, kernel, threads and memory limit count (the levels are the
+    // ones the rates need). A face's inner rate is the largest of its edges'. Throws InputError for bad input,
+    // MemoryLimitError past the memory limit.
+    Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates);
+    ~Tessellation();
+    Tessellation(Tessellation&&) noexcept;
+    Tessellation& operator=(Tessellation&&) noexcept;
+    Tessellation(const Tessellation&) = delete;
+    Tessellation& operator=(const Tessellation&) = delete;
+
+    // The points: the input's vertices first (same indices), then the points inside the input's edges, then those
+    // inside its triangles.
+    int num_points() const;
+    int num_triangles() const;
+    const std::int32_t* triangles() const;         // 3 per triangle, counter-clockwise
+    const std::int32_t* parent_triangles() const;  // the input triangle each triangle lies in
+    // Face points: each point of each input triangle, once per triangle (a point on an edge or at a vertex is a face
+    // point of every triangle around it). Each has its parameters (u, v) in its triangle (the point is corner 0 plus u
+    // times (corner 1 - corner 0) plus v times (corner 2 - corner 0), as OpenSubdiv's Bfr has it) and its normal, which
+    // differs between the triangles around a sharp edge. Per corner of each output triangle, its face point.
+    int num_face_points() const;
+    const std::int32_t* corner_face_points() const;  // 3 per triangle
+    const float* face_point_parameters() const;      // (u, v) per face point
+    // The refinement levels whose control points and limit the points are made from.
+    int levels() const;
+
+    // Places the points for the input's positions (3 floats per input vertex): points gets 3 * num_points() floats,
+    // normals (optional, may be null) 3 * num_face_points() floats, unit length (zero where the surface has no tangent
+    // plane). Throws InputError on a non-finite position. Not reentrant.
+    void evaluate(const float* positions, float* points, float* normals) const;
+
+private:
+    std::unique_ptr<TessellationImpl> impl_;
+};
+
+}  // namespace loopsub

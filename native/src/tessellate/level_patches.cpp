@@ -1,0 +1,138 @@
+#include "tessellate/level_patches.h"
+
+#include <algorithm>
+
+namespace loopsub::detail {
+
+namespace {
+
+bool infinitely_sharp(float sharpness) { return sharpness >= kInfiniteSharpness; }
+
+}  // namespace
+
+LevelPatches::LevelPatches(const std::int32_t* triangles, int num_triangles, int num_vertices,
+                           const std::int32_t* sharp_edges, const float* sharp_edge_sharpness, int num_sharp_edges,
+                           const std::int32_t* sharp_vertices, int num_sharp_vertices, const VertexType* types)
+    : triangles_(triangles), types_(types) {
+    offsets_.assign(std::size_t(num_vertices) + 1, 0);
+    const std::size_t num_corners = 3 * std::size_t(num_triangles);
+    for (std::size_t c = 0; c < num_corners; ++c) ++offsets_[std::size_t(triangles[c]) + 1];
+    for (std::size_t v = 0; v < std::size_t(num_vertices); ++v) offsets_[v + 1] += offsets_[v];
+    corners_.resize(num_corners);
+    std::vector<std::int32_t> cursor(offsets_.begin(), offsets_.end() - 1);
+    for (std::size_t c = 0; c < num_corners; ++c) corners_[std::size_t(cursor[std::size_t(triangles[c])]++)] = int(c);
+    sharp_.reserve(std::size_t(num_sharp_edges));
+    for (int e = 0; e < num_sharp_edges; ++e)
+        sharp_[edge_key(sharp_edges[2 * e], sharp_edges[2 * e + 1])] = sharp_edge_sharpness[e];
+    has_sharpness_.assign(std::size_t(num_vertices), false);
+    for (int k = 0; k < num_sharp_vertices; ++k) has_sharpness_[std::size_t(sharp_vertices[k])] = true;
+}
+
+float LevelPatches::sharpness(int a, int b) const {
+    const auto found = sharp_.find(edge_key(a, b));
+    return found == sharp_.end() ? 0.0f : found->second;
+}
+
+int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
+    const int f = corner / 3, i = corner % 3, v = triangles_[corner];
+    // Counter-clockwise the next face shares the edge to the corner's previous vertex, and has it next.
+    const int shared = triangles_[3 * f + (counter_clockwise ? (i + 2) % 3 : (i + 1) % 3)];
+    int found = -1;
+    for (const std::int32_t* c = corners_begin(v); c != corners_end(v); ++c) {
+        const int g = *c / 3, j = *c % 3;
+        if (triangles_[3 * g + (counter_clockwise ? (j + 1) % 3 : (j + 2) % 3)] != shared) continue;
+        if (found >= 0) return -1;  // a non-manifold edge
+        found = *c;
+    }
+    return found;
+}
+
+// ring: the six neighbours counter-clockwise from the corner's next vertex.
+bool LevelPatches::smooth_corner(int corner, std::int32_t ring[6]) const {
+    const int v = triangles_[corner];
+    if (types_[v] != VertexType::Smooth || has_sharpness_[std::size_t(v)] || corners_end(v) - corners_begin(v) != 6)
+        return false;
+    int c = corner;
+    for (int k = 0; k < 6; ++k) {
+        ring[k] = triangles_[3 * (c / 3) + (c % 3 + 1) % 3];
+        if (sharpness(v, ring[k]) != 0.0f) return false;
+        c = next_corner(c, true);
+        if (c < 0) return false;
+    }
+    return c == corner;
+}
+
+// fan: the neighbours met going round from the corner's face's edge to the crease (counter-clockwise from its next
+// vertex, or clockwise from its previous one) through three faces; the first and last edge infinitely sharp.
+bool LevelPatches::crease_corner(int corner, bool counter_clockwise, std::int32_t fan[4]) const {
+    const int v = triangles_[corner];
+    if (types_[v] != VertexType::RegularCrease || has_sharpness_[std::size_t(v)]) return false;
+    const int ahead = counter_clockwise ? 2 : 1;  // the vertex the walk moves to within a face
+    int c = corner;
+    fan[0] = triangles_[3 * (c / 3) + (c % 3 + 3 - ahead) % 3];
+    for (int k = 1; k < 4; ++k) {
+        if (k > 1 && (c = next_corner(c, counter_clockwise)) < 0) return false;
+        fan[k] = triangles_[3 * (c / 3) + (c % 3 + ahead) % 3];
+    }
+    return infinitely_sharp(sharpness(v, fan[0])) && sharpness(v, fan[1]) == 0.0f && sharpness(v, fan[2]) == 0.0f &&
+           infinitely_sharp(sharpness(v, fan[3]));
+}
+
+bool LevelPatches::patch(int face, double s, double t, PatchWeights& out) const {
+    const std::int32_t* f = triangles_ + 3 * face;
+    std::int32_t points[kBoxSplinePoints];
+    int rotation = -1;  // the corner that is P3; P6 and P7 follow it
+    std::int32_t ring[3][6];
+    if (smooth_corner(3 * face, ring[0]) && smooth_corner(3 * face + 1, ring[1]) &&
+        smooth_corner(3 * face + 2, ring[2]) && ring[0][5] == ring[1][2] && ring[1][5] == ring[2][2] &&
+        ring[2][5] == ring[0][2]) {
+        rotation = 0;
+        const std::int32_t gathered[kBoxSplinePoints] = {ring[0][4], ring[0][3], ring[0][5], f[0],
+                                                         ring[0][2], ring[1][3], f[1],       f[2],
+                                                         ring[2][4], ring[1][4], ring[1][5], ring[2][3]};
+        std::copy(gathered, gathered + kBoxSplinePoints, points);
+    }
+    for (int j = 0; rotation < 0 && j < 3; ++j) {  // a crease on the face's edge j, from f[j] to f[j + 1]
+        const int r = (j + 2) % 3;
+        std::int32_t fan1[4], fan2[4];
+        if (!infinitely_sharp(sharpness(f[j], f[(j + 1) % 3])) || !smooth_corner(3 * face + r, ring[0]) ||
+            !crease_corner(3 * face + j, true, fan1) || !crease_corner(3 * face + (j + 1) % 3, false, fan2) ||
+            fan1[2] != ring[0][5] || fan2[2] != ring[0][2])
+            continue;
+        rotation = r;
+        const std::int32_t gathered[kBoxSplinePoints] = {
+            ring[0][4], ring[0][3], ring[0][5], f[r], ring[0][2], fan1[3], f[j], f[(j + 1) % 3], fan2[3], -1, -1, -1};
+        std::copy(gathered, gathered + kBoxSplinePoints, points);
+    }
+    if (rotation < 0) return false;
+
+    // (v, w) are the barycentric coordinates of P6 and P7: the face's corners rotation + 1 and rotation + 2.
+    const double barycentric[3] = {1.0 - s - t, s, t}, along_s[3] = {-1.0, 1.0, 0.0}, along_t[3] = {-1.0, 0.0, 1.0};
+    const int cv = (rotation + 1) % 3, cw = (rotation + 2) % 3;
+    double weights[kBoxSplinePoints], dv[kBoxSplinePoints], dw[kBoxSplinePoints];
+    box_spline_weights(barycentric[cv], barycentric[cw], weights, dv, dw);
+    out.count = points[9] < 0 ? 9 : kBoxSplinePoints;
+    for (int i = 0; i < out.count; ++i) {
+        out.points[i] = points[i];
+        out.position[i] = weights[i];
+        out.ds[i] = dv[i] * along_s[cv] + dw[i] * along_s[cw];
+        out.dt[i] = dv[i] * along_t[cv] + dw[i] * along_t[cw];
+    }
+    if (out.count == 9) {
+        // The phantoms P9 = P5 + P6 - P2, P10 = P6 + P7 - P3, P11 = P7 + P8 - P4 handed to the points they are made of.
+        const int made_of[3][3] = {{5, 6, 2}, {6, 7, 3}, {7, 8, 4}};
+        for (int p = 0; p < 3; ++p) {
+            const int phantom = 9 + p;
+            const double w = weights[phantom], ws = dv[phantom] * along_s[cv] + dw[phantom] * along_s[cw],
+                         wt = dv[phantom] * along_t[cv] + dw[phantom] * along_t[cw];
+            for (int k = 0; k < 3; ++k) {
+                const int q = made_of[p][k];
+                const double sign = k == 2 ? -1.0 : 1.0;
+                out.position[q] += sign * w, out.ds[q] += sign * ws, out.dt[q] += sign * wt;
+            }
+        }
+    }
+    return true;
+}
+
+}  // namespace loopsub::detail

@@ -1,0 +1,67 @@
+// The regular patches of one refined level: where the Loop surface over a triangle is a box spline of 12 of the
+// level's points (rules/box_spline.h), which points, and with which weights at a point of the triangle.
+//
+// Two kinds are regular. Smooth: the triangle's three corners are smooth vertices with six neighbours each, none of
+// their edges sharp and no vertex sharpness, so that every rule that shapes the triangle's surface is the smooth one.
+// Crease: one edge of the triangle is infinitely sharp (a crease or a boundary) between two regular crease vertices,
+// each with three faces on the triangle's side and no other sharp edge there, and the third corner is smooth as
+// above; the three points across the crease are then phantoms, each the fourth corner of the parallelogram on the
+// triangle's side of the crease (P = a + b - c), which the crease rules reproduce: the crease's vertex mask
+// {1, 6, 1} / 8 and edge mask {1, 1} / 2 are the smooth masks applied to them.
+//
+// Everything else (a corner of another valence, a dart, a corner, a semi-sharp edge or vertex) is irregular: its
+// surface needs more refinement first.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+#include "rules/box_spline.h"
+
+namespace loopsub::detail {
+
+// One key per undirected edge.
+inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+    return std::uint64_t(std::uint32_t(a < b ? a : b)) << 32 | std::uint32_t(a < b ? b : a);
+}
+
+// A point of the surface as a combination of a level's points: its position and its derivatives along the face's
+// parameters (s towards corner 1, t towards corner 2).
+struct PatchWeights {
+    int count = 0;
+    std::int32_t points[kBoxSplinePoints];
+    double position[kBoxSplinePoints], ds[kBoxSplinePoints], dt[kBoxSplinePoints];
+};
+
+class LevelPatches {
+public:
+    // A level: its triangles, the sharp edges its rules see (pairs, with their sharpness) and the vertices with a
+    // sharpness of their own, and the classes of its vertices at the next refinement.
+    LevelPatches(const std::int32_t* triangles, int num_triangles, int num_vertices, const std::int32_t* sharp_edges,
+                 const float* sharp_edge_sharpness, int num_sharp_edges, const std::int32_t* sharp_vertices,
+                 int num_sharp_vertices, const VertexType* types);
+
+    // The weights at (s, t) of face, or false where the face is not a regular patch.
+    bool patch(int face, double s, double t, PatchWeights& out) const;
+
+    const std::int32_t* triangles() const { return triangles_; }
+    // The faces that have v as a corner (as 3 * face + corner).
+    const std::int32_t* corners_begin(int v) const { return corners_.data() + offsets_[std::size_t(v)]; }
+    const std::int32_t* corners_end(int v) const { return corners_.data() + offsets_[std::size_t(v) + 1]; }
+
+private:
+    float sharpness(int a, int b) const;
+    int next_corner(int corner, bool counter_clockwise) const;  // around the corner's vertex; -1: none or several
+    bool smooth_corner(int corner, std::int32_t ring[6]) const;
+    bool crease_corner(int corner, bool counter_clockwise, std::int32_t fan[4]) const;
+
+    const std::int32_t* triangles_;
+    std::vector<std::int32_t> offsets_, corners_;
+    std::unordered_map<std::uint64_t, float> sharp_;
+    std::vector<bool> has_sharpness_;
+    const VertexType* types_;
+};
+
+}  // namespace loopsub::detail

@@ -1,0 +1,67 @@
+// The surface at a point of a triangle that is no regular patch (level_patches.h): the triangle's neighbourhood, the
+// faces around its corners, refined on its own, a level at a time, until the point lies in a regular patch of the
+// refined neighbourhood. Those faces are all that shapes the triangle's descendants: at every level, a child's
+// neighbourhood is made of its parent's. (Chaikin's decay at the far end of an edge also reads edges outside them,
+// which OpenSubdiv's Bfr ignores in the same way.)
+//
+// The neighbourhood is refined by a Plan of its own, on the unit vectors (one channel per vertex), so that the refined
+// points come out as weights over the level's points; the result is a stencil, made once per mesh and rates.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "loopsub/loopsub.h"
+#include "tessellate/level_patches.h"
+
+namespace loopsub::detail {
+
+// A point of the surface as weights over a level's points: its position and its derivatives along the parameters of
+// the face it was found in (their directions give the normal; their lengths are that face's).
+struct Stencil {
+    std::vector<std::int32_t> points;
+    std::vector<double> position, ds, dt;
+    void clear() { points.clear(), position.clear(), ds.clear(), dt.clear(); }
+    void add(std::int32_t point, double p, double s, double t) {
+        points.push_back(point), position.push_back(p), ds.push_back(s), dt.push_back(t);
+    }
+};
+
+// A point of a face in exact coordinates: (s, t) = (S, T) / D.
+struct FacePoint {
+    std::int64_t S, T, D;
+};
+
+// Moves a point of a face into the face's child that holds it (the split's order: corner children 0 to 2, the middle
+// child 3), returning the child's number; the point's coordinates become the child's.
+int descend(FacePoint& point);
+
+class LocalRefiner {
+public:
+    // level: the refined level's patches; plan: the plan that made the level (its output tags are the level's);
+    // cones: the input's cone vertices (Hoppe94), which keep their numbers.
+    LocalRefiner(const LevelPatches& level, const Plan& plan, const Options& options, const std::int32_t* cones,
+                 int num_cones);
+    ~LocalRefiner();
+    // The weights of `point` of `face` (not at a corner of it).
+    void weights(int face, FacePoint point, Stencil& out);
+
+    // Levels past the level a neighbourhood is refined to at most; past them the point's triangle is taken as flat
+    // between its corners' limit points (an error of about 4^-kMaxLocalLevels of the triangle's size).
+    static constexpr int kMaxLocalLevels = 6;
+
+private:
+    struct Neighbourhood;
+    Neighbourhood& neighbourhood(int face);
+
+    const LevelPatches& level_;
+    Options options_;
+    std::unordered_map<std::uint64_t, float> crease_tags_;
+    std::unordered_map<std::int32_t, float> corner_tags_;
+    std::vector<bool> cone_;
+    std::unordered_map<int, std::unique_ptr<Neighbourhood>> cache_;
+};
+
+}  // namespace loopsub::detail
