@@ -6,16 +6,23 @@
 #include <string_view>
 #include <vector>
 
+#include "loopsub/tessellation.h"
+
 namespace loopsub::cli {
 
 const char* const kUsage =
     "usage: loopsub IN.obj OUT.obj --levels N [options]\n"
+    "       loopsub IN.obj OUT.obj --tessellate N [options]\n"
     "\n"
     "Subdivides the triangle mesh IN.obj N times by Loop's scheme and writes OUT.obj with the child crease,\n"
     "corner and cone tags. Polygons with more than 3 corners are triangulated by ear clipping (with a notice).\n"
+    "With --tessellate, cuts each triangle into N segments per edge instead, every point on the limit surface,\n"
+    "with its normals (vn); UVs go linearly within each triangle; no tags are written.\n"
     "\n"
     "options:\n"
-    "  --levels N                    subdivision levels, N >= 0 (required)\n"
+    "  --levels N                    subdivision levels, N >= 0 (this or --tessellate is required)\n"
+    "  --tessellate N                segments per edge, 1 to 4096: the limit surface at that rate (N = 2^L:\n"
+    "                                the vertices of --levels L --limit)\n"
     "  --rules hoppe94|opensubdiv    rule set (default hoppe94)\n"
     "  --crease-threshold S          hoppe94: an edge is a crease when its sharpness is >= S (default 0: any\n"
     "                                positive sharpness)\n"
@@ -105,6 +112,8 @@ Command parse_command_line(int argc, char** argv) {
         } else if (arg == "--levels") {
             command.options.levels = int(parse_integer(arg, value(), 0, loopsub::kMaxLevels));
             levels_given = true;
+        } else if (arg == "--tessellate") {
+            command.tessellate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
         } else if (arg == "--rules") {
             command.options.rules = parse_name<Rules>(arg, value());
         } else if (arg == "--crease-threshold") {
@@ -137,7 +146,8 @@ Command parse_command_line(int argc, char** argv) {
     if (positional.size() != 2) {
         throw UsageError("expected IN.obj and OUT.obj, got " + std::to_string(positional.size()) + " file argument(s)");
     }
-    if (!levels_given) throw UsageError("--levels N is required");
+    if (levels_given && command.tessellate > 0) throw UsageError("--levels and --tessellate exclude each other");
+    if (!levels_given && command.tessellate == 0) throw UsageError("--levels N or --tessellate N is required");
     command.input = positional[0];
     command.output = positional[1];
     return command;

@@ -23,6 +23,7 @@ struct Command {
     std::optional<Boundary> boundary;  // from the flag; else the file's tag decides
     std::optional<CreaseMethod> crease_method;
     std::optional<FaceVaryingInterpolation> face_varying;  // from the flag; else the file's tag, else CornersOnly
+    int tessellate = 0;  // > 0: tessellate at this rate per edge instead of refining by levels
     bool stats = false;
     bool help = false;
 };

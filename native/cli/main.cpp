@@ -1,5 +1,6 @@
 // loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
 // Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -9,6 +10,7 @@
 
 #include "command_line.h"
 #include "loopsub/loopsub.h"
+#include "loopsub/tessellation.h"
 #include "obj_io.h"
 
 namespace {
@@ -17,6 +19,51 @@ using loopsub::cli::Command;
 using loopsub::cli::kUsage;
 using loopsub::cli::parse_command_line;
 using loopsub::cli::UsageError;
+
+// --tessellate: the points and their normals (one vn per face point), UVs linear within each input triangle.
+void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const loopsub::Options& options) {
+    loopsub::TessellationRates rates;
+    rates.uniform_rate = command.tessellate;
+    const auto started = std::chrono::steady_clock::now();
+    const loopsub::Tessellation tessellation(in.view(), options, rates);
+    const auto planned = std::chrono::steady_clock::now();
+    loopsub::obj::ObjMesh out;
+    out.positions.resize(3 * std::size_t(tessellation.num_points()));
+    out.normals.resize(3 * std::size_t(tessellation.num_face_points()));
+    tessellation.evaluate(in.positions.data(), out.positions.data(), out.normals.data());
+    const auto evaluated = std::chrono::steady_clock::now();
+    const std::size_t corners = 3 * std::size_t(tessellation.num_triangles());
+    out.triangles.assign(tessellation.triangles(), tessellation.triangles() + corners);
+    out.triangle_normals.assign(tessellation.corner_face_points(), tessellation.corner_face_points() + corners);
+    if (!in.triangle_uvs.empty()) {
+        // Each face point's UV from its triangle's corners, at its parameters.
+        std::vector<std::int32_t> face_of(std::size_t(tessellation.num_face_points()));
+        for (std::size_t c = 0; c < corners; ++c)
+            face_of[std::size_t(out.triangle_normals[c])] = tessellation.parent_triangles()[c / 3];
+        const float* parameters = tessellation.face_point_parameters();
+        out.uvs.resize(2 * face_of.size());
+        for (std::size_t p = 0; p < face_of.size(); ++p) {
+            const std::int32_t* uv = &in.triangle_uvs[3 * std::size_t(face_of[p])];
+            const float u = parameters[2 * p], v = parameters[2 * p + 1], weights[3] = {1.0f - u - v, u, v};
+            for (int c = 0; c < 2; ++c) {
+                float value = 0.0f;
+                for (int k = 0; k < 3; ++k) value += weights[k] * in.uvs[2 * std::size_t(uv[k]) + std::size_t(c)];
+                out.uvs[2 * p + std::size_t(c)] = value;
+            }
+        }
+        out.triangle_uvs = out.triangle_normals;
+    }
+    loopsub::obj::write_obj(command.output, out, options.threads);
+    if (command.stats) {
+        using ms = std::chrono::duration<double, std::milli>;
+        std::printf(
+            "topology_ms=%.3f evaluate_ms=%.3f rate=%d levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
+            "triangles_out=%d threads=%d\n",
+            ms(planned - started).count(), ms(evaluated - planned).count(), command.tessellate, tessellation.levels(),
+            in.num_vertices(), in.num_triangles(), tessellation.num_points(), tessellation.num_triangles(),
+            options.threads);
+    }
+}
 
 int run(const Command& command) {
     const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
@@ -35,6 +82,11 @@ int run(const Command& command) {
     options.crease_method = command.crease_method.value_or(in.crease_method.value_or(loopsub::CreaseMethod::Uniform));
     options.face_varying =
         command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
+
+    if (command.tessellate > 0) {
+        tessellate(command, in, options);
+        return 0;
+    }
 
     // The vt indices are the UV layer's topology: where a vertex's corners name different vt, a seam runs.
     loopsub::MeshView mesh = in.view();

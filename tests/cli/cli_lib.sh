@@ -92,7 +92,7 @@ check_valid_obj() {
                  for (i = 2; i <= 4; i++) {
                    split($i, c, "/")
                    if (c[1] < 1 || c[1] > nv) { print "line " NR ": vertex index " c[1] " out of range"; exit }
-                   if ((2 in c) && (c[2] < 1 || c[2] > nvt)) { print "line " NR ": texture index " c[2] " out of range"; exit }
+                   if ((2 in c) && c[2] != "" && (c[2] < 1 || c[2] > nvt)) { print "line " NR ": texture index " c[2] " out of range"; exit }
                  } }' "$file")
   [ -z "$problem" ] || fail "$file: $problem"
 }

@@ -1,0 +1,40 @@
+# --tessellate N on OpenSubdiv's shapes: valid OBJ output with the counts a rate of N gives (V + E (N - 1) +
+# F (N - 1)(N - 2) / 2 points, F N^2 triangles), a normal and a UV for every corner, and at N = 2^L the points of
+# --levels L --limit.
+source "$(dirname "$0")/cli_lib.sh"
+require_shapes
+
+for shape in loop_cube loop_cube_creases0 loop_fvar_bound0 loop_icos_semisharp loop_pole8 loop_xord_interior; do
+  in="$SHAPES/$shape.obj"
+  v=$(count_lines v "$in")
+  f=$(count_lines f "$in")
+  e=$(count_edges "$in")
+  for rules in hoppe94 opensubdiv; do
+    for rate in 1 3 5; do
+      out="$WORK/$shape.$rules.$rate.obj"
+      run_cli 0 "$in" "$out" --tessellate "$rate" --rules "$rules"
+      check_valid_obj "$out" $((v + e * (rate - 1) + f * (rate - 1) * (rate - 2) / 2)) $((f * rate * rate))
+      grep -q '^f [0-9]*/[0-9]*/[0-9]* \|^f [0-9]*//[0-9]* ' "$out" || fail "$out: faces without normals"
+      if grep -q '^vt ' "$in"; then
+        grep -q '^f [0-9]*/[0-9][0-9]*/' "$out" || fail "$out: the input has UVs but the faces have no vt index"
+      fi
+      grep -q '^t ' "$out" && fail "$out: a tessellation has no tags to feed back, yet wrote $(grep -c '^t ' "$out")"
+    done
+  done
+  # Rate 4 is level 2 on the limit surface: the same points (sorted, as the numbering differs inside the faces).
+  run_cli 0 "$in" "$WORK/t4.obj" --tessellate 4 --rules opensubdiv
+  run_cli 0 "$in" "$WORK/l2.obj" --levels 2 --limit --rules opensubdiv
+  paste <(grep '^v ' "$WORK/t4.obj" | sort) <(grep '^v ' "$WORK/l2.obj" | sort) |
+    awk '{ for (i = 2; i <= 4; i++) { d = $i - $(i + 4); if (d < 0) d = -d; if (d > 1e-5) bad++ } }
+         END { exit bad > 0 }' || fail "$shape: --tessellate 4 is not --levels 2 --limit"
+done
+
+run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 0
+expect_stderr "--tessellate must be >= 1, got 0"
+run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 4097
+expect_stderr "--tessellate must be <= 4096"
+run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 2 --levels 1
+expect_stderr "--levels and --tessellate exclude each other"
+run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj"
+expect_stderr "--levels N or --tessellate N is required"
+finish
