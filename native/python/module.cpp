@@ -17,6 +17,7 @@
 #include "loopsub/loopsub.h"
 #include "plan.h"
 #include "subdivide.h"
+#include "tessellation.h"
 
 namespace py = pybind11;
 
@@ -75,6 +76,7 @@ PYBIND11_MODULE(_loopsub, m) {
 
     loopsub::python::bind_plan(m);
     loopsub::python::bind_subdivide(m);
+    loopsub::python::bind_tessellation(m);
 
     m.def(
         "best_kernel", [] { return loopsub::kernel_name(loopsub::best_kernel()); },

@@ -20,15 +20,6 @@ Option parse_name(const char* keyword, const std::string& text) {
     return value;
 }
 
-// Crease edges or corner vertices and their sharpness, as read_sharp_tags read them.
-struct SharpTags {
-    py::array tags, given_sharpness;
-    std::vector<float> default_sharpness;  // when only the tags are given
-    int count = 0;
-    const std::int32_t* indices = nullptr;
-    const float* sharpness = nullptr;
-};
-
 // `tags_arg` (K vertex pairs, or K vertices) and `sharpness_arg` (K values, or None) into `out`.
 void read_sharp_tags(py::handle tags_arg, const char* tags_name, bool pairs, py::handle sharpness_arg,
                      const char* sharpness_name, const char* count_name, SharpTags& out) {
@@ -52,16 +43,7 @@ void read_sharp_tags(py::handle tags_arg, const char* tags_name, bool pairs, py:
     }
 }
 
-// Everything a Plan is built from, read from Python while the GIL is held. The py::array members keep the
-// caller's buffers alive (and referenced by `mesh`) while the core runs without the GIL.
-struct PlanInput {
-    py::array triangles, cone_vertices, holes;
-    SharpTags creases, corners;
-    std::vector<py::array> layer_arrays;  // face_varying_indices as given, then subdivide()'s welded per-corner values
-    std::vector<loopsub::FaceVaryingLayer> layers;
-    loopsub::MeshView mesh;
-    loopsub::Options options;
-};
+}  // namespace
 
 void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int levels, const OptionArgs& o,
                 const std::vector<py::array>& welded_layers) {
@@ -132,6 +114,8 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
     mesh.face_varying = in.layers.data();
     mesh.num_face_varying = int(in.layers.size());
 }
+
+namespace {
 
 // A face-varying layer's index as the caller gave it: any integer (numpy's too; a huge one is out of range, not a
 // failed conversion), checked against the plan's layers.

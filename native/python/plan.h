@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -18,24 +19,27 @@ namespace loopsub::python {
 namespace py = pybind11;
 
 // The options Plan() and subdivide() both take, keyword-only and in this order, as X(type, keyword, default): the one
-// list that the bindings' parameters, their keyword arguments and OptionArgs are made from.
-#define LOOPSUB_FOR_EACH_OPTION(X)                                                                  \
-    X(std::string, rules, "hoppe94")                                                                \
-    X(py::object, crease_edges, py::none())                                                         \
-    X(py::object, crease_sharpness, py::none())                                                     \
-    X(py::object, corner_vertices, py::none())                                                      \
-    X(py::object, corner_sharpness, py::none())                                                     \
-    X(py::object, cone_vertices, py::none())                                                        \
-    X(double, crease_threshold, 0.0)                                                                \
-    X(std::string, boundary, "edges")                                                               \
-    X(std::string, crease_method, "uniform")                                                        \
-    X(int, threads, 1)                                                                              \
-    X(bool, scalar, false)                                                                          \
-    X(long long, memory_limit_bytes, static_cast<long long>(loopsub::Options{}.memory_limit_bytes)) \
-    X(bool, limit_surface, false)                                                                   \
-    X(std::string, uv_interpolation, "corners")                                                     \
-    X(py::object, face_varying_indices, py::none())                                                 \
-    X(py::object, hole_triangles, py::none())                                                       \
+// list that the bindings' parameters, their keyword arguments and OptionArgs are made from. Tessellation() takes the
+// first part, the mesh's tags and the rules.
+#define LOOPSUB_FOR_EACH_OPTION(X) LOOPSUB_FOR_EACH_MESH_OPTION(X) LOOPSUB_FOR_EACH_PLAN_OPTION(X)
+#define LOOPSUB_FOR_EACH_MESH_OPTION(X)         \
+    X(std::string, rules, "hoppe94")            \
+    X(py::object, crease_edges, py::none())     \
+    X(py::object, crease_sharpness, py::none()) \
+    X(py::object, corner_vertices, py::none())  \
+    X(py::object, corner_sharpness, py::none()) \
+    X(py::object, cone_vertices, py::none())    \
+    X(double, crease_threshold, 0.0)            \
+    X(std::string, boundary, "edges")           \
+    X(std::string, crease_method, "uniform")    \
+    X(int, threads, 1)                          \
+    X(bool, scalar, false)                      \
+    X(long long, memory_limit_bytes, static_cast<long long>(loopsub::Options{}.memory_limit_bytes))
+#define LOOPSUB_FOR_EACH_PLAN_OPTION(X)             \
+    X(bool, limit_surface, false)                   \
+    X(std::string, uv_interpolation, "corners")     \
+    X(py::object, face_varying_indices, py::none()) \
+    X(py::object, hole_triangles, py::none())       \
     X(std::string, level_tables, "auto")
 
 // After a binding's own parameters: ", type keyword" for each option.
@@ -45,9 +49,9 @@ namespace py = pybind11;
 // In the binding: the OptionArgs of its option parameters.
 #define LOOPSUB_OPTION_VALUE(type, keyword, default_value) keyword,
 
-// The options as Python gave them, read by build_plan.
+// The options as Python gave them, read by build_plan (those not given: their defaults).
 struct OptionArgs {
-#define LOOPSUB_OPTION_FIELD(type, keyword, default_value) type keyword;
+#define LOOPSUB_OPTION_FIELD(type, keyword, default_value) type keyword = default_value;
     LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_FIELD)
 #undef LOOPSUB_OPTION_FIELD
 };
@@ -62,6 +66,28 @@ struct PyPlan {
     // evaluating one plan must take turns.
     std::mutex evaluate_mutex;
 };
+
+// Crease edges or corner vertices and their sharpness, as read from Python.
+struct SharpTags {
+    py::array tags, given_sharpness;
+    std::vector<float> default_sharpness;  // when only the tags are given
+    int count = 0;
+    const std::int32_t* indices = nullptr;
+    const float* sharpness = nullptr;
+};
+
+// Everything a Plan (or a Tessellation) is built from, read from Python while the GIL is held. The py::array members
+// keep the caller's buffers alive (and referenced by `mesh`) while the core runs without the GIL.
+struct PlanInput {
+    py::array triangles, cone_vertices, holes;
+    SharpTags creases, corners;
+    std::vector<py::array> layer_arrays;  // face_varying_indices as given, then subdivide()'s welded per-corner values
+    std::vector<loopsub::FaceVaryingLayer> layers;
+    loopsub::MeshView mesh;
+    loopsub::Options options;
+};
+void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int levels, const OptionArgs& o,
+                const std::vector<py::array>& welded_layers = {});
 
 // The plan of Plan(triangles, num_vertices, levels, **options); welded_layers (subdivide()'s per-corner values, as
 // (M, 3) int32 value indices) come after the face_varying_indices given.

@@ -1,0 +1,154 @@
+#include "tessellation.h"
+
+#include <pybind11/numpy.h>
+
+#include <memory>
+#include <mutex>
+#include <utility>
+
+#include "arguments.h"
+#include "loopsub/tessellation.h"
+#include "plan.h"
+
+namespace loopsub::python {
+
+namespace {
+
+struct PyTessellation {
+    explicit PyTessellation(loopsub::Tessellation&& t, int vertices)
+        : tessellation(std::move(t)), num_input_vertices(vertices) {}
+    loopsub::Tessellation tessellation;
+    int num_input_vertices;
+    std::mutex evaluate_mutex;  // Tessellation::evaluate is not reentrant and runs without the GIL
+};
+
+std::unique_ptr<PyTessellation> build(py::handle triangles, long long num_vertices, int rate, py::handle edges,
+                                      py::handle edge_rates, const OptionArgs& args) {
+    PlanInput in;
+    read_input(in, triangles, num_vertices, 0, args);
+    loopsub::TessellationRates rates;
+    rates.uniform_rate = rate;
+    py::array edge_array, rate_array;
+    if (edges.is_none() != edge_rates.is_none())
+        throw py::value_error("edges and edge_rates go together: give both or neither");
+    if (!edges.is_none()) {
+        edge_array = require_array<std::int32_t>(edges, "edges", {{-1, "K"}, {2, "2"}});
+        rate_array = require_array<std::int32_t>(edge_rates, "edge_rates", {{edge_array.shape(0), "K"}});
+        rates.edges = data_of<std::int32_t>(edge_array), rates.rates = data_of<std::int32_t>(rate_array);
+        rates.num_edges = checked_count(edge_array.shape(0), "number of edges");
+    }
+    py::gil_scoped_release nogil;
+    return std::make_unique<PyTessellation>(loopsub::Tessellation(in.mesh, in.options, rates), in.mesh.num_vertices);
+}
+
+// A read-only view of memory the tessellation owns, which `base` keeps alive.
+template <typename T>
+py::array view(const T* data, std::vector<py::ssize_t> shape, py::handle base) {
+    py::array a(py::dtype::of<T>(), std::move(shape), data, base);
+    a.attr("setflags")(py::arg("write") = false);
+    return a;
+}
+
+py::tuple evaluate_points(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
+    PyTessellation& p = self.cast<PyTessellation&>();
+    const loopsub::Tessellation& t = p.tessellation;
+    py::array in = require_array<float>(positions, "positions", {{p.num_input_vertices, "N"}, {3, "3"}});
+    py::array points = output_array(out, {{t.num_points(), "num_points"}, {3, "3"}}, in);
+    py::array normals = output_array(normals_out, {{t.num_face_points(), "num_face_points"}, {3, "3"}}, in);
+    if (overlaps(normals, points)) throw py::value_error("normals must not share memory with out");
+    const float* src = data_of<float>(in);
+    float *dst = static_cast<float*>(points.mutable_data()), *n = static_cast<float*>(normals.mutable_data());
+    {
+        py::gil_scoped_release nogil;
+        std::lock_guard<std::mutex> lock(p.evaluate_mutex);
+        t.evaluate(src, dst, n);
+    }
+    return py::make_tuple(points, normals);
+}
+
+constexpr const char* kDoc =
+    R"doc(Tessellation(triangles, num_vertices, rate=1, *, edges=None, edge_rates=None, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
+
+The limit surface at a rate per edge: each triangle cut into a lattice as fine along each edge as
+its rate says (``rate`` segments, or the rate ``edge_rates[k]`` of ``edges[k]``, a vertex pair
+in either order), every point on the limit surface, the points on the mesh's edges shared by the
+triangles on both sides. A triangle's inner rate is the largest of its edges'. A rate of 2**L
+gives the vertices of ``Plan(levels=L, limit_surface=True)``. The options are Plan's (the mesh's
+tags and the rules); ``evaluate`` places the points for new positions without topology work.
+
+Parameters
+----------
+triangles : numpy.ndarray of int32, shape (M, 3)
+num_vertices : int
+rate : int, 1 to 4096
+edges : numpy.ndarray of int32, shape (K, 2), optional
+edge_rates : numpy.ndarray of int32, shape (K,), optional
+
+Raises ``ValueError`` for a rate out of range, an edge no triangle has, holes, face-varying
+layers or boundary="none", and as Plan for a bad mesh.
+)doc";
+
+constexpr const char* kEvaluateDoc = R"doc(evaluate(positions, out=None, normals=None)
+
+positions (N, 3) float32. Returns (points, normals): points (num_points, 3) float32 on the limit
+surface, and the unit normal at each face point, (num_face_points, 3) float32 (zero where the
+surface has no tangent plane). ``out`` and ``normals`` may be given to be written in place.
+)doc";
+
+}  // namespace
+
+void bind_tessellation(py::module_& m) {
+    py::class_<PyTessellation>(m, "Tessellation", kDoc)
+        .def(py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges,
+                         py::handle edge_rates LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
+                 OptionArgs args;
+#define LOOPSUB_OPTION_ASSIGN(type, keyword, default_value) args.keyword = keyword;
+                 LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ASSIGN)
+#undef LOOPSUB_OPTION_ASSIGN
+                 return build(triangles, num_vertices, rate, edges, edge_rates, args);
+             }),
+             py::arg("triangles"), py::arg("num_vertices"), py::arg("rate") = 1, py::kw_only(),
+             py::arg("edges") = py::none(),
+             py::arg("edge_rates") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG))
+        .def("evaluate", &evaluate_points, kEvaluateDoc, py::arg("positions"), py::arg("out") = py::none(),
+             py::arg("normals") = py::none())
+        .def_property_readonly(
+            "num_points", [](PyTessellation& p) { return p.tessellation.num_points(); }, "int: points of the result.")
+        .def_property_readonly(
+            "num_face_points", [](PyTessellation& p) { return p.tessellation.num_face_points(); },
+            "int: points of each input triangle, counted per triangle (the normals' rows).")
+        .def_property_readonly(
+            "levels", [](PyTessellation& p) { return p.tessellation.levels(); },
+            "int: the refinement levels the points are made from.")
+        .def_property_readonly(
+            "triangles",
+            [](py::object self) {
+                const auto& t = self.cast<PyTessellation&>().tessellation;
+                return view(t.triangles(), {t.num_triangles(), 3}, self);
+            },
+            "(T, 3) int32: the result's triangles, counter-clockwise (read-only view).")
+        .def_property_readonly(
+            "parent_triangles",
+            [](py::object self) {
+                const auto& t = self.cast<PyTessellation&>().tessellation;
+                return view(t.parent_triangles(), {t.num_triangles()}, self);
+            },
+            "(T,) int32: the input triangle each triangle lies in (read-only view).")
+        .def_property_readonly(
+            "corner_face_points",
+            [](py::object self) {
+                const auto& t = self.cast<PyTessellation&>().tessellation;
+                return view(t.corner_face_points(), {t.num_triangles(), 3}, self);
+            },
+            "(T, 3) int32: each corner's face point, the row of its normal (read-only view).")
+        .def_property_readonly(
+            "face_point_parameters",
+            [](py::object self) {
+                const auto& t = self.cast<PyTessellation&>().tessellation;
+                return view(t.face_point_parameters(), {t.num_face_points(), 2}, self);
+            },
+            "(num_face_points, 2) float32: each face point's (u, v) in its triangle, corner 0 + u (corner 1 - "
+            "corner 0) + v (corner 2 - corner 0) (read-only view).");
+}
+
+}  // namespace loopsub::python

@@ -1,0 +1,84 @@
+"""The Tessellation object: the limit surface at a rate per edge (issue 25), as numpy arrays without copies."""
+import gc
+
+import numpy as np
+import pytest
+
+import _loopsub
+from conftest import assert_same_point_sets, edges_of, grid, icosahedron
+
+
+def test_rate_two_to_the_l_is_level_l_on_the_limit_surface():
+    positions, triangles = icosahedron()
+    for levels in (0, 1, 2):
+        tessellation = _loopsub.Tessellation(triangles, len(positions), 2**levels, rules="opensubdiv")
+        points, normals = tessellation.evaluate(positions)
+        plan = _loopsub.Plan(triangles, len(positions), levels, rules="opensubdiv", limit_surface=True)
+        expected = plan.evaluate(positions)
+        assert tessellation.levels == levels
+        assert points.shape == (plan.num_output_vertices, 3) and points.dtype == np.float32
+        assert tessellation.triangles.shape == (plan.num_output_triangles, 3)
+        assert_same_point_sets(points, expected, 1e-6)
+        assert normals.shape == (tessellation.num_face_points, 3)
+        np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-6)
+
+
+def test_counts_and_views_for_rates_per_edge():
+    positions, triangles = grid(5, seed=3, height=0.2)
+    edges = np.array(sorted(edges_of(triangles)), np.int32)
+    rates = (np.arange(len(edges)) % 4 + 1).astype(np.int32)
+    tessellation = _loopsub.Tessellation(triangles, len(positions), 1, edges=edges, edge_rates=rates,
+                                         rules="opensubdiv")
+    # Every edge's inner points once, and each triangle's inner lattice of its largest rate (or its centre).
+    inner = 0
+    rate_of = {tuple(sorted(e)): r for e, r in zip(edges.tolist(), rates.tolist())}
+    for t in triangles.tolist():
+        r = [rate_of[tuple(sorted((t[k], t[(k + 1) % 3])))] for k in range(3)]
+        n = max(r)
+        inner += 1 if (len(set(r)) > 1 and n < 3) else (n - 1) * (n - 2) // 2
+    assert tessellation.num_points == len(positions) + int((rates - 1).sum()) + inner
+    for name in ("triangles", "parent_triangles", "corner_face_points", "face_point_parameters"):
+        view = getattr(tessellation, name)
+        assert not view.flags.writeable
+        assert view.base is not None
+    # A face point's parameters place it in its parent triangle: barycentric coordinates in [0, 1].
+    uv = tessellation.face_point_parameters
+    assert uv.min() >= 0.0 and (uv.sum(axis=1) <= 1.0 + 1e-6).all()
+    points, normals = tessellation.evaluate(positions)
+    assert np.isfinite(points).all() and np.isfinite(normals).all()
+
+
+def test_views_keep_the_tessellation_alive_and_out_is_written_in_place():
+    positions, triangles = icosahedron()
+    tessellation = _loopsub.Tessellation(triangles, len(positions), 3)
+    triangles_view = tessellation.triangles
+    out = np.zeros((tessellation.num_points, 3), np.float32)
+    normals = np.zeros((tessellation.num_face_points, 3), np.float32)
+    result, result_normals = tessellation.evaluate(positions, out=out, normals=normals)
+    assert result is out and result_normals is normals and np.abs(out).sum() > 0
+    del tessellation
+    gc.collect()
+    assert triangles_view.max() < len(out)
+
+
+def test_bad_input_raises():
+    positions, triangles = icosahedron()
+    with pytest.raises(ValueError, match="uniform_rate must be between 1 and 4096, got 0"):
+        _loopsub.Tessellation(triangles, len(positions), 0)
+    with pytest.raises(ValueError, match=r"a rate for edge \(0, 3\), which no triangle has"):
+        _loopsub.Tessellation(triangles, len(positions), 2, edges=np.array([[0, 3]], np.int32),
+                              edge_rates=np.array([2], np.int32))
+    with pytest.raises(ValueError, match="edges and edge_rates go together"):
+        _loopsub.Tessellation(triangles, len(positions), 2, edges=np.array([[0, 11]], np.int32))
+    with pytest.raises(TypeError, match="edge_rates must have dtype int32"):
+        _loopsub.Tessellation(triangles, len(positions), 2, edges=np.array([[0, 11]], np.int32),
+                              edge_rates=np.array([2.0]))
+    with pytest.raises(ValueError, match="Boundary::None"):
+        _loopsub.Tessellation(triangles, len(positions), 2, boundary="none")
+    tessellation = _loopsub.Tessellation(triangles, len(positions), 2)
+    with pytest.raises(ValueError, match=r"positions must have shape \(N=12, 3\)"):
+        tessellation.evaluate(positions[:5])
+    with pytest.raises(ValueError, match="non-finite|finite"):
+        bad = positions.copy()
+        bad[0, 0] = np.nan
+        tessellation.evaluate(bad)
