@@ -311,6 +311,26 @@ TEST(Tessellation, RateTwoToTheLGivesLevelLOnTheLimitSurface) {
     }
 }
 
+TEST(Tessellation, TwoThreadsPlaceTheSamePoints) {
+    TestMesh mesh = icosphere(2);
+    jitter(mesh, 255, 0.02f);
+    mesh.add_crease(0, mesh.triangles[1], 2.5f);
+    for (int uniform : {7, 8, -9}) {
+        const RatesFor rates(mesh, uniform, 26);
+        Options one = options_for(mesh), two = one;
+        two.threads = 2;
+        const Tessellation a(mesh.view(), one, rates.view), b(mesh.view(), two, rates.view);
+        std::vector<float> points[2], normals[2];
+        for (int k = 0; k < 2; ++k) {
+            const Tessellation& t = k == 0 ? a : b;
+            points[k].resize(3 * std::size_t(t.num_points())), normals[k].resize(3 * std::size_t(t.num_face_points()));
+            t.evaluate(mesh.positions.data(), points[k].data(), normals[k].data());
+        }
+        EXPECT_EQ(points[0], points[1]) << uniform;
+        EXPECT_EQ(normals[0], normals[1]) << uniform;
+    }
+}
+
 TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {
     TestMesh mesh = icosahedron();
     auto refuses = [&](const MeshView& view, const Options& options, const TessellationRates& rates,

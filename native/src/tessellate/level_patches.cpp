@@ -26,6 +26,11 @@ LevelPatches::LevelPatches(const std::int32_t* triangles, int num_triangles, int
         sharp_[edge_key(sharp_edges[2 * e], sharp_edges[2 * e + 1])] = sharp_edge_sharpness[e];
     has_sharpness_.assign(std::size_t(num_vertices), false);
     for (int k = 0; k < num_sharp_vertices; ++k) has_sharpness_[std::size_t(sharp_vertices[k])] = true;
+    smooth_.assign(std::size_t(num_vertices), true);
+    for (int e = 0; e < 2 * num_sharp_edges; ++e) smooth_[std::size_t(sharp_edges[e])] = false;
+    for (int v = 0; v < num_vertices; ++v)
+        if (types[v] != VertexType::Smooth || has_sharpness_[std::size_t(v)] || corners_end(v) - corners_begin(v) != 6)
+            smooth_[std::size_t(v)] = false;
 }
 
 float LevelPatches::sharpness(int a, int b) const {
@@ -49,13 +54,10 @@ int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
 
 // ring: the six neighbours counter-clockwise from the corner's next vertex.
 bool LevelPatches::smooth_corner(int corner, std::int32_t ring[6]) const {
-    const int v = triangles_[corner];
-    if (types_[v] != VertexType::Smooth || has_sharpness_[std::size_t(v)] || corners_end(v) - corners_begin(v) != 6)
-        return false;
+    if (!smooth_[std::size_t(triangles_[corner])]) return false;
     int c = corner;
     for (int k = 0; k < 6; ++k) {
         ring[k] = triangles_[3 * (c / 3) + (c % 3 + 1) % 3];
-        if (sharpness(v, ring[k]) != 0.0f) return false;
         c = next_corner(c, true);
         if (c < 0) return false;
     }
@@ -78,61 +80,60 @@ bool LevelPatches::crease_corner(int corner, bool counter_clockwise, std::int32_
            infinitely_sharp(sharpness(v, fan[3]));
 }
 
-bool LevelPatches::patch(int face, double s, double t, PatchWeights& out) const {
+bool LevelPatches::find_patch(int face, Patch& out) const {
     const std::int32_t* f = triangles_ + 3 * face;
-    std::int32_t points[kBoxSplinePoints];
-    int rotation = -1;  // the corner that is P3; P6 and P7 follow it
     std::int32_t ring[3][6];
     if (smooth_corner(3 * face, ring[0]) && smooth_corner(3 * face + 1, ring[1]) &&
         smooth_corner(3 * face + 2, ring[2]) && ring[0][5] == ring[1][2] && ring[1][5] == ring[2][2] &&
         ring[2][5] == ring[0][2]) {
-        rotation = 0;
         const std::int32_t gathered[kBoxSplinePoints] = {ring[0][4], ring[0][3], ring[0][5], f[0],
                                                          ring[0][2], ring[1][3], f[1],       f[2],
                                                          ring[2][4], ring[1][4], ring[1][5], ring[2][3]};
-        std::copy(gathered, gathered + kBoxSplinePoints, points);
+        std::copy(gathered, gathered + kBoxSplinePoints, out.points);
+        out.rotation = 0, out.crease = false;
+        return true;
     }
-    for (int j = 0; rotation < 0 && j < 3; ++j) {  // a crease on the face's edge j, from f[j] to f[j + 1]
+    for (int j = 0; j < 3; ++j) {  // a crease on the face's edge j, from f[j] to f[j + 1]
         const int r = (j + 2) % 3;
         std::int32_t fan1[4], fan2[4];
         if (!infinitely_sharp(sharpness(f[j], f[(j + 1) % 3])) || !smooth_corner(3 * face + r, ring[0]) ||
             !crease_corner(3 * face + j, true, fan1) || !crease_corner(3 * face + (j + 1) % 3, false, fan2) ||
             fan1[2] != ring[0][5] || fan2[2] != ring[0][2])
             continue;
-        rotation = r;
         const std::int32_t gathered[kBoxSplinePoints] = {
             ring[0][4], ring[0][3], ring[0][5], f[r], ring[0][2], fan1[3], f[j], f[(j + 1) % 3], fan2[3], -1, -1, -1};
-        std::copy(gathered, gathered + kBoxSplinePoints, points);
+        std::copy(gathered, gathered + kBoxSplinePoints, out.points);
+        out.rotation = r, out.crease = true;
+        return true;
     }
-    if (rotation < 0) return false;
+    return false;
+}
 
+void patch_weights(const Patch& patch, double s, double t, PatchWeights& out) {
     // (v, w) are the barycentric coordinates of P6 and P7: the face's corners rotation + 1 and rotation + 2.
     const double barycentric[3] = {1.0 - s - t, s, t}, along_s[3] = {-1.0, 1.0, 0.0}, along_t[3] = {-1.0, 0.0, 1.0};
-    const int cv = (rotation + 1) % 3, cw = (rotation + 2) % 3;
+    const int cv = (patch.rotation + 1) % 3, cw = (patch.rotation + 2) % 3;
     double weights[kBoxSplinePoints], dv[kBoxSplinePoints], dw[kBoxSplinePoints];
     box_spline_weights(barycentric[cv], barycentric[cw], weights, dv, dw);
-    out.count = points[9] < 0 ? 9 : kBoxSplinePoints;
-    for (int i = 0; i < out.count; ++i) {
-        out.points[i] = points[i];
+    for (int i = 0; i < kBoxSplinePoints; ++i) {
         out.position[i] = weights[i];
         out.ds[i] = dv[i] * along_s[cv] + dw[i] * along_s[cw];
         out.dt[i] = dv[i] * along_t[cv] + dw[i] * along_t[cw];
     }
-    if (out.count == 9) {
-        // The phantoms P9 = P5 + P6 - P2, P10 = P6 + P7 - P3, P11 = P7 + P8 - P4 handed to the points they are made of.
-        const int made_of[3][3] = {{5, 6, 2}, {6, 7, 3}, {7, 8, 4}};
-        for (int p = 0; p < 3; ++p) {
-            const int phantom = 9 + p;
-            const double w = weights[phantom], ws = dv[phantom] * along_s[cv] + dw[phantom] * along_s[cw],
-                         wt = dv[phantom] * along_t[cv] + dw[phantom] * along_t[cw];
-            for (int k = 0; k < 3; ++k) {
-                const int q = made_of[p][k];
-                const double sign = k == 2 ? -1.0 : 1.0;
-                out.position[q] += sign * w, out.ds[q] += sign * ws, out.dt[q] += sign * wt;
-            }
+    if (!patch.crease) return;
+    // The phantoms P9 = P5 + P6 - P2, P10 = P6 + P7 - P3, P11 = P7 + P8 - P4 handed to the points they are made of.
+    const int made_of[3][3] = {{5, 6, 2}, {6, 7, 3}, {7, 8, 4}};
+    for (int p = 0; p < 3; ++p) {
+        const int phantom = 9 + p;
+        for (int k = 0; k < 3; ++k) {
+            const int q = made_of[p][k];
+            const double sign = k == 2 ? -1.0 : 1.0;
+            out.position[q] += sign * out.position[phantom];
+            out.ds[q] += sign * out.ds[phantom];
+            out.dt[q] += sign * out.dt[phantom];
         }
+        out.position[phantom] = out.ds[phantom] = out.dt[phantom] = 0.0;
     }
-    return true;
 }
 
 }  // namespace loopsub::detail

@@ -27,13 +27,22 @@ inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
     return std::uint64_t(std::uint32_t(a < b ? a : b)) << 32 | std::uint32_t(a < b ? b : a);
 }
 
-// A point of the surface as a combination of a level's points: its position and its derivatives along the face's
-// parameters (s towards corner 1, t towards corner 2).
-struct PatchWeights {
-    int count = 0;
+// A regular patch of a level's triangle: its 12 points in box_spline.h's order, P3, P6, P7 being the triangle's corners
+// `rotation`, `rotation` + 1 and `rotation` + 2; beside a crease (on P6-P7) the last three are phantoms, and hold -1.
+struct Patch {
     std::int32_t points[kBoxSplinePoints];
+    int rotation = 0;
+    bool crease = false;
+    int count() const { return crease ? kBoxSplinePoints - 3 : kBoxSplinePoints; }
+};
+
+// The weights of a patch's points (its first count()) at (s, t) of its triangle (s towards the triangle's corner 1, t
+// towards corner 2): for the position and its derivatives along s and t. The phantoms' weights go to the points they
+// are made of.
+struct PatchWeights {
     double position[kBoxSplinePoints], ds[kBoxSplinePoints], dt[kBoxSplinePoints];
 };
+void patch_weights(const Patch& patch, double s, double t, PatchWeights& out);
 
 class LevelPatches {
 public:
@@ -43,8 +52,8 @@ public:
                  const float* sharp_edge_sharpness, int num_sharp_edges, const std::int32_t* sharp_vertices,
                  int num_sharp_vertices, const VertexType* types);
 
-    // The weights at (s, t) of face, or false where the face is not a regular patch.
-    bool patch(int face, double s, double t, PatchWeights& out) const;
+    // The regular patch of face, or false where the face is none.
+    bool find_patch(int face, Patch& out) const;
 
     const std::int32_t* triangles() const { return triangles_; }
     // The faces that have v as a corner (as 3 * face + corner).
@@ -60,6 +69,8 @@ private:
     const std::int32_t* triangles_;
     std::vector<std::int32_t> offsets_, corners_;
     std::unordered_map<std::uint64_t, float> sharp_;
+    // Vertices whose every rule around them is the smooth one: smooth, six faces, no sharp edge, no sharpness.
+    std::vector<bool> smooth_;
     std::vector<bool> has_sharpness_;
     const VertexType* types_;
 };

@@ -142,11 +142,13 @@ void LocalRefiner::weights(int face, FacePoint point, Stencil& out) {
         if (!n.patches) n.refine(n.levels + 1, options_, false);
         FacePoint at = point;
         const int t = n.locate(at);
-        PatchWeights patch;
-        found = n.patches->patch(t, double(at.S) / double(at.D), double(at.T) / double(at.D), patch);
+        Patch patch;
+        found = n.patches->find_patch(t, patch);
         if (found) {
-            for (int i = 0; i < patch.count; ++i)
-                n.add_row(patch.points[i], patch.position[i], patch.ds[i], patch.dt[i], sums);
+            PatchWeights weights;
+            patch_weights(patch, double(at.S) / double(at.D), double(at.T) / double(at.D), weights);
+            for (int i = 0; i < patch.count(); ++i)
+                n.add_row(patch.points[i], weights.position[i], weights.ds[i], weights.dt[i], sums);
             break;
         }
         if (n.levels == kMaxLocalLevels) break;

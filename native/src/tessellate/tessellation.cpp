@@ -8,8 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <string>
+#include <unordered_map>
+#include <utility>
 
+#include "base/parallel.h"
 #include "tessellate/level_patches.h"
 #include "tessellate/local_refinement.h"
 #include "topology/tessellation_pattern.h"
@@ -18,16 +24,23 @@ namespace loopsub {
 
 struct TessellationImpl {
     int levels = 0;
+    int threads = 1;
     int num_input_vertices = 0;
     std::int64_t num_points = 0;
     std::vector<std::int32_t> triangles, parent_triangles, corner_face_points;
-    // A sample per face point (the normals' rows). A sample at a vertex of the level takes the limit plan's point and
-    // normal; any other its stencil over the control plan's points.
-    std::vector<float> parameters;              // (u, v) per sample
-    std::vector<std::int32_t> sample_point;     // the point a sample places, -1 where an earlier sample places it
-    std::vector<std::int32_t> sample_vertex;    // the level's vertex, -1 for a stencil
-    std::vector<std::int32_t> sample_normal;    // the limit plan's normal of a vertex sample
-    std::vector<std::int64_t> stencil_offsets;  // per sample and one more
+    std::vector<float> parameters;  // (u, v) per face point
+    // A sample per face point, the normals' rows: at a vertex of the level, the limit plan's point and normal row; in
+    // a regular patch of the level, the patch and the weights at its place there; elsewhere, a stencil of its own.
+    enum class Kind : std::uint8_t { Vertex, Patch, Stencil };
+    struct Sample {
+        Kind kind;
+        std::int32_t a, b;  // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil
+    };
+    std::vector<Sample> samples;
+    std::vector<std::int32_t> sample_point;  // the point a sample places, -1 where an earlier sample places it
+    std::vector<std::int32_t> patch_points;  // 12 per patch (a crease's last three -1, weighted 0)
+    std::vector<float> patch_weights;        // 36 per weight set: position, d/ds, d/dt of each of 12 points
+    std::vector<std::int64_t> stencil_offsets{0};
     std::vector<std::int32_t> stencil_points;
     std::vector<float> stencil_weights;    // position, d/ds, d/dt per entry
     std::unique_ptr<Plan> control, limit;  // the levels' control points and limit surface
@@ -36,11 +49,56 @@ struct TessellationImpl {
 
 namespace {
 
+// The position, and the unit normal of the derivatives s x t (zero where they span no plane).
+void finish_sums(const float* p, const float* s, const float* t, float position[3], float normal[3]) {
+    const double n[3] = {double(s[1]) * t[2] - double(s[2]) * t[1], double(s[2]) * t[0] - double(s[0]) * t[2],
+                         double(s[0]) * t[1] - double(s[1]) * t[0]};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double inverse = length > 0.0 ? 1.0 / length : 0.0;
+    for (int c = 0; c < 3; ++c) position[c] = p[c], normal[c] = float(n[c] * inverse);
+}
+
 using detail::FacePattern;
 using detail::FacePoint;
 using detail::LevelPatches;
 using detail::LocalRefiner;
+using detail::Patch;
 using detail::Stencil;
+using Kind = TessellationImpl::Kind;
+
+// Sums of weighted control points (3 floats each, read four at a time: the buffer has a float to spare at its end):
+// the position and its two derivatives, then the position and unit normal they give. SSE2, every x86-64's, with its
+// scalar twin elsewhere.
+#if defined(__SSE2__)
+class PointSums {
+public:
+    void add(const float* x, float wp, float ws, float wt) {
+        const __m128 v = _mm_loadu_ps(x);
+        p_ = _mm_add_ps(p_, _mm_mul_ps(_mm_set1_ps(wp), v));
+        s_ = _mm_add_ps(s_, _mm_mul_ps(_mm_set1_ps(ws), v));
+        t_ = _mm_add_ps(t_, _mm_mul_ps(_mm_set1_ps(wt), v));
+    }
+    void finish(float position[3], float normal[3]) const {
+        alignas(16) float p[4], s[4], t[4];
+        _mm_store_ps(p, p_), _mm_store_ps(s, s_), _mm_store_ps(t, t_);
+        finish_sums(p, s, t, position, normal);
+    }
+
+private:
+    __m128 p_ = _mm_setzero_ps(), s_ = _mm_setzero_ps(), t_ = _mm_setzero_ps();
+};
+#else
+class PointSums {
+public:
+    void add(const float* x, float wp, float ws, float wt) {
+        for (int c = 0; c < 3; ++c) p_[c] += wp * x[c], s_[c] += ws * x[c], t_[c] += wt * x[c];
+    }
+    void finish(float position[3], float normal[3]) const { finish_sums(p_, s_, t_, position, normal); }
+
+private:
+    float p_[3] = {0, 0, 0}, s_[3] = {0, 0, 0}, t_[3] = {0, 0, 0};
+};
+#endif
 
 [[noreturn]] void fail(const std::string& message) { throw InputError("tessellation: " + message); }
 
@@ -102,8 +160,6 @@ public:
         edges_ = edges_with_rates(mesh_, rates);
         const int largest = edges_.rates.empty() ? 1 : *std::max_element(edges_.rates.begin(), edges_.rates.end());
         while ((1 << d_.levels) < largest) ++d_.levels;
-        options_.levels = d_.levels;
-        if (d_.levels > 0) d_.limit = std::make_unique<Plan>(mesh_, options_);
         d_.num_input_vertices = mesh_.num_vertices;
 
         std::vector<Sides> sides(std::size_t(mesh_.num_triangles));
@@ -120,15 +176,24 @@ public:
                 s.along[k] = a < b;
             }
             face_first[std::size_t(f)] = next;
+            for (int rate : {s.rates[0], s.rates[1], s.rates[2], s.inner_rate()})
+                limit_levels_ = std::max(limit_levels_, two_adic(rate));
             const std::int64_t inner = detail::num_inner_points(s.rates, s.inner_rate());
             next += inner;
             num_samples += detail::first_edge_point(s.rates, 3) + inner;
         }
         if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX))
             throw MemoryLimitError("tessellation: more than 2^31 points", std::uint64_t(num_samples) * 64);
+        // The points at vertices of a level are those i / r along an edge of rate r, or of the inner lattice, whose
+        // denominator, reduced, is a power of two: they are vertices of the level of the largest power of two in any
+        // rate, and the limit plan needs go no deeper.
+        options_.levels = limit_levels_;
+        if (limit_levels_ > 0) d_.limit = std::make_unique<Plan>(mesh_, options_);
         d_.num_points = next;
         placed_.assign(std::size_t(next), false);
-        d_.stencil_offsets.push_back(0);
+        d_.samples.reserve(std::size_t(num_samples)), d_.sample_point.reserve(std::size_t(num_samples));
+        d_.parameters.reserve(2 * std::size_t(num_samples));
+        subface_patch_.assign(std::size_t(1) << 2 * d_.levels, kUnknown);
         for (int f = 0; f < mesh_.num_triangles; ++f) add_face(f, sides[std::size_t(f)], face_first[std::size_t(f)]);
     }
 
@@ -146,7 +211,9 @@ private:
         for (; p < int(pattern_.points.size()); ++p)
             number[std::size_t(p)] = std::int32_t(face_first + p - first_inner);
 
-        const int first_sample = int(d_.sample_vertex.size());
+        const int first_sample = int(d_.samples.size());
+        for (std::int32_t within : touched_) subface_patch_[std::size_t(within)] = kUnknown;
+        touched_.clear();
         for (std::size_t q = 0; q < pattern_.points.size(); ++q) {
             const std::int32_t point = number[q];
             d_.sample_point.push_back(placed_[std::size_t(point)] ? -1 : point);
@@ -164,39 +231,78 @@ private:
     }
 
     void add_sample(int f, FacePoint at) {
-        int t = f;
-        for (int l = 0; l < d_.levels; ++l) t = 4 * t + detail::descend(at);
-        const int corner = at.T == 0 ? (at.S == 0 ? 0 : at.S == at.D ? 1 : -1) : (at.S == 0 && at.T == at.D ? 2 : -1);
-        if (corner >= 0) {
-            const std::size_t c = 3 * std::size_t(t) + std::size_t(corner);
-            d_.sample_vertex.push_back(d_.limit->output_triangles()[c]);
-            d_.sample_normal.push_back(d_.limit->corner_normal_indices()[c]);
-        } else {
-            if (!patches_) make_control();
-            const double s = double(at.S) / double(at.D), u = double(at.T) / double(at.D);
-            detail::PatchWeights weights;
-            if (patches_->patch(t, s, u, weights)) {
-                stencil_.clear();
-                for (int i = 0; i < weights.count; ++i)
-                    stencil_.add(weights.points[i], weights.position[i], weights.ds[i], weights.dt[i]);
-            } else {
-                local_->weights(t, at, stencil_);
+        int t = f, within = 0;  // the level's triangle, and its number among f's descendants
+        for (int l = 0; l < d_.levels; ++l) {
+            if (l == limit_levels_) {  // a vertex here, or never one
+                const int corner = at.T == 0 ? (at.S == 0      ? 0
+                                                : at.S == at.D ? 1
+                                                               : -1)
+                                             : (at.S == 0 && at.T == at.D ? 2 : -1);
+                if (corner >= 0) return add_vertex(t, corner);
             }
-            d_.sample_vertex.push_back(-1);
-            d_.sample_normal.push_back(-1);
-            for (std::size_t i = 0; i < stencil_.points.size(); ++i) {
-                d_.stencil_points.push_back(stencil_.points[i]);
-                const float w[3] = {float(stencil_.position[i]), float(stencil_.ds[i]), float(stencil_.dt[i])};
-                d_.stencil_weights.insert(d_.stencil_weights.end(), w, w + 3);
-            }
+            const int child = detail::descend(at);
+            t = 4 * t + child, within = 4 * within + child;
+        }
+        if (limit_levels_ == d_.levels) {
+            const int corner = at.T == 0 ? (at.S == 0      ? 0
+                                            : at.S == at.D ? 1
+                                                           : -1)
+                                         : (at.S == 0 && at.T == at.D ? 2 : -1);
+            if (corner >= 0) return add_vertex(t, corner);
+        }
+        if (!patches_) make_control();
+        std::int32_t& patch = subface_patch_[std::size_t(within)];
+        if (patch == kUnknown) patch = find_patch(t), touched_.push_back(within);
+        if (patch >= 0) {
+            d_.samples.push_back({Kind::Patch, patch, weight_set(patch, at)});
+            return;
+        }
+        local_->weights(t, at, stencil_);
+        d_.samples.push_back({Kind::Stencil, std::int32_t(d_.stencil_offsets.size() - 1), 0});
+        for (std::size_t i = 0; i < stencil_.points.size(); ++i) {
+            d_.stencil_points.push_back(stencil_.points[i]);
+            const float w[3] = {float(stencil_.position[i]), float(stencil_.ds[i]), float(stencil_.dt[i])};
+            d_.stencil_weights.insert(d_.stencil_weights.end(), w, w + 3);
         }
         d_.stencil_offsets.push_back(std::int64_t(d_.stencil_points.size()));
+    }
+
+    // A point at corner `corner` of the limit plan's triangle t.
+    void add_vertex(int t, int corner) {
+        const std::size_t c = 3 * std::size_t(t) + std::size_t(corner);
+        d_.samples.push_back({Kind::Vertex, d_.limit->output_triangles()[c], d_.limit->corner_normal_indices()[c]});
+    }
+
+    // The level's triangle t as a patch of the tessellation (its number), or -1 where it is no regular patch.
+    std::int32_t find_patch(int t) {
+        Patch patch;
+        if (!patches_->find_patch(t, patch)) return -1;
+        const std::int32_t number = std::int32_t(d_.patch_points.size() / detail::kBoxSplinePoints);
+        for (std::int32_t p : patch.points) d_.patch_points.push_back(p);
+        patch_shape_.push_back({patch.rotation, patch.crease});
+        return number;
+    }
+
+    // The weights at a point of a patch: shared by every point at the same place in a patch of the same shape (at one
+    // rate, the points of every input triangle).
+    std::int32_t weight_set(std::int32_t patch, const FacePoint& at) {
+        const auto [rotation, crease] = patch_shape_[std::size_t(patch)];
+        const WeightKey key{at.S, at.T, at.D, rotation, crease};
+        const auto [found, added] = weight_sets_.try_emplace(key, std::int32_t(d_.patch_weights.size() / 36));
+        if (!added) return found->second;
+        Patch shape;
+        shape.rotation = rotation, shape.crease = crease;
+        detail::PatchWeights w;
+        detail::patch_weights(shape, double(at.S) / double(at.D), double(at.T) / double(at.D), w);
+        for (const double* part : {w.position, w.ds, w.dt})
+            for (int i = 0; i < detail::kBoxSplinePoints; ++i) d_.patch_weights.push_back(float(part[i]));
+        return found->second;
     }
 
     // The control points' plan and its patches, on the first point that needs them.
     void make_control() {
         Options control = options_;
-        control.limit_surface = false;
+        control.limit_surface = false, control.levels = d_.levels;
         d_.control = std::make_unique<Plan>(mesh_, control);
         const Plan& plan = *d_.control;
         const auto& sharp = plan.output_sharp_edges();
@@ -208,11 +314,36 @@ private:
         local_ = std::make_unique<LocalRefiner>(*patches_, plan, control, mesh_.cone_vertices, mesh_.num_cones);
     }
 
+    static int two_adic(int rate) {  // the exponent of the largest power of two dividing rate
+        int e = 0;
+        while (rate % 2 == 0) rate /= 2, ++e;
+        return e;
+    }
+
     TessellationImpl& d_;
+    int limit_levels_ = 0;
     const MeshView& mesh_;
     Options options_;
     Edges edges_;
     std::vector<bool> placed_;
+    static constexpr std::int32_t kUnknown = -2;
+    // Per level triangle of the input triangle at hand: its patch, or -1; and those that have been asked.
+    std::vector<std::int32_t> subface_patch_, touched_;
+    std::vector<std::pair<int, bool>> patch_shape_;  // per patch: rotation, crease
+    struct WeightKey {
+        std::int64_t S, T, D;
+        int rotation;
+        bool crease;
+        bool operator==(const WeightKey& o) const {
+            return S == o.S && T == o.T && D == o.D && rotation == o.rotation && crease == o.crease;
+        }
+    };
+    struct WeightKeyHash {
+        std::size_t operator()(const WeightKey& k) const {
+            return std::hash<std::int64_t>()(((k.S * 1000003 + k.T) * 1000003 + k.D) * 8 + k.rotation * 2 + k.crease);
+        }
+    };
+    std::unordered_map<WeightKey, std::int32_t, WeightKeyHash> weight_sets_;
     std::unique_ptr<LevelPatches> patches_;
     std::unique_ptr<LocalRefiner> local_;
     FacePattern pattern_;
@@ -227,6 +358,7 @@ Tessellation::Tessellation(const MeshView& mesh, const Options& options, const T
     if (mesh.num_holes > 0) fail("holes are not supported");
     if (mesh.num_face_varying > 0) fail("face-varying layers are not supported");
     if (options.boundary == Boundary::None) fail("Boundary::None is not supported (it makes holes)");
+    impl_->threads = std::max(1, options.threads);
     Builder(*impl_, mesh, options).build(rates);
 }
 
@@ -238,7 +370,7 @@ int Tessellation::num_points() const { return int(impl_->num_points); }
 int Tessellation::num_triangles() const { return int(impl_->triangles.size() / 3); }
 const std::int32_t* Tessellation::triangles() const { return impl_->triangles.data(); }
 const std::int32_t* Tessellation::parent_triangles() const { return impl_->parent_triangles.data(); }
-int Tessellation::num_face_points() const { return int(impl_->sample_vertex.size()); }
+int Tessellation::num_face_points() const { return int(impl_->samples.size()); }
 const std::int32_t* Tessellation::corner_face_points() const { return impl_->corner_face_points.data(); }
 const float* Tessellation::face_point_parameters() const { return impl_->parameters.data(); }
 int Tessellation::levels() const { return impl_->levels; }
@@ -250,32 +382,41 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
     d.limit_normals.resize(3 * std::size_t(d.limit->num_limit_normals()));
     d.limit->evaluate(in, interleaved(d.limit_points.data(), 3), Plan::LimitNormals{d.limit_normals.data()});
     if (d.control) {
-        d.control_points.resize(3 * std::size_t(d.control->num_output_vertices()));
+        d.control_points.resize(3 * std::size_t(d.control->num_output_vertices()) + 1);
         d.control->evaluate(in, interleaved(d.control_points.data(), 3));
     }
-    const std::size_t num_samples = d.sample_vertex.size();
-    for (std::size_t s = 0; s < num_samples; ++s) {
-        double p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
-        if (const std::int32_t v = d.sample_vertex[s]; v >= 0) {
-            for (int c = 0; c < 3; ++c) p[c] = d.limit_points[3 * std::size_t(v) + c];
-            for (int c = 0; c < 3; ++c) n[c] = d.limit_normals[3 * std::size_t(d.sample_normal[s]) + c];
+    const float* x = d.control_points.data();
+    auto place = [&](std::size_t s) {
+        const TessellationImpl::Sample& sample = d.samples[s];
+        float p[3], n[3];
+        if (sample.kind == Kind::Vertex) {
+            std::copy_n(&d.limit_points[3 * std::size_t(sample.a)], 3, p);
+            std::copy_n(&d.limit_normals[3 * std::size_t(sample.b)], 3, n);
         } else {
-            double ds[3] = {0, 0, 0}, dt[3] = {0, 0, 0};
-            for (std::int64_t i = d.stencil_offsets[s]; i < d.stencil_offsets[s + 1]; ++i) {
-                const float* x = d.control_points.data() + 3 * std::size_t(d.stencil_points[std::size_t(i)]);
-                const float* w = d.stencil_weights.data() + 3 * std::size_t(i);
-                for (int c = 0; c < 3; ++c) p[c] += w[0] * x[c], ds[c] += w[1] * x[c], dt[c] += w[2] * x[c];
+            PointSums sums;
+            if (sample.kind == Kind::Patch) {
+                const std::int32_t* patch = &d.patch_points[std::size_t(sample.a) * detail::kBoxSplinePoints];
+                const float* w = &d.patch_weights[std::size_t(sample.b) * 3 * detail::kBoxSplinePoints];
+                const int count = patch[9] < 0 ? detail::kBoxSplinePoints - 3 : detail::kBoxSplinePoints;
+                for (int i = 0; i < count; ++i) sums.add(x + 3 * std::size_t(patch[i]), w[i], w[12 + i], w[24 + i]);
+            } else {
+                const std::size_t first = std::size_t(d.stencil_offsets[std::size_t(sample.a)]),
+                                  last = std::size_t(d.stencil_offsets[std::size_t(sample.a) + 1]);
+                for (std::size_t i = first; i < last; ++i) {
+                    const float* w = &d.stencil_weights[3 * i];
+                    sums.add(x + 3 * std::size_t(d.stencil_points[i]), w[0], w[1], w[2]);
+                }
             }
-            n[0] = ds[1] * dt[2] - ds[2] * dt[1], n[1] = ds[2] * dt[0] - ds[0] * dt[2],
-            n[2] = ds[0] * dt[1] - ds[1] * dt[0];
-            const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            for (double& c : n) c = length > 0.0 ? c / length : 0.0;
+            sums.finish(p, n);
         }
         if (const std::int32_t point = d.sample_point[s]; point >= 0)
-            for (int c = 0; c < 3; ++c) points[3 * std::size_t(point) + c] = float(p[c]);
-        if (normals)
-            for (int c = 0; c < 3; ++c) normals[3 * s + c] = float(n[c]);
-    }
+            std::copy_n(p, 3, points + 3 * std::size_t(point));
+        if (normals) std::copy_n(n, 3, normals + 3 * s);
+    };
+    detail::run_levels(d.threads, 1, [&](int, int part, int parts) {
+        const auto [first, last] = detail::part_of(d.samples.size(), part, parts);
+        for (std::size_t s = first; s < last; ++s) place(s);
+    });
 }
 
 }  // namespace loopsub
