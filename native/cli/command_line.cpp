@@ -1,5 +1,6 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -13,16 +14,25 @@ namespace loopsub::cli {
 const char* const kUsage =
     "usage: loopsub IN.obj OUT.obj --levels N [options]\n"
     "       loopsub IN.obj OUT.obj --tessellate N [options]\n"
+    "       loopsub IN.obj OUT.obj --camera EX,EY,EZ,TX,TY,TZ [--dicing-rate PX] [options]\n"
     "\n"
     "Subdivides the triangle mesh IN.obj N times by Loop's scheme and writes OUT.obj with the child crease,\n"
     "corner and cone tags. Polygons with more than 3 corners are triangulated by ear clipping (with a notice).\n"
-    "With --tessellate, cuts each triangle into N segments per edge instead, every point on the limit surface,\n"
-    "with its normals (vn); UVs go linearly within each triangle; no tags are written.\n"
+    "With --tessellate, cuts each triangle into N segments per edge instead (with --camera, as many as its\n"
+    "picture needs), every point on the limit surface, with its normals (vn); UVs go linearly within each\n"
+    "triangle; no tags are written.\n"
     "\n"
     "options:\n"
-    "  --levels N                    subdivision levels, N >= 0 (this or --tessellate is required)\n"
+    "  --levels N                    subdivision levels, N >= 0 (this, --tessellate or --camera is required)\n"
     "  --tessellate N                segments per edge, 1 to 4096: the limit surface at that rate (N = 2^L:\n"
     "                                the vertices of --levels L --limit)\n"
+    "  --camera EX,EY,EZ,TX,TY,TZ    instead of a rate: each edge as many segments as its length on screen holds\n"
+    "                                --dicing-rate pixels, seen from a camera at E looking at T (Cycles' dicing)\n"
+    "  --up X,Y,Z                    the camera's up (default 0,1,0)\n"
+    "  --fov DEG                     its vertical field of view, 1 to 179 degrees (default 50)\n"
+    "  --viewport W,H                its picture in pixels (default 1920,1080)\n"
+    "  --dicing-rate PX              pixels per segment, > 0 (default 1)\n"
+    "  --max-rate N                  at most N segments per edge, 1 to 4096 (default 64)\n"
     "  --rules hoppe94|opensubdiv    rule set (default hoppe94)\n"
     "  --crease-threshold S          hoppe94: an edge is a crease when its sharpness is >= S (default 0: any\n"
     "                                positive sharpness)\n"
@@ -70,6 +80,27 @@ float parse_nonnegative_float(std::string_view flag, std::string_view text) {
     return value;
 }
 
+// count comma-separated finite numbers.
+std::vector<float> parse_floats(std::string_view flag, std::string_view text, std::size_t count) {
+    std::vector<float> values;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string_view part = text.substr(start, comma - start);
+        float value = 0.0f;
+        auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+        if (error != std::errc() || end != part.data() + part.size() || part.empty() || !std::isfinite(value))
+            throw UsageError(std::string(flag) + " expects " + std::to_string(count) +
+                             " numbers separated by commas, got '" + std::string(text) + "'");
+        values.push_back(value);
+        start = comma + 1;
+    }
+    if (values.size() != count)
+        throw UsageError(std::string(flag) + " expects " + std::to_string(count) +
+                         " numbers separated by commas, got '" + std::string(text) + "'");
+    return values;
+}
+
 // One of the option's names (loopsub::option_names).
 template <typename Option>
 Option parse_name(std::string_view flag, const std::string& text) {
@@ -84,7 +115,9 @@ Option parse_name(std::string_view flag, const std::string& text) {
 Command parse_command_line(int argc, char** argv) {
     Command command;
     std::vector<std::string> positional;
-    bool levels_given = false;
+    bool levels_given = false, camera_given = false;
+    LookAt look;
+    std::vector<std::string> camera_options;  // given without --camera, they would be ignored
     for (int i = 1; i < argc; ++i) {
         std::string arg = argv[i];
         if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
@@ -114,6 +147,29 @@ Command parse_command_line(int argc, char** argv) {
             levels_given = true;
         } else if (arg == "--tessellate") {
             command.tessellate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
+        } else if (arg == "--camera") {
+            const std::vector<float> v = parse_floats(arg, value(), 6);
+            camera_given = true;
+            std::copy(v.begin(), v.begin() + 3, look.eye), std::copy(v.begin() + 3, v.end(), look.target);
+        } else if (arg == "--up") {
+            const std::vector<float> v = parse_floats(arg, value(), 3);
+            std::copy(v.begin(), v.end(), look.up), camera_options.push_back(arg);
+        } else if (arg == "--fov") {
+            look.fov_degrees = parse_floats(arg, value(), 1)[0], camera_options.push_back(arg);
+            if (!(look.fov_degrees >= 1.0f && look.fov_degrees <= 179.0f))
+                throw UsageError("--fov must be between 1 and 179 degrees");
+        } else if (arg == "--viewport") {
+            const std::string text = value();
+            look.width = int(parse_integer(arg, text.substr(0, text.find(',')), 1, 1 << 16));
+            look.height = int(parse_integer(
+                arg, text.find(',') == std::string::npos ? "" : text.substr(text.find(',') + 1), 1, 1 << 16));
+            camera_options.push_back(arg);
+        } else if (arg == "--dicing-rate") {
+            look.dicing_rate = parse_floats(arg, value(), 1)[0], camera_options.push_back(arg);
+            if (!(look.dicing_rate > 0.0f)) throw UsageError("--dicing-rate must be > 0");
+        } else if (arg == "--max-rate") {
+            look.max_rate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
+            camera_options.push_back(arg);
         } else if (arg == "--rules") {
             command.options.rules = parse_name<Rules>(arg, value());
         } else if (arg == "--crease-threshold") {
@@ -146,8 +202,12 @@ Command parse_command_line(int argc, char** argv) {
     if (positional.size() != 2) {
         throw UsageError("expected IN.obj and OUT.obj, got " + std::to_string(positional.size()) + " file argument(s)");
     }
-    if (levels_given && command.tessellate > 0) throw UsageError("--levels and --tessellate exclude each other");
-    if (!levels_given && command.tessellate == 0) throw UsageError("--levels N or --tessellate N is required");
+    if (!camera_given && !camera_options.empty()) throw UsageError(camera_options.front() + " needs --camera");
+    if (int(levels_given) + int(command.tessellate > 0) + int(camera_given) > 1)
+        throw UsageError("--levels, --tessellate and --camera exclude each other");
+    if (!levels_given && command.tessellate == 0 && !camera_given)
+        throw UsageError("--levels N, --tessellate N or --camera is required");
+    if (camera_given) command.camera = look;
     command.input = positional[0];
     command.output = positional[1];
     return command;

@@ -17,13 +17,23 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// A camera for --camera: where it stands and looks, and its picture (a perspective of a vertical field of view).
+struct LookAt {
+    float eye[3] = {0, 0, 0}, target[3] = {0, 0, -1}, up[3] = {0, 1, 0};
+    float fov_degrees = 50.0f;
+    int width = 1920, height = 1080;
+    float dicing_rate = 1.0f;  // pixels per segment
+    int max_rate = 64;
+};
+
 struct Command {
     std::string input, output;
     Options options;
     std::optional<Boundary> boundary;  // from the flag; else the file's tag decides
     std::optional<CreaseMethod> crease_method;
     std::optional<FaceVaryingInterpolation> face_varying;  // from the flag; else the file's tag, else CornersOnly
-    int tessellate = 0;  // > 0: tessellate at this rate per edge instead of refining by levels
+    int tessellate = 0;            // > 0: tessellate at this rate per edge instead of refining by levels
+    std::optional<LookAt> camera;  // tessellate at rates from this camera's screen instead
     bool stats = false;
     bool help = false;
 };

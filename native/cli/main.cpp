@@ -1,6 +1,9 @@
 // loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
 // Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -20,11 +23,56 @@ using loopsub::cli::kUsage;
 using loopsub::cli::parse_command_line;
 using loopsub::cli::UsageError;
 
-// --tessellate: the points and their normals (one vn per face point), UVs linear within each input triangle.
+// The camera of --camera as world to clip space: a look-at view and OpenGL's perspective.
+loopsub::Camera camera_of(const loopsub::cli::LookAt& look) {
+    auto sub = [](const float* a, const float* b) {
+        return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    };
+    auto cross = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+        return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    };
+    auto unit = [](std::array<double, 3> a) {
+        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        if (!(length > 0.0)) throw loopsub::InputError("--camera: the eye, the target and --up must span a view");
+        for (double& c : a) c /= length;
+        return a;
+    };
+    const std::array<double, 3> forward = unit(sub(look.target, look.eye)),
+                                right = unit(cross(forward, {look.up[0], look.up[1], look.up[2]})),
+                                up = cross(right, forward);
+    const double f = 1.0 / std::tan(0.5 * double(look.fov_degrees) * 3.14159265358979323846 / 180.0);
+    const double aspect = double(look.width) / look.height, near = 1e-3, far = 1e6;
+    const double* axes[3] = {right.data(), up.data(), forward.data()};
+    double view[3][4];  // rows: right, up, -forward (OpenGL looks down -z); translation last
+    for (int r = 0; r < 3; ++r) {
+        const double sign = r == 2 ? -1.0 : 1.0;
+        for (int c = 0; c < 3; ++c) view[r][c] = sign * axes[r][c];
+        view[r][3] = -(view[r][0] * look.eye[0] + view[r][1] * look.eye[1] + view[r][2] * look.eye[2]);
+    }
+    loopsub::Camera camera;
+    const double scale[4] = {f / aspect, f, (far + near) / (near - far), -1.0};
+    for (int c = 0; c < 4; ++c) {
+        camera.world_to_clip[c] = float(scale[0] * view[0][c]);
+        camera.world_to_clip[4 + c] = float(scale[1] * view[1][c]);
+        camera.world_to_clip[8 + c] = float(scale[2] * view[2][c] + (c == 3 ? 2.0 * far * near / (near - far) : 0.0));
+        camera.world_to_clip[12 + c] = float(scale[3] * view[2][c]);
+    }
+    camera.viewport_width = float(look.width), camera.viewport_height = float(look.height);
+    return camera;
+}
+
+// --tessellate and --camera: the points and their normals (one vn per face point), UVs linear within each input
+// triangle.
 void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const loopsub::Options& options) {
     loopsub::TessellationRates rates;
-    rates.uniform_rate = command.tessellate;
+    rates.uniform_rate = std::max(command.tessellate, 1);
     const auto started = std::chrono::steady_clock::now();
+    loopsub::ScreenRates screen;
+    if (command.camera) {
+        screen = loopsub::screen_space_rates(in.view(), in.positions.data(), camera_of(*command.camera),
+                                             command.camera->dicing_rate, command.camera->max_rate);
+        rates = screen.view();
+    }
     const loopsub::Tessellation tessellation(in.view(), options, rates);
     const auto planned = std::chrono::steady_clock::now();
     loopsub::obj::ObjMesh out;
@@ -59,9 +107,11 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
         std::printf(
             "topology_ms=%.3f evaluate_ms=%.3f rate=%d levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
             "triangles_out=%d threads=%d\n",
-            ms(planned - started).count(), ms(evaluated - planned).count(), command.tessellate, tessellation.levels(),
-            in.num_vertices(), in.num_triangles(), tessellation.num_points(), tessellation.num_triangles(),
-            options.threads);
+            ms(planned - started).count(), ms(evaluated - planned).count(),
+            command.camera ? (screen.rates.empty() ? 1 : *std::max_element(screen.rates.begin(), screen.rates.end()))
+                           : command.tessellate,
+            tessellation.levels(), in.num_vertices(), in.num_triangles(), tessellation.num_points(),
+            tessellation.num_triangles(), options.threads);
     }
 }
 
@@ -83,7 +133,7 @@ int run(const Command& command) {
     options.face_varying =
         command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
 
-    if (command.tessellate > 0) {
+    if (command.tessellate > 0 || command.camera) {
         tessellate(command, in, options);
         return 0;
     }

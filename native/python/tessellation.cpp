@@ -2,6 +2,7 @@
 
 #include <pybind11/numpy.h>
 
+#include <algorithm>
 #include <memory>
 #include <mutex>
 #include <utility>
@@ -95,9 +96,52 @@ surface, and the unit normal at each face point, (num_face_points, 3) float32 (z
 surface has no tangent plane). ``out`` and ``normals`` may be given to be written in place.
 )doc";
 
+constexpr const char* kScreenRatesDoc =
+    R"doc(screen_space_rates(positions, triangles, world_to_clip, viewport, pixels_per_segment=1.0, max_rate=64, offscreen_scale=4.0)
+
+Rates from the screen, as Cycles dices: each edge of the mesh cut into as many segments as its
+length on screen (its cage edge, from the positions) holds ``pixels_per_segment`` pixels, rounded
+up, from 1 to ``max_rate``; an edge wholly outside the view to one side ``offscreen_scale`` times
+fewer, an edge with one end behind the camera ``max_rate``, both behind 1.
+
+positions (N, 3) float32, triangles (M, 3) int32, world_to_clip (4, 4) float32 (clip = M (x, y, z,
+1), OpenGL's convention: in view where w > 0 and -w <= x, y <= w), viewport (width, height) in
+pixels. Returns (edges (E, 2) int32, rates (E,) int32): every edge of the mesh once, for
+``Tessellation(..., edges=edges, edge_rates=rates)``.
+)doc";
+
+py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle world_to_clip, py::handle viewport,
+                       double pixels_per_segment, int max_rate, double offscreen_scale) {
+    py::array tris = require_array<std::int32_t>(triangles, "triangles", {{-1, "M"}, {3, "3"}});
+    py::array points = require_array<float>(positions, "positions", {{-1, "N"}, {3, "3"}});
+    py::array matrix = require_array<float>(world_to_clip, "world_to_clip", {{4, "4"}, {4, "4"}});
+    const auto size = viewport.cast<std::pair<double, double>>();
+    loopsub::MeshView mesh;
+    mesh.num_vertices = checked_count(points.shape(0), "number of vertices");
+    mesh.triangles = data_of<std::int32_t>(tris);
+    mesh.num_triangles = checked_count(tris.shape(0), "number of triangles");
+    loopsub::Camera camera;
+    std::copy_n(data_of<float>(matrix), 16, camera.world_to_clip);
+    camera.viewport_width = float(size.first), camera.viewport_height = float(size.second);
+    loopsub::ScreenRates rates;
+    {
+        py::gil_scoped_release nogil;
+        rates = loopsub::screen_space_rates(mesh, data_of<float>(points), camera, float(pixels_per_segment), max_rate,
+                                            float(offscreen_scale));
+    }
+    py::array_t<std::int32_t> edges({py::ssize_t(rates.rates.size()), py::ssize_t(2)}),
+        edge_rates({py::ssize_t(rates.rates.size())});
+    std::copy(rates.edges.begin(), rates.edges.end(), edges.mutable_data());
+    std::copy(rates.rates.begin(), rates.rates.end(), edge_rates.mutable_data());
+    return py::make_tuple(edges, edge_rates);
+}
+
 }  // namespace
 
 void bind_tessellation(py::module_& m) {
+    m.def("screen_space_rates", &screen_rates, kScreenRatesDoc, py::arg("positions"), py::arg("triangles"),
+          py::arg("world_to_clip"), py::arg("viewport"), py::arg("pixels_per_segment") = 1.0, py::arg("max_rate") = 64,
+          py::arg("offscreen_scale") = 4.0);
     py::class_<PyTessellation>(m, "Tessellation", kDoc)
         .def(py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges,
                          py::handle edge_rates LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {

@@ -35,7 +35,7 @@ expect_stderr "--crease-method expects uniform or chaikin"
 run_cli 2 "$good" "$out" --levels
 expect_stderr "--levels needs a value"
 run_cli 2 "$good" "$out"
-expect_stderr "--levels N or --tessellate N is required"
+expect_stderr "--levels N, --tessellate N or --camera is required"
 run_cli 2 "$good" --levels 1
 expect_stderr "expected IN.obj and OUT.obj"
 run_cli 2 "$good" "$out" --levels=1 --scalar=yes

@@ -34,7 +34,36 @@ expect_stderr "--tessellate must be >= 1, got 0"
 run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 4097
 expect_stderr "--tessellate must be <= 4096"
 run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 2 --levels 1
-expect_stderr "--levels and --tessellate exclude each other"
+expect_stderr "--levels, --tessellate and --camera exclude each other"
 run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj"
-expect_stderr "--levels N or --tessellate N is required"
+expect_stderr "--levels N, --tessellate N or --camera is required"
+# --camera: rates from the screen. A ground plane seen from a low camera: the near edges get more segments than the
+# far ones, the rates stay within --max-rate, and the result is as valid as any other.
+cat >"$WORK/ground.obj" <<'OBJ'
+v -4 0 -4
+v 4 0 -4
+v 4 0 4
+v -4 0 4
+v 0 0 -4
+v 0 0 4
+f 1 6 5
+f 1 4 6
+f 5 3 2
+f 5 6 3
+OBJ
+run_cli 0 "$WORK/ground.obj" "$WORK/near.obj" --camera 0,1,6,0,0,0 --dicing-rate 8 --max-rate 32 --stats
+grep -q '^f ' "$WORK/near.obj" || fail "--camera wrote no faces"
+rate=$(sed -n 's/.* rate=\([0-9]*\) .*/\1/p' "$WORK/stdout")
+[ "${rate:-0}" -gt 1 ] && [ "$rate" -le 32 ] || fail "--camera: the largest rate $rate is not in 2..32: $(cat "$WORK/stdout")"
+run_cli 0 "$WORK/ground.obj" "$WORK/far.obj" --camera 0,1,60,0,0,0 --dicing-rate 8 --max-rate 32
+[ "$(count_lines f "$WORK/far.obj")" -lt "$(count_lines f "$WORK/near.obj")" ] ||
+  fail "--camera: a camera ten times farther away gave no fewer triangles"
+run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --dicing-rate 2
+expect_stderr "--dicing-rate needs --camera"
+run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,1,6
+expect_stderr "--camera expects 6 numbers separated by commas"
+run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,1,6,0,0,0 --tessellate 2
+expect_stderr "--levels, --tessellate and --camera exclude each other"
+run_cli 1 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,0,0,0,0,0
+expect_stderr "the eye, the target and --up must span a view"
 finish

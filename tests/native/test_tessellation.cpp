@@ -331,6 +331,58 @@ TEST(Tessellation, TwoThreadsPlaceTheSamePoints) {
     }
 }
 
+// A camera at the origin looking down -z, OpenGL's perspective with a 90 degree field of view (f = 1), a viewport of
+// 100 x 100 pixels: a point (x, y, z) in view lands at pixel 50 (1 + x / -z) across.
+Camera camera_down_z() {
+    const float near = 0.1f, far = 100.0f;
+    Camera camera;
+    const float m[16] = {1, 0, 0,  0, 0, 1, 0, 0, 0, 0, (far + near) / (near - far), 2 * far * near / (near - far),
+                         0, 0, -1, 0};
+    std::copy(m, m + 16, camera.world_to_clip);
+    camera.viewport_width = camera.viewport_height = 100.0f;
+    return camera;
+}
+
+TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
+    // Three triangles: one facing the camera at distance 2, one far off to the side (out of view), one reaching
+    // behind the camera.
+    MeshData mesh;
+    mesh.positions = {-0.5f, 0,  -2, 0.5f, 0,  -2, 0,  0.5f, -2,  // 0-1: 1 unit at distance 2: 25 pixels
+                      40,    0,  -2, 41,   0,  -2, 40, 1,    -2,  // 3-4: 25 pixels, all right of the view
+                      0,     -1, -2, 0,    -1, 3,  1,  -1,   3};  // 6-7 runs behind the camera; 7-8 lies behind it
+    mesh.triangles = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    const ScreenRates rates = screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 4.0f, 64);
+    auto rate_of = [&](int a, int b) {
+        for (std::size_t e = 0; e < rates.rates.size(); ++e)
+            if (std::minmax(rates.edges[2 * e], rates.edges[2 * e + 1]) == std::minmax(a, b)) return rates.rates[e];
+        return -1;
+    };
+    EXPECT_EQ(rates.rates.size(), 9u);
+    EXPECT_EQ(rate_of(0, 1), 7);  // 25 / 4 = 6.25
+    EXPECT_EQ(rate_of(3, 4), 2);  // 6.25 / 4 off screen
+    EXPECT_EQ(rate_of(6, 7), 64);
+    EXPECT_EQ(rate_of(7, 8), 1);
+    // Farther away, fewer segments; never below one.
+    const ScreenRates coarse = screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 100.0f, 64);
+    for (int rate : coarse.rates) EXPECT_GE(rate, 1);
+    EXPECT_THROW(screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 0.0f, 64), InputError);
+    EXPECT_THROW(screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 1.0f, 0), InputError);
+    // A tessellation at these rates: per triangle its inner rate's lattice, or (rates differing) the inner lattice
+    // of rate n - 3 and a strip of r + n - 3 triangles along each edge of rate r (a fan of r around the centre below
+    // an inner rate of 3).
+    const Tessellation tessellation(mesh.view(), Options{}, rates.view());
+    int expected = 0;
+    for (int f = 0; f < 3; ++f) {
+        int r[3];
+        for (int k = 0; k < 3; ++k) r[k] = rate_of(mesh.triangles[3 * f + k], mesh.triangles[3 * f + (k + 1) % 3]);
+        const int n = std::max({r[0], r[1], r[2]});
+        if (r[0] == n && r[1] == n && r[2] == n) expected += n * n;
+        else if (n >= 3) expected += (n - 3) * (n - 3) + (r[0] + n - 3) + (r[1] + n - 3) + (r[2] + n - 3);
+        else expected += r[0] + r[1] + r[2];
+    }
+    EXPECT_EQ(tessellation.num_triangles(), expected);
+}
+
 TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {
     TestMesh mesh = icosahedron();
     auto refuses = [&](const MeshView& view, const Options& options, const TessellationRates& rates,

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "loopsub/loopsub.h"
 
@@ -24,6 +25,25 @@ struct TessellationRates {
     const std::int32_t* rates = nullptr;  // num_edges rates
     int num_edges = 0;
 };
+
+// A camera, for rates from the screen: world to clip space as a 4x4 matrix, row-major (clip = M (x, y, z, 1), with
+// OpenGL's convention: a point is in view where w > 0 and -w <= x, y <= w), and the viewport's size in pixels.
+struct Camera {
+    float world_to_clip[16] = {};
+    float viewport_width = 0.0f, viewport_height = 0.0f;
+};
+
+// Rates from the screen, as Cycles dices its subdivision surfaces: each edge of the mesh (its cage's straight edge,
+// from its vertices' positions) is cut into as many segments as its length on screen holds `pixels_per_segment`,
+// rounded up, from 1 to max_rate. An edge wholly outside the view to one side takes `offscreen_scale` times fewer; an
+// edge with one end behind the camera takes max_rate (it runs past the viewer), one with both behind takes 1.
+struct ScreenRates {
+    std::vector<std::int32_t> edges;  // each edge of the mesh once, as a vertex pair
+    std::vector<std::int32_t> rates;  // its rate
+    TessellationRates view() const;   // for a Tessellation, while this lives
+};
+ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, const Camera& camera,
+                               float pixels_per_segment, int max_rate, float offscreen_scale = 4.0f);
 
 // The largest rate accepted: 2^12 segments per edge, 16.8 million points per triangle.
 inline constexpr int kMaxTessellationRate = 4096;
