@@ -80,6 +80,22 @@ bool LevelPatches::crease_corner(int corner, bool counter_clockwise, std::int32_
            infinitely_sharp(sharpness(v, fan[3]));
 }
 
+// A regular crease vertex at `corner` whose face is the middle one of its three on this side: the walk back (clockwise)
+// from the face's previous vertex to the crease, and on (counter-clockwise) from its next one; both end on an
+// infinitely sharp edge, the face's own edges at the vertex are smooth.
+bool LevelPatches::crease_vertex(int corner, std::int32_t back[4], std::int32_t on[4]) const {
+    const int v = triangles_[corner];
+    if (types_[v] != VertexType::RegularCrease || has_sharpness_[std::size_t(v)]) return false;
+    const int f = corner / 3, i = corner % 3;
+    const std::int32_t next = triangles_[3 * f + (i + 1) % 3], previous = triangles_[3 * f + (i + 2) % 3];
+    if (sharpness(v, next) != 0.0f || sharpness(v, previous) != 0.0f) return false;
+    const int before = next_corner(corner, false), after = next_corner(corner, true);
+    if (before < 0 || after < 0) return false;
+    back[0] = next, back[1] = triangles_[3 * (before / 3) + (before % 3 + 1) % 3];
+    on[0] = previous, on[1] = triangles_[3 * (after / 3) + (after % 3 + 2) % 3];
+    return infinitely_sharp(sharpness(v, back[1])) && infinitely_sharp(sharpness(v, on[1]));
+}
+
 bool LevelPatches::find_patch(int face, Patch& out) const {
     const std::int32_t* f = triangles_ + 3 * face;
     std::int32_t ring[3][6];
@@ -90,7 +106,7 @@ bool LevelPatches::find_patch(int face, Patch& out) const {
                                                          ring[0][2], ring[1][3], f[1],       f[2],
                                                          ring[2][4], ring[1][4], ring[1][5], ring[2][3]};
         std::copy(gathered, gathered + kBoxSplinePoints, out.points);
-        out.rotation = 0, out.crease = false;
+        out.rotation = 0, out.shape = PatchShape::Smooth;
         return true;
     }
     for (int j = 0; j < 3; ++j) {  // a crease on the face's edge j, from f[j] to f[j + 1]
@@ -103,7 +119,20 @@ bool LevelPatches::find_patch(int face, Patch& out) const {
         const std::int32_t gathered[kBoxSplinePoints] = {
             ring[0][4], ring[0][3], ring[0][5], f[r], ring[0][2], fan1[3], f[j], f[(j + 1) % 3], fan2[3], -1, -1, -1};
         std::copy(gathered, gathered + kBoxSplinePoints, out.points);
-        out.rotation = r, out.crease = true;
+        out.rotation = r, out.shape = PatchShape::CreaseEdge;
+        return true;
+    }
+    for (int r = 0; r < 3; ++r) {  // a crease through corner r, whose middle face on this side f is
+        const int c0 = 3 * face + r, c1 = 3 * face + (r + 1) % 3, c2 = 3 * face + (r + 2) % 3;
+        std::int32_t fan_back[4], fan_on[4];
+        if (!smooth_corner(c1, ring[1]) || !smooth_corner(c2, ring[2]) || ring[1][5] != ring[2][2] ||
+            !crease_vertex(c0, fan_back, fan_on) || fan_back[1] != ring[1][2] || fan_on[1] != ring[2][5])
+            continue;
+        const std::int32_t gathered[kBoxSplinePoints] = {-1,         -1,         ring[1][2],     f[r],
+                                                         ring[2][5], ring[1][3], f[(r + 1) % 3], f[(r + 2) % 3],
+                                                         ring[2][4], ring[1][4], ring[1][5],     ring[2][3]};
+        std::copy(gathered, gathered + kBoxSplinePoints, out.points);
+        out.rotation = r, out.shape = PatchShape::CreaseVertex;
         return true;
     }
     return false;
@@ -120,13 +149,18 @@ void patch_weights(const Patch& patch, double s, double t, PatchWeights& out) {
         out.ds[i] = dv[i] * along_s[cv] + dw[i] * along_s[cw];
         out.dt[i] = dv[i] * along_t[cv] + dw[i] * along_t[cw];
     }
-    if (!patch.crease) return;
-    // The phantoms P9 = P5 + P6 - P2, P10 = P6 + P7 - P3, P11 = P7 + P8 - P4 handed to the points they are made of.
-    const int made_of[3][3] = {{5, 6, 2}, {6, 7, 3}, {7, 8, 4}};
-    for (int p = 0; p < 3; ++p) {
-        const int phantom = 9 + p;
+    if (patch.shape == PatchShape::Smooth) return;
+    // Beside a crease edge the phantoms P9 = P5 + P6 - P2, P10 = P6 + P7 - P3, P11 = P7 + P8 - P4; at a crease vertex
+    // P0 = P2 + P3 - P6, P1 = P3 + P4 - P7: handed to the points they are made of.
+    static constexpr int kEdge[3][4] = {{9, 5, 6, 2}, {10, 6, 7, 3}, {11, 7, 8, 4}};
+    static constexpr int kVertex[2][4] = {{0, 2, 3, 6}, {1, 3, 4, 7}};
+    const bool edge = patch.shape == PatchShape::CreaseEdge;
+    for (int p = 0; p < (edge ? 3 : 2); ++p) {
+        const int* row = edge ? kEdge[p] : kVertex[p];
+        const int phantom = row[0];
+        const int made_of[3] = {row[1], row[2], row[3]};
         for (int k = 0; k < 3; ++k) {
-            const int q = made_of[p][k];
+            const int q = made_of[k];
             const double sign = k == 2 ? -1.0 : 1.0;
             out.position[q] += sign * out.position[phantom];
             out.ds[q] += sign * out.ds[phantom];

@@ -1,13 +1,15 @@
 // The regular patches of one refined level: where the Loop surface over a triangle is a box spline of 12 of the
 // level's points (rules/box_spline.h), which points, and with which weights at a point of the triangle.
 //
-// Two kinds are regular. Smooth: the triangle's three corners are smooth vertices with six neighbours each, none of
+// Three kinds are regular. Smooth: the triangle's three corners are smooth vertices with six neighbours each, none of
 // their edges sharp and no vertex sharpness, so that every rule that shapes the triangle's surface is the smooth one.
-// Crease: one edge of the triangle is infinitely sharp (a crease or a boundary) between two regular crease vertices,
-// each with three faces on the triangle's side and no other sharp edge there, and the third corner is smooth as
-// above; the three points across the crease are then phantoms, each the fourth corner of the parallelogram on the
-// triangle's side of the crease (P = a + b - c), which the crease rules reproduce: the crease's vertex mask
-// {1, 6, 1} / 8 and edge mask {1, 1} / 2 are the smooth masks applied to them.
+// Beside a crease edge: one edge of the triangle is infinitely sharp (a crease or a boundary) between two regular
+// crease vertices, each with three faces on the triangle's side and no other sharp edge there, and the third corner is
+// smooth as above; the three points across the crease are then phantoms, each the fourth corner of the parallelogram on
+// the triangle's side of the crease (P = a + b - c), which the crease rules reproduce: the crease's vertex mask
+// {1, 6, 1} / 8 and edge mask {1, 1} / 2 are the smooth masks applied to them. At a crease vertex: one corner is such a
+// regular crease vertex and the triangle the middle one of its three faces on that side, the other two corners smooth;
+// the two points across the crease are phantoms in the same way.
 //
 // Everything else (a corner of another valence, a dart, a corner, a semi-sharp edge or vertex) is irregular: its
 // surface needs more refinement first.
@@ -28,17 +30,18 @@ inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
 }
 
 // A regular patch of a level's triangle: its 12 points in box_spline.h's order, P3, P6, P7 being the triangle's corners
-// `rotation`, `rotation` + 1 and `rotation` + 2; beside a crease (on P6-P7) the last three are phantoms, and hold -1.
+// `rotation`, `rotation` + 1 and `rotation` + 2. Phantoms hold -1: beside a crease edge (P6-P7), P9, P10 and P11; at a
+// crease vertex (P3, its crease P2-P3-P4), P0 and P1.
+enum class PatchShape : std::uint8_t { Smooth, CreaseEdge, CreaseVertex };
 struct Patch {
     std::int32_t points[kBoxSplinePoints];
     int rotation = 0;
-    bool crease = false;
-    int count() const { return crease ? kBoxSplinePoints - 3 : kBoxSplinePoints; }
+    PatchShape shape = PatchShape::Smooth;
 };
 
-// The weights of a patch's points (its first count()) at (s, t) of its triangle (s towards the triangle's corner 1, t
-// towards corner 2): for the position and its derivatives along s and t. The phantoms' weights go to the points they
-// are made of.
+// The weights of a patch's points (those that are no phantom) at (s, t) of its triangle (s towards the triangle's
+// corner 1, t towards corner 2): for the position and its derivatives along s and t. The phantoms' weights go to the
+// points they are made of.
 struct PatchWeights {
     double position[kBoxSplinePoints], ds[kBoxSplinePoints], dt[kBoxSplinePoints];
 };
@@ -65,6 +68,7 @@ private:
     int next_corner(int corner, bool counter_clockwise) const;  // around the corner's vertex; -1: none or several
     bool smooth_corner(int corner, std::int32_t ring[6]) const;
     bool crease_corner(int corner, bool counter_clockwise, std::int32_t fan[4]) const;
+    bool crease_vertex(int corner, std::int32_t back[4], std::int32_t on[4]) const;
 
     const std::int32_t* triangles_;
     std::vector<std::int32_t> offsets_, corners_;

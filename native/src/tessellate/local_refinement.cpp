@@ -147,8 +147,9 @@ void LocalRefiner::weights(int face, FacePoint point, Stencil& out) {
         if (found) {
             PatchWeights weights;
             patch_weights(patch, double(at.S) / double(at.D), double(at.T) / double(at.D), weights);
-            for (int i = 0; i < patch.count(); ++i)
-                n.add_row(patch.points[i], weights.position[i], weights.ds[i], weights.dt[i], sums);
+            for (int i = 0; i < kBoxSplinePoints; ++i)
+                if (patch.points[i] >= 0)
+                    n.add_row(patch.points[i], weights.position[i], weights.ds[i], weights.dt[i], sums);
             break;
         }
         if (n.levels == kMaxLocalLevels) break;

@@ -1,9 +1,12 @@
 // A Tessellation: the points of every input triangle's pattern (topology/tessellation_pattern.h), each placed on the
-// limit surface from the plans of the levels the rates need. With L levels, 2^L at least the largest rate, no point
-// lies inside a level-L triangle at an input vertex (where the surface is irregular) other than the vertex itself:
-// a point at a vertex of level L takes the limit plan's point and normal, every other point a stencil over the level's
-// control points, a box spline where its triangle is a regular patch (level_patches.h) and the refined neighbourhood's
-// (local_refinement.h) where a semi-sharp edge or a non-manifold one leaves the triangle irregular.
+// limit surface. An input triangle that is a regular patch itself (level_patches.h) takes every point from the box
+// spline of the input's own points, whatever its rates. The others go through plans of the levels their rates need,
+// made on the mesh of those triangles and the triangles around their corners (all that shapes them): with L levels,
+// 2^L at least their largest rate, no point lies inside a level-L triangle at an input vertex (where the surface is
+// irregular) other than the vertex itself, so a point at a vertex of a level takes the limit plan's point and normal,
+// and every other point a stencil over the level's control points, a box spline where its triangle is a regular patch
+// and the refined neighbourhood's (local_refinement.h) where a semi-sharp edge or a non-manifold one leaves the
+// triangle irregular.
 #include "loopsub/tessellation.h"
 
 #include <algorithm>
@@ -31,14 +34,22 @@ struct TessellationImpl {
     std::vector<float> parameters;  // (u, v) per face point
     // A sample per face point, the normals' rows: at a vertex of the level, the limit plan's point and normal row; in
     // a regular patch of the level, the patch and the weights at its place there; elsewhere, a stencil of its own.
-    enum class Kind : std::uint8_t { Vertex, Patch, Stencil };
+    enum class Kind : std::uint8_t { Vertex, Patch, Stencil, InputPatch };
     struct Sample {
         Kind kind;
-        std::int32_t a, b;  // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil
+        // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil; InputPatch: -, weights
+        std::int32_t a, b;
     };
+    // Per input triangle: its first sample (and one more), and its patch among input_patch_points (-1: through the
+    // plans, on the submesh).
+    std::vector<std::int32_t> face_first_sample, face_patch;
+    std::vector<std::int32_t> input_patch_points;  // 12 per patch of the input's own points
+    // The plans' mesh: the irregular input triangles and those around their corners; its vertices, the input's.
+    std::vector<std::int32_t> sub_vertices;
+    mutable std::vector<float> sub_positions;
     std::vector<Sample> samples;
     std::vector<std::int32_t> sample_point;  // the point a sample places, -1 where an earlier sample places it
-    std::vector<std::int32_t> patch_points;  // 12 per patch (a crease's last three -1, weighted 0)
+    std::vector<std::int32_t> patch_points;  // 12 per patch (phantoms -1, weighted 0)
     std::vector<float> patch_weights;        // 36 per weight set: position, d/ds, d/dt of each of 12 points
     std::vector<std::int64_t> stencil_offsets{0};
     std::vector<std::int32_t> stencil_points;
@@ -154,19 +165,26 @@ public:
         : d_(d), mesh_(mesh), options_(options) {}
 
     void build(const TessellationRates& rates) {
-        // The limit plan of no levels checks the mesh and the options before anything reads them.
+        // The limit plan of no levels checks the mesh and the options before anything reads them, and classifies the
+        // input's vertices.
         options_.limit_surface = true, options_.levels = 0;
-        d_.limit = std::make_unique<Plan>(mesh_, options_);
+        const Plan input(mesh_, options_);
         edges_ = edges_with_rates(mesh_, rates);
-        const int largest = edges_.rates.empty() ? 1 : *std::max_element(edges_.rates.begin(), edges_.rates.end());
-        while ((1 << d_.levels) < largest) ++d_.levels;
         d_.num_input_vertices = mesh_.num_vertices;
+        const auto& sharp = input.output_sharp_edges();
+        const auto& sharp_corners = input.output_corner_vertices();
+        const LevelPatches input_patches(mesh_.triangles, mesh_.num_triangles, mesh_.num_vertices, sharp.data(),
+                                         input.output_sharp_edge_sharpness().data(), int(sharp.size() / 2),
+                                         sharp_corners.data(), int(sharp_corners.size()),
+                                         input.level_vertex_types(0).data());
 
         std::vector<Sides> sides(std::size_t(mesh_.num_triangles));
         std::vector<std::int64_t> face_first(std::size_t(mesh_.num_triangles));
         std::int64_t next =
             edges_.first_point.empty() ? mesh_.num_vertices : edges_.first_point.back() + edges_.rates.back() - 1;
         std::int64_t num_samples = 0;
+        int largest = 1;
+        d_.face_patch.assign(std::size_t(mesh_.num_triangles), -1);
         for (int f = 0; f < mesh_.num_triangles; ++f) {
             Sides& s = sides[std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
@@ -176,25 +194,39 @@ public:
                 s.along[k] = a < b;
             }
             face_first[std::size_t(f)] = next;
-            for (int rate : {s.rates[0], s.rates[1], s.rates[2], s.inner_rate()})
-                limit_levels_ = std::max(limit_levels_, two_adic(rate));
             const std::int64_t inner = detail::num_inner_points(s.rates, s.inner_rate());
             next += inner;
             num_samples += detail::first_edge_point(s.rates, 3) + inner;
+            Patch patch;
+            if (input_patches.find_patch(f, patch)) {
+                d_.face_patch[std::size_t(f)] = std::int32_t(input_shapes_.size());
+                d_.input_patch_points.insert(d_.input_patch_points.end(), patch.points,
+                                             patch.points + detail::kBoxSplinePoints);
+                input_shapes_.push_back({patch.rotation, patch.shape});
+                continue;
+            }
+            // The points at vertices of a level are those i / r along an edge of rate r, or of the inner lattice,
+            // whose denominator, reduced, is a power of two: vertices of the level of the largest power of two in any
+            // rate, which the limit plan need go no deeper than.
+            largest = std::max(largest, s.inner_rate());
+            for (int rate : {s.rates[0], s.rates[1], s.rates[2], s.inner_rate()})
+                limit_levels_ = std::max(limit_levels_, two_adic(rate));
         }
         if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX))
             throw MemoryLimitError("tessellation: more than 2^31 points", std::uint64_t(num_samples) * 64);
-        // The points at vertices of a level are those i / r along an edge of rate r, or of the inner lattice, whose
-        // denominator, reduced, is a power of two: they are vertices of the level of the largest power of two in any
-        // rate, and the limit plan needs go no deeper.
-        options_.levels = limit_levels_;
-        if (limit_levels_ > 0) d_.limit = std::make_unique<Plan>(mesh_, options_);
+        while ((1 << d_.levels) < largest) ++d_.levels;
+        make_submesh(input_patches);
+        if (!d_.sub_vertices.empty()) {
+            options_.levels = limit_levels_;
+            d_.limit = std::make_unique<Plan>(sub_view_, options_);
+        }
         d_.num_points = next;
         placed_.assign(std::size_t(next), false);
         d_.samples.reserve(std::size_t(num_samples)), d_.sample_point.reserve(std::size_t(num_samples));
         d_.parameters.reserve(2 * std::size_t(num_samples));
         subface_patch_.assign(std::size_t(1) << 2 * d_.levels, kUnknown);
         for (int f = 0; f < mesh_.num_triangles; ++f) add_face(f, sides[std::size_t(f)], face_first[std::size_t(f)]);
+        d_.face_first_sample.push_back(std::int32_t(d_.samples.size()));
     }
 
 private:
@@ -212,8 +244,10 @@ private:
             number[std::size_t(p)] = std::int32_t(face_first + p - first_inner);
 
         const int first_sample = int(d_.samples.size());
+        d_.face_first_sample.push_back(first_sample);
         for (std::int32_t within : touched_) subface_patch_[std::size_t(within)] = kUnknown;
         touched_.clear();
+        const std::int32_t input_patch = d_.face_patch[std::size_t(f)];
         for (std::size_t q = 0; q < pattern_.points.size(); ++q) {
             const std::int32_t point = number[q];
             d_.sample_point.push_back(placed_[std::size_t(point)] ? -1 : point);
@@ -221,7 +255,13 @@ private:
             const detail::PatternPoint& at = pattern_.points[q];
             d_.parameters.push_back(float(double(at.b1) / at.den)),
                 d_.parameters.push_back(float(double(at.b2) / at.den));
-            add_sample(f, FacePoint{at.b1, at.b2, at.den});
+            const FacePoint point_at{at.b1, at.b2, at.den};
+            if (input_patch >= 0) {
+                const auto [rotation, shape] = input_shapes_[std::size_t(input_patch)];
+                d_.samples.push_back({Kind::InputPatch, 0, weight_set(rotation, shape, point_at)});
+            } else {
+                add_sample(sub_face_[std::size_t(f)], point_at);
+            }
         }
         for (std::int32_t p : pattern_.triangles) {
             d_.triangles.push_back(number[std::size_t(p)]);
@@ -254,7 +294,8 @@ private:
         std::int32_t& patch = subface_patch_[std::size_t(within)];
         if (patch == kUnknown) patch = find_patch(t), touched_.push_back(within);
         if (patch >= 0) {
-            d_.samples.push_back({Kind::Patch, patch, weight_set(patch, at)});
+            const auto [rotation, shape] = patch_shape_[std::size_t(patch)];
+            d_.samples.push_back({Kind::Patch, patch, weight_set(rotation, shape, at)});
             return;
         }
         local_->weights(t, at, stencil_);
@@ -279,31 +320,76 @@ private:
         if (!patches_->find_patch(t, patch)) return -1;
         const std::int32_t number = std::int32_t(d_.patch_points.size() / detail::kBoxSplinePoints);
         for (std::int32_t p : patch.points) d_.patch_points.push_back(p);
-        patch_shape_.push_back({patch.rotation, patch.crease});
+        patch_shape_.push_back({patch.rotation, patch.shape});
         return number;
     }
 
     // The weights at a point of a patch: shared by every point at the same place in a patch of the same shape (at one
     // rate, the points of every input triangle).
-    std::int32_t weight_set(std::int32_t patch, const FacePoint& at) {
-        const auto [rotation, crease] = patch_shape_[std::size_t(patch)];
-        const WeightKey key{at.S, at.T, at.D, rotation, crease};
+    std::int32_t weight_set(int rotation, detail::PatchShape shape, const FacePoint& at) {
+        const WeightKey key{at.S, at.T, at.D, rotation, shape};
         const auto [found, added] = weight_sets_.try_emplace(key, std::int32_t(d_.patch_weights.size() / 36));
         if (!added) return found->second;
-        Patch shape;
-        shape.rotation = rotation, shape.crease = crease;
+        Patch patch;
+        patch.rotation = rotation, patch.shape = shape;
         detail::PatchWeights w;
-        detail::patch_weights(shape, double(at.S) / double(at.D), double(at.T) / double(at.D), w);
+        detail::patch_weights(patch, double(at.S) / double(at.D), double(at.T) / double(at.D), w);
         for (const double* part : {w.position, w.ds, w.dt})
             for (int i = 0; i < detail::kBoxSplinePoints; ++i) d_.patch_weights.push_back(float(part[i]));
         return found->second;
+    }
+
+    // The mesh of the plans: the input triangles that are no regular patch, and the triangles around their corners,
+    // which shape them (local_refinement.h); a vertex of it, the input's sub_vertices[v]; the input's tags on it.
+    void make_submesh(const LevelPatches& input) {
+        std::vector<char> taken(std::size_t(mesh_.num_triangles), 0);
+        for (int f = 0; f < mesh_.num_triangles; ++f)
+            if (d_.face_patch[std::size_t(f)] < 0)
+                for (int k = 0; k < 3; ++k) {
+                    const int v = mesh_.triangles[3 * f + k];
+                    for (const std::int32_t* c = input.corners_begin(v); c != input.corners_end(v); ++c)
+                        taken[std::size_t(*c / 3)] = 1;
+                }
+        std::vector<std::int32_t> local(std::size_t(mesh_.num_vertices), -1);
+        sub_face_.assign(std::size_t(mesh_.num_triangles), -1);
+        std::vector<std::uint64_t> sub_edges;
+        for (int f = 0; f < mesh_.num_triangles; ++f) {
+            if (!taken[std::size_t(f)]) continue;
+            sub_face_[std::size_t(f)] = std::int32_t(sub_triangles_.size() / 3);
+            for (int k = 0; k < 3; ++k) {
+                const std::int32_t v = mesh_.triangles[3 * f + k];
+                if (local[std::size_t(v)] < 0)
+                    local[std::size_t(v)] = std::int32_t(d_.sub_vertices.size()), d_.sub_vertices.push_back(v);
+                sub_triangles_.push_back(local[std::size_t(v)]);
+                sub_edges.push_back(detail::edge_key(v, mesh_.triangles[3 * f + (k + 1) % 3]));
+            }
+        }
+        std::sort(sub_edges.begin(), sub_edges.end());
+        for (int e = 0; e < mesh_.num_crease_edges; ++e) {
+            const std::int32_t a = mesh_.crease_edges[2 * e], b = mesh_.crease_edges[2 * e + 1];
+            if (!std::binary_search(sub_edges.begin(), sub_edges.end(), detail::edge_key(a, b))) continue;
+            sub_creases_.push_back(local[std::size_t(a)]), sub_creases_.push_back(local[std::size_t(b)]);
+            sub_crease_sharpness_.push_back(mesh_.crease_sharpness[e]);
+        }
+        for (int k = 0; k < mesh_.num_corners; ++k)
+            if (const std::int32_t v = local[std::size_t(mesh_.corner_vertices[k])]; v >= 0)
+                sub_corners_.push_back(v), sub_corner_sharpness_.push_back(mesh_.corner_sharpness[k]);
+        for (int k = 0; k < mesh_.num_cones; ++k)
+            if (const std::int32_t v = local[std::size_t(mesh_.cone_vertices[k])]; v >= 0) sub_cones_.push_back(v);
+        sub_view_.num_vertices = int(d_.sub_vertices.size());
+        sub_view_.triangles = sub_triangles_.data(), sub_view_.num_triangles = int(sub_triangles_.size() / 3);
+        sub_view_.crease_edges = sub_creases_.data(), sub_view_.crease_sharpness = sub_crease_sharpness_.data();
+        sub_view_.num_crease_edges = int(sub_crease_sharpness_.size());
+        sub_view_.corner_vertices = sub_corners_.data(), sub_view_.corner_sharpness = sub_corner_sharpness_.data();
+        sub_view_.num_corners = int(sub_corners_.size());
+        sub_view_.cone_vertices = sub_cones_.data(), sub_view_.num_cones = int(sub_cones_.size());
     }
 
     // The control points' plan and its patches, on the first point that needs them.
     void make_control() {
         Options control = options_;
         control.limit_surface = false, control.levels = d_.levels;
-        d_.control = std::make_unique<Plan>(mesh_, control);
+        d_.control = std::make_unique<Plan>(sub_view_, control);
         const Plan& plan = *d_.control;
         const auto& sharp = plan.output_sharp_edges();
         const auto& sharp_corners = plan.output_corner_vertices();
@@ -311,7 +397,7 @@ private:
             plan.output_triangles(), plan.num_output_triangles(), plan.num_output_vertices(), sharp.data(),
             plan.output_sharp_edge_sharpness().data(), int(sharp.size() / 2), sharp_corners.data(),
             int(sharp_corners.size()), plan.level_vertex_types(d_.levels).data());
-        local_ = std::make_unique<LocalRefiner>(*patches_, plan, control, mesh_.cone_vertices, mesh_.num_cones);
+        local_ = std::make_unique<LocalRefiner>(*patches_, plan, control, sub_cones_.data(), int(sub_cones_.size()));
     }
 
     static int two_adic(int rate) {  // the exponent of the largest power of two dividing rate
@@ -329,18 +415,23 @@ private:
     static constexpr std::int32_t kUnknown = -2;
     // Per level triangle of the input triangle at hand: its patch, or -1; and those that have been asked.
     std::vector<std::int32_t> subface_patch_, touched_;
-    std::vector<std::pair<int, bool>> patch_shape_;  // per patch: rotation, crease
+    std::vector<std::pair<int, detail::PatchShape>> patch_shape_, input_shapes_;  // per patch: rotation, shape
+    // The submesh (make_submesh) and each input triangle's number in it (-1: not in it).
+    std::vector<std::int32_t> sub_face_, sub_triangles_, sub_creases_, sub_corners_, sub_cones_;
+    std::vector<float> sub_crease_sharpness_, sub_corner_sharpness_;
+    MeshView sub_view_;
     struct WeightKey {
         std::int64_t S, T, D;
         int rotation;
-        bool crease;
+        detail::PatchShape shape;
         bool operator==(const WeightKey& o) const {
-            return S == o.S && T == o.T && D == o.D && rotation == o.rotation && crease == o.crease;
+            return S == o.S && T == o.T && D == o.D && rotation == o.rotation && shape == o.shape;
         }
     };
     struct WeightKeyHash {
         std::size_t operator()(const WeightKey& k) const {
-            return std::hash<std::int64_t>()(((k.S * 1000003 + k.T) * 1000003 + k.D) * 8 + k.rotation * 2 + k.crease);
+            return std::hash<std::int64_t>()(((k.S * 1000003 + k.T) * 1000003 + k.D) * 16 + k.rotation * 4 +
+                                             int(k.shape));
         }
     };
     std::unordered_map<WeightKey, std::int32_t, WeightKeyHash> weight_sets_;
@@ -377,14 +468,45 @@ int Tessellation::levels() const { return impl_->levels; }
 
 void Tessellation::evaluate(const float* positions, float* points, float* normals) const {
     const TessellationImpl& d = *impl_;
-    const ChannelsView<const float> in = interleaved(positions, 3);
-    d.limit_points.resize(3 * std::size_t(d.limit->num_output_vertices()));
-    d.limit_normals.resize(3 * std::size_t(d.limit->num_limit_normals()));
-    d.limit->evaluate(in, interleaved(d.limit_points.data(), 3), Plan::LimitNormals{d.limit_normals.data()});
-    if (d.control) {
-        d.control_points.resize(3 * std::size_t(d.control->num_output_vertices()) + 1);
-        d.control->evaluate(in, interleaved(d.control_points.data(), 3));
+    const std::size_t num_faces = d.face_patch.size();
+    for (std::size_t i = 0; i < 3 * std::size_t(d.num_input_vertices); ++i)
+        if (!std::isfinite(positions[i]))
+            throw InputError("tessellation: position " + std::to_string(i / 3) + " is not finite");
+    if (!d.sub_vertices.empty()) {
+        d.sub_positions.resize(3 * d.sub_vertices.size());
+        for (std::size_t v = 0; v < d.sub_vertices.size(); ++v)
+            std::copy_n(positions + 3 * std::size_t(d.sub_vertices[v]), 3, &d.sub_positions[3 * v]);
+        const ChannelsView<const float> in = interleaved(d.sub_positions.data(), 3);
+        d.limit_points.resize(3 * std::size_t(d.limit->num_output_vertices()));
+        d.limit_normals.resize(3 * std::size_t(d.limit->num_limit_normals()));
+        d.limit->evaluate(in, interleaved(d.limit_points.data(), 3), Plan::LimitNormals{d.limit_normals.data()});
+        if (d.control) {
+            d.control_points.resize(3 * std::size_t(d.control->num_output_vertices()) + 1);
+            d.control->evaluate(in, interleaved(d.control_points.data(), 3));
+        }
     }
+    constexpr int kPoints = detail::kBoxSplinePoints;
+    auto write = [&](std::size_t s, const float* p, const float* n) {
+        if (const std::int32_t point = d.sample_point[s]; point >= 0)
+            std::copy_n(p, 3, points + 3 * std::size_t(point));
+        if (normals) std::copy_n(n, 3, normals + 3 * s);
+    };
+    // An input triangle that is a patch: its points loaded once, four floats each, for all its samples.
+    auto place_patch_face = [&](std::size_t f) {
+        const std::int32_t* patch = &d.input_patch_points[std::size_t(d.face_patch[f]) * kPoints];
+        // A phantom's point is zero with a zero weight (patch_weights handed its weight to its makers).
+        alignas(16) float x[kPoints][4] = {};
+        for (int i = 0; i < kPoints; ++i)
+            if (patch[i] >= 0) std::copy_n(positions + 3 * std::size_t(patch[i]), 3, x[i]);
+        for (std::size_t s = std::size_t(d.face_first_sample[f]); s < std::size_t(d.face_first_sample[f + 1]); ++s) {
+            const float* w = &d.patch_weights[std::size_t(d.samples[s].b) * 3 * kPoints];
+            PointSums sums;
+            for (int i = 0; i < kPoints; ++i) sums.add(x[i], w[i], w[kPoints + i], w[2 * kPoints + i]);
+            float p[3], n[3];
+            sums.finish(p, n);
+            write(s, p, n);
+        }
+    };
     const float* x = d.control_points.data();
     auto place = [&](std::size_t s) {
         const TessellationImpl::Sample& sample = d.samples[s];
@@ -395,10 +517,11 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         } else {
             PointSums sums;
             if (sample.kind == Kind::Patch) {
-                const std::int32_t* patch = &d.patch_points[std::size_t(sample.a) * detail::kBoxSplinePoints];
-                const float* w = &d.patch_weights[std::size_t(sample.b) * 3 * detail::kBoxSplinePoints];
-                const int count = patch[9] < 0 ? detail::kBoxSplinePoints - 3 : detail::kBoxSplinePoints;
-                for (int i = 0; i < count; ++i) sums.add(x + 3 * std::size_t(patch[i]), w[i], w[12 + i], w[24 + i]);
+                const std::int32_t* patch = &d.patch_points[std::size_t(sample.a) * kPoints];
+                const float* w = &d.patch_weights[std::size_t(sample.b) * 3 * kPoints];
+                for (int i = 0; i < kPoints; ++i)
+                    if (patch[i] >= 0)
+                        sums.add(x + 3 * std::size_t(patch[i]), w[i], w[kPoints + i], w[2 * kPoints + i]);
             } else {
                 const std::size_t first = std::size_t(d.stencil_offsets[std::size_t(sample.a)]),
                                   last = std::size_t(d.stencil_offsets[std::size_t(sample.a) + 1]);
@@ -409,13 +532,18 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
             }
             sums.finish(p, n);
         }
-        if (const std::int32_t point = d.sample_point[s]; point >= 0)
-            std::copy_n(p, 3, points + 3 * std::size_t(point));
-        if (normals) std::copy_n(n, 3, normals + 3 * s);
+        write(s, p, n);
     };
     detail::run_levels(d.threads, 1, [&](int, int part, int parts) {
-        const auto [first, last] = detail::part_of(d.samples.size(), part, parts);
-        for (std::size_t s = first; s < last; ++s) place(s);
+        const auto [first, last] = detail::part_of(num_faces, part, parts);
+        for (std::size_t f = first; f < last; ++f) {
+            if (d.face_patch[f] >= 0) {
+                place_patch_face(f);
+                continue;
+            }
+            for (std::size_t s = std::size_t(d.face_first_sample[f]); s < std::size_t(d.face_first_sample[f + 1]); ++s)
+                place(s);
+        }
     });
 }
 
