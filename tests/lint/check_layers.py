@@ -18,7 +18,7 @@ MAY_INCLUDE = {
     "kernels": {"base", "tables"},
     "plan": {"base", "rules", "topology", "tables", "kernels"},
     "evaluate": {"base", "tables", "kernels", "plan"},
-    "tessellate": {"base", "rules", "topology"},
+    "tessellate": {"base", "rules", "topology", "kernels"},
     "api": {"base"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)

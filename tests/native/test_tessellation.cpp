@@ -319,6 +319,28 @@ TEST(Tessellation, RateTwoToTheLGivesLevelLOnTheLimitSurface) {
     }
 }
 
+// The patch kernels (kernels.h, PatchFn): SSE4.1 gives the scalar reference's bits (the same sums in the same order);
+// AVX2 fuses its multiply-adds, within rounding of them. A kernel the CPU lacks steps down to one it has.
+TEST(Tessellation, EveryKernelPlacesThePointsOfTheScalarOne) {
+    TestMesh mesh = icosphere(2);
+    jitter(mesh, 256, 0.02f);
+    mesh.add_crease(0, mesh.triangles[1]);
+    const RatesFor rates(mesh, -11, 27);
+    std::vector<float> points[3], normals[3];
+    const Kernel kernels[3] = {Kernel::Scalar, Kernel::SSE41, Kernel::AVX2};
+    for (int k = 0; k < 3; ++k) {
+        Options options = options_for(mesh);
+        options.kernel = kernels[k];
+        const Tessellation t(mesh.view(), options, rates.view);
+        points[k].resize(3 * std::size_t(t.num_points())), normals[k].resize(3 * std::size_t(t.num_face_points()));
+        t.evaluate(mesh.positions.data(), points[k].data(), normals[k].data());
+    }
+    EXPECT_EQ(points[1], points[0]);
+    EXPECT_EQ(normals[1], normals[0]);
+    for (std::size_t i = 0; i < points[0].size(); ++i) ASSERT_NEAR(points[2][i], points[0][i], 1e-6) << i;
+    for (std::size_t i = 0; i < normals[0].size(); ++i) ASSERT_NEAR(normals[2][i], normals[0][i], 1e-5) << i;
+}
+
 TEST(Tessellation, TwoThreadsPlaceTheSamePoints) {
     TestMesh mesh = icosphere(2);
     jitter(mesh, 255, 0.02f);

@@ -61,12 +61,26 @@ void limit_scalar(const LimitTables&, ChannelsView<const float>, ChannelsView<fl
 void limit_sse41(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
 void limit_avx2(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
 
+// One regular patch of a tessellation evaluated at a block of points: the box spline of its 12 points (xyz and a
+// fourth float, rules/box_spline.h's order; a phantom is zero with zero weights) at each sample, with weights for kind
+// k (position, derivative along s, along t), point i and sample s at weights[(12 k + i) stride + s], stride a multiple
+// of 8 with the samples past `count` weighted zero. Writes each sample's position and unit normal (t_s x t_t; zero
+// where the derivatives span no plane), three floats each, at positions + 3 s and normals + 3 s.
+inline constexpr int kPatchPoints = 12;
+using PatchFn = void (*)(const float points[kPatchPoints][4], const float* weights, int count, int stride,
+                         float* positions, float* normals);
+
+void patch_scalar(const float[kPatchPoints][4], const float*, int, int, float*, float*);
+void patch_sse41(const float[kPatchPoints][4], const float*, int, int, float*, float*);
+void patch_avx2(const float[kPatchPoints][4], const float*, int, int, float*, float*);
+
 // One instruction set's kernels.
 struct Kernels {
     RefineFn refine;
     InteriorFn interior;
     FanFn fans;
     LimitFn limit;
+    PatchFn patch;
 };
 
 // Runs the kernels over part `part` of `parts` of a level: a stored level in one call (one whose interior edges come

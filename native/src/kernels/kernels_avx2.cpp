@@ -13,6 +13,7 @@
 
 #include "kernels/kernels.h"
 #include "kernels/kernels_limit.h"
+#include "kernels/kernels_patch.h"
 #include "kernels/kernels_quads.h"
 #include "kernels/kernels_specials.h"
 
@@ -196,6 +197,27 @@ void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, 
     for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
         interior_quad(s, source, target, faces, smooth_edge);
     });
+}
+
+// The patch kernel (kernels_patch.h) eight samples at a time, with fused multiply-adds.
+struct PatchAvx2 {
+    using Vec = __m256;
+    static constexpr int kWidth = 8;
+    static Vec load(const float* p) { return _mm256_loadu_ps(p); }
+    static Vec broadcast(float x) { return _mm256_set1_ps(x); }
+    static Vec multiply_add(Vec a, Vec b, Vec c) { return _mm256_fmadd_ps(a, b, c); }
+    static Vec multiply(Vec a, Vec b) { return _mm256_mul_ps(a, b); }
+    static Vec subtract(Vec a, Vec b) { return _mm256_sub_ps(a, b); }
+    static Vec unit_factor(Vec x) {
+        const Vec positive = _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ);
+        return _mm256_and_ps(positive, _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(x)));
+    }
+    static void store(float* p, Vec v) { _mm256_storeu_ps(p, v); }
+};
+
+void patch_avx2(const float points[kPatchPoints][4], const float* weights, int count, int stride, float* positions,
+                float* normals) {
+    patch_pass<PatchAvx2>(points, weights, count, stride, positions, normals);
 }
 
 }  // namespace loopsub::detail

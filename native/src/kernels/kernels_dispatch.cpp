@@ -87,13 +87,13 @@ Kernel resolve_kernel(Kernel requested) {
 Kernels kernel_functions(Kernel resolved) {
 #if defined(LOOPSUB_X86_SIMD)
     switch (resolved) {
-        case Kernel::AVX2: return {refine_avx2, refine_interior_avx2, refine_fans_avx2, limit_avx2};
-        case Kernel::SSE41: return {refine_sse41, refine_interior_sse41, refine_fans_sse41, limit_sse41};
-        default: return {refine_scalar, refine_interior_scalar, refine_fans_scalar, limit_scalar};
+        case Kernel::AVX2: return {refine_avx2, refine_interior_avx2, refine_fans_avx2, limit_avx2, patch_avx2};
+        case Kernel::SSE41: return {refine_sse41, refine_interior_sse41, refine_fans_sse41, limit_sse41, patch_sse41};
+        default: return {refine_scalar, refine_interior_scalar, refine_fans_scalar, limit_scalar, patch_scalar};
     }
 #else
     (void)resolved;  // resolve_kernel gives Scalar when the build has no SIMD kernel
-    return {refine_scalar, refine_interior_scalar, refine_fans_scalar, limit_scalar};
+    return {refine_scalar, refine_interior_scalar, refine_fans_scalar, limit_scalar, patch_scalar};
 #endif
 }
 

@@ -1,4 +1,6 @@
 // The scalar reference kernel: one output at a time, every channel, exactly the masks of stencils.h.
+#include <cmath>
+
 #include "kernels/kernels.h"
 #include "kernels/kernels_specials.h"
 #include "kernels/limit_normals.h"
@@ -57,6 +59,26 @@ void refine_interior_scalar(const LevelStencils& s, ChannelsView<const float> in
                                                           kSmoothEdgeWingWeight * (p[abcd[2] * ie] + p[abcd[3] * ie]);
             }
         }
+    }
+}
+
+// The reference for kernels_patch.h: the same sums in the same order, a sample at a time.
+void patch_scalar(const float points[kPatchPoints][4], const float* weights, int count, int stride, float* positions,
+                  float* normals) {
+    for (int s = 0; s < count; ++s) {
+        float sum[3][3] = {};
+        for (int i = 0; i < kPatchPoints; ++i)
+            for (int k = 0; k < 3; ++k) {
+                const float w = weights[std::size_t(kPatchPoints * k + i) * std::size_t(stride) + std::size_t(s)];
+                for (int c = 0; c < 3; ++c) sum[k][c] = w * points[i][c] + sum[k][c];
+            }
+        const float(&a)[3] = sum[1], (&b)[3] = sum[2];
+        const float n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const float length2 = n[0] * n[0] + (n[1] * n[1] + n[2] * n[2]);
+        const float unit = length2 > 0.0f ? 1.0f / std::sqrt(length2) : 0.0f;
+        for (int c = 0; c < 3; ++c)
+            positions[3 * std::size_t(s) + std::size_t(c)] = sum[0][c],
+                                           normals[3 * std::size_t(s) + std::size_t(c)] = n[c] * unit;
     }
 }
 

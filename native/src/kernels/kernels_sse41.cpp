@@ -12,6 +12,7 @@
 
 #include "kernels/kernels.h"
 #include "kernels/kernels_limit.h"
+#include "kernels/kernels_patch.h"
 #include "kernels/kernels_quads.h"
 #include "kernels/kernels_specials.h"
 
@@ -151,6 +152,27 @@ void refine_interior_sse41(const LevelStencils& s, ChannelsView<const float> in,
     for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
         interior_quad(s, source, target, faces, smooth_edge);
     });
+}
+
+// The patch kernel (kernels_patch.h) four samples at a time: multiply then add, as the scalar reference.
+struct PatchSse41 {
+    using Vec = __m128;
+    static constexpr int kWidth = 4;
+    static Vec load(const float* p) { return _mm_loadu_ps(p); }
+    static Vec broadcast(float x) { return _mm_set1_ps(x); }
+    static Vec multiply_add(Vec a, Vec b, Vec c) { return _mm_add_ps(_mm_mul_ps(a, b), c); }
+    static Vec multiply(Vec a, Vec b) { return _mm_mul_ps(a, b); }
+    static Vec subtract(Vec a, Vec b) { return _mm_sub_ps(a, b); }
+    static Vec unit_factor(Vec x) {
+        const Vec positive = _mm_cmpgt_ps(x, _mm_setzero_ps());
+        return _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(x)));
+    }
+    static void store(float* p, Vec v) { _mm_storeu_ps(p, v); }
+};
+
+void patch_sse41(const float points[kPatchPoints][4], const float* weights, int count, int stride, float* positions,
+                 float* normals) {
+    patch_pass<PatchSse41>(points, weights, count, stride, positions, normals);
 }
 
 }  // namespace loopsub::detail

@@ -14,11 +14,14 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#include <map>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
 #include "base/parallel.h"
+#include "kernels/kernels.h"
 #include "tessellate/level_patches.h"
 #include "tessellate/local_refinement.h"
 #include "topology/tessellation_pattern.h"
@@ -41,9 +44,18 @@ struct TessellationImpl {
         std::int32_t a, b;
     };
     // Per input triangle: its first sample (and one more), and its patch among input_patch_points (-1: through the
-    // plans, on the submesh).
-    std::vector<std::int32_t> face_first_sample, face_patch;
+    // plans, on the submesh) with the block of weights of its points (kernels.h, PatchFn).
+    std::vector<std::int32_t> face_first_sample, face_patch, face_block;
     std::vector<std::int32_t> input_patch_points;  // 12 per patch of the input's own points
+    // A block per pattern and patch shape (at one rate, one for nearly every triangle): its samples, its stride and
+    // where its weights start.
+    struct Block {
+        int count, stride;
+        std::size_t first;
+    };
+    std::vector<Block> blocks;
+    std::vector<float> block_weights;
+    detail::PatchFn patch_kernel = nullptr;
     // The plans' mesh: the irregular input triangles and those around their corners; its vertices, the input's.
     std::vector<std::int32_t> sub_vertices;
     mutable std::vector<float> sub_positions;
@@ -255,14 +267,10 @@ private:
             const detail::PatternPoint& at = pattern_.points[q];
             d_.parameters.push_back(float(double(at.b1) / at.den)),
                 d_.parameters.push_back(float(double(at.b2) / at.den));
-            const FacePoint point_at{at.b1, at.b2, at.den};
-            if (input_patch >= 0) {
-                const auto [rotation, shape] = input_shapes_[std::size_t(input_patch)];
-                d_.samples.push_back({Kind::InputPatch, 0, weight_set(rotation, shape, point_at)});
-            } else {
-                add_sample(sub_face_[std::size_t(f)], point_at);
-            }
+            if (input_patch >= 0) d_.samples.push_back({Kind::InputPatch, -1, -1});
+            else add_sample(sub_face_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den});
         }
+        d_.face_block.push_back(input_patch >= 0 ? block(s, input_shapes_[std::size_t(input_patch)]) : -1);
         for (std::int32_t p : pattern_.triangles) {
             d_.triangles.push_back(number[std::size_t(p)]);
             d_.corner_face_points.push_back(first_sample + p);
@@ -306,6 +314,29 @@ private:
             d_.stencil_weights.insert(d_.stencil_weights.end(), w, w + 3);
         }
         d_.stencil_offsets.push_back(std::int64_t(d_.stencil_points.size()));
+    }
+
+    // The block of weights of the pattern at hand (pattern_, made for `sides`) in a patch of this rotation and shape.
+    std::int32_t block(const Sides& sides, std::pair<int, detail::PatchShape> shape) {
+        const BlockKey key{sides.rates[0], sides.rates[1], sides.rates[2], shape.first, shape.second};
+        const auto [found, added] = blocks_.try_emplace(key, std::int32_t(d_.blocks.size()));
+        if (!added) return found->second;
+        const int count = int(pattern_.points.size()), stride = (count + 7) / 8 * 8;
+        d_.blocks.push_back({count, stride, d_.block_weights.size()});
+        d_.block_weights.resize(d_.block_weights.size() + std::size_t(3 * kPoints) * std::size_t(stride), 0.0f);
+        float* weights = &d_.block_weights[d_.blocks.back().first];
+        Patch patch;
+        patch.rotation = shape.first, patch.shape = shape.second;
+        for (int q = 0; q < count; ++q) {
+            const detail::PatternPoint& at = pattern_.points[std::size_t(q)];
+            detail::PatchWeights w;
+            detail::patch_weights(patch, double(at.b1) / at.den, double(at.b2) / at.den, w);
+            const double* kinds[3] = {w.position, w.ds, w.dt};
+            for (int k = 0; k < 3; ++k)
+                for (int i = 0; i < kPoints; ++i)
+                    weights[std::size_t(kPoints * k + i) * std::size_t(stride) + std::size_t(q)] = float(kinds[k][i]);
+        }
+        return found->second;
     }
 
     // A point at corner `corner` of the limit plan's triangle t.
@@ -435,6 +466,9 @@ private:
         }
     };
     std::unordered_map<WeightKey, std::int32_t, WeightKeyHash> weight_sets_;
+    static constexpr int kPoints = detail::kBoxSplinePoints;
+    using BlockKey = std::tuple<int, int, int, int, detail::PatchShape>;  // the sides' rates, rotation, shape
+    std::map<BlockKey, std::int32_t> blocks_;
     std::unique_ptr<LevelPatches> patches_;
     std::unique_ptr<LocalRefiner> local_;
     FacePattern pattern_;
@@ -450,6 +484,7 @@ Tessellation::Tessellation(const MeshView& mesh, const Options& options, const T
     if (mesh.num_face_varying > 0) fail("face-varying layers are not supported");
     if (options.boundary == Boundary::None) fail("Boundary::None is not supported (it makes holes)");
     impl_->threads = std::max(1, options.threads);
+    impl_->patch_kernel = detail::kernel_functions(detail::resolve_kernel(options.kernel)).patch;
     Builder(*impl_, mesh, options).build(rates);
 }
 
@@ -485,27 +520,27 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
             d.control->evaluate(in, interleaved(d.control_points.data(), 3));
         }
     }
-    constexpr int kPoints = detail::kBoxSplinePoints;
+    constexpr int kPoints = detail::kPatchPoints;
     auto write = [&](std::size_t s, const float* p, const float* n) {
         if (const std::int32_t point = d.sample_point[s]; point >= 0)
             std::copy_n(p, 3, points + 3 * std::size_t(point));
         if (normals) std::copy_n(n, 3, normals + 3 * s);
     };
-    // An input triangle that is a patch: its points loaded once, four floats each, for all its samples.
-    auto place_patch_face = [&](std::size_t f) {
+    // An input triangle that is a patch: its 12 points for the patch kernel, over its block of weights; the positions
+    // of the points it places copied out.
+    auto place_patch_face = [&](std::size_t f, std::vector<float>& scratch) {
         const std::int32_t* patch = &d.input_patch_points[std::size_t(d.face_patch[f]) * kPoints];
-        // A phantom's point is zero with a zero weight (patch_weights handed its weight to its makers).
-        alignas(16) float x[kPoints][4] = {};
+        alignas(16) float x[kPoints][4] = {};  // a phantom's point is zero, with zero weights
         for (int i = 0; i < kPoints; ++i)
             if (patch[i] >= 0) std::copy_n(positions + 3 * std::size_t(patch[i]), 3, x[i]);
-        for (std::size_t s = std::size_t(d.face_first_sample[f]); s < std::size_t(d.face_first_sample[f + 1]); ++s) {
-            const float* w = &d.patch_weights[std::size_t(d.samples[s].b) * 3 * kPoints];
-            PointSums sums;
-            for (int i = 0; i < kPoints; ++i) sums.add(x[i], w[i], w[kPoints + i], w[2 * kPoints + i]);
-            float p[3], n[3];
-            sums.finish(p, n);
-            write(s, p, n);
-        }
+        const TessellationImpl::Block& block = d.blocks[std::size_t(d.face_block[f])];
+        const std::size_t first = std::size_t(d.face_first_sample[f]);
+        scratch.resize(6 * std::size_t(block.count));
+        float* face_normals = normals ? normals + 3 * first : scratch.data() + 3 * std::size_t(block.count);
+        d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), face_normals);
+        for (int q = 0; q < block.count; ++q)
+            if (const std::int32_t point = d.sample_point[first + std::size_t(q)]; point >= 0)
+                std::copy_n(&scratch[3 * std::size_t(q)], 3, points + 3 * std::size_t(point));
     };
     const float* x = d.control_points.data();
     auto place = [&](std::size_t s) {
@@ -536,9 +571,10 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
     };
     detail::run_levels(d.threads, 1, [&](int, int part, int parts) {
         const auto [first, last] = detail::part_of(num_faces, part, parts);
+        std::vector<float> scratch;
         for (std::size_t f = first; f < last; ++f) {
             if (d.face_patch[f] >= 0) {
-                place_patch_face(f);
+                place_patch_face(f, scratch);
                 continue;
             }
             for (std::size_t s = std::size_t(d.face_first_sample[f]); s < std::size_t(d.face_first_sample[f + 1]); ++s)
