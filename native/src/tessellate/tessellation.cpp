@@ -44,11 +44,13 @@ struct TessellationImpl {
         std::int32_t a, b;
     };
     // Per input triangle: its first sample (and one more), and its patch among input_patch_points (-1: through the
-    // plans, on the submesh) with the block of weights of its points (kernels.h, PatchFn).
-    std::vector<std::int32_t> face_first_sample, face_patch, face_block;
+    // plans, on the submesh) with the blocks of weights of its points (kernels.h, PatchFn), one per part of its
+    // pattern: its corners, each edge's points, its inner points (-1: none).
+    static constexpr int kParts = 5;
+    std::vector<std::int32_t> face_first_sample, face_patch, face_blocks;
     std::vector<std::int32_t> input_patch_points;  // 12 per patch of the input's own points
-    // A block per pattern and patch shape (at one rate, one for nearly every triangle): its samples, its stride and
-    // where its weights start.
+    // A block per part of a pattern, its rate and its patch's shape, shared by every triangle that has the same: its
+    // samples, its stride and where its weights start.
     struct Block {
         int count, stride;
         std::size_t first;
@@ -270,7 +272,8 @@ private:
             if (input_patch >= 0) d_.samples.push_back({Kind::InputPatch, -1, -1});
             else add_sample(sub_face_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den});
         }
-        d_.face_block.push_back(input_patch >= 0 ? block(s, input_shapes_[std::size_t(input_patch)]) : -1);
+        for (int part = 0; part < TessellationImpl::kParts; ++part)
+            d_.face_blocks.push_back(input_patch >= 0 ? block(s, part, input_shapes_[std::size_t(input_patch)]) : -1);
         for (std::int32_t p : pattern_.triangles) {
             d_.triangles.push_back(number[std::size_t(p)]);
             d_.corner_face_points.push_back(first_sample + p);
@@ -316,19 +319,31 @@ private:
         d_.stencil_offsets.push_back(std::int64_t(d_.stencil_points.size()));
     }
 
-    // The block of weights of the pattern at hand (pattern_, made for `sides`) in a patch of this rotation and shape.
-    std::int32_t block(const Sides& sides, std::pair<int, detail::PatchShape> shape) {
-        const BlockKey key{sides.rates[0], sides.rates[1], sides.rates[2], shape.first, shape.second};
+    // The block of weights of one part of the pattern at hand (pattern_, made for `sides`: 0 its corners, 1 to 3 the
+    // points of edge 0 to 2, 4 its inner points) in a patch of this rotation and shape; -1 for a part with no points.
+    // The points of a part are where they are in every pattern with that part's rate.
+    std::int32_t block(const Sides& sides, int part, std::pair<int, detail::PatchShape> shape) {
+        const int begin = part == 0 ? 0 : detail::first_edge_point(sides.rates, part - 1);
+        const int end = part == 0  ? 3
+                        : part < 4 ? detail::first_edge_point(sides.rates, part)
+                                   : int(pattern_.points.size());
+        if (begin == end) return -1;
+        // The inner points depend on the inner rate, and on whether the rates differ below an inner rate of 3 (a
+        // centre).
+        const int rate = part == 0  ? 0
+                         : part < 4 ? sides.rates[part - 1]
+                                    : (end - begin == 1 ? -1 : sides.inner_rate());
+        const BlockKey key{part, rate, shape.first, shape.second};
         const auto [found, added] = blocks_.try_emplace(key, std::int32_t(d_.blocks.size()));
         if (!added) return found->second;
-        const int count = int(pattern_.points.size()), stride = (count + 7) / 8 * 8;
+        const int count = end - begin, stride = (count + 7) / 8 * 8;
         d_.blocks.push_back({count, stride, d_.block_weights.size()});
         d_.block_weights.resize(d_.block_weights.size() + std::size_t(3 * kPoints) * std::size_t(stride), 0.0f);
         float* weights = &d_.block_weights[d_.blocks.back().first];
         Patch patch;
         patch.rotation = shape.first, patch.shape = shape.second;
         for (int q = 0; q < count; ++q) {
-            const detail::PatternPoint& at = pattern_.points[std::size_t(q)];
+            const detail::PatternPoint& at = pattern_.points[std::size_t(begin + q)];
             detail::PatchWeights w;
             detail::patch_weights(patch, double(at.b1) / at.den, double(at.b2) / at.den, w);
             const double* kinds[3] = {w.position, w.ds, w.dt};
@@ -467,7 +482,7 @@ private:
     };
     std::unordered_map<WeightKey, std::int32_t, WeightKeyHash> weight_sets_;
     static constexpr int kPoints = detail::kBoxSplinePoints;
-    using BlockKey = std::tuple<int, int, int, int, detail::PatchShape>;  // the sides' rates, rotation, shape
+    using BlockKey = std::tuple<int, int, int, detail::PatchShape>;  // part, its rate, rotation, shape
     std::map<BlockKey, std::int32_t> blocks_;
     std::unique_ptr<LevelPatches> patches_;
     std::unique_ptr<LocalRefiner> local_;
@@ -533,14 +548,18 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         alignas(16) float x[kPoints][4] = {};  // a phantom's point is zero, with zero weights
         for (int i = 0; i < kPoints; ++i)
             if (patch[i] >= 0) std::copy_n(positions + 3 * std::size_t(patch[i]), 3, x[i]);
-        const TessellationImpl::Block& block = d.blocks[std::size_t(d.face_block[f])];
-        const std::size_t first = std::size_t(d.face_first_sample[f]);
-        scratch.resize(6 * std::size_t(block.count));
-        float* face_normals = normals ? normals + 3 * first : scratch.data() + 3 * std::size_t(block.count);
-        d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), face_normals);
-        for (int q = 0; q < block.count; ++q)
-            if (const std::int32_t point = d.sample_point[first + std::size_t(q)]; point >= 0)
-                std::copy_n(&scratch[3 * std::size_t(q)], 3, points + 3 * std::size_t(point));
+        std::size_t sample = std::size_t(d.face_first_sample[f]);
+        for (int part = 0; part < TessellationImpl::kParts; ++part) {
+            const std::int32_t b = d.face_blocks[TessellationImpl::kParts * f + std::size_t(part)];
+            if (b < 0) continue;
+            const TessellationImpl::Block& block = d.blocks[std::size_t(b)];
+            scratch.resize(6 * std::size_t(block.count));
+            float* part_normals = normals ? normals + 3 * sample : scratch.data() + 3 * std::size_t(block.count);
+            d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), part_normals);
+            for (int q = 0; q < block.count; ++q, ++sample)
+                if (const std::int32_t point = d.sample_point[sample]; point >= 0)
+                    std::copy_n(&scratch[3 * std::size_t(q)], 3, points + 3 * std::size_t(point));
+        }
     };
     const float* x = d.control_points.data();
     auto place = [&](std::size_t s) {
