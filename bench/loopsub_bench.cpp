@@ -47,6 +47,14 @@
 // "limit frame" evaluates it with its compact normals; --thread-scaling ROUNDS WHAT runs only the rows whose name
 // contains WHAT ("uv": the three with the layer, "limit": the two with the limit surface).
 //
+// --screen-error instead measures what camera-driven rates buy (issue 25): a ground of gentle hills 240 units wide
+// (24 x 24 quads) and a sphere of radius 1.5 standing on it, seen from a low camera (1920 x 1080, 50 degrees); the
+// tessellation at the camera's rates (screen_space_rates, by length 1 to 32 pixels per segment and by deviation 0.004
+// to 1 pixel, at most 64) and at uniform rates 2^L, each with its triangle count and its screen-space error: the
+// distance, in pixels, between a triangle's centroid and the limit surface at the centroid's parameters
+// (Bfr::Surface::Evaluate, the reference), over the triangles in view, at the 99th percentile and at most; then, per
+// dicing rate, the first uniform rate whose error (99th percentile) is no larger.
+//
 // --malloc-keeps-memory (first argument) makes glibc's malloc keep freed memory for reuse (mmap threshold 32 MiB,
 // no trimming): OpenSubdiv then reuses its arrays from one run to the next as loopsub's plans reuse theirs (its
 // block pool), instead of paying the kernel for fresh pages each time (docs/benchmark.md).
@@ -893,6 +901,158 @@ int measure_thread_scaling(int rounds, const std::string& only) {
 
 }  // namespace
 
+// ---- Screen-space error of camera-driven rates ------------------------------------------------------------------
+
+struct Scene {
+    loopsub::MeshData mesh;
+    loopsub::Camera camera;
+};
+
+Scene screen_scene() {
+    Scene scene;
+    std::vector<float>& p = scene.mesh.positions;
+    std::vector<std::int32_t>& t = scene.mesh.triangles;
+    const int n = 24;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const float x = 10.0f * (float(i) - n / 2.0f), z = 10.0f * (float(j) - n / 2.0f);
+            p.insert(p.end(), {x, 0.8f * std::sin(0.15f * x) * std::cos(0.1f * z) - 0.5f, z});
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            t.insert(t.end(), {a, c, d, a, d, b});
+        }
+    const Mesh sphere = icosphere(2);
+    const int first = scene.mesh.num_vertices();
+    for (int v = 0; v < sphere.num_vertices(); ++v)
+        p.insert(p.end(), {1.5f * sphere.positions[3 * v], 1.5f * sphere.positions[3 * v + 1] + 1.6f,
+                           1.5f * sphere.positions[3 * v + 2]});
+    for (int c : sphere.triangles) t.push_back(first + c);
+    // A camera at (0, 2, 9) looking at (0, 1, 0), y up: look-at and OpenGL's perspective.
+    const double eye[3] = {0, 2, 9}, target[3] = {0, 1, 0};
+    double f[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+    const double fl = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    for (double& c : f) c /= fl;
+    double r[3] = {-f[2], 0, f[0]};  // f x (0, 1, 0)
+    const double rl = std::sqrt(r[0] * r[0] + r[2] * r[2]);
+    for (double& c : r) c /= rl;
+    const double u[3] = {r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
+    const double focal = 1.0 / std::tan(25.0 * 3.14159265358979323846 / 180.0), aspect = 1920.0 / 1080.0;
+    const double near = 0.01, far = 1000.0;
+    const double* rows[3] = {r, u, f};
+    float* m = scene.camera.world_to_clip;
+    for (int c = 0; c < 3; ++c) {
+        m[c] = float(focal / aspect * r[c]), m[4 + c] = float(focal * u[c]);
+        m[8 + c] = float(-(far + near) / (near - far) * f[c]), m[12 + c] = float(f[c]);
+    }
+    auto dot_eye = [&](const double* a) { return a[0] * eye[0] + a[1] * eye[1] + a[2] * eye[2]; };
+    m[3] = float(-focal / aspect * dot_eye(rows[0])), m[7] = float(-focal * dot_eye(rows[1]));
+    m[11] = float((far + near) / (near - far) * dot_eye(rows[2]) + 2 * far * near / (near - far));
+    m[15] = float(-dot_eye(rows[2]));
+    scene.camera.viewport_width = 1920, scene.camera.viewport_height = 1080;
+    return scene;
+}
+
+// Where a point lands on screen, in pixels; false behind the camera.
+bool to_pixels(const loopsub::Camera& c, const double p[3], double out[2]) {
+    const float* m = c.world_to_clip;
+    auto row = [&](int r) { return m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3]; };
+    const double w = row(3);
+    if (!(w > 0)) return false;
+    out[0] = (row(0) / w + 1) * 0.5 * c.viewport_width, out[1] = (row(1) / w + 1) * 0.5 * c.viewport_height;
+    return true;
+}
+
+// The tessellation's screen-space error: over its triangles whose centroid is in view, the largest distance in pixels
+// between the centroid and the limit surface at the centroid's parameters (Bfr, at its finest).
+struct ScreenError {
+    double p99, max;  // pixels
+};
+ScreenError screen_error(const Scene& scene, const loopsub::Tessellation& t) {
+    std::vector<float> points(3 * std::size_t(t.num_points()));
+    t.evaluate(scene.mesh.positions.data(), points.data(), nullptr);
+    const loopsub::MeshData& m = scene.mesh;
+    Mesh as_bench;
+    as_bench.positions = m.positions, as_bench.triangles = m.triangles;
+    const std::unique_ptr<Far::TopologyRefiner> refiner = osd_refiner(as_bench, false, false, 0);
+    Bfr::SurfaceFactory::Options options;
+    options.SetApproxLevelSmooth(10).SetApproxLevelSharp(10);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
+    const Bfr::Surface<double>::PointDescriptor point(3);
+    std::vector<double> control(m.positions.begin(), m.positions.end()), patch_points;
+    Bfr::Surface<double> surface;
+    int face = -1;
+    std::vector<double> errors;
+    const float* uv = t.face_point_parameters();
+    for (int tri = 0; tri < t.num_triangles(); ++tri) {
+        const int f = t.parent_triangles()[tri];
+        if (f != face) {
+            face = f;
+            factory.InitVertexSurface(f, &surface);
+            patch_points.resize(3 * std::size_t(surface.GetNumPatchPoints()));
+            surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
+        }
+        double flat[3] = {0, 0, 0}, at[2] = {0, 0};
+        for (int c = 0; c < 3; ++c) {
+            const std::int32_t fp = t.corner_face_points()[3 * tri + c], v = t.triangles()[3 * tri + c];
+            at[0] += uv[2 * fp] / 3.0, at[1] += uv[2 * fp + 1] / 3.0;
+            for (int k = 0; k < 3; ++k) flat[k] += points[3 * std::size_t(v) + k] / 3.0;
+        }
+        double limit[3], a[2], b[2];
+        surface.Evaluate(at, patch_points.data(), point, limit);
+        if (!to_pixels(scene.camera, flat, a) || !to_pixels(scene.camera, limit, b)) continue;
+        if (a[0] < 0 || a[0] > scene.camera.viewport_width || a[1] < 0 || a[1] > scene.camera.viewport_height) continue;
+        errors.push_back(std::hypot(a[0] - b[0], a[1] - b[1]));
+    }
+    if (errors.empty()) return {0.0, 0.0};
+    std::sort(errors.begin(), errors.end());
+    return {errors[std::size_t(0.99 * double(errors.size() - 1))], errors.back()};
+}
+
+int measure_screen_error() {
+    const Scene scene = screen_scene();
+    loopsub::Options options;
+    options.rules = loopsub::Rules::OpenSubdiv;
+    std::printf("scene: %d triangles (ground of 24 x 24 quads 240 units wide, sphere of 320), camera 1920 x 1080\n",
+                scene.mesh.num_triangles());
+    std::printf("%-34s %12s %14s %14s\n", "rates", "triangles", "p99 (pixels)", "max (pixels)");
+    struct Row {
+        int triangles;
+        ScreenError error;
+    };
+    std::vector<Row> uniform;
+    for (int level = 0; level <= 6; ++level) {
+        loopsub::TessellationRates rates;
+        rates.uniform_rate = 1 << level;
+        const loopsub::Tessellation t(scene.mesh.view(), options, rates);
+        uniform.push_back({t.num_triangles(), screen_error(scene, t)});
+        std::printf("%-34s %12d %14.3f %14.3f\n", ("uniform " + std::to_string(1 << level)).c_str(),
+                    uniform.back().triangles, uniform.back().error.p99, uniform.back().error.max);
+    }
+    for (const auto measure : {loopsub::DicingMeasure::Length, loopsub::DicingMeasure::Deviation}) {
+        const bool length = measure == loopsub::DicingMeasure::Length;
+        for (float pixels :
+             length ? std::vector<float>{1, 2, 4, 8, 16, 32} : std::vector<float>{0.004f, 0.016f, 0.06f, 0.25f, 1.0f}) {
+            const loopsub::ScreenRates rates = loopsub::screen_space_rates(
+                scene.mesh.view(), scene.mesh.positions.data(), scene.camera, pixels, 64, measure);
+            const loopsub::Tessellation t(scene.mesh.view(), options, rates.view());
+            const ScreenError error = screen_error(scene, t);
+            char name[64];
+            std::snprintf(name, sizeof name, "camera, %s %g px", length ? "length" : "deviation", double(pixels));
+            std::printf("%-34s %12d %14.3f %14.3f", name, t.num_triangles(), error.p99, error.max);
+            const auto as_good = std::find_if(uniform.begin(), uniform.end(),
+                                              [&](const Row& row) { return row.error.p99 <= error.p99; });
+            if (as_good == uniform.end()) std::printf("   no uniform rate up to 64 as good\n");
+            else
+                std::printf("   uniform %d as good: %.1fx the triangles\n", 1 << int(as_good - uniform.begin()),
+                            double(as_good->triangles) / t.num_triangles());
+        }
+    }
+    std::printf("(issue 25's target: the first uniform rate as good has >= 5x the triangles)\n");
+    return 0;
+}
+
 int main(int argc, char** argv) {
     if (argc >= 2 && std::string(argv[1]) == "--malloc-keeps-memory") {
         mallopt(M_MMAP_THRESHOLD, 32 << 20);
@@ -902,6 +1062,7 @@ int main(int argc, char** argv) {
         --argc;
     }
     if (argc >= 2 && std::string(argv[1]) == "--memory") return measure_memory(argc >= 3 ? std::atoi(argv[2]) : 6);
+    if (argc >= 2 && std::string(argv[1]) == "--screen-error") return measure_screen_error();
     if (argc >= 2 && std::string(argv[1]) == "--thread-scaling")
         return measure_thread_scaling(argc >= 3 ? std::atoi(argv[2]) : 40, argc >= 4 ? argv[3] : "");
     Osd::OmpEvaluator::SetNumThreads(2);

@@ -31,7 +31,10 @@ const char* const kUsage =
     "  --up X,Y,Z                    the camera's up (default 0,1,0)\n"
     "  --fov DEG                     its vertical field of view, 1 to 179 degrees (default 50)\n"
     "  --viewport W,H                its picture in pixels (default 1920,1080)\n"
-    "  --dicing-rate PX              pixels per segment, > 0 (default 1)\n"
+    "  --dicing-rate PX              pixels per segment, > 0 (default 1); with --dicing-measure deviation, how far\n"
+    "                                in pixels a segment may stray from the surface\n"
+    "  --dicing-measure length|deviation\n"
+    "                                what --dicing-rate holds an edge to (default length, as Cycles)\n"
     "  --max-rate N                  at most N segments per edge, 1 to 4096 (default 64)\n"
     "  --rules hoppe94|opensubdiv    rule set (default hoppe94)\n"
     "  --crease-threshold S          hoppe94: an edge is a crease when its sharpness is >= S (default 0: any\n"
@@ -167,6 +170,12 @@ Command parse_command_line(int argc, char** argv) {
         } else if (arg == "--dicing-rate") {
             look.dicing_rate = parse_floats(arg, value(), 1)[0], camera_options.push_back(arg);
             if (!(look.dicing_rate > 0.0f)) throw UsageError("--dicing-rate must be > 0");
+        } else if (arg == "--dicing-measure") {
+            const std::string text = value();
+            if (text != "length" && text != "deviation")
+                throw UsageError("--dicing-measure expects length or deviation, got '" + text + "'");
+            look.measure = text == "length" ? DicingMeasure::Length : DicingMeasure::Deviation;
+            camera_options.push_back(arg);
         } else if (arg == "--max-rate") {
             look.max_rate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
             camera_options.push_back(arg);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "loopsub/loopsub.h"
+#include "loopsub/tessellation.h"
 
 namespace loopsub::cli {
 
@@ -22,8 +23,9 @@ struct LookAt {
     float eye[3] = {0, 0, 0}, target[3] = {0, 0, -1}, up[3] = {0, 1, 0};
     float fov_degrees = 50.0f;
     int width = 1920, height = 1080;
-    float dicing_rate = 1.0f;  // pixels per segment
+    float dicing_rate = 1.0f;  // pixels per segment, or of deviation
     int max_rate = 64;
+    DicingMeasure measure = DicingMeasure::Length;
 };
 
 struct Command {

@@ -69,8 +69,9 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     const auto started = std::chrono::steady_clock::now();
     loopsub::ScreenRates screen;
     if (command.camera) {
-        screen = loopsub::screen_space_rates(in.view(), in.positions.data(), camera_of(*command.camera),
-                                             command.camera->dicing_rate, command.camera->max_rate);
+        screen =
+            loopsub::screen_space_rates(in.view(), in.positions.data(), camera_of(*command.camera),
+                                        command.camera->dicing_rate, command.camera->max_rate, command.camera->measure);
         rates = screen.view();
     }
     const loopsub::Tessellation tessellation(in.view(), options, rates);

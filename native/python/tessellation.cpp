@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <string>
 #include <mutex>
 #include <utility>
 
@@ -97,12 +98,14 @@ surface has no tangent plane). ``out`` and ``normals`` may be given to be writte
 )doc";
 
 constexpr const char* kScreenRatesDoc =
-    R"doc(screen_space_rates(positions, triangles, world_to_clip, viewport, pixels_per_segment=1.0, max_rate=64, offscreen_scale=4.0)
+    R"doc(screen_space_rates(positions, triangles, world_to_clip, viewport, pixels=1.0, max_rate=64, measure="length", offscreen_scale=4.0)
 
-Rates from the screen, as Cycles dices: each edge of the mesh cut into as many segments as its
-length on screen (its cage edge, from the positions) holds ``pixels_per_segment`` pixels, rounded
-up, from 1 to ``max_rate``; an edge wholly outside the view to one side ``offscreen_scale`` times
-fewer, an edge with one end behind the camera ``max_rate``, both behind 1.
+Rates from a camera, measured as Cycles measures its dicing (at each edge's midpoint's depth, as if
+the edge faced the camera): each edge of the mesh cut into as few segments as keep it to ``pixels``
+- its length per segment (``measure="length"``, Cycles' dicing rate), or how far a segment may
+stray from the surface, from the edge's bulge (``measure="deviation"``) - from 1 to ``max_rate``;
+an edge whose midpoint is out of view ``offscreen_scale`` times fewer, one with both ends behind the
+camera 1.
 
 positions (N, 3) float32, triangles (M, 3) int32, world_to_clip (4, 4) float32 (clip = M (x, y, z,
 1), OpenGL's convention: in view where w > 0 and -w <= x, y <= w), viewport (width, height) in
@@ -111,7 +114,9 @@ pixels. Returns (edges (E, 2) int32, rates (E,) int32): every edge of the mesh o
 )doc";
 
 py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle world_to_clip, py::handle viewport,
-                       double pixels_per_segment, int max_rate, double offscreen_scale) {
+                       double pixels, int max_rate, const std::string& measure, double offscreen_scale) {
+    if (measure != "length" && measure != "deviation")
+        throw py::value_error("measure must be 'length' or 'deviation', got '" + measure + "'");
     py::array tris = require_array<std::int32_t>(triangles, "triangles", {{-1, "M"}, {3, "3"}});
     py::array points = require_array<float>(positions, "positions", {{-1, "N"}, {3, "3"}});
     py::array matrix = require_array<float>(world_to_clip, "world_to_clip", {{4, "4"}, {4, "4"}});
@@ -123,10 +128,12 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
     loopsub::Camera camera;
     std::copy_n(data_of<float>(matrix), 16, camera.world_to_clip);
     camera.viewport_width = float(size.first), camera.viewport_height = float(size.second);
+    const loopsub::DicingMeasure by =
+        measure == "length" ? loopsub::DicingMeasure::Length : loopsub::DicingMeasure::Deviation;
     loopsub::ScreenRates rates;
     {
         py::gil_scoped_release nogil;
-        rates = loopsub::screen_space_rates(mesh, data_of<float>(points), camera, float(pixels_per_segment), max_rate,
+        rates = loopsub::screen_space_rates(mesh, data_of<float>(points), camera, float(pixels), max_rate, by,
                                             float(offscreen_scale));
     }
     py::array_t<std::int32_t> edges({py::ssize_t(rates.rates.size()), py::ssize_t(2)}),
@@ -140,8 +147,8 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
 
 void bind_tessellation(py::module_& m) {
     m.def("screen_space_rates", &screen_rates, kScreenRatesDoc, py::arg("positions"), py::arg("triangles"),
-          py::arg("world_to_clip"), py::arg("viewport"), py::arg("pixels_per_segment") = 1.0, py::arg("max_rate") = 64,
-          py::arg("offscreen_scale") = 4.0);
+          py::arg("world_to_clip"), py::arg("viewport"), py::arg("pixels") = 1.0, py::arg("max_rate") = 64,
+          py::arg("measure") = "length", py::arg("offscreen_scale") = 4.0);
     py::class_<PyTessellation>(m, "Tessellation", kDoc)
         .def(py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges,
                          py::handle edge_rates LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {

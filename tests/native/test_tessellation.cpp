@@ -390,12 +390,30 @@ TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
     EXPECT_EQ(rates.rates.size(), 9u);
     EXPECT_EQ(rate_of(0, 1), 7);  // 25 / 4 = 6.25
     EXPECT_EQ(rate_of(3, 4), 2);  // 6.25 / 4 off screen
-    EXPECT_EQ(rate_of(6, 7), 64);
+    // Midpoint (0, -1, 0.5), behind the camera, depth 0.5: 5 units are 500 pixels there, 125 / 4 off screen = 31.25.
+    EXPECT_EQ(rate_of(6, 7), 32);
     EXPECT_EQ(rate_of(7, 8), 1);
+    // By deviation: edge 0-1's bulge is (c + d - a - b) / 8 with one face: none, 1 segment. Edge 0-2 and 1-2 likewise
+    // (one face each); a flat pair of faces has no bulge either.
+    const ScreenRates flat =
+        screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 0.01f, 64, DicingMeasure::Deviation);
+    for (int rate : flat.rates) EXPECT_EQ(rate, 1);
     // Farther away, fewer segments; never below one.
     const ScreenRates coarse = screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 100.0f, 64);
     for (int rate : coarse.rates) EXPECT_GE(rate, 1);
     EXPECT_THROW(screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 0.0f, 64), InputError);
+    // A bent pair of faces, 2 units from the camera: the edge between them bulges by (c + d - a - b) / 8 =
+    // (0, 0, 0.125), 0.125 * 50 / 2 = 3.125 pixels at its midpoint's depth: sqrt(3.125 / 0.1) = 5.6 -> 6 segments.
+    MeshData bent;
+    bent.positions = {-0.5f, 0, -2, 0.5f, 0, -2, 0, 1, -1.5f, 0, -1, -1.5f};
+    bent.triangles = {0, 1, 2, 1, 0, 3};
+    const ScreenRates bulge =
+        screen_space_rates(bent.view(), bent.positions.data(), camera_down_z(), 0.1f, 64, DicingMeasure::Deviation);
+    for (std::size_t e = 0; e < bulge.rates.size(); ++e) {
+        if (std::minmax(bulge.edges[2 * e], bulge.edges[2 * e + 1]) == std::minmax(0, 1)) {
+            EXPECT_EQ(bulge.rates[e], 6);
+        }
+    }
     EXPECT_THROW(screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 1.0f, 0), InputError);
     // A tessellation at these rates: per triangle its inner rate's lattice, or (rates differing) the inner lattice
     // of rate n - 3 and a strip of r + n - 3 triangles along each edge of rate r (a fan of r around the centre below

@@ -96,16 +96,22 @@ def test_screen_space_rates_cut_an_edge_by_its_length_on_screen():
     positions = np.array([[-0.5, 0, -2], [0.5, 0, -2], [0, 0.5, -2]], np.float32)
     triangles = np.array([[0, 1, 2]], np.int32)
     edges, rates = _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100),
-                                               pixels_per_segment=4.0, max_rate=64)
+                                               pixels=4.0, max_rate=64)
     assert edges.dtype == np.int32 and rates.dtype == np.int32 and edges.shape == (3, 2)
     rate_of = {tuple(sorted(e)): r for e, r in zip(edges.tolist(), rates.tolist())}
     assert rate_of[(0, 1)] == 7
     far_edges, far_rates = _loopsub.screen_space_rates(positions * np.float32(10), triangles, perspective_down_z(),
-                                                       (100, 100), pixels_per_segment=4.0)
+                                                       (100, 100), pixels=4.0)
     assert (far_rates <= rates).all() and far_rates.min() >= 1
     tessellation = _loopsub.Tessellation(triangles, len(positions), edges=edges, edge_rates=rates)
     assert tessellation.num_points > len(positions)
-    with pytest.raises(ValueError, match="pixels_per_segment must be a positive number"):
-        _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), pixels_per_segment=0.0)
+    with pytest.raises(ValueError, match="pixels must be a positive number"):
+        _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), pixels=0.0)
+    with pytest.raises(ValueError, match="measure must be 'length' or 'deviation'"):
+        _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), measure="area")
+    # By deviation a lone flat triangle needs one segment per edge, however near.
+    _, flat = _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), pixels=0.01,
+                                          measure="deviation")
+    assert (flat == 1).all()
     with pytest.raises(ValueError, match=r"world_to_clip must have shape \(4, 4\)"):
         _loopsub.screen_space_rates(positions, triangles, np.eye(3, dtype=np.float32), (100, 100))

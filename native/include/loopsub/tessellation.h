@@ -33,17 +33,27 @@ struct Camera {
     float viewport_width = 0.0f, viewport_height = 0.0f;
 };
 
-// Rates from the screen, as Cycles dices its subdivision surfaces: each edge of the mesh (its cage's straight edge,
-// from its vertices' positions) is cut into as many segments as its length on screen holds `pixels_per_segment`,
-// rounded up, from 1 to max_rate. An edge wholly outside the view to one side takes `offscreen_scale` times fewer; an
-// edge with one end behind the camera takes max_rate (it runs past the viewer), one with both behind takes 1.
+// What a camera's rates hold an edge to (screen_space_rates), measured as Cycles measures its dicing: at the edge's
+// midpoint's depth, as if the edge faced the camera (an edge seen end on is not spared, an edge running past the
+// camera is not blown up by the projection), in pixels.
+enum class DicingMeasure {
+    Length,    // Cycles' dicing rate: the edge's length, `pixels` per segment
+    Deviation  // the edge's bulge (how far one step of refinement moves its midpoint off the chord: (c + d - a - b) / 8
+               // for an edge a-b between faces with third corners c and d) over r^2 for r segments, at most `pixels`:
+               // flat stretches take few segments however long they are
+};
+
+// Rates from the screen: each edge of the mesh (its cage's straight edge, from its vertices' positions) cut into as
+// few segments as keep it to `pixels` by `measure`, from 1 to max_rate. An edge whose midpoint is out of the view (or
+// behind the camera) takes `offscreen_scale` times fewer; an edge with both ends behind the camera, 1.
 struct ScreenRates {
     std::vector<std::int32_t> edges;  // each edge of the mesh once, as a vertex pair
     std::vector<std::int32_t> rates;  // its rate
     TessellationRates view() const;   // for a Tessellation, while this lives
 };
-ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, const Camera& camera,
-                               float pixels_per_segment, int max_rate, float offscreen_scale = 4.0f);
+ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, const Camera& camera, float pixels,
+                               int max_rate, DicingMeasure measure = DicingMeasure::Length,
+                               float offscreen_scale = 4.0f);
 
 // The largest rate accepted: 2^12 segments per edge, 16.8 million points per triangle.
 inline constexpr int kMaxTessellationRate = 4096;

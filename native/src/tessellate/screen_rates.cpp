@@ -31,10 +31,11 @@ TessellationRates ScreenRates::view() const {
     return view;
 }
 
-ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, const Camera& camera,
-                               float pixels_per_segment, int max_rate, float offscreen_scale) {
-    if (!(pixels_per_segment > 0.0f) || !std::isfinite(pixels_per_segment))
-        fail("pixels_per_segment must be a positive number, got " + std::to_string(pixels_per_segment));
+ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, const Camera& camera, float pixels,
+                               int max_rate, DicingMeasure measure, float offscreen_scale) {
+    const bool by_deviation = measure == DicingMeasure::Deviation;
+    if (!(pixels > 0.0f) || !std::isfinite(pixels))
+        fail("pixels must be a positive number, got " + std::to_string(pixels));
     if (max_rate < 1 || max_rate > kMaxTessellationRate)
         fail("max_rate must be between 1 and " + std::to_string(kMaxTessellationRate) + ", got " +
              std::to_string(max_rate));
@@ -57,26 +58,52 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 
+    // The third corners of each edge's first two faces (-1: none), for its bulge.
+    std::vector<std::int32_t> opposite(2 * keys.size(), -1);
+    if (by_deviation)
+        for (std::size_t c = 0; c < 3 * std::size_t(mesh.num_triangles); ++c) {
+            const std::size_t face = c - c % 3;
+            const std::uint64_t key = detail::edge_key(mesh.triangles[c], mesh.triangles[face + (c + 1) % 3]);
+            const std::size_t e = std::size_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+            std::int32_t* slot = &opposite[2 * e];
+            (slot[0] < 0 ? slot[0] : slot[1]) = mesh.triangles[face + (c + 2) % 3];
+        }
+
     ScreenRates out;
     out.edges.reserve(2 * keys.size()), out.rates.reserve(keys.size());
-    const double half_width = 0.5 * camera.viewport_width, half_height = 0.5 * camera.viewport_height;
-    for (const std::uint64_t key : keys) {
-        const std::int32_t a = std::int32_t(key >> 32), b = std::int32_t(key & 0xffffffffu);
-        const Clip p = to_clip(camera.world_to_clip, positions + 3 * std::size_t(a)),
-                   q = to_clip(camera.world_to_clip, positions + 3 * std::size_t(b));
-        if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w))
+    // Pixels per unit of length at depth 1 (w = 1), perpendicular to the view: the matrix's scale of y (its up row,
+    // made of the focal length) times half the viewport's height.
+    const float* m = camera.world_to_clip;
+    const double pixels_at_depth_one =
+        std::sqrt(double(m[4]) * m[4] + double(m[5]) * m[5] + double(m[6]) * m[6]) * 0.5 * camera.viewport_height;
+    for (std::size_t e = 0; e < keys.size(); ++e) {
+        const std::int32_t a = std::int32_t(keys[e] >> 32), b = std::int32_t(keys[e] & 0xffffffffu);
+        const float* pa = positions + 3 * std::size_t(a);
+        const float* pb = positions + 3 * std::size_t(b);
+        float middle[3], offset[3];  // the edge's midpoint, and what is measured there: the edge or its bulge
+        for (int k = 0; k < 3; ++k) middle[k] = 0.5f * (pa[k] + pb[k]), offset[k] = pb[k] - pa[k];
+        if (by_deviation) {
+            const std::int32_t c = opposite[2 * e], d = opposite[2 * e + 1];
+            for (int k = 0; k < 3; ++k)
+                offset[k] =
+                    c >= 0 && d >= 0
+                        ? (positions[3 * std::size_t(c) + k] + positions[3 * std::size_t(d) + k] - pa[k] - pb[k]) / 8.0f
+                        : 0.0f;
+        }
+        const Clip p = to_clip(m, pa), q = to_clip(m, pb), mid = to_clip(m, middle);
+        const double length =
+            std::sqrt(double(offset[0]) * offset[0] + double(offset[1]) * offset[1] + double(offset[2]) * offset[2]);
+        if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + length))
             fail("the positions of edge (" + std::to_string(a) + ", " + std::to_string(b) + ") are not finite");
-        int rate;
-        if (p.w <= 0.0 && q.w <= 0.0) {
-            rate = 1;
-        } else if (p.w <= 0.0 || q.w <= 0.0) {
-            rate = max_rate;
-        } else {
-            const double px = p.x / p.w, py = p.y / p.w, qx = q.x / q.w, qy = q.y / q.w;
-            double segments = std::hypot((px - qx) * half_width, (py - qy) * half_height) / pixels_per_segment;
-            const bool outside = (px < -1.0 && qx < -1.0) || (px > 1.0 && qx > 1.0) || (py < -1.0 && qy < -1.0) ||
-                                 (py > 1.0 && qy > 1.0);
-            if (outside) segments /= offscreen_scale;
+        int rate = 1;
+        if (p.w > 0.0 || q.w > 0.0) {  // both behind the camera: unseen
+            // As Cycles measures: the length in pixels it would have at its midpoint's depth, facing the camera; a
+            // midpoint out of the view (or behind the camera) coarser by offscreen_scale.
+            const double depth = std::max(std::fabs(mid.w), 1e-6);
+            double measured = length * pixels_at_depth_one / depth;
+            const bool in_view = mid.w > 0.0 && std::fabs(mid.x) <= mid.w && std::fabs(mid.y) <= mid.w;
+            double segments = by_deviation ? std::sqrt(measured / pixels) : measured / pixels;
+            if (!in_view) segments /= offscreen_scale;
             rate = int(std::clamp(std::ceil(segments), 1.0, double(max_rate)));
         }
         out.edges.push_back(a), out.edges.push_back(b), out.rates.push_back(rate);
