@@ -3,12 +3,13 @@
 # Installs clang, libfuzzer-14-dev and libclang-rt-14-dev with apt-get when missing. Every input a target fails on is kept as
 # build-fuzz/failures/<target>-*; make it a regression test (tests/native/test_bad_input.cpp shows how).
 #
-# Usage: scripts/fuzz.sh [--seconds N] [--target fuzz_obj|fuzz_plan|fuzz_cli] [--build-only] [--run-only]
+# Usage: scripts/fuzz.sh [--seconds N] [--target fuzz_obj|fuzz_plan|fuzz_cli|fuzz_tessellation] [--build-only]
+#                       [--run-only]
 #   default: build, then run every target for 60 s (the test suite runs them too; longer runs: --seconds 3600)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-seconds=60 targets=(fuzz_obj fuzz_plan fuzz_cli) build=1 run=1
+seconds=60 targets=(fuzz_obj fuzz_plan fuzz_cli fuzz_tessellation) build=1 run=1
 while (($#)); do
   case "$1" in
     --seconds) seconds="${2:?--seconds needs a number}"; shift 2 ;;

@@ -212,6 +212,14 @@ struct PatchAvx2 {
         const Vec positive = _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ);
         return _mm256_and_ps(positive, _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(x)));
     }
+    static Vec max_magnitude(Vec a, Vec b, Vec c) {
+        const Vec sign = _mm256_set1_ps(-0.0f);
+        return _mm256_max_ps(_mm256_andnot_ps(sign, a),
+                             _mm256_max_ps(_mm256_andnot_ps(sign, b), _mm256_andnot_ps(sign, c)));
+    }
+    static Vec reciprocal_or_zero(Vec x) {
+        return _mm256_and_ps(_mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ), _mm256_div_ps(_mm256_set1_ps(1.0f), x));
+    }
     static void store(float* p, Vec v) { _mm256_storeu_ps(p, v); }
 };
 

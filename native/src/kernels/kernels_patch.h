@@ -5,6 +5,8 @@
 //   V::multiply_add(a, b, c)       a * b + c
 //   V::multiply(a, b), V::subtract(a, b)
 //   V::unit_factor(x)              1 / sqrt(x) where x > 0, else 0
+//   V::max_magnitude(a, b, c)      the largest of |a|, |b|, |c|
+//   V::reciprocal_or_zero(x)       1 / x where x > 0, else 0
 //   V::store(p, v)
 // Reading a block's stride of weights (the block's samples padded with zeros to a multiple of 8), the kernel computes
 // whole vectors and writes only the block's samples.
@@ -32,7 +34,12 @@ void patch_pass(const float points[kPatchPoints][4], const float* weights, int c
                 sum[k][2] = V::multiply_add(w, z, sum[k][2]);
             }
         }
-        const Vec(&s)[3] = sum[1], (&t)[3] = sum[2];
+        // The derivatives scaled to a largest coordinate of one before their cross product, which would overflow
+        // (or underflow) a float where they are large (or small); the normal's direction is theirs.
+        Vec s[3], t[3];
+        const Vec s_unit = V::reciprocal_or_zero(V::max_magnitude(sum[1][0], sum[1][1], sum[1][2])),
+                  t_unit = V::reciprocal_or_zero(V::max_magnitude(sum[2][0], sum[2][1], sum[2][2]));
+        for (int c = 0; c < 3; ++c) s[c] = V::multiply(sum[1][c], s_unit), t[c] = V::multiply(sum[2][c], t_unit);
         const Vec n[3] = {V::subtract(V::multiply(s[1], t[2]), V::multiply(s[2], t[1])),
                           V::subtract(V::multiply(s[2], t[0]), V::multiply(s[0], t[2])),
                           V::subtract(V::multiply(s[0], t[1]), V::multiply(s[1], t[0]))};

@@ -1,4 +1,5 @@
 // The scalar reference kernel: one output at a time, every channel, exactly the masks of stencils.h.
+#include <algorithm>
 #include <cmath>
 
 #include "kernels/kernels.h"
@@ -72,7 +73,13 @@ void patch_scalar(const float points[kPatchPoints][4], const float* weights, int
                 const float w = weights[std::size_t(kPatchPoints * k + i) * std::size_t(stride) + std::size_t(s)];
                 for (int c = 0; c < 3; ++c) sum[k][c] = w * points[i][c] + sum[k][c];
             }
-        const float(&a)[3] = sum[1], (&b)[3] = sum[2];
+        float a[3], b[3];
+        auto largest_inverse = [](const float* x) {
+            const float m = std::max(std::fabs(x[0]), std::max(std::fabs(x[1]), std::fabs(x[2])));
+            return m > 0.0f ? 1.0f / m : 0.0f;
+        };
+        const float a_unit = largest_inverse(sum[1]), b_unit = largest_inverse(sum[2]);
+        for (int c = 0; c < 3; ++c) a[c] = sum[1][c] * a_unit, b[c] = sum[2][c] * b_unit;
         const float n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
         const float length2 = n[0] * n[0] + (n[1] * n[1] + n[2] * n[2]);
         const float unit = length2 > 0.0f ? 1.0f / std::sqrt(length2) : 0.0f;

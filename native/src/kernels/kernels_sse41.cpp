@@ -167,6 +167,13 @@ struct PatchSse41 {
         const Vec positive = _mm_cmpgt_ps(x, _mm_setzero_ps());
         return _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(x)));
     }
+    static Vec max_magnitude(Vec a, Vec b, Vec c) {
+        const Vec sign = _mm_set1_ps(-0.0f);
+        return _mm_max_ps(_mm_andnot_ps(sign, a), _mm_max_ps(_mm_andnot_ps(sign, b), _mm_andnot_ps(sign, c)));
+    }
+    static Vec reciprocal_or_zero(Vec x) {
+        return _mm_and_ps(_mm_cmpgt_ps(x, _mm_setzero_ps()), _mm_div_ps(_mm_set1_ps(1.0f), x));
+    }
     static void store(float* p, Vec v) { _mm_storeu_ps(p, v); }
 };
 

@@ -1,0 +1,121 @@
+// libFuzzer target: raw bytes as a mesh with tags, options and rates, straight into Tessellation and its evaluate,
+// and into screen_space_rates: indices out of range, NaN and huge values, rates out of range, edges that are none.
+// Layout (each field from the bytes in turn, zero when they run out): options byte (rules, boundary, crease method,
+// kernel, 2 threads, boundary none), uniform rate 0-15, vertex count 0-31, triangle count 0-31, crease count 0-7,
+// corner count 0-3, cone count 0-3, rated edge count 0-7, then the triangles' indices, crease edges and sharpness,
+// corners and sharpness, cones, rated edges and their rates (0-15), then the positions (raw float bits) and a camera
+// (16 floats, a viewport, pixels, a measure byte).
+//
+// Checked on every accepted input: the result's indices are in range, its parameters in the unit triangle, its points
+// and normals finite; on a mesh whose every edge has two triangles, so has every edge of the result (no crack).
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <vector>
+
+#include "fuzz_common.h"
+#include "loopsub/tessellation.h"
+
+namespace {
+
+class Bytes {
+public:
+    Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+    std::uint8_t byte() { return at_ < size_ ? data_[at_++] : 0; }
+    float number() {
+        std::uint32_t bits = 0;
+        for (int i = 0; i < 4; ++i) bits |= std::uint32_t(byte()) << (8 * i);
+        float value;
+        std::memcpy(&value, &bits, sizeof value);
+        return value;
+    }
+    std::int32_t index(int count) { return std::int32_t(byte()) % (count + 2) - 1; }  // -1 .. count: some invalid
+
+private:
+    const std::uint8_t* data_;
+    std::size_t size_, at_ = 0;
+};
+
+// Every edge of the triangles has exactly two of them.
+bool closed(const std::int32_t* triangles, int count) {
+    std::map<std::pair<int, int>, int> uses;
+    for (int c = 0; c < 3 * count; ++c) {
+        const int a = triangles[c], b = triangles[c - c % 3 + (c + 1) % 3];
+        ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+    for (const auto& [edge, n] : uses)
+        if (n != 2) return false;
+    return !uses.empty();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    using namespace loopsub;
+    Bytes in(data, size);
+    const std::uint8_t flags = in.byte();
+    Options options;
+    options.rules = flags & 1 ? Rules::OpenSubdiv : Rules::Hoppe94;
+    options.boundary = flags & 2 ? Boundary::EdgesAndCorners : Boundary::EdgesOnly;
+    options.crease_method = flags & 4 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
+    options.kernel = Kernel((flags >> 3) % 4);
+    options.threads = flags & 32 ? 2 : 1;
+    if (flags & 64) options.boundary = Boundary::None;
+    options.memory_limit_bytes = fuzz::kMemoryLimit;
+    const int uniform = in.byte() % 16, vertices = in.byte() % 32, triangles = in.byte() % 32, creases = in.byte() % 8,
+              corners = in.byte() % 4, cones = in.byte() % 4, rated = in.byte() % 8;
+    MeshData mesh;
+    mesh.positions.resize(3 * std::size_t(vertices));
+    for (int i = 0; i < 3 * triangles; ++i) mesh.triangles.push_back(in.index(vertices));
+    for (int i = 0; i < creases; ++i) {
+        mesh.crease_edges.insert(mesh.crease_edges.end(), {in.index(vertices), in.index(vertices)});
+        mesh.crease_sharpness.push_back(in.number());
+    }
+    for (int i = 0; i < corners; ++i) {
+        mesh.corner_vertices.push_back(in.index(vertices));
+        mesh.corner_sharpness.push_back(in.number());
+    }
+    for (int i = 0; i < cones; ++i) mesh.cone_vertices.push_back(in.index(vertices));
+    std::vector<std::int32_t> edges, rates;
+    for (int i = 0; i < rated; ++i) {
+        edges.insert(edges.end(), {in.index(vertices), in.index(vertices)});
+        rates.push_back(in.byte() % 16);
+    }
+    for (float& value : mesh.positions) value = in.number();
+    Camera camera;
+    for (float& m : camera.world_to_clip) m = in.number();
+    camera.viewport_width = in.number(), camera.viewport_height = in.number();
+    const float pixels = in.number();
+    const DicingMeasure measure = in.byte() & 1 ? DicingMeasure::Deviation : DicingMeasure::Length;
+
+    TessellationRates given;
+    given.uniform_rate = uniform;
+    given.edges = edges.data(), given.rates = rates.data(), given.num_edges = rated;
+    try {
+        const Tessellation t(mesh.view(), options, given);
+        const int n = t.num_points(), m = t.num_face_points();
+        for (int c = 0; c < 3 * t.num_triangles(); ++c)
+            if (t.triangles()[c] < 0 || t.triangles()[c] >= n || t.corner_face_points()[c] < 0 ||
+                t.corner_face_points()[c] >= m)
+                std::abort();
+        for (int k = 0; k < 2 * m; ++k)
+            if (!(t.face_point_parameters()[k] >= 0.0f && t.face_point_parameters()[k] <= 1.0f)) std::abort();
+        if (closed(mesh.triangles.data(), mesh.num_triangles()) && !closed(t.triangles(), t.num_triangles()))
+            std::abort();  // a crack
+        std::vector<float> points(3 * std::size_t(n)), normals(3 * std::size_t(m));
+        try {
+            t.evaluate(mesh.positions.data(), points.data(), normals.data());
+            fuzz::require_finite(points);
+            fuzz::require_finite(normals);
+        } catch (const InputError&) {}
+    } catch (const InputError&) {
+    } catch (const MemoryLimitError&) {}
+    try {
+        const ScreenRates screen = screen_space_rates(mesh.view(), mesh.positions.data(), camera, pixels, 64, measure);
+        for (int rate : screen.rates)
+            if (rate < 1 || rate > 64) std::abort();
+    } catch (const InputError&) {}
+    return 0;
+}
