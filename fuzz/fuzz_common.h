@@ -3,12 +3,33 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdlib>
 #include <vector>
 
 #include "loopsub/loopsub.h"
 
 namespace loopsub::fuzz {
+
+// The fuzzer's bytes, read field by field (zero once they run out).
+class Bytes {
+public:
+    Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+    std::uint8_t byte() { return at_ < size_ ? data_[at_++] : 0; }
+    float number() {  // raw bits: NaN, infinities and huge values too
+        std::uint32_t bits = 0;
+        for (int i = 0; i < 4; ++i) bits |= std::uint32_t(byte()) << (8 * i);
+        float value;
+        std::memcpy(&value, &bits, sizeof value);
+        return value;
+    }
+    std::int32_t index(int count) { return std::int32_t(byte()) % (count + 2) - 1; }  // -1 .. count: some invalid
+
+private:
+    const std::uint8_t* data_;
+    std::size_t size_, at_ = 0;
+};
 
 // Small enough that a fuzzer never waits on a big refinement; the refusal path is exercised instead.
 inline constexpr std::uint64_t kMemoryLimit = std::uint64_t(64) << 20;

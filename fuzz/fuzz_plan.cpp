@@ -13,31 +13,9 @@
 
 #include "fuzz_common.h"
 
-namespace {
-
-class Bytes {
-public:
-    Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
-    std::uint8_t byte() { return at_ < size_ ? data_[at_++] : 0; }
-    float number() {
-        std::uint32_t bits = 0;
-        for (int i = 0; i < 4; ++i) bits |= std::uint32_t(byte()) << (8 * i);
-        float value;
-        std::memcpy(&value, &bits, sizeof value);
-        return value;
-    }
-    std::int32_t index(int count) { return std::int32_t(byte()) % (count + 2) - 1; }  // -1 .. count: some invalid
-
-private:
-    const std::uint8_t* data_;
-    std::size_t size_, at_ = 0;
-};
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace loopsub;
-    Bytes in(data, size);
+    fuzz::Bytes in(data, size);
     const std::uint8_t flags = in.byte();
     Options options;
     options.rules = flags & 1 ? Rules::OpenSubdiv : Rules::Hoppe94;

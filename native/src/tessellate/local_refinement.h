@@ -50,7 +50,7 @@ public:
 
     // Levels past the level a neighbourhood is refined to at most; past them the point's triangle is taken as flat
     // between its corners' limit points (an error of about 4^-kMaxLocalLevels of the triangle's size).
-    static constexpr int kMaxLocalLevels = 6;
+    static constexpr int kMaxLocalLevels = 4;
 
 private:
     struct Neighbourhood;
