@@ -100,6 +100,8 @@ TEST(TessellationPattern, CoversTheTriangleOnceCounterClockwise) {
             for (int c = 0; c < 3; ++c) ++used[std::size_t(pattern.triangles[t + std::size_t(c)])];
         }
         EXPECT_NEAR(area, 0.5, 1e-12) << name;
+        EXPECT_EQ(std::int64_t(pattern.triangles.size() / 3), detail::num_pattern_triangles(rates.data(), inner))
+            << name;
         EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << name << ": a point in no triangle";
         // Each edge's points, in order from corner k, lie on it at i / rate.
         for (int k = 0; k < 3; ++k)

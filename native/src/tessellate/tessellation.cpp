@@ -197,7 +197,7 @@ public:
         std::vector<std::int64_t> face_first(std::size_t(mesh_.num_triangles));
         std::int64_t next =
             edges_.first_point.empty() ? mesh_.num_vertices : edges_.first_point.back() + edges_.rates.back() - 1;
-        std::int64_t num_samples = 0;
+        std::int64_t num_samples = 0, num_triangles = 0;
         int largest = 1;
         d_.face_patch.assign(std::size_t(mesh_.num_triangles), -1);
         for (int f = 0; f < mesh_.num_triangles; ++f) {
@@ -212,6 +212,7 @@ public:
             const std::int64_t inner = detail::num_inner_points(s.rates, s.inner_rate());
             next += inner;
             num_samples += detail::first_edge_point(s.rates, 3) + inner;
+            num_triangles += detail::num_pattern_triangles(s.rates, s.inner_rate());
             Patch patch;
             if (input_patches.find_patch(f, patch)) {
                 d_.face_patch[std::size_t(f)] = std::int32_t(input_shapes_.size());
@@ -227,7 +228,8 @@ public:
             for (int rate : {s.rates[0], s.rates[1], s.rates[2], s.inner_rate()})
                 limit_levels_ = std::max(limit_levels_, two_adic(rate));
         }
-        if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX))
+        if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX) ||
+            3 * num_triangles > std::int64_t(INT32_MAX))
             throw MemoryLimitError("tessellation: more than 2^31 points", std::uint64_t(num_samples) * 64);
         while ((1 << d_.levels) < largest) ++d_.levels;
         make_submesh(input_patches);
@@ -238,6 +240,9 @@ public:
         d_.num_points = next;
         placed_.assign(std::size_t(next), false);
         d_.samples.reserve(std::size_t(num_samples)), d_.sample_point.reserve(std::size_t(num_samples));
+        d_.triangles.reserve(3 * std::size_t(num_triangles)),
+            d_.corner_face_points.reserve(3 * std::size_t(num_triangles));
+        d_.parent_triangles.reserve(std::size_t(num_triangles));
         d_.parameters.reserve(2 * std::size_t(num_samples));
         subface_patch_.assign(std::size_t(1) << 2 * d_.levels, kUnknown);
         for (int f = 0; f < mesh_.num_triangles; ++f) add_face(f, sides[std::size_t(f)], face_first[std::size_t(f)]);
@@ -246,40 +251,43 @@ public:
 
 private:
     void add_face(int f, const Sides& s, std::int64_t face_first) {
-        detail::tessellate_triangle(s.rates, s.inner_rate(), pattern_);
+        // A pattern depends on the rates alone: made once for each triple of them (at one rate, once in all).
+        const auto [cached, added] = patterns_.try_emplace({s.rates[0], s.rates[1], s.rates[2]});
+        if (added) detail::tessellate_triangle(s.rates, s.inner_rate(), cached->second);
+        const FacePattern& pattern = cached->second;
         const int first_inner = detail::first_edge_point(s.rates, 3);
         std::vector<std::int32_t>& number = numbers_;
-        number.resize(pattern_.points.size());
+        number.resize(pattern.points.size());
         int p = 0;
         for (; p < 3; ++p) number[std::size_t(p)] = mesh_.triangles[3 * f + p];
         for (int k = 0; k < 3; ++k)
             for (int i = 1; i < s.rates[k]; ++i, ++p)
                 number[std::size_t(p)] = std::int32_t(s.first_point[k] + (s.along[k] ? i : s.rates[k] - i) - 1);
-        for (; p < int(pattern_.points.size()); ++p)
-            number[std::size_t(p)] = std::int32_t(face_first + p - first_inner);
+        for (; p < int(pattern.points.size()); ++p) number[std::size_t(p)] = std::int32_t(face_first + p - first_inner);
 
         const int first_sample = int(d_.samples.size());
         d_.face_first_sample.push_back(first_sample);
         for (std::int32_t within : touched_) subface_patch_[std::size_t(within)] = kUnknown;
         touched_.clear();
         const std::int32_t input_patch = d_.face_patch[std::size_t(f)];
-        for (std::size_t q = 0; q < pattern_.points.size(); ++q) {
+        for (std::size_t q = 0; q < pattern.points.size(); ++q) {
             const std::int32_t point = number[q];
             d_.sample_point.push_back(placed_[std::size_t(point)] ? -1 : point);
             placed_[std::size_t(point)] = true;
-            const detail::PatternPoint& at = pattern_.points[q];
+            const detail::PatternPoint& at = pattern.points[q];
             d_.parameters.push_back(float(double(at.b1) / at.den)),
                 d_.parameters.push_back(float(double(at.b2) / at.den));
             if (input_patch >= 0) d_.samples.push_back({Kind::InputPatch, -1, -1});
             else add_sample(sub_face_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den});
         }
         for (int part = 0; part < TessellationImpl::kParts; ++part)
-            d_.face_blocks.push_back(input_patch >= 0 ? block(s, part, input_shapes_[std::size_t(input_patch)]) : -1);
-        for (std::int32_t p : pattern_.triangles) {
+            d_.face_blocks.push_back(input_patch >= 0 ? block(pattern, s, part, input_shapes_[std::size_t(input_patch)])
+                                                      : -1);
+        for (std::int32_t p : pattern.triangles) {
             d_.triangles.push_back(number[std::size_t(p)]);
             d_.corner_face_points.push_back(first_sample + p);
         }
-        d_.parent_triangles.insert(d_.parent_triangles.end(), pattern_.triangles.size() / 3, f);
+        d_.parent_triangles.insert(d_.parent_triangles.end(), pattern.triangles.size() / 3, f);
     }
 
     void add_sample(int f, FacePoint at) {
@@ -320,14 +328,15 @@ private:
         d_.stencil_offsets.push_back(std::int64_t(d_.stencil_points.size()));
     }
 
-    // The block of weights of one part of the pattern at hand (pattern_, made for `sides`: 0 its corners, 1 to 3 the
+    // The block of weights of one part of `pattern` (made for `sides`: 0 its corners, 1 to 3 the
     // points of edge 0 to 2, 4 its inner points) in a patch of this rotation and shape; -1 for a part with no points.
     // The points of a part are where they are in every pattern with that part's rate.
-    std::int32_t block(const Sides& sides, int part, std::pair<int, detail::PatchShape> shape) {
+    std::int32_t block(const FacePattern& pattern, const Sides& sides, int part,
+                       std::pair<int, detail::PatchShape> shape) {
         const int begin = part == 0 ? 0 : detail::first_edge_point(sides.rates, part - 1);
         const int end = part == 0  ? 3
                         : part < 4 ? detail::first_edge_point(sides.rates, part)
-                                   : int(pattern_.points.size());
+                                   : int(pattern.points.size());
         if (begin == end) return -1;
         // The inner points depend on the inner rate, and on whether the rates differ below an inner rate of 3 (a
         // centre).
@@ -344,7 +353,7 @@ private:
         Patch patch;
         patch.rotation = shape.first, patch.shape = shape.second;
         for (int q = 0; q < count; ++q) {
-            const detail::PatternPoint& at = pattern_.points[std::size_t(begin + q)];
+            const detail::PatternPoint& at = pattern.points[std::size_t(begin + q)];
             detail::PatchWeights w;
             detail::patch_weights(patch, double(at.b1) / at.den, double(at.b2) / at.den, w);
             const double* kinds[3] = {w.position, w.ds, w.dt};
@@ -487,7 +496,7 @@ private:
     std::map<BlockKey, std::int32_t> blocks_;
     std::unique_ptr<LevelPatches> patches_;
     std::unique_ptr<LocalRefiner> local_;
-    FacePattern pattern_;
+    std::map<std::tuple<int, int, int>, FacePattern> patterns_;
     std::vector<std::int32_t> numbers_;
     Stencil stencil_;
 };

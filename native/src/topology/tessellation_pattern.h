@@ -34,6 +34,16 @@ inline int first_edge_point(const int rates[3], int k) {
     return first;
 }
 
+// How many triangles tessellate_triangle makes: the inner rate's lattice where every rate is the same; otherwise the
+// inner lattice of rate n - 3 and a strip of r + n - 3 triangles along each edge of rate r, or a fan of r triangles
+// per edge around the centre below an inner rate of 3.
+inline std::int64_t num_pattern_triangles(const int rates[3], int inner_rate) {
+    const std::int64_t n = inner_rate;
+    if (rates[0] == n && rates[1] == n && rates[2] == n) return n * n;
+    if (n < 3) return std::int64_t(rates[0]) + rates[1] + rates[2];
+    return (n - 3) * (n - 3) + (std::int64_t(rates[0]) + rates[1] + rates[2]) + 3 * (n - 3);
+}
+
 // How many inner points tessellate_triangle makes.
 inline std::int64_t num_inner_points(const int rates[3], int inner_rate) {
     const bool uniform = rates[0] == inner_rate && rates[1] == inner_rate && rates[2] == inner_rate;
