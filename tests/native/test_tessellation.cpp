@@ -465,6 +465,15 @@ TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {
     const std::int32_t hole[1] = {0};
     holes.hole_triangles = hole, holes.num_holes = 1;
     refuses(holes, options, rates, "holes");
+    // Past the memory limit: refused with what it would need, before anything is allocated.
+    Options small = options;
+    small.memory_limit_bytes = 1 << 20;
+    TessellationRates fine;
+    fine.uniform_rate = 200;  // 20 triangles of 40,000 each
+    try {
+        Tessellation(mesh.view(), small, fine);
+        ADD_FAILURE() << "a tessellation past the memory limit was made";
+    } catch (const MemoryLimitError& error) { EXPECT_GT(error.required_bytes, small.memory_limit_bytes); }
     MeshView broken = mesh.view();
     broken.num_vertices = 3;  // the triangles name vertices past it: the plan's own check
     EXPECT_THROW(Tessellation(broken, options, rates), InputError);

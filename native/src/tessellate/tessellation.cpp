@@ -36,14 +36,16 @@ struct TessellationImpl {
     std::int64_t num_points = 0;
     std::vector<std::int32_t> triangles, parent_triangles, corner_face_points;
     std::vector<float> parameters;  // (u, v) per face point
-    // A sample per face point, the normals' rows: at a vertex of the level, the limit plan's point and normal row; in
-    // a regular patch of the level, the patch and the weights at its place there; elsewhere, a stencil of its own.
+    // A sample per face point, the normals' rows. In a triangle that is a patch of the input, its triangle's blocks
+    // of weights (below) say everything. Elsewhere: at a vertex of the level, the limit plan's point and normal row;
+    // in a regular patch of the level, the patch and the weights at its place there; else a stencil of its own.
     enum class Kind : std::uint8_t { Vertex, Patch, Stencil, InputPatch };
     struct Sample {
         Kind kind;
-        // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil; InputPatch: -, weights
-        std::int32_t a, b;
+        std::int32_t a, b;  // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil; InputPatch: none
     };
+    std::vector<Sample> samples;
+    std::vector<std::int32_t> sample_point;  // the point a sample places, -1 where an earlier sample places it
     // Per input triangle: its first sample (and one more), and its patch among input_patch_points (-1: through the
     // plans, on the submesh) with the blocks of weights of its points (kernels.h, PatchFn), one per part of its
     // pattern: its corners, each edge's points, its inner points (-1: none).
@@ -62,8 +64,6 @@ struct TessellationImpl {
     // The plans' mesh: the irregular input triangles and those around their corners; its vertices, the input's.
     std::vector<std::int32_t> sub_vertices;
     mutable std::vector<float> sub_positions;
-    std::vector<Sample> samples;
-    std::vector<std::int32_t> sample_point;  // the point a sample places, -1 where an earlier sample places it
     std::vector<std::int32_t> patch_points;  // 12 per patch (phantoms -1, weighted 0)
     std::vector<float> patch_weights;        // 36 per weight set: position, d/ds, d/dt of each of 12 points
     std::vector<std::int64_t> stencil_offsets{0};
@@ -228,9 +228,17 @@ public:
             for (int rate : {s.rates[0], s.rates[1], s.rates[2], s.inner_rate()})
                 limit_levels_ = std::max(limit_levels_, two_adic(rate));
         }
+        // What the result holds: per face point its sample, point, parameters and a normal; per triangle its corners,
+        // their face points and its parent; per point its position (the plans check their own).
+        const std::uint64_t bytes =
+            std::uint64_t(num_samples) * 40 + std::uint64_t(num_triangles) * 28 + std::uint64_t(next) * 16;
+        if (bytes > options_.memory_limit_bytes)
+            throw MemoryLimitError("tessellation: the result would need " + std::to_string(bytes >> 20) +
+                                       " MiB, more than the memory limit",
+                                   bytes);
         if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX) ||
             3 * num_triangles > std::int64_t(INT32_MAX))
-            throw MemoryLimitError("tessellation: more than 2^31 points", std::uint64_t(num_samples) * 64);
+            throw MemoryLimitError("tessellation: more than 2^31 points", bytes);
         while ((1 << d_.levels) < largest) ++d_.levels;
         make_submesh(input_patches);
         if (!d_.sub_vertices.empty()) {
