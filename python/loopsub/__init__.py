@@ -1,16 +1,18 @@
 """Loop subdivision of triangle meshes with creases: the native core (``loopsub._loopsub``) for pipelines.
 
-``Plan`` and ``_loopsub.subdivide`` are strict and zero-copy: float32 positions and int32 indices, C-contiguous, used
-in place. ``subdivide`` here takes what numpy, trimesh and Open3D hand over (float64 positions, int64 faces, lists,
-non-contiguous views) and converts each array once to the core's types before the same call. See docs/python.md.
+``Plan``, ``Tessellation`` and ``_loopsub.subdivide`` are strict and zero-copy: float32 positions and int32 indices,
+C-contiguous, used in place. ``subdivide`` here takes what numpy, trimesh and Open3D hand over (float64 positions,
+int64 faces, lists, non-contiguous views) and converts each array once to the core's types before the same call. See
+docs/python.md.
 """
 import numpy as np
 
-from ._loopsub import INFINITE_SHARPNESS, VERTEX_TYPES, Plan, best_kernel, option_names, weld_corner_values
+from ._loopsub import (INFINITE_SHARPNESS, VERTEX_TYPES, Plan, Tessellation, best_kernel, option_names,
+                       screen_space_rates, weld_corner_values)
 from ._loopsub import subdivide as _subdivide_strict
 
-__all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "Plan", "best_kernel", "option_names", "subdivide",
-           "weld_corner_values"]
+__all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "Plan", "Tessellation", "best_kernel", "option_names",
+           "screen_space_rates", "subdivide", "weld_corner_values"]
 
 _INDEX_ARGUMENTS = ("crease_edges", "corner_vertices", "cone_vertices", "hole_triangles")
 _VALUE_ARGUMENTS = ("crease_sharpness", "corner_sharpness")

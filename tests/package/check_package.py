@@ -56,7 +56,8 @@ try:
 except (TypeError, ValueError) as exception:
     check(True, f"Plan stays strict: int64 faces are refused, not copied ({exception})")
 
-check(set(loopsub.__all__) >= {"Plan", "subdivide", "option_names", "weld_corner_values"}
+check(set(loopsub.__all__) >= {"Plan", "Tessellation", "screen_space_rates", "subdivide", "option_names",
+                               "weld_corner_values"}
       and loopsub.option_names()["rules"] == ("hoppe94", "opensubdiv"),
       "the package offers the core's option names and its corner welding")
 
