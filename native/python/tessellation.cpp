@@ -136,8 +136,8 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
         rates = loopsub::screen_space_rates(mesh, data_of<float>(points), camera, float(pixels), max_rate, by,
                                             float(offscreen_scale));
     }
-    py::array_t<std::int32_t> edges({py::ssize_t(rates.rates.size()), py::ssize_t(2)}),
-        edge_rates({py::ssize_t(rates.rates.size())});
+    py::array_t<std::int32_t> edges({py::ssize_t(rates.rates.size()), py::ssize_t(2)});
+    py::array_t<std::int32_t> edge_rates(py::ssize_t(rates.rates.size()));
     std::copy(rates.edges.begin(), rates.edges.end(), edges.mutable_data());
     std::copy(rates.rates.begin(), rates.rates.end(), edge_rates.mutable_data());
     return py::make_tuple(edges, edge_rates);
