@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -42,6 +43,7 @@ struct TessellationImpl {
     enum class Kind : std::uint8_t { Vertex, Patch, Stencil, InputPatch };
     struct Sample {
         Kind kind;
+        std::uint8_t band;  // Vertex, Patch, Stencil: whose plans (below)
         std::int32_t a, b;  // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil; InputPatch: none
     };
     std::vector<Sample> samples;
@@ -61,16 +63,21 @@ struct TessellationImpl {
     std::vector<Block> blocks;
     std::vector<float> block_weights;
     detail::PatchFn patch_kernel = nullptr;
-    // The plans' mesh: the irregular input triangles and those around their corners; its vertices, the input's.
-    std::vector<std::int32_t> sub_vertices;
-    mutable std::vector<float> sub_positions;
+    // The input triangles that are no patch themselves, in bands by the levels their rates need: each band's plans
+    // (control points and limit) on the mesh of its triangles and those around their corners, whose vertices are the
+    // input's `vertices`.
+    struct Band {
+        int levels = 0, limit_levels = 0;
+        std::vector<std::int32_t> vertices;
+        std::unique_ptr<Plan> control, limit;
+        mutable std::vector<float> positions, control_points, limit_points, limit_normals;
+    };
+    std::vector<Band> bands;
     std::vector<std::int32_t> patch_points;  // 12 per patch (phantoms -1, weighted 0)
     std::vector<float> patch_weights;        // 36 per weight set: position, d/ds, d/dt of each of 12 points
     std::vector<std::int64_t> stencil_offsets{0};
     std::vector<std::int32_t> stencil_points;
-    std::vector<float> stencil_weights;    // position, d/ds, d/dt per entry
-    std::unique_ptr<Plan> control, limit;  // the levels' control points and limit surface
-    mutable std::vector<float> control_points, limit_points, limit_normals;
+    std::vector<float> stencil_weights;  // position, d/ds, d/dt per entry
 };
 
 namespace {
@@ -175,6 +182,16 @@ struct Sides {
 };
 
 class Builder {
+    // What building a band needs: its submesh (make_submesh), each input triangle's number in it (-1: none), its
+    // level's patches and local refinement.
+    struct BandBuilder {
+        std::vector<std::int32_t> face, triangles, creases, corners, cones;
+        std::vector<float> crease_sharpness, corner_sharpness;
+        MeshView view;
+        std::unique_ptr<LevelPatches> patches;
+        std::unique_ptr<LocalRefiner> local;
+    };
+
 public:
     Builder(TessellationImpl& d, const MeshView& mesh, const Options& options)
         : d_(d), mesh_(mesh), options_(options) {}
@@ -198,8 +215,8 @@ public:
         std::int64_t next =
             edges_.first_point.empty() ? mesh_.num_vertices : edges_.first_point.back() + edges_.rates.back() - 1;
         std::int64_t num_samples = 0, num_triangles = 0;
-        int largest = 1;
         d_.face_patch.assign(std::size_t(mesh_.num_triangles), -1);
+        face_band_.assign(std::size_t(mesh_.num_triangles), -1);
         for (int f = 0; f < mesh_.num_triangles; ++f) {
             Sides& s = sides[std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
@@ -221,12 +238,19 @@ public:
                 input_shapes_.push_back({patch.rotation, patch.shape});
                 continue;
             }
-            // The points at vertices of a level are those i / r along an edge of rate r, or of the inner lattice,
-            // whose denominator, reduced, is a power of two: vertices of the level of the largest power of two in any
-            // rate, which the limit plan need go no deeper than.
-            largest = std::max(largest, s.inner_rate());
+            // Its band: the levels its rates need (2^L at least its largest). The points at vertices of a level are
+            // those i / r along an edge of rate r, or of the inner lattice, whose denominator, reduced, is a power of
+            // two: vertices of the level of the largest power of two in any rate, which the band's limit plan need go
+            // no deeper than.
+            int levels = 0;
+            while ((1 << levels) < s.inner_rate()) ++levels;
+            const auto [band, added] = band_of_levels_.try_emplace(levels, int(d_.bands.size()));
+            if (added) d_.bands.emplace_back().levels = levels, band_builders_.emplace_back();
+            face_band_[std::size_t(f)] = band->second;
+            TessellationImpl::Band& b = d_.bands[std::size_t(band->second)];
             for (int rate : {s.rates[0], s.rates[1], s.rates[2], s.inner_rate()})
-                limit_levels_ = std::max(limit_levels_, two_adic(rate));
+                b.limit_levels = std::max(b.limit_levels, two_adic(rate));
+            d_.levels = std::max(d_.levels, levels);
         }
         // What the result holds: per face point its sample, point, parameters and a normal; per triangle its corners,
         // their face points and its parent; per point its position (the plans check their own).
@@ -239,11 +263,10 @@ public:
         if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX) ||
             3 * num_triangles > std::int64_t(INT32_MAX))
             throw MemoryLimitError("tessellation: more than 2^31 points", bytes);
-        while ((1 << d_.levels) < largest) ++d_.levels;
-        make_submesh(input_patches);
-        if (!d_.sub_vertices.empty()) {
-            options_.levels = limit_levels_;
-            d_.limit = std::make_unique<Plan>(sub_view_, options_);
+        for (std::size_t b = 0; b < d_.bands.size(); ++b) {
+            make_submesh(input_patches, int(b));
+            options_.levels = d_.bands[b].limit_levels;
+            d_.bands[b].limit = std::make_unique<Plan>(band_builders_[b].view, options_);
         }
         d_.num_points = next;
         placed_.assign(std::size_t(next), false);
@@ -285,8 +308,8 @@ private:
             const detail::PatternPoint& at = pattern.points[q];
             d_.parameters.push_back(float(double(at.b1) / at.den)),
                 d_.parameters.push_back(float(double(at.b2) / at.den));
-            if (input_patch >= 0) d_.samples.push_back({Kind::InputPatch, -1, -1});
-            else add_sample(sub_face_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den});
+            if (input_patch >= 0) d_.samples.push_back({Kind::InputPatch, 0, -1, -1});
+            else add_sample(face_band_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den}, f);
         }
         for (int part = 0; part < TessellationImpl::kParts; ++part)
             d_.face_blocks.push_back(input_patch >= 0 ? block(pattern, s, part, input_shapes_[std::size_t(input_patch)])
@@ -298,36 +321,34 @@ private:
         d_.parent_triangles.insert(d_.parent_triangles.end(), pattern.triangles.size() / 3, f);
     }
 
-    void add_sample(int f, FacePoint at) {
-        int t = f, within = 0;  // the level's triangle, and its number among f's descendants
-        for (int l = 0; l < d_.levels; ++l) {
-            if (l == limit_levels_) {  // a vertex here, or never one
+    // A point of input triangle f, which is in band `band`.
+    void add_sample(int band, FacePoint at, int f) {
+        const TessellationImpl::Band& b = d_.bands[std::size_t(band)];
+        BandBuilder& bb = band_builders_[std::size_t(band)];
+        int t = bb.face[std::size_t(f)], within = 0;  // the level's triangle, and its number among f's descendants
+        for (int l = 0; l <= b.levels; ++l) {
+            if (l == b.limit_levels) {  // a vertex here, or never one
                 const int corner = at.T == 0 ? (at.S == 0      ? 0
                                                 : at.S == at.D ? 1
                                                                : -1)
                                              : (at.S == 0 && at.T == at.D ? 2 : -1);
-                if (corner >= 0) return add_vertex(t, corner);
+                if (corner >= 0) return add_vertex(band, t, corner);
             }
+            if (l == b.levels) break;
             const int child = detail::descend(at);
             t = 4 * t + child, within = 4 * within + child;
         }
-        if (limit_levels_ == d_.levels) {
-            const int corner = at.T == 0 ? (at.S == 0      ? 0
-                                            : at.S == at.D ? 1
-                                                           : -1)
-                                         : (at.S == 0 && at.T == at.D ? 2 : -1);
-            if (corner >= 0) return add_vertex(t, corner);
-        }
-        if (!patches_) make_control();
+        if (!bb.patches) make_control(band);
         std::int32_t& patch = subface_patch_[std::size_t(within)];
-        if (patch == kUnknown) patch = find_patch(t), touched_.push_back(within);
+        if (patch == kUnknown) patch = find_patch(bb, t), touched_.push_back(within);
+        const std::uint8_t in_band = std::uint8_t(band);
         if (patch >= 0) {
             const auto [rotation, shape] = patch_shape_[std::size_t(patch)];
-            d_.samples.push_back({Kind::Patch, patch, weight_set(rotation, shape, at)});
+            d_.samples.push_back({Kind::Patch, in_band, patch, weight_set(rotation, shape, at)});
             return;
         }
-        local_->weights(t, at, stencil_);
-        d_.samples.push_back({Kind::Stencil, std::int32_t(d_.stencil_offsets.size() - 1), 0});
+        bb.local->weights(t, at, stencil_);
+        d_.samples.push_back({Kind::Stencil, in_band, std::int32_t(d_.stencil_offsets.size() - 1), 0});
         for (std::size_t i = 0; i < stencil_.points.size(); ++i) {
             d_.stencil_points.push_back(stencil_.points[i]);
             const float w[3] = {float(stencil_.position[i]), float(stencil_.ds[i]), float(stencil_.dt[i])};
@@ -372,16 +393,18 @@ private:
         return found->second;
     }
 
-    // A point at corner `corner` of the limit plan's triangle t.
-    void add_vertex(int t, int corner) {
+    // A point at corner `corner` of triangle t of the band's limit plan.
+    void add_vertex(int band, int t, int corner) {
+        const Plan& limit = *d_.bands[std::size_t(band)].limit;
         const std::size_t c = 3 * std::size_t(t) + std::size_t(corner);
-        d_.samples.push_back({Kind::Vertex, d_.limit->output_triangles()[c], d_.limit->corner_normal_indices()[c]});
+        d_.samples.push_back(
+            {Kind::Vertex, std::uint8_t(band), limit.output_triangles()[c], limit.corner_normal_indices()[c]});
     }
 
     // The level's triangle t as a patch of the tessellation (its number), or -1 where it is no regular patch.
-    std::int32_t find_patch(int t) {
+    std::int32_t find_patch(const BandBuilder& bb, int t) {
         Patch patch;
-        if (!patches_->find_patch(t, patch)) return -1;
+        if (!bb.patches->find_patch(t, patch)) return -1;
         const std::int32_t number = std::int32_t(d_.patch_points.size() / detail::kBoxSplinePoints);
         for (std::int32_t p : patch.points) d_.patch_points.push_back(p);
         patch_shape_.push_back({patch.rotation, patch.shape});
@@ -403,28 +426,30 @@ private:
         return found->second;
     }
 
-    // The mesh of the plans: the input triangles that are no regular patch, and the triangles around their corners,
-    // which shape them (local_refinement.h); a vertex of it, the input's sub_vertices[v]; the input's tags on it.
-    void make_submesh(const LevelPatches& input) {
+    // The mesh of a band's plans: its input triangles and the triangles around their corners, which shape them
+    // (local_refinement.h); a vertex of it, the input's vertices[v]; the input's tags on it.
+    void make_submesh(const LevelPatches& input, int band) {
+        BandBuilder& bb = band_builders_[std::size_t(band)];
+        std::vector<std::int32_t>& vertices = d_.bands[std::size_t(band)].vertices;
         std::vector<char> taken(std::size_t(mesh_.num_triangles), 0);
         for (int f = 0; f < mesh_.num_triangles; ++f)
-            if (d_.face_patch[std::size_t(f)] < 0)
+            if (face_band_[std::size_t(f)] == band)
                 for (int k = 0; k < 3; ++k) {
                     const int v = mesh_.triangles[3 * f + k];
                     for (const std::int32_t* c = input.corners_begin(v); c != input.corners_end(v); ++c)
                         taken[std::size_t(*c / 3)] = 1;
                 }
         std::vector<std::int32_t> local(std::size_t(mesh_.num_vertices), -1);
-        sub_face_.assign(std::size_t(mesh_.num_triangles), -1);
+        bb.face.assign(std::size_t(mesh_.num_triangles), -1);
         std::vector<std::uint64_t> sub_edges;
         for (int f = 0; f < mesh_.num_triangles; ++f) {
             if (!taken[std::size_t(f)]) continue;
-            sub_face_[std::size_t(f)] = std::int32_t(sub_triangles_.size() / 3);
+            bb.face[std::size_t(f)] = std::int32_t(bb.triangles.size() / 3);
             for (int k = 0; k < 3; ++k) {
                 const std::int32_t v = mesh_.triangles[3 * f + k];
                 if (local[std::size_t(v)] < 0)
-                    local[std::size_t(v)] = std::int32_t(d_.sub_vertices.size()), d_.sub_vertices.push_back(v);
-                sub_triangles_.push_back(local[std::size_t(v)]);
+                    local[std::size_t(v)] = std::int32_t(vertices.size()), vertices.push_back(v);
+                bb.triangles.push_back(local[std::size_t(v)]);
                 sub_edges.push_back(detail::edge_key(v, mesh_.triangles[3 * f + (k + 1) % 3]));
             }
         }
@@ -432,36 +457,39 @@ private:
         for (int e = 0; e < mesh_.num_crease_edges; ++e) {
             const std::int32_t a = mesh_.crease_edges[2 * e], b = mesh_.crease_edges[2 * e + 1];
             if (!std::binary_search(sub_edges.begin(), sub_edges.end(), detail::edge_key(a, b))) continue;
-            sub_creases_.push_back(local[std::size_t(a)]), sub_creases_.push_back(local[std::size_t(b)]);
-            sub_crease_sharpness_.push_back(mesh_.crease_sharpness[e]);
+            bb.creases.push_back(local[std::size_t(a)]), bb.creases.push_back(local[std::size_t(b)]);
+            bb.crease_sharpness.push_back(mesh_.crease_sharpness[e]);
         }
         for (int k = 0; k < mesh_.num_corners; ++k)
             if (const std::int32_t v = local[std::size_t(mesh_.corner_vertices[k])]; v >= 0)
-                sub_corners_.push_back(v), sub_corner_sharpness_.push_back(mesh_.corner_sharpness[k]);
+                bb.corners.push_back(v), bb.corner_sharpness.push_back(mesh_.corner_sharpness[k]);
         for (int k = 0; k < mesh_.num_cones; ++k)
-            if (const std::int32_t v = local[std::size_t(mesh_.cone_vertices[k])]; v >= 0) sub_cones_.push_back(v);
-        sub_view_.num_vertices = int(d_.sub_vertices.size());
-        sub_view_.triangles = sub_triangles_.data(), sub_view_.num_triangles = int(sub_triangles_.size() / 3);
-        sub_view_.crease_edges = sub_creases_.data(), sub_view_.crease_sharpness = sub_crease_sharpness_.data();
-        sub_view_.num_crease_edges = int(sub_crease_sharpness_.size());
-        sub_view_.corner_vertices = sub_corners_.data(), sub_view_.corner_sharpness = sub_corner_sharpness_.data();
-        sub_view_.num_corners = int(sub_corners_.size());
-        sub_view_.cone_vertices = sub_cones_.data(), sub_view_.num_cones = int(sub_cones_.size());
+            if (const std::int32_t v = local[std::size_t(mesh_.cone_vertices[k])]; v >= 0) bb.cones.push_back(v);
+        MeshView& view = bb.view;
+        view.num_vertices = int(vertices.size());
+        view.triangles = bb.triangles.data(), view.num_triangles = int(bb.triangles.size() / 3);
+        view.crease_edges = bb.creases.data(), view.crease_sharpness = bb.crease_sharpness.data();
+        view.num_crease_edges = int(bb.crease_sharpness.size());
+        view.corner_vertices = bb.corners.data(), view.corner_sharpness = bb.corner_sharpness.data();
+        view.num_corners = int(bb.corners.size());
+        view.cone_vertices = bb.cones.data(), view.num_cones = int(bb.cones.size());
     }
 
-    // The control points' plan and its patches, on the first point that needs them.
-    void make_control() {
+    // A band's control points' plan and its patches, on the first point that needs them.
+    void make_control(int band) {
+        TessellationImpl::Band& b = d_.bands[std::size_t(band)];
+        BandBuilder& bb = band_builders_[std::size_t(band)];
         Options control = options_;
-        control.limit_surface = false, control.levels = d_.levels;
-        d_.control = std::make_unique<Plan>(sub_view_, control);
-        const Plan& plan = *d_.control;
+        control.limit_surface = false, control.levels = b.levels;
+        b.control = std::make_unique<Plan>(bb.view, control);
+        const Plan& plan = *b.control;
         const auto& sharp = plan.output_sharp_edges();
         const auto& sharp_corners = plan.output_corner_vertices();
-        patches_ = std::make_unique<LevelPatches>(
+        bb.patches = std::make_unique<LevelPatches>(
             plan.output_triangles(), plan.num_output_triangles(), plan.num_output_vertices(), sharp.data(),
             plan.output_sharp_edge_sharpness().data(), int(sharp.size() / 2), sharp_corners.data(),
-            int(sharp_corners.size()), plan.level_vertex_types(d_.levels).data());
-        local_ = std::make_unique<LocalRefiner>(*patches_, plan, control, sub_cones_.data(), int(sub_cones_.size()));
+            int(sharp_corners.size()), plan.level_vertex_types(b.levels).data());
+        bb.local = std::make_unique<LocalRefiner>(*bb.patches, plan, control, bb.cones.data(), int(bb.cones.size()));
     }
 
     static int two_adic(int rate) {  // the exponent of the largest power of two dividing rate
@@ -471,7 +499,9 @@ private:
     }
 
     TessellationImpl& d_;
-    int limit_levels_ = 0;
+    std::map<int, int> band_of_levels_;
+    std::vector<int> face_band_;             // per input triangle, -1 for a patch of the input
+    std::deque<BandBuilder> band_builders_;  // a deque: each band's view points into its arrays
     const MeshView& mesh_;
     Options options_;
     Edges edges_;
@@ -480,10 +510,6 @@ private:
     // Per level triangle of the input triangle at hand: its patch, or -1; and those that have been asked.
     std::vector<std::int32_t> subface_patch_, touched_;
     std::vector<std::pair<int, detail::PatchShape>> patch_shape_, input_shapes_;  // per patch: rotation, shape
-    // The submesh (make_submesh) and each input triangle's number in it (-1: not in it).
-    std::vector<std::int32_t> sub_face_, sub_triangles_, sub_creases_, sub_corners_, sub_cones_;
-    std::vector<float> sub_crease_sharpness_, sub_corner_sharpness_;
-    MeshView sub_view_;
     struct WeightKey {
         std::int64_t S, T, D;
         int rotation;
@@ -502,8 +528,6 @@ private:
     static constexpr int kPoints = detail::kBoxSplinePoints;
     using BlockKey = std::tuple<int, int, int, detail::PatchShape>;  // part, its rate, rotation, shape
     std::map<BlockKey, std::int32_t> blocks_;
-    std::unique_ptr<LevelPatches> patches_;
-    std::unique_ptr<LocalRefiner> local_;
     std::map<std::tuple<int, int, int>, FacePattern> patterns_;
     std::vector<std::int32_t> numbers_;
     Stencil stencil_;
@@ -544,17 +568,17 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         if (!(std::fabs(positions[i]) <= kLargest))
             throw InputError("tessellation: position " + std::to_string(i / 3) + " is not finite or larger than " +
                              std::to_string(kLargest));
-    if (!d.sub_vertices.empty()) {
-        d.sub_positions.resize(3 * d.sub_vertices.size());
-        for (std::size_t v = 0; v < d.sub_vertices.size(); ++v)
-            std::copy_n(positions + 3 * std::size_t(d.sub_vertices[v]), 3, &d.sub_positions[3 * v]);
-        const ChannelsView<const float> in = interleaved(d.sub_positions.data(), 3);
-        d.limit_points.resize(3 * std::size_t(d.limit->num_output_vertices()));
-        d.limit_normals.resize(3 * std::size_t(d.limit->num_limit_normals()));
-        d.limit->evaluate(in, interleaved(d.limit_points.data(), 3), Plan::LimitNormals{d.limit_normals.data()});
-        if (d.control) {
-            d.control_points.resize(3 * std::size_t(d.control->num_output_vertices()) + 1);
-            d.control->evaluate(in, interleaved(d.control_points.data(), 3));
+    for (const TessellationImpl::Band& b : d.bands) {
+        b.positions.resize(3 * b.vertices.size());
+        for (std::size_t v = 0; v < b.vertices.size(); ++v)
+            std::copy_n(positions + 3 * std::size_t(b.vertices[v]), 3, &b.positions[3 * v]);
+        const ChannelsView<const float> in = interleaved(b.positions.data(), 3);
+        b.limit_points.resize(3 * std::size_t(b.limit->num_output_vertices()));
+        b.limit_normals.resize(3 * std::size_t(b.limit->num_limit_normals()));
+        b.limit->evaluate(in, interleaved(b.limit_points.data(), 3), Plan::LimitNormals{b.limit_normals.data()});
+        if (b.control) {
+            b.control_points.resize(3 * std::size_t(b.control->num_output_vertices()) + 1);
+            b.control->evaluate(in, interleaved(b.control_points.data(), 3));
         }
     }
     constexpr int kPoints = detail::kPatchPoints;
@@ -583,13 +607,14 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
                     std::copy_n(&scratch[3 * std::size_t(q)], 3, points + 3 * std::size_t(point));
         }
     };
-    const float* x = d.control_points.data();
     auto place = [&](std::size_t s) {
         const TessellationImpl::Sample& sample = d.samples[s];
+        const TessellationImpl::Band& band = d.bands[sample.band];
+        const float* x = band.control_points.data();
         float p[3], n[3];
         if (sample.kind == Kind::Vertex) {
-            std::copy_n(&d.limit_points[3 * std::size_t(sample.a)], 3, p);
-            std::copy_n(&d.limit_normals[3 * std::size_t(sample.b)], 3, n);
+            std::copy_n(&band.limit_points[3 * std::size_t(sample.a)], 3, p);
+            std::copy_n(&band.limit_normals[3 * std::size_t(sample.b)], 3, n);
         } else {
             PointSums sums;
             if (sample.kind == Kind::Patch) {
