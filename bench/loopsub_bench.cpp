@@ -929,28 +929,9 @@ Scene screen_scene() {
         p.insert(p.end(), {1.5f * sphere.positions[3 * v], 1.5f * sphere.positions[3 * v + 1] + 1.6f,
                            1.5f * sphere.positions[3 * v + 2]});
     for (int c : sphere.triangles) t.push_back(first + c);
-    // A camera at (0, 2, 9) looking at (0, 1, 0), y up: look-at and OpenGL's perspective.
-    const double eye[3] = {0, 2, 9}, target[3] = {0, 1, 0};
-    double f[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
-    const double fl = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-    for (double& c : f) c /= fl;
-    double r[3] = {-f[2], 0, f[0]};  // f x (0, 1, 0)
-    const double rl = std::sqrt(r[0] * r[0] + r[2] * r[2]);
-    for (double& c : r) c /= rl;
-    const double u[3] = {r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
-    const double focal = 1.0 / std::tan(25.0 * 3.14159265358979323846 / 180.0), aspect = 1920.0 / 1080.0;
-    const double near = 0.01, far = 1000.0;
-    const double* rows[3] = {r, u, f};
-    float* m = scene.camera.world_to_clip;
-    for (int c = 0; c < 3; ++c) {
-        m[c] = float(focal / aspect * r[c]), m[4 + c] = float(focal * u[c]);
-        m[8 + c] = float(-(far + near) / (near - far) * f[c]), m[12 + c] = float(f[c]);
-    }
-    auto dot_eye = [&](const double* a) { return a[0] * eye[0] + a[1] * eye[1] + a[2] * eye[2]; };
-    m[3] = float(-focal / aspect * dot_eye(rows[0])), m[7] = float(-focal * dot_eye(rows[1]));
-    m[11] = float((far + near) / (near - far) * dot_eye(rows[2]) + 2 * far * near / (near - far));
-    m[15] = float(-dot_eye(rows[2]));
-    scene.camera.viewport_width = 1920, scene.camera.viewport_height = 1080;
+    // A camera at (0, 2, 9) looking at (0, 1, 0), y up, 50 degrees.
+    const float eye[3] = {0, 2, 9}, target[3] = {0, 1, 0}, up[3] = {0, 1, 0};
+    scene.camera = loopsub::look_at_camera(eye, target, up, 50.0f, 1920.0f, 1080.0f);
     return scene;
 }
 

@@ -1,9 +1,7 @@
 // loopsub: Loop subdivision of an OBJ triangle mesh with OpenSubdiv's crease tags.
 // Exit codes: 0 success, 1 the input or the refinement failed, 2 the command line is wrong.
 #include <algorithm>
-#include <array>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -23,42 +21,14 @@ using loopsub::cli::kUsage;
 using loopsub::cli::parse_command_line;
 using loopsub::cli::UsageError;
 
-// The camera of --camera as world to clip space: a look-at view and OpenGL's perspective.
+// The camera of --camera (the core's look_at_camera), its refusal of a view that is no view in the flags' words.
 loopsub::Camera camera_of(const loopsub::cli::LookAt& look) {
-    auto sub = [](const float* a, const float* b) {
-        return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-    };
-    auto cross = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
-        return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-    };
-    auto unit = [](std::array<double, 3> a) {
-        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        if (!(length > 0.0)) throw loopsub::InputError("--camera: the eye, the target and --up must span a view");
-        for (double& c : a) c /= length;
-        return a;
-    };
-    const std::array<double, 3> forward = unit(sub(look.target, look.eye)),
-                                right = unit(cross(forward, {look.up[0], look.up[1], look.up[2]})),
-                                up = cross(right, forward);
-    const double f = 1.0 / std::tan(0.5 * double(look.fov_degrees) * 3.14159265358979323846 / 180.0);
-    const double aspect = double(look.width) / look.height, near = 1e-3, far = 1e6;
-    const double* axes[3] = {right.data(), up.data(), forward.data()};
-    double view[3][4];  // rows: right, up, -forward (OpenGL looks down -z); translation last
-    for (int r = 0; r < 3; ++r) {
-        const double sign = r == 2 ? -1.0 : 1.0;
-        for (int c = 0; c < 3; ++c) view[r][c] = sign * axes[r][c];
-        view[r][3] = -(view[r][0] * look.eye[0] + view[r][1] * look.eye[1] + view[r][2] * look.eye[2]);
+    try {
+        return loopsub::look_at_camera(look.eye, look.target, look.up, look.fov_degrees, float(look.width),
+                                       float(look.height));
+    } catch (const loopsub::InputError&) {
+        throw loopsub::InputError("--camera: the eye, the target and --up must span a view");
     }
-    loopsub::Camera camera;
-    const double scale[4] = {f / aspect, f, (far + near) / (near - far), -1.0};
-    for (int c = 0; c < 4; ++c) {
-        camera.world_to_clip[c] = float(scale[0] * view[0][c]);
-        camera.world_to_clip[4 + c] = float(scale[1] * view[1][c]);
-        camera.world_to_clip[8 + c] = float(scale[2] * view[2][c] + (c == 3 ? 2.0 * far * near / (near - far) : 0.0));
-        camera.world_to_clip[12 + c] = float(scale[3] * view[2][c]);
-    }
-    camera.viewport_width = float(look.width), camera.viewport_height = float(look.height);
-    return camera;
 }
 
 // --tessellate and --camera: the points and their normals (one vn per face point), UVs linear within each input

@@ -94,7 +94,8 @@ void read_input(PlanInput& in, py::handle triangles, long long num_vertices, int
 std::unique_ptr<PyPlan> build_plan(py::handle triangles, long long num_vertices, int levels, const OptionArgs& args,
                                    const std::vector<py::array>& welded_layers = {});
 
-// A read-only numpy view of memory owned by the plan; `base` (the Python Plan) stays alive as long as the view.
+// A read-only numpy view of memory owned by `base` (a Python Plan or Tessellation), which stays alive as long as the
+// view.
 template <typename T>
 py::array plan_view(const T* data, std::vector<py::ssize_t> shape, py::handle base) {
     py::array a(py::dtype::of<T>(), std::move(shape), data, base);

@@ -43,14 +43,6 @@ std::unique_ptr<PyTessellation> build(py::handle triangles, long long num_vertic
     return std::make_unique<PyTessellation>(loopsub::Tessellation(in.mesh, in.options, rates), in.mesh.num_vertices);
 }
 
-// A read-only view of memory the tessellation owns, which `base` keeps alive.
-template <typename T>
-py::array view(const T* data, std::vector<py::ssize_t> shape, py::handle base) {
-    py::array a(py::dtype::of<T>(), std::move(shape), data, base);
-    a.attr("setflags")(py::arg("write") = false);
-    return a;
-}
-
 py::tuple evaluate_points(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
     PyTessellation& p = self.cast<PyTessellation&>();
     const loopsub::Tessellation& t = p.tessellation;
@@ -175,28 +167,28 @@ void bind_tessellation(py::module_& m) {
             "triangles",
             [](py::object self) {
                 const auto& t = self.cast<PyTessellation&>().tessellation;
-                return view(t.triangles(), {t.num_triangles(), 3}, self);
+                return plan_view(t.triangles(), {t.num_triangles(), 3}, self);
             },
             "(T, 3) int32: the result's triangles, counter-clockwise (read-only view).")
         .def_property_readonly(
             "parent_triangles",
             [](py::object self) {
                 const auto& t = self.cast<PyTessellation&>().tessellation;
-                return view(t.parent_triangles(), {t.num_triangles()}, self);
+                return plan_view(t.parent_triangles(), {t.num_triangles()}, self);
             },
             "(T,) int32: the input triangle each triangle lies in (read-only view).")
         .def_property_readonly(
             "corner_face_points",
             [](py::object self) {
                 const auto& t = self.cast<PyTessellation&>().tessellation;
-                return view(t.corner_face_points(), {t.num_triangles(), 3}, self);
+                return plan_view(t.corner_face_points(), {t.num_triangles(), 3}, self);
             },
             "(T, 3) int32: each corner's face point, the row of its normal (read-only view).")
         .def_property_readonly(
             "face_point_parameters",
             [](py::object self) {
                 const auto& t = self.cast<PyTessellation&>().tessellation;
-                return view(t.face_point_parameters(), {t.num_face_points(), 2}, self);
+                return plan_view(t.face_point_parameters(), {t.num_face_points(), 2}, self);
             },
             "(num_face_points, 2) float32: each face point's (u, v) in its triangle, corner 0 + u (corner 1 - "
             "corner 0) + v (corner 2 - corner 0) (read-only view).");

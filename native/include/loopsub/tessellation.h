@@ -33,6 +33,12 @@ struct Camera {
     float viewport_width = 0.0f, viewport_height = 0.0f;
 };
 
+// A perspective camera at `eye` looking at `target`, `up` above it, with a vertical field of view in degrees and a
+// viewport of width x height pixels: OpenGL's look-at and perspective matrices (near and far planes at 1e-3 and 1e6,
+// which rates do not read). InputError where the eye, the target and up span no view.
+Camera look_at_camera(const float eye[3], const float target[3], const float up[3], float fov_degrees, float width,
+                      float height);
+
 // What a camera's rates hold an edge to (screen_space_rates), measured as Cycles measures its dicing: at the edge's
 // midpoint's depth, as if the edge faced the camera (an edge seen end on is not spared, an edge running past the
 // camera is not blown up by the projection), in pixels.

@@ -10,10 +10,25 @@ bool infinitely_sharp(float sharpness) { return sharpness >= kInfiniteSharpness;
 
 }  // namespace
 
-LevelPatches::LevelPatches(const std::int32_t* triangles, int num_triangles, int num_vertices,
-                           const std::int32_t* sharp_edges, const float* sharp_edge_sharpness, int num_sharp_edges,
-                           const std::int32_t* sharp_vertices, int num_sharp_vertices, const VertexType* types)
-    : triangles_(triangles), types_(types) {
+std::vector<std::uint64_t> sorted_edge_keys(const std::int32_t* triangles, int num_triangles) {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(3 * std::size_t(num_triangles));
+    for (std::size_t c = 0; c < 3 * std::size_t(num_triangles); ++c)
+        keys.push_back(edge_key(triangles[c], triangles[c - c % 3 + (c + 1) % 3]));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
+}
+
+LevelPatches::LevelPatches(const Plan& plan)
+    : triangles_(plan.output_triangles()), types_(plan.level_vertex_types(plan.levels()).data()) {
+    const int num_triangles = plan.num_output_triangles(), num_vertices = plan.num_output_vertices();
+    const std::int32_t* triangles = triangles_;
+    const VertexType* types = types_;
+    const std::vector<std::int32_t>& sharp_edges = plan.output_sharp_edges();
+    const std::vector<std::int32_t>& sharp_vertices = plan.output_corner_vertices();
+    const float* sharp_edge_sharpness = plan.output_sharp_edge_sharpness().data();
+    const int num_sharp_edges = int(sharp_edges.size() / 2), num_sharp_vertices = int(sharp_vertices.size());
     offsets_.assign(std::size_t(num_vertices) + 1, 0);
     const std::size_t num_corners = 3 * std::size_t(num_triangles);
     for (std::size_t c = 0; c < num_corners; ++c) ++offsets_[std::size_t(triangles[c]) + 1];

@@ -29,6 +29,9 @@ inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
     return std::uint64_t(std::uint32_t(a < b ? a : b)) << 32 | std::uint32_t(a < b ? b : a);
 }
 
+// The keys of the edges of a triangle list, each once, in order.
+std::vector<std::uint64_t> sorted_edge_keys(const std::int32_t* triangles, int num_triangles);
+
 // A regular patch of a level's triangle: its 12 points in box_spline.h's order, P3, P6, P7 being the triangle's corners
 // `rotation`, `rotation` + 1 and `rotation` + 2. Phantoms hold -1: beside a crease edge (P6-P7), P9, P10 and P11; at a
 // crease vertex (P3, its crease P2-P3-P4), P0 and P1.
@@ -49,11 +52,9 @@ void patch_weights(const Patch& patch, double s, double t, PatchWeights& out);
 
 class LevelPatches {
 public:
-    // A level: its triangles, the sharp edges its rules see (pairs, with their sharpness) and the vertices with a
-    // sharpness of their own, and the classes of its vertices at the next refinement.
-    LevelPatches(const std::int32_t* triangles, int num_triangles, int num_vertices, const std::int32_t* sharp_edges,
-                 const float* sharp_edge_sharpness, int num_sharp_edges, const std::int32_t* sharp_vertices,
-                 int num_sharp_vertices, const VertexType* types);
+    // The last level of a plan: its triangles, the sharp edges its rules see (with their sharpness), the vertices with
+    // a sharpness of their own, and the classes of its vertices at the next refinement. The plan must outlive this.
+    explicit LevelPatches(const Plan& plan);
 
     // The regular patch of face, or false where the face is none.
     bool find_patch(int face, Patch& out) const;

@@ -22,12 +22,22 @@ int descend(FacePoint& point) {
     return 3;
 }
 
+MeshView LocalMesh::view(int num_vertices) const {
+    MeshView view;
+    view.num_vertices = num_vertices;
+    view.triangles = triangles.data(), view.num_triangles = int(triangles.size() / 3);
+    view.crease_edges = creases.data(), view.crease_sharpness = crease_sharpness.data();
+    view.num_crease_edges = int(crease_sharpness.size());
+    view.corner_vertices = corners.data(), view.corner_sharpness = corner_sharpness.data();
+    view.num_corners = int(corners.size());
+    view.cone_vertices = cones.data(), view.num_cones = int(cones.size());
+    return view;
+}
+
 struct LocalRefiner::Neighbourhood {
-    std::vector<std::int32_t> vertices;   // local number -> the level's
-    std::vector<std::int32_t> triangles;  // in local numbers
-    int face = 0;                         // the face's local number
-    std::vector<std::int32_t> creases, corners, cones;
-    std::vector<float> crease_sharpness, corner_sharpness;
+    std::vector<std::int32_t> vertices;  // local number -> the level's
+    LocalMesh mesh;
+    int face = 0;    // the face's local number
     int levels = 0;  // of the plan below
     std::shared_ptr<Plan> plan;
     std::vector<float> rows;  // per refined point, its weights over the local points
@@ -35,14 +45,7 @@ struct LocalRefiner::Neighbourhood {
 
     void refine(int to_levels, Options options, bool limit_surface) {
         options.levels = to_levels, options.limit_surface = limit_surface, options.threads = 1;
-        MeshView view;
-        view.num_vertices = int(vertices.size());
-        view.triangles = triangles.data(), view.num_triangles = int(triangles.size() / 3);
-        view.crease_edges = creases.data(), view.crease_sharpness = crease_sharpness.data();
-        view.num_crease_edges = int(crease_sharpness.size());
-        view.corner_vertices = corners.data(), view.corner_sharpness = corner_sharpness.data();
-        view.num_corners = int(corners.size());
-        view.cone_vertices = cones.data(), view.num_cones = int(cones.size());
+        const MeshView view = mesh.view(int(vertices.size()));
         patches.reset();
         plan = std::make_shared<Plan>(view, options);
         levels = to_levels;
@@ -51,13 +54,7 @@ struct LocalRefiner::Neighbourhood {
         for (int v = 0; v < k; ++v) identity[std::size_t(v) * std::size_t(k) + std::size_t(v)] = 1.0f;
         rows.assign(std::size_t(plan->num_output_vertices()) * std::size_t(k), 0.0f);
         plan->evaluate(interleaved(identity.data(), k), interleaved(rows.data(), k));
-        if (limit_surface) return;
-        const auto& sharp = plan->output_sharp_edges();
-        const auto& sharp_corners = plan->output_corner_vertices();
-        patches = std::make_shared<LevelPatches>(
-            plan->output_triangles(), plan->num_output_triangles(), plan->num_output_vertices(), sharp.data(),
-            plan->output_sharp_edge_sharpness().data(), int(sharp.size() / 2), sharp_corners.data(),
-            int(sharp_corners.size()), plan->level_vertex_types(to_levels).data());
+        if (!limit_surface) patches = std::make_shared<LevelPatches>(*plan);
     }
 
     // Adds `weight` times refined point q's weights to the sums (one per local point).
@@ -106,12 +103,12 @@ LocalRefiner::Neighbourhood& LocalRefiner::neighbourhood(int face) {
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
     std::unordered_map<std::int32_t, std::int32_t> local;
     for (int g : faces) {
-        if (g == face) n.face = int(n.triangles.size() / 3);
+        if (g == face) n.face = int(n.mesh.triangles.size() / 3);
         for (int k = 0; k < 3; ++k) {
             const std::int32_t v = triangles[3 * g + k];
             const auto [at, added] = local.try_emplace(v, std::int32_t(n.vertices.size()));
             if (added) n.vertices.push_back(v);
-            n.triangles.push_back(at->second);
+            n.mesh.triangles.push_back(at->second);
         }
     }
     std::unordered_map<std::uint64_t, bool> seen;
@@ -120,14 +117,14 @@ LocalRefiner::Neighbourhood& LocalRefiner::neighbourhood(int face) {
             const std::int32_t a = triangles[3 * g + k], b = triangles[3 * g + (k + 1) % 3];
             const auto tag = crease_tags_.find(edge_key(a, b));
             if (tag == crease_tags_.end() || !seen.try_emplace(edge_key(a, b), true).second) continue;
-            n.creases.push_back(local[a]), n.creases.push_back(local[b]);
-            n.crease_sharpness.push_back(tag->second);
+            n.mesh.creases.push_back(local[a]), n.mesh.creases.push_back(local[b]);
+            n.mesh.crease_sharpness.push_back(tag->second);
         }
     for (std::size_t i = 0; i < n.vertices.size(); ++i) {
         const std::int32_t v = n.vertices[i];
         if (const auto tag = corner_tags_.find(v); tag != corner_tags_.end())
-            n.corners.push_back(std::int32_t(i)), n.corner_sharpness.push_back(tag->second);
-        if (cone_[std::size_t(v)]) n.cones.push_back(std::int32_t(i));
+            n.mesh.corners.push_back(std::int32_t(i)), n.mesh.corner_sharpness.push_back(tag->second);
+        if (cone_[std::size_t(v)]) n.mesh.cones.push_back(std::int32_t(i));
     }
     return n;
 }

@@ -34,6 +34,14 @@ struct FacePoint {
     std::int64_t S, T, D;
 };
 
+// Part of a level as a mesh of its own (a triangle's neighbourhood, a band of triangles): its triangles and the level's
+// tags on it, in local vertex numbers, and the MeshView a plan of it reads (valid while this lives unchanged).
+struct LocalMesh {
+    std::vector<std::int32_t> triangles, creases, corners, cones;
+    std::vector<float> crease_sharpness, corner_sharpness;
+    MeshView view(int num_vertices) const;
+};
+
 // Moves a point of a face into the face's child that holds it (the split's order: corner children 0 to 2, the middle
 // child 3), returning the child's number; the point's coordinates become the child's.
 int descend(FacePoint& point);

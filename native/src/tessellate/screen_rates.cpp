@@ -1,5 +1,7 @@
-// Rates from the screen (loopsub/tessellation.h, screen_space_rates): an edge's length on screen, in segments.
+// Rates from the screen (loopsub/tessellation.h, screen_space_rates): an edge's length on screen, in segments; and the
+// camera of a look-at and a perspective (look_at_camera).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -24,6 +26,41 @@ Clip to_clip(const float m[16], const float* p) {
 }
 
 }  // namespace
+
+Camera look_at_camera(const float eye[3], const float target[3], const float up[3], float fov_degrees, float width,
+                      float height) {
+    using Vector = std::array<double, 3>;
+    auto cross = [](const Vector& a, const Vector& b) {
+        return Vector{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    };
+    auto unit = [](Vector a) {
+        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        if (!(length > 0.0)) throw InputError("look_at_camera: the eye, the target and up must span a view");
+        for (double& c : a) c /= length;
+        return a;
+    };
+    const Vector forward = unit({double(target[0]) - eye[0], double(target[1]) - eye[1], double(target[2]) - eye[2]}),
+                 right = unit(cross(forward, {up[0], up[1], up[2]})), above = cross(right, forward);
+    const double f = 1.0 / std::tan(0.5 * double(fov_degrees) * 3.14159265358979323846 / 180.0);
+    const double aspect = double(width) / height, near = 1e-3, far = 1e6;
+    const double* axes[3] = {right.data(), above.data(), forward.data()};
+    double view[3][4];  // rows: right, up, -forward (OpenGL looks down -z); translation last
+    for (int r = 0; r < 3; ++r) {
+        const double sign = r == 2 ? -1.0 : 1.0;
+        for (int c = 0; c < 3; ++c) view[r][c] = sign * axes[r][c];
+        view[r][3] = -(view[r][0] * eye[0] + view[r][1] * eye[1] + view[r][2] * eye[2]);
+    }
+    Camera camera;
+    const double scale[4] = {f / aspect, f, (far + near) / (near - far), -1.0};
+    for (int c = 0; c < 4; ++c) {
+        camera.world_to_clip[c] = float(scale[0] * view[0][c]);
+        camera.world_to_clip[4 + c] = float(scale[1] * view[1][c]);
+        camera.world_to_clip[8 + c] = float(scale[2] * view[2][c] + (c == 3 ? 2.0 * far * near / (near - far) : 0.0));
+        camera.world_to_clip[12 + c] = float(scale[3] * view[2][c]);
+    }
+    camera.viewport_width = width, camera.viewport_height = height;
+    return camera;
+}
 
 TessellationRates ScreenRates::view() const {
     TessellationRates view;
@@ -51,12 +88,7 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         if (mesh.triangles[c] < 0 || mesh.triangles[c] >= mesh.num_vertices)
             fail("triangle corner " + std::to_string(c) + " names vertex " + std::to_string(mesh.triangles[c]) +
                  ", not in 0.." + std::to_string(mesh.num_vertices - 1));
-    std::vector<std::uint64_t> keys;
-    keys.reserve(3 * std::size_t(mesh.num_triangles));
-    for (std::size_t c = 0; c < 3 * std::size_t(mesh.num_triangles); ++c)
-        keys.push_back(detail::edge_key(mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]));
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    const std::vector<std::uint64_t> keys = detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles);
 
     // The third corners of each edge's first two faces (-1: none), for its bulge.
     std::vector<std::int32_t> opposite(2 * keys.size(), -1);
@@ -96,7 +128,7 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + length))
             fail("the positions of edge (" + std::to_string(a) + ", " + std::to_string(b) + ") are not finite");
         int rate = 1;
-        if (p.w > 0.0 || q.w > 0.0) {  // both behind the camera: unseen
+        if (p.w > 0.0 || q.w > 0.0) {  // else both ends are behind the camera: unseen, one segment
             // As Cycles measures: the length in pixels it would have at its midpoint's depth, facing the camera; a
             // midpoint out of the view (or behind the camera) coarser by offscreen_scale.
             const double depth = std::max(std::fabs(mid.w), 1e-6);

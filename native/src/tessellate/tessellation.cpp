@@ -94,6 +94,7 @@ void finish_sums(const float* p, const float* s, const float* t, float position[
 using detail::FacePattern;
 using detail::FacePoint;
 using detail::LevelPatches;
+using detail::LocalMesh;
 using detail::LocalRefiner;
 using detail::Patch;
 using detail::Stencil;
@@ -155,10 +156,7 @@ struct Edges {
 Edges edges_with_rates(const MeshView& mesh, const TessellationRates& rates) {
     Edges edges;
     const int uniform = rate_in_range(rates.uniform_rate, "uniform_rate");
-    for (std::size_t c = 0; c < 3 * std::size_t(mesh.num_triangles); ++c)
-        edges.keys.push_back(detail::edge_key(mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]));
-    std::sort(edges.keys.begin(), edges.keys.end());
-    edges.keys.erase(std::unique(edges.keys.begin(), edges.keys.end()), edges.keys.end());
+    edges.keys = detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles);
     edges.rates.assign(edges.keys.size(), uniform);
     if (rates.num_edges < 0) fail("num_edges must not be negative");
     for (int k = 0; k < rates.num_edges; ++k) {
@@ -185,8 +183,8 @@ class Builder {
     // What building a band needs: its submesh (make_submesh), each input triangle's number in it (-1: none), its
     // level's patches and local refinement.
     struct BandBuilder {
-        std::vector<std::int32_t> face, triangles, creases, corners, cones;
-        std::vector<float> crease_sharpness, corner_sharpness;
+        std::vector<std::int32_t> face;
+        LocalMesh mesh;
         MeshView view;
         std::unique_ptr<LevelPatches> patches;
         std::unique_ptr<LocalRefiner> local;
@@ -201,19 +199,14 @@ public:
         // input's vertices.
         options_.limit_surface = true, options_.levels = 0;
         const Plan input(mesh_, options_);
-        edges_ = edges_with_rates(mesh_, rates);
+        const Edges edges = edges_with_rates(mesh_, rates);
         d_.num_input_vertices = mesh_.num_vertices;
-        const auto& sharp = input.output_sharp_edges();
-        const auto& sharp_corners = input.output_corner_vertices();
-        const LevelPatches input_patches(mesh_.triangles, mesh_.num_triangles, mesh_.num_vertices, sharp.data(),
-                                         input.output_sharp_edge_sharpness().data(), int(sharp.size() / 2),
-                                         sharp_corners.data(), int(sharp_corners.size()),
-                                         input.level_vertex_types(0).data());
+        const LevelPatches input_patches(input);
 
         std::vector<Sides> sides(std::size_t(mesh_.num_triangles));
         std::vector<std::int64_t> face_first(std::size_t(mesh_.num_triangles));
         std::int64_t next =
-            edges_.first_point.empty() ? mesh_.num_vertices : edges_.first_point.back() + edges_.rates.back() - 1;
+            edges.first_point.empty() ? mesh_.num_vertices : edges.first_point.back() + edges.rates.back() - 1;
         std::int64_t num_samples = 0, num_triangles = 0;
         d_.face_patch.assign(std::size_t(mesh_.num_triangles), -1);
         face_band_.assign(std::size_t(mesh_.num_triangles), -1);
@@ -221,8 +214,8 @@ public:
             Sides& s = sides[std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
                 const std::int32_t a = mesh_.triangles[3 * f + k], b = mesh_.triangles[3 * f + (k + 1) % 3];
-                const int e = edges_.find(a, b);
-                s.rates[k] = edges_.rates[std::size_t(e)], s.first_point[k] = edges_.first_point[std::size_t(e)];
+                const int e = edges.find(a, b);
+                s.rates[k] = edges.rates[std::size_t(e)], s.first_point[k] = edges.first_point[std::size_t(e)];
                 s.along[k] = a < b;
             }
             face_first[std::size_t(f)] = next;
@@ -415,14 +408,15 @@ private:
     // rate, the points of every input triangle).
     std::int32_t weight_set(int rotation, detail::PatchShape shape, const FacePoint& at) {
         const WeightKey key{at.S, at.T, at.D, rotation, shape};
-        const auto [found, added] = weight_sets_.try_emplace(key, std::int32_t(d_.patch_weights.size() / 36));
+        const auto [found, added] =
+            weight_sets_.try_emplace(key, std::int32_t(d_.patch_weights.size() / (3 * kPoints)));
         if (!added) return found->second;
         Patch patch;
         patch.rotation = rotation, patch.shape = shape;
         detail::PatchWeights w;
         detail::patch_weights(patch, double(at.S) / double(at.D), double(at.T) / double(at.D), w);
         for (const double* part : {w.position, w.ds, w.dt})
-            for (int i = 0; i < detail::kBoxSplinePoints; ++i) d_.patch_weights.push_back(float(part[i]));
+            for (int i = 0; i < kPoints; ++i) d_.patch_weights.push_back(float(part[i]));
         return found->second;
     }
 
@@ -441,15 +435,16 @@ private:
                 }
         std::vector<std::int32_t> local(std::size_t(mesh_.num_vertices), -1);
         bb.face.assign(std::size_t(mesh_.num_triangles), -1);
+        LocalMesh& sub = bb.mesh;
         std::vector<std::uint64_t> sub_edges;
         for (int f = 0; f < mesh_.num_triangles; ++f) {
             if (!taken[std::size_t(f)]) continue;
-            bb.face[std::size_t(f)] = std::int32_t(bb.triangles.size() / 3);
+            bb.face[std::size_t(f)] = std::int32_t(sub.triangles.size() / 3);
             for (int k = 0; k < 3; ++k) {
                 const std::int32_t v = mesh_.triangles[3 * f + k];
                 if (local[std::size_t(v)] < 0)
                     local[std::size_t(v)] = std::int32_t(vertices.size()), vertices.push_back(v);
-                bb.triangles.push_back(local[std::size_t(v)]);
+                sub.triangles.push_back(local[std::size_t(v)]);
                 sub_edges.push_back(detail::edge_key(v, mesh_.triangles[3 * f + (k + 1) % 3]));
             }
         }
@@ -457,22 +452,15 @@ private:
         for (int e = 0; e < mesh_.num_crease_edges; ++e) {
             const std::int32_t a = mesh_.crease_edges[2 * e], b = mesh_.crease_edges[2 * e + 1];
             if (!std::binary_search(sub_edges.begin(), sub_edges.end(), detail::edge_key(a, b))) continue;
-            bb.creases.push_back(local[std::size_t(a)]), bb.creases.push_back(local[std::size_t(b)]);
-            bb.crease_sharpness.push_back(mesh_.crease_sharpness[e]);
+            sub.creases.push_back(local[std::size_t(a)]), sub.creases.push_back(local[std::size_t(b)]);
+            sub.crease_sharpness.push_back(mesh_.crease_sharpness[e]);
         }
         for (int k = 0; k < mesh_.num_corners; ++k)
             if (const std::int32_t v = local[std::size_t(mesh_.corner_vertices[k])]; v >= 0)
-                bb.corners.push_back(v), bb.corner_sharpness.push_back(mesh_.corner_sharpness[k]);
+                sub.corners.push_back(v), sub.corner_sharpness.push_back(mesh_.corner_sharpness[k]);
         for (int k = 0; k < mesh_.num_cones; ++k)
-            if (const std::int32_t v = local[std::size_t(mesh_.cone_vertices[k])]; v >= 0) bb.cones.push_back(v);
-        MeshView& view = bb.view;
-        view.num_vertices = int(vertices.size());
-        view.triangles = bb.triangles.data(), view.num_triangles = int(bb.triangles.size() / 3);
-        view.crease_edges = bb.creases.data(), view.crease_sharpness = bb.crease_sharpness.data();
-        view.num_crease_edges = int(bb.crease_sharpness.size());
-        view.corner_vertices = bb.corners.data(), view.corner_sharpness = bb.corner_sharpness.data();
-        view.num_corners = int(bb.corners.size());
-        view.cone_vertices = bb.cones.data(), view.num_cones = int(bb.cones.size());
+            if (const std::int32_t v = local[std::size_t(mesh_.cone_vertices[k])]; v >= 0) sub.cones.push_back(v);
+        bb.view = sub.view(int(vertices.size()));
     }
 
     // A band's control points' plan and its patches, on the first point that needs them.
@@ -482,14 +470,9 @@ private:
         Options control = options_;
         control.limit_surface = false, control.levels = b.levels;
         b.control = std::make_unique<Plan>(bb.view, control);
-        const Plan& plan = *b.control;
-        const auto& sharp = plan.output_sharp_edges();
-        const auto& sharp_corners = plan.output_corner_vertices();
-        bb.patches = std::make_unique<LevelPatches>(
-            plan.output_triangles(), plan.num_output_triangles(), plan.num_output_vertices(), sharp.data(),
-            plan.output_sharp_edge_sharpness().data(), int(sharp.size() / 2), sharp_corners.data(),
-            int(sharp_corners.size()), plan.level_vertex_types(b.levels).data());
-        bb.local = std::make_unique<LocalRefiner>(*bb.patches, plan, control, bb.cones.data(), int(bb.cones.size()));
+        bb.patches = std::make_unique<LevelPatches>(*b.control);
+        bb.local = std::make_unique<LocalRefiner>(*bb.patches, *b.control, control, bb.mesh.cones.data(),
+                                                  int(bb.mesh.cones.size()));
     }
 
     static int two_adic(int rate) {  // the exponent of the largest power of two dividing rate
@@ -504,7 +487,6 @@ private:
     std::deque<BandBuilder> band_builders_;  // a deque: each band's view points into its arrays
     const MeshView& mesh_;
     Options options_;
-    Edges edges_;
     std::vector<bool> placed_;
     static constexpr std::int32_t kUnknown = -2;
     // Per level triangle of the input triangle at hand: its patch, or -1; and those that have been asked.
