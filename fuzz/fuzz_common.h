@@ -34,6 +34,34 @@ private:
 // Small enough that a fuzzer never waits on a big refinement; the refusal path is exercised instead.
 inline constexpr std::uint64_t kMemoryLimit = std::uint64_t(64) << 20;
 
+// The options the core's targets take from their first byte (bits 0 to 5: rules, boundary, crease method, kernel, two
+// threads), under the fuzzers' memory limit.
+inline Options options_from(std::uint8_t flags) {
+    Options options;
+    options.rules = flags & 1 ? Rules::OpenSubdiv : Rules::Hoppe94;
+    options.boundary = flags & 2 ? Boundary::EdgesAndCorners : Boundary::EdgesOnly;
+    options.crease_method = flags & 4 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
+    options.kernel = Kernel((flags >> 3) % 4);
+    options.threads = flags & 32 ? 2 : 1;
+    options.memory_limit_bytes = kMemoryLimit;
+    return options;
+}
+
+// A mesh's triangles and tags from the bytes, in this order: the triangles' indices, the crease edges and their
+// sharpness, the corners and theirs, the cones (indices are bytes, so some fall outside the mesh).
+inline void read_mesh(Bytes& in, MeshData& mesh, int vertices, int triangles, int creases, int corners, int cones) {
+    for (int i = 0; i < 3 * triangles; ++i) mesh.triangles.push_back(in.index(vertices));
+    for (int i = 0; i < creases; ++i) {
+        mesh.crease_edges.insert(mesh.crease_edges.end(), {in.index(vertices), in.index(vertices)});
+        mesh.crease_sharpness.push_back(in.number());
+    }
+    for (int i = 0; i < corners; ++i) {
+        mesh.corner_vertices.push_back(in.index(vertices));
+        mesh.corner_sharpness.push_back(in.number());
+    }
+    for (int i = 0; i < cones; ++i) mesh.cone_vertices.push_back(in.index(vertices));
+}
+
 inline void require_finite(const std::vector<float>& values) {
     for (float value : values)
         if (!std::isfinite(value)) std::abort();  // finite input must never give a non-finite output

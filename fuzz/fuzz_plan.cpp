@@ -17,12 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     using namespace loopsub;
     fuzz::Bytes in(data, size);
     const std::uint8_t flags = in.byte();
-    Options options;
-    options.rules = flags & 1 ? Rules::OpenSubdiv : Rules::Hoppe94;
-    options.boundary = flags & 2 ? Boundary::EdgesAndCorners : Boundary::EdgesOnly;
-    options.crease_method = flags & 4 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
-    options.kernel = Kernel((flags >> 3) % 4);
-    options.threads = flags & 32 ? 2 : 1;
+    Options options = fuzz::options_from(flags);
     options.limit_surface = (flags & 64) != 0;
     const std::uint8_t more = in.byte();
     if (more & 1) options.boundary = Boundary::None;
@@ -31,22 +26,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.level_tables = LevelTables((more >> 5) % 3);
     options.levels = in.byte() % 4;
     options.crease_threshold = in.number();
-    options.memory_limit_bytes = fuzz::kMemoryLimit;
     const int vertices = in.byte() % 64, triangles = in.byte() % 64, creases = in.byte() % 16, corners = in.byte() % 8,
               cones = in.byte() % 8, holes = in.byte() % 4, layer_values = in.byte() % 64;
 
     MeshData mesh;
     mesh.positions.resize(3 * std::size_t(vertices));
-    for (int i = 0; i < 3 * triangles; ++i) mesh.triangles.push_back(in.index(vertices));
-    for (int i = 0; i < creases; ++i) {
-        mesh.crease_edges.insert(mesh.crease_edges.end(), {in.index(vertices), in.index(vertices)});
-        mesh.crease_sharpness.push_back(in.number());
-    }
-    for (int i = 0; i < corners; ++i) {
-        mesh.corner_vertices.push_back(in.index(vertices));
-        mesh.corner_sharpness.push_back(in.number());
-    }
-    for (int i = 0; i < cones; ++i) mesh.cone_vertices.push_back(in.index(vertices));
+    fuzz::read_mesh(in, mesh, vertices, triangles, creases, corners, cones);
     for (int i = 0; i < holes; ++i) mesh.hole_triangles.push_back(in.index(triangles));
     std::vector<std::int32_t> corner_values(3 * std::size_t(triangles));
     for (std::int32_t& value : corner_values) value = in.index(layer_values);

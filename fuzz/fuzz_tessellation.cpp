@@ -38,28 +38,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     using namespace loopsub;
     fuzz::Bytes in(data, size);
     const std::uint8_t flags = in.byte();
-    Options options;
-    options.rules = flags & 1 ? Rules::OpenSubdiv : Rules::Hoppe94;
-    options.boundary = flags & 2 ? Boundary::EdgesAndCorners : Boundary::EdgesOnly;
-    options.crease_method = flags & 4 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
-    options.kernel = Kernel((flags >> 3) % 4);
-    options.threads = flags & 32 ? 2 : 1;
+    Options options = fuzz::options_from(flags);
     if (flags & 64) options.boundary = Boundary::None;
-    options.memory_limit_bytes = fuzz::kMemoryLimit;
     const int uniform = in.byte() % 16, vertices = in.byte() % 32, triangles = in.byte() % 32, creases = in.byte() % 8,
               corners = in.byte() % 4, cones = in.byte() % 4, rated = in.byte() % 8;
     MeshData mesh;
     mesh.positions.resize(3 * std::size_t(vertices));
-    for (int i = 0; i < 3 * triangles; ++i) mesh.triangles.push_back(in.index(vertices));
-    for (int i = 0; i < creases; ++i) {
-        mesh.crease_edges.insert(mesh.crease_edges.end(), {in.index(vertices), in.index(vertices)});
-        mesh.crease_sharpness.push_back(in.number());
-    }
-    for (int i = 0; i < corners; ++i) {
-        mesh.corner_vertices.push_back(in.index(vertices));
-        mesh.corner_sharpness.push_back(in.number());
-    }
-    for (int i = 0; i < cones; ++i) mesh.cone_vertices.push_back(in.index(vertices));
+    fuzz::read_mesh(in, mesh, vertices, triangles, creases, corners, cones);
     std::vector<std::int32_t> edges, rates;
     for (int i = 0; i < rated; ++i) {
         edges.insert(edges.end(), {in.index(vertices), in.index(vertices)});

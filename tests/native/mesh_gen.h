@@ -4,7 +4,10 @@
 // without the project's code, so that a test's input never depends on the code under test.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <array>
+#include <cctype>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -13,6 +16,15 @@
 #include "loopsub/loopsub.h"
 
 namespace loopsub::testing {
+
+// A gtest parameter's name made from its case's `name` (gtest takes letters, digits and '_' only).
+template <typename Case>
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+    std::string name = info.param.name;
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+}
 
 struct TestMesh : MeshData {
     std::string name;

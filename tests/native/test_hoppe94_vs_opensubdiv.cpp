@@ -218,12 +218,7 @@ TEST_P(HoppeAgreesWithOpenSubdiv, EveryVertex) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Hoppe94, HoppeAgreesWithOpenSubdiv, ::testing::ValuesIn(agreement_cases()),
-                         [](const ::testing::TestParamInfo<AgreementCase>& info) {
-                             std::string name = info.param.name;
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
+                         case_name<AgreementCase>);
 
 // The crease threshold: edges below it are smooth. Loops of sharpness 10 and 0.5 with threshold 1 must give
 // OpenSubdiv's result for the sharpness-10 loop alone (and not OpenSubdiv's semi-sharp blend of the 0.5 loop).

@@ -342,13 +342,6 @@ TEST_P(ManifoldInvariants, ChildNormalsPointLikeTheirParents) {
     }
 }
 
-std::string invariant_case_name(const ::testing::TestParamInfo<InvariantCase>& info) {
-    std::string name = info.param.name;
-    for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    return name;
-}
-
 std::vector<InvariantCase> manifold_cases() {
     std::vector<InvariantCase> cases = invariant_cases();
     cases.erase(
@@ -357,9 +350,10 @@ std::vector<InvariantCase> manifold_cases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(BothRules, Invariants, ::testing::ValuesIn(invariant_cases()), invariant_case_name);
+INSTANTIATE_TEST_SUITE_P(BothRules, Invariants, ::testing::ValuesIn(invariant_cases()), case_name<InvariantCase>);
 // Manifoldness and face orientation only mean something on manifold input (a fin folds over by design).
-INSTANTIATE_TEST_SUITE_P(BothRules, ManifoldInvariants, ::testing::ValuesIn(manifold_cases()), invariant_case_name);
+INSTANTIATE_TEST_SUITE_P(BothRules, ManifoldInvariants, ::testing::ValuesIn(manifold_cases()),
+                         case_name<InvariantCase>);
 
 // --- Feeding the output back in ------------------------------------------------------------------------------
 

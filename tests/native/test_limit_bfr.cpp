@@ -184,13 +184,6 @@ std::vector<BfrCase> cases() {
     return out;
 }
 
-std::string case_name(const ::testing::TestParamInfo<BfrCase>& info) {
-    std::string name = info.param.name;
-    for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    return name;
-}
-
 class LimitAgainstBfr : public ::testing::TestWithParam<BfrCase> {};
 
 TEST_P(LimitAgainstBfr, PositionsAndNormalsAreTheTrueLimits) {
@@ -211,7 +204,7 @@ TEST_P(LimitAgainstBfr, PositionsAndNormalsAreTheTrueLimits) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, LimitAgainstBfr, ::testing::ValuesIn(cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Shapes, LimitAgainstBfr, ::testing::ValuesIn(cases()), case_name<BfrCase>);
 
 // UVs at vertices that still have semi-sharp features on the last level go where Bfr's face-varying surface goes: a
 // value without a seam there takes the vertex's mask, a value held on a seam is held until the features in its span are

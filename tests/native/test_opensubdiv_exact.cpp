@@ -533,13 +533,6 @@ std::vector<ExactCase> generated_cases() {
     return cases;
 }
 
-std::string case_name(const ::testing::TestParamInfo<ExactCase>& info) {
-    std::string name = info.param.name;
-    for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    return name;
-}
-
 class PeerShapesExact : public ::testing::TestWithParam<ExactCase> {};
 class GeneratedExact : public ::testing::TestWithParam<ExactCase> {};
 
@@ -547,8 +540,9 @@ TEST_P(PeerShapesExact, MatchesOpenSubdiv) { expect_case_matches_opensubdiv(GetP
 
 TEST_P(GeneratedExact, MatchesOpenSubdiv) { expect_case_matches_opensubdiv(GetParam()); }
 
-INSTANTIATE_TEST_SUITE_P(OpenSubdivLoopShapes, PeerShapesExact, ::testing::ValuesIn(peer_cases()), case_name);
-INSTANTIATE_TEST_SUITE_P(Generated, GeneratedExact, ::testing::ValuesIn(generated_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(OpenSubdivLoopShapes, PeerShapesExact, ::testing::ValuesIn(peer_cases()),
+                         case_name<ExactCase>);
+INSTANTIATE_TEST_SUITE_P(Generated, GeneratedExact, ::testing::ValuesIn(generated_cases()), case_name<ExactCase>);
 
 // The peer directory holds exactly the shapes listed above: a shape added there must be added here too.
 TEST(PeerShapes, AllShapesAreListed) {

@@ -235,13 +235,6 @@ std::vector<ShapeCase> shapes() {
     return out;
 }
 
-std::string shape_name(const ::testing::TestParamInfo<ShapeCase>& info) {
-    std::string name = info.param.name;
-    for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    return name;
-}
-
 class TessellationAgainstBfr : public ::testing::TestWithParam<ShapeCase> {};
 
 TEST_P(TessellationAgainstBfr, PointsAndNormalsAreTheLimitSurfaces) {
@@ -262,7 +255,7 @@ TEST_P(TessellationAgainstBfr, PointsAndNormalsAreTheLimitSurfaces) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, TessellationAgainstBfr, ::testing::ValuesIn(shapes()), shape_name);
+INSTANTIATE_TEST_SUITE_P(Shapes, TessellationAgainstBfr, ::testing::ValuesIn(shapes()), case_name<ShapeCase>);
 
 // On a closed mesh every edge of the result has exactly two triangles and V - E + F stays the input's: no crack,
 // whatever the rates, and each point on an input edge is one point.
