@@ -134,7 +134,7 @@ def check_memory(mesh, options):
         drawn=not bpy.app.background)
     available = memory.available_bytes()
     if not memory.fits(required, available):
-        raise LoopSubError(memory.describe(required, available, options.levels))
+        raise LoopSubError(memory.describe(required, available, f"Level {options.levels}"))
 
 
 class Refined:
@@ -143,15 +143,17 @@ class Refined:
     compact form (None without the limit surface): normals (R, 3), row v vertex v's normal and, past N_out, those of
     the sides of vertices whose fan a crease, corner or boundary splits, and normal_indices (T_out, 3), the row of
     each output corner (Plan.evaluate_with_limit_normals, docs/python.md); and the output triangles (the plan's). A
-    UV map or the corner channels left as the result holds them (Source.refine's written) are None."""
+    UV map or the corner channels left as the result holds them (Source.refine's written) are None. vertex_rows: False
+    where the normals' rows are not vertices (a tessellation's are its face points)."""
 
-    def __init__(self, vertex, uvs, corners, normals, normal_indices, triangles):
+    def __init__(self, vertex, uvs, corners, normals, normal_indices, triangles, vertex_rows=True):
         self.vertex = vertex
         self.uvs = uvs
         self.corners = corners
         self.normals = normals
         self.normal_indices = normal_indices
         self.triangles = triangles
+        self.vertex_rows = vertex_rows
 
     def corner_normals(self):
         """The limit normals per output corner, (T_out, 3, 3): a new array."""
@@ -160,7 +162,7 @@ class Refined:
     def vertex_normals(self):
         """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no crease
         splits a fan: the core then gives one normal per vertex, a boundary vertex's its one side's); else None."""
-        return self.normals if len(self.normals) == len(self.vertex) else None
+        return self.normals if self.vertex_rows and len(self.normals) == len(self.vertex) else None
 
 
 class _Channels:

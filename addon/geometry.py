@@ -55,6 +55,15 @@ def child_crease_weights(sharpness, rules):
     return np.clip(np.asarray(sharpness, dtype=np.float32), 0.0, 1.0)
 
 
+def limit_crease_weights(sharpness, rules):
+    """Crease weights on the limit surface (a tessellation's edges and vertices) from the core's tags: the seed's
+    rules carry the weight; OpenSubdiv's spend a semi-sharp crease before the limit, so only the infinitely sharp stay
+    (as weight 1)."""
+    if rules == 'OPENSUBDIV':
+        return (np.asarray(sharpness) >= INFINITE_SHARPNESS).astype(np.float32)
+    return child_crease_weights(sharpness, rules)
+
+
 def edge_keys(pairs, num_vertices):
     """One int64 per undirected edge, so edges can be matched with sorting instead of dictionaries."""
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
@@ -114,6 +123,52 @@ def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_ve
         a, b = ends[:, 0], ends[:, 1]
     found = lookup_edges(cage_edges, np.stack([a, b], axis=1), num_cage_vertices)
     return np.where(on_edge, found, -1)
+
+
+def triangle_list_edges(triangles, num_vertices):
+    """The edges of a triangle list, each once, as Plan.output_edges gives them for a plan: (edge_vertices (E, 2)
+    int32, triangle_edges (T, 3) int32), edge k of a triangle joining its corners k and k + 1."""
+    triangles = np.asarray(triangles, dtype=np.int32)
+    pairs = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=2).reshape(-1, 2)
+    _, first, inverse = np.unique(edge_keys(pairs, num_vertices), return_index=True, return_inverse=True)
+    return pairs[first], inverse.reshape(-1, 3).astype(np.int32)
+
+
+# How far a face point's parameters may be from a side of its triangle and still lie on it: parameters are multiples
+# of 1 / rate (at most 4096) computed in float32, so an ulp's worth apart from the side, never 1e-4 apart.
+_ON_SIDE = 1e-6
+
+
+def tessellated_edge_sides(corner_parameters):
+    """For edge k of each triangle of a tessellation (from corner k to k + 1), the side of its parent triangle it lies
+    on, -1 inside: corner_parameters (T, 3, 2) are each corner's (u, v) in the parent (Tessellation's
+    face_point_parameters of its corner_face_points), side 0 running from corner 0 to 1 (v = 0), side 1 from 1 to 2
+    (u + v = 1), side 2 from 2 to 0 (u = 0). Returns (T, 3) int8."""
+    u, v = corner_parameters[..., 0], corner_parameters[..., 1]
+    on = (np.abs(v) < _ON_SIDE) * 1 | (np.abs(u + v - 1) < _ON_SIDE) * 2 | (np.abs(u) < _ON_SIDE) * 4
+    shared = on & np.roll(on, -1, axis=1)  # both ends on one side: two corners share at most one
+    return np.select([shared == 1, shared == 2, shared == 4], [0, 1, 2], -1).astype(np.int8)
+
+
+def tessellated_edge_parents(triangle_edges, edge_sides, parent_triangles, side_edges, num_edges):
+    """For each edge of a tessellation, the cage edge it lies on, -1 inside a cage triangle: triangle_edges (T, 3)
+    from triangle_list_edges, edge_sides (T, 3) from tessellated_edge_sides, parent_triangles (T,), side_edges
+    (T_cage, 3) the cage edge of each side of each cage triangle (-1 where it is none, as a diagonal Blender's
+    triangulation of an n-gon added)."""
+    parents = np.full(num_edges, -1, dtype=np.int64)
+    on_side = edge_sides >= 0
+    sides_of = np.broadcast_to(np.asarray(parent_triangles)[:, None], edge_sides.shape)
+    parents[triangle_edges[on_side]] = side_edges[sides_of[on_side], edge_sides[on_side]]
+    return parents
+
+
+def interpolate_in_triangles(corner_values, parents, parameters):
+    """Values at points of triangles, linearly from the corners: corner_values (T, 3, C) per triangle corner, parents
+    (P,) each point's triangle, parameters (P, 2) its (u, v) there (corner 0 + u (corner 1 - corner 0) + v (corner 2
+    - corner 0)). Returns (P, C) float32."""
+    corners = np.asarray(corner_values, dtype=np.float32)[parents]
+    u, v = parameters[:, 0:1], parameters[:, 1:2]
+    return corners[:, 0] + u * (corners[:, 1] - corners[:, 0]) + v * (corners[:, 2] - corners[:, 0])
 
 
 def edge_face_counts(loop_edges, num_edges):

@@ -15,6 +15,11 @@ The core's plan (all topology work) is kept per object while the input's triangl
 (Use Limit Surface and UV Smooth included) stay the same; then only the vertex and face-varying values are refined
 again and written into the result in place.
 
+With Adaptive Subdivision, the result is cut for a view (adaptive.py) instead of levels, and kept while the cage's
+triangles, tags and settings and the rates of its edges stay the same: moving the object or its camera changes the
+rates, and renders use the scene camera. The viewport's view is polled (_watch_views), since changing it is no
+update of any data.
+
 With Use Limit Surface, every update (an edit, a frame of playback, a setting's change, a render) writes the limit
 normals into the result as custom normals, the same ones Apply writes, the cheapest way the version offers
 (normals.write_limit_normals; docs/addon.md, Normals).
@@ -30,21 +35,23 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
-from . import cage, compat, result, stack
+from . import adaptive, cage, compat, result, stack
 from .native import LoopSubError
+from .output import PlanOutput
 
 
 class Cache:
     """What one object's entry keeps between updates."""
 
     def __init__(self):
-        self.plan = None
+        self.output = None  # the result's structure: output.PlanOutput, or TessellationOutput (Adaptive Subdivision)
         self.plan_key = None
         self.layout_key = None
         self.result = None  # name of the helper mesh built for plan_key and layout_key
         self.inputs = None  # the refined channels' inputs last written, to skip updates that change nothing
         self.blender_corners = None  # the result's corners that keep Blender's own normal (result.build_mesh)
-        self.plan_builds = 0  # plans built so far (tests check that position edits reuse the plan)
+        self.plan_builds = 0  # plans and tessellations built so far (tests check that edits reuse them)
+        self.cut = None  # Adaptive Subdivision: the (cage, options, object matrix) of the last cut, in the viewport
         self.error = ""
         self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
 
@@ -75,8 +82,7 @@ def refresh(obj, depsgraph, render=False):
         return
     if obj.library is not None:
         return  # linked from another file: read-only here, it shows the result that file saved
-    settings = obj.loop_subdivision
-    options = settings.options(levels=settings.render_levels if render else settings.levels)
+    options = obj.loop_subdivision.options(render=render)
     helper = stack.helper_of(obj, modifier)
     index = list(obj.modifiers).index(modifier)
     switched = [other for other in obj.modifiers[index:] if other.show_viewport]
@@ -88,7 +94,7 @@ def refresh(obj, depsgraph, render=False):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
-            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options)
+            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options, depsgraph, render)
             # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
             # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
             stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
@@ -102,35 +108,49 @@ def refresh(obj, depsgraph, render=False):
         _busy = False
 
 
-def _write(cache, obj, evaluated, mesh, helper, options):
+def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
     try:
-        if options.levels == 0:
+        if options.levels == 0 and not options.use_adaptive:
             raise _PassThrough
         # A result no larger than the one shown fitted before; a larger one is checked against the memory left.
         shown = len(helper.data.polygons) if cache.result == helper.data.name else 0
-        if (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
+        if not options.use_adaptive and (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
             cage.check_memory(mesh, options)
         source = cage.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None)
-        plan_key = source.plan_key()
+        if options.use_adaptive:
+            view = adaptive.view_for(depsgraph.scene, depsgraph, render)
+            edge_rates = adaptive.rates(source.cage, options, view, evaluated.matrix_world)
+            cache.cut = None if render else (source.cage, options, evaluated.matrix_world.copy())
+            plan_key = (*source.plan_key(), *edge_rates)
+        else:
+            cache.cut = None
+            plan_key = source.plan_key()
         if not _equal(cache.plan_key, plan_key):
             # The old plan is of another topology: it goes before the new one is built, so that a large result's two
             # plans are never held at once, and the new one reuses its memory.
-            cache.plan = cache.plan_key = None
-            cache.plan, cache.plan_key, cache.inputs = source.plan(), plan_key, None
+            cache.output = cache.plan_key = None
+            if options.use_adaptive:
+                adaptive.check_memory(source, edge_rates)
+                cache.output = adaptive.tessellate(source, edge_rates)
+            else:
+                cache.output = PlanOutput(source.plan())
+            # A new structure needs a new result, even where its counts and layout are the old one's (an edge
+            # rotated in Edit Mode; rates traded between edges).
+            cache.plan_key, cache.inputs, cache.layout_key = plan_key, None, None
             cache.plan_builds += 1
             cache.messages = source.messages
         inputs = source.inputs()
         layout_key = source.layout_key()
         in_place = (cache.result == helper.data.name and _equal(cache.layout_key, layout_key)
-                    and len(helper.data.vertices) == cache.plan.num_output_vertices)
+                    and len(helper.data.vertices) == cache.output.num_vertices)
         if in_place and _equal(cache.inputs, inputs):
             return
-        refined = source.refine(cache.plan, written=cache.inputs if in_place else None)
+        refined = cache.output.refine(source, written=cache.inputs if in_place else None)
         if in_place:
             result.update_mesh(helper.data, source, refined, cache.blender_corners)
         else:
             old = helper.data
-            _swap(helper, old, result.build_mesh(source, cache.plan, refined, helper.name, helper))
+            _swap(helper, old, result.build_mesh(source, cache.output, refined, helper.name, helper))
             cache.result, cache.layout_key = helper.data.name, layout_key
             cache.blender_corners = source.blender_corners
         cache.inputs = inputs
@@ -140,7 +160,7 @@ def _write(cache, obj, evaluated, mesh, helper, options):
         if cache.error != str(problem) and str(problem):
             _tell(f"{obj.name}: {problem}")
         cache.error = str(problem)
-        cache.plan_key = cache.result = cache.inputs = None
+        cache.plan_key = cache.result = cache.inputs = cache.cut = None
         _swap(helper, helper.data, bpy.data.meshes.new_from_object(evaluated))
 
 
@@ -216,10 +236,29 @@ def _refresh_updated(depsgraph):
         return
     _dropped()
     updated = {update.id.original for update in depsgraph.updates
-               if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
+               if isinstance(update.id, bpy.types.Object)
+               and (update.is_updated_geometry or update.is_updated_transform and _is_cut(update.id.original))}
+    updated |= _cut_for_camera(depsgraph)
     for obj in updated:
         stack.tidy(obj)  # a duplicated entry named as one, the helper's fields hidden
         refresh(obj, depsgraph)
+
+
+def _is_cut(obj):
+    """Whether obj's viewport result is cut by a view (Adaptive Subdivision): its rates follow its transform too."""
+    cache = _caches.get(obj.name)
+    return cache is not None and cache.cut is not None
+
+
+def _cut_for_camera(depsgraph):
+    """The objects whose viewport result the scene camera cut (Adaptive Subdivision without a 3D Viewport), where
+    this evaluation moved the camera or changed its lens."""
+    camera = depsgraph.scene.camera
+    if not bpy.app.background or camera is None:
+        return set()
+    if not any(update.id.original in (camera, camera.data) for update in depsgraph.updates):
+        return set()
+    return {obj for obj in (bpy.data.objects.get(name) for name in _caches) if obj is not None and _is_cut(obj)}
 
 
 @persistent
@@ -275,6 +314,37 @@ def _on_render_end(*_):
         _viewport_levels()  # a render from the command line or Python: the render is over, the scene is free
     elif not bpy.app.background:
         _main_thread_work.put((_viewport_levels, None))
+
+
+# The viewport's adaptive entries follow the view once it has stopped moving: it is read every _WATCH_INTERVAL
+# seconds, and an entry is cut again when the view is the one read before (still) and new since the last cut, and its
+# rates differ. Cutting while the view moves would stall orbiting on every step.
+_WATCH_INTERVAL = 0.25
+_watched_view = None
+_view_settled = True
+
+
+def _watch_views():
+    global _watched_view, _view_settled
+    if _busy or _rendering or _saving:
+        return _WATCH_INTERVAL
+    view = adaptive.viewport_view(bpy.context.window_manager)
+    if view != _watched_view:
+        _watched_view, _view_settled = view, False
+        return _WATCH_INTERVAL
+    if _view_settled or view is None:
+        return _WATCH_INTERVAL
+    _view_settled = True
+    depsgraph = None
+    for name, cache in list(_caches.items()):
+        obj = bpy.data.objects.get(name)
+        if cache.cut is None or obj is None or stack.entry(obj) is None:
+            continue
+        cut_cage, options, matrix_world = cache.cut
+        if not _equal(cache.plan_key[-2:], adaptive.rates(cut_cage, options, view, matrix_world)):
+            depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
+            refresh(obj, depsgraph)
+    return _WATCH_INTERVAL
 
 
 # Work that render threads hand to the main thread, which a timer serves while the interface runs.
@@ -442,11 +512,13 @@ def register():
         getattr(bpy.app.handlers, name).append(handler)
     if not bpy.app.background:
         bpy.app.timers.register(_serve, persistent=True)
+        bpy.app.timers.register(_watch_views, persistent=True)
 
 
 def unregister():
     for name, handler in _handlers:
         getattr(bpy.app.handlers, name).remove(handler)
-    if bpy.app.timers.is_registered(_serve):
-        bpy.app.timers.unregister(_serve)
+    for timer in (_serve, _watch_views):
+        if bpy.app.timers.is_registered(timer):
+            bpy.app.timers.unregister(timer)
     _caches.clear()

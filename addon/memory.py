@@ -227,7 +227,7 @@ _FIXED_DRAWN = 64 << 20
 
 
 def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, uv_layers=0, corner_channels=0, vertex_channels=3,
-                   limit_surface=True, version=(4, 5, 0), drawn=True):
+                   limit_surface=True, version=(4, 5, 0), drawn=True, counts=None):
     """Peak bytes one update of an entry adds at `levels`, from the cage's counts (edges and triangles after
     triangulation: the mesh's edges plus its triangles minus its faces) and the core's own estimate of its plan and
     one evaluation of the vertex channels (plan_bytes: _loopsub.estimate_plan_bytes). corner_channels: floats per
@@ -237,8 +237,9 @@ def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, uv_layers=0, 
 
     The peak comes either while the update builds the result (the refined values, then the larger of two moments'
     temporaries), or once it is shown (the result with its caches and evaluated copies, the draw cache) and, with the
-    limit surface, its limit normals are written into it; the core's plan lives throughout."""
-    counts = output_counts(vertices, edges, triangles, levels)
+    limit surface, its limit normals are written into it; the core's plan lives throughout. counts: the output's
+    (vertices, edges, triangles) where levels do not give them (a tessellation)."""
+    counts = counts or output_counts(vertices, edges, triangles, levels)
     old = version < (3, 5, 0)
     # Point attributes and vertex groups beyond the positions, and corner attributes, are stored too (4 bytes a
     # channel; a vertex group's weight takes 8 in Blender's deform weights).
@@ -264,6 +265,12 @@ def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, uv_layers=0, 
     return fixed + core + max(build, shown + write_normals.of(counts))
 
 
+# The core's tessellation per output triangle: its corners' points and face points (12 + 12 bytes), parent (4), and
+# per face point (about one a triangle) its parameters and normal (20), the points' positions (about half a point a
+# triangle, 6), and the patterns' weights shared by the triangles with the same rates.
+TESSELLATION_BYTES_PER_TRIANGLE = 64
+
+
 # --- Whether it fits, and what to tell the artist ---------------------------------------------------------------------
 
 _RESERVE_SHARE = 0.10
@@ -284,10 +291,10 @@ def fits(required, available, reserve=None):
     return required <= available - (reserve_bytes(available) if reserve is None else reserve)
 
 
-def describe(required, available, level):
-    """The report of a refused level: "Level 4 needs about 31 GB; 9.2 GB are free". A need below the free memory,
-    refused for the reserve, says so."""
-    text = f"Level {level} needs about {format_bytes(required)}; {format_bytes(available)} are free"
+def describe(required, available, subject):
+    """The report of a refused subdivision: "Level 4 needs about 31 GB; 9.2 GB are free" (subject "Level 4"). A need
+    below the free memory, refused for the reserve, says so."""
+    text = f"{subject} needs about {format_bytes(required)}; {format_bytes(available)} are free"
     if required <= available:
         text += f", less {format_bytes(reserve_bytes(available))} kept for Blender and the system"
     return text

@@ -37,6 +37,23 @@ def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, fa
         raise LoopSubError(str(error)) from error
 
 
+def build_tessellation(triangles, num_vertices, rates, options, tags, cone_vertices):
+    """The limit surface of the triangulated cage cut by rates ((edges (K, 2), rates (K,)) from screen_space_rates),
+    with the options' rules and tags as for build_plan."""
+    if options.rules != 'HOPPE94':
+        cone_vertices = np.zeros(0, dtype=np.int32)
+    edges, edge_rates = rates
+    return run(load().Tessellation, triangles, num_vertices, edges=edges, edge_rates=edge_rates,
+               cone_vertices=cone_vertices, **tags, **options.tessellation_keywords())
+
+
+def screen_space_rates(positions, triangles, object_to_clip, viewport, options):
+    """Each cage edge's rate as the camera (object_to_clip (4, 4), viewport (width, height) in pixels) sees it at the
+    options' dicing rate, measure and maximum: (edges (E, 2) int32, rates (E,) int32)."""
+    return run(load().screen_space_rates, positions, triangles, np.ascontiguousarray(object_to_clip, np.float32),
+               viewport, **options.rate_keywords())
+
+
 def weld_corner_values(triangles, num_vertices, corner_values):
     """One face-varying layer from per-corner values (a UV map read per triangle corner, (T, 3, C) float32): the
     core's weld. Returns (indices (T, 3) int32, values (V, C) float32). Corners of a vertex with equal values share

@@ -24,15 +24,15 @@ class BlenderCorners:
         return flat if self.on_sharp is None else flat | self.on_sharp
 
 
-def blender_normal_corners(source, plan, new_edges, sharp, parents):
+def blender_normal_corners(source, output, new_edges, sharp, parents):
     """The result's BlenderCorners with the limit normals, None where there are none (or no limit normals)."""
     if not source.limit_normals:
         return None
     on_sharp = None
     if sharp is not None and sharp.any() and compat.shades_sharp_edges(source.mesh):
-        vertices_on_sharp = np.zeros(plan.num_output_vertices, dtype=bool)
+        vertices_on_sharp = np.zeros(output.num_vertices, dtype=bool)
         vertices_on_sharp[new_edges[sharp].ravel()] = True
-        on_sharp = vertices_on_sharp[plan.triangles]
+        on_sharp = vertices_on_sharp[output.triangles]
     flat = ~source.smooth[parents]
     flat = flat if flat.any() else None
     return None if flat is None and on_sharp is None else BlenderCorners(flat, on_sharp)

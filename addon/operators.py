@@ -2,7 +2,7 @@
 import bpy
 from bpy.props import BoolProperty, IntProperty
 
-from . import cage, compat, live, result, settings, stack, tags
+from . import adaptive, cage, compat, live, result, settings, stack, tags
 from .native import LoopSubError
 from .properties import bpy_property
 
@@ -31,7 +31,8 @@ _LONG_APPLY_FACES = 2_000_000  # output triangles: about two seconds of applying
 # The arguments of Add (every setting) and of Apply (those that shape one subdivision), which override the object's
 # settings when given.
 _ADD_ARGUMENTS = tuple(setting.name for setting in settings.SETTINGS)
-_APPLY_OVERRIDES = ("levels", "rules", "crease_threshold", "boundary", "use_limit_surface", "uv_smooth")
+_APPLY_OVERRIDES = ("levels", "rules", "crease_threshold", "boundary", "use_limit_surface", "uv_smooth",
+                    "use_adaptive", "dicing_rate")
 
 
 class OBJECT_OT_loop_subdivision_add(bpy.types.Operator):
@@ -87,7 +88,8 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
     bl_options = {'REGISTER', 'UNDO'}
 
     __annotations__ = _arguments(_APPLY_OVERRIDES, levels=dict(
-        name="Levels", min=1, max=8, soft_max=5, description="Number of subdivisions to perform"))
+        name="Levels", min=1, max=8, soft_max=5, description="Number of subdivisions to perform"), dicing_rate=dict(
+        name="Dicing Rate", default=1.0, description="Size of a micropolygon in pixels, seen from the scene camera"))
 
     @classmethod
     def poll(cls, context):
@@ -98,17 +100,24 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
 
     def execute(self, context):
         obj = context.object
-        options = obj.loop_subdivision.options(**_overrides(self, _APPLY_OVERRIDES))
+        # Adaptive Subdivision applies what a render shows: the scene camera at the Render dicing rate.
+        own = obj.loop_subdivision
+        options = own.options(**{"dicing_rate": own.render_dicing_rate, **_overrides(self, _APPLY_OVERRIDES)})
         modifier = stack.entry(obj)
         if modifier is not None and not stack.is_first(obj, modifier):
             # Blender's own words when a modifier that is not first is applied: it acts on the object's mesh.
             self.report({'INFO'}, "Applied modifier was not first, result may not be as expected")
-        if options.levels == 0:  # nothing to subdivide: as Blender applies Subdivision Surface at level 0
+        if options.levels == 0 and not options.use_adaptive:
+            # Nothing to subdivide: as Blender applies Subdivision Surface at level 0.
             if modifier is not None:
                 obj.modifiers.remove(modifier)
             return {'FINISHED'}
         try:
-            cage.check_memory(obj.data, options)
+            if options.use_adaptive:
+                view = adaptive.scene_view(context.scene, context.evaluated_depsgraph_get())
+            else:
+                view = None
+                cage.check_memory(obj.data, options)
         except LoopSubError as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
@@ -117,7 +126,8 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
         # The interface does not redraw while an operator runs: a long apply redraws once to say what it does
         # (a redraw costs milliseconds on a GPU, half a second with software OpenGL).
         status = None
-        if not bpy.app.background and len(obj.data.polygons) * 4 ** options.levels > _LONG_APPLY_FACES:
+        long_apply = not options.use_adaptive and len(obj.data.polygons) * 4 ** options.levels > _LONG_APPLY_FACES
+        if not bpy.app.background and long_apply:
             status = context.workspace
             status.status_text_set(f"Loop Subdivision of {obj.name} to level {options.levels}…")
             bpy.ops.wm.redraw_timer(type='DRAW_WIN_SWAP', iterations=1)
@@ -126,7 +136,7 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
             window_manager.progress_update(stage)
 
         try:
-            subdivided = result.subdivide(obj, options, progress)
+            subdivided = result.subdivide(obj, options, progress, view)
         except LoopSubError as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}

@@ -26,8 +26,12 @@ class LoopSubdivisionSettings(bpy.types.PropertyGroup):
     __annotations__ = {setting.name: bpy_property(setting, **({"update": _changed} if setting.live else {}))
                        for setting in settings.SETTINGS}
 
-    def options(self, **overrides):
+    def options(self, render=False, **overrides):
+        """The settings of one subdivision: the viewport's, or with render the Render levels and dicing rate; overrides
+        (the operators' arguments) replace any."""
         values = {name: getattr(self, name) for name in settings.SUBDIVISION}
+        if render:
+            values.update(levels=self.render_levels, dicing_rate=self.render_dicing_rate)
         values.update(overrides)
         return settings.Options(**values)
 

@@ -7,8 +7,9 @@ object's mesh untouched.
 import bpy
 import numpy as np
 
-from . import compat, geometry, native, normals, tags
+from . import adaptive, compat, geometry, normals
 from .cage import Source, check_object
+from .output import PlanOutput
 from .mesh_data import add_attribute, fill_attribute
 
 # Temporary name of a float point attribute on its way to becoming a vertex group.
@@ -30,24 +31,31 @@ class Result:
 STAGES = ("Reading the mesh", "Building the plan", "Refining", "Writing the new mesh")
 
 
-def subdivide(obj, options, progress):
-    """Builds the subdivided copy of obj's own mesh (for Apply). progress(k) is called as stage STAGES[k] begins."""
+def subdivide(obj, options, progress, view=None):
+    """Builds the subdivided copy of obj's own mesh (for Apply). progress(k) is called as stage STAGES[k] begins.
+    view: the adaptive.View that Adaptive Subdivision cuts for."""
     check_object(obj)
     progress(0)
     source = Source(obj, obj.data, options)
     progress(1)
-    plan = source.plan()
+    if options.use_adaptive:
+        edge_rates = adaptive.rates(source.cage, options, view, obj.matrix_world)
+        adaptive.check_memory(source, edge_rates)
+        output = adaptive.tessellate(source, edge_rates)
+    else:
+        output = PlanOutput(source.plan())
     progress(2)
-    refined = source.refine(plan)
+    refined = output.refine(source)
     progress(3)
-    new = build_mesh(source, plan, refined, obj.data.name, None)
+    new = build_mesh(source, output, refined, obj.data.name, None)
     locks = [group.lock_weight for group in obj.vertex_groups]
     return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 
 
-def build_mesh(source, plan, refined, name, holder):
+def build_mesh(source, output, refined, name, holder):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
-    groups, tags. refined: source.refine(plan). holder: an object whose data the new mesh may become while vertex
+    groups, tags. output: its structure (output.PlanOutput or TessellationOutput); refined: output.refine(source).
+    holder: an object whose data the new mesh may become while vertex
     groups are written (None: a temporary one). Sets source.blender_corners, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
@@ -57,20 +65,20 @@ def build_mesh(source, plan, refined, name, holder):
             # An evaluated input lists evaluated copies of its materials, which a saved file cannot keep.
             new.materials.append(material.original if material is not None else None)
         compat.copy_shading_settings(mesh, new)
-        if len(plan.corner_vertices) or compat.has_vertex_creases(mesh):
+        if output.has_vertex_creases() or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
-        new_edges, _ = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], plan)
-        parents = cage.triangle_polygons[plan.parent_triangles]
+        new_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], output)
+        parents = cage.triangle_polygons[output.parent_triangles]
         _write_face_data(new, source, parents)
-        _write_creases(new, cage, plan, options, new_edges)
-        sharp = _write_edge_data(new, source, plan, new_edges)
-        source.blender_corners = normals.blender_normal_corners(source, plan, new_edges, sharp, parents)
+        _write_creases(new, cage, output, options, new_edges)
+        sharp = _write_edge_data(new, source, output, new_edges)
+        source.blender_corners = normals.blender_normal_corners(source, output, new_edges, sharp, parents)
         _add_value_layers(new, source)
         _write_values(new, source, refined)
         new.update()
         normals.write_normals(new, source, refined, source.blender_corners)
         _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
-        tags.write_plan_tags(new, plan, len(new_edges))
+        output.write_tags(new, len(new_edges))
     except Exception:
         bpy.data.meshes.remove(new)
         raise
@@ -113,12 +121,12 @@ def _write_values(new, source, refined):
         fill_attribute(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
 
-def _write_geometry(new, positions, plan):
-    """Vertices, edges and triangles. The edges come numbered from the core's refinement (Plan.output_edges), so
-    Blender need not find them, nor the add-on read them back. Returns (edge_vertices, triangle_edges)."""
-    triangles = plan.triangles
+def _write_geometry(new, positions, output):
+    """Vertices, edges and triangles. The edges come from the output (a plan numbers them as it refines), so Blender
+    need not find them, nor the add-on read them back. Returns the edges' vertices (E, 2)."""
+    triangles = output.triangles
     num_triangles = len(triangles)
-    edges, triangle_edges = native.run(plan.output_edges)
+    edges, triangle_edges = output.edges()
     new.vertices.add(len(positions))
     compat.write_positions(new, positions)
     new.edges.add(len(edges))
@@ -128,7 +136,7 @@ def _write_geometry(new, positions, plan):
     new.polygons.add(num_triangles)
     compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
     new.update()
-    return edges, triangle_edges
+    return edges
 
 
 def _write_face_data(new, source, parent_polygons):
@@ -144,28 +152,22 @@ def _write_face_data(new, source, parent_polygons):
         add_attribute(new, name, domain, data_type, values[parent_polygons])
 
 
-def _write_creases(new, cage, plan, options, new_edges):
-    """Child creases: the core's decremented sharpness (OpenSubdiv) or carried weights (seed rules), as weights."""
-    edge_weights = np.zeros(len(new_edges), dtype=np.float32)
-    edge_weights[plan.crease_edge_indices] = geometry.child_crease_weights(plan.crease_sharpness, options.rules)
-    if len(plan.crease_edge_indices) or cage.edge_weights.any():
+def _write_creases(new, cage, output, options, new_edges):
+    """The result's crease weights (output.creases); an edge crease layer where the cage or the result has one."""
+    edge_weights, vertex_weights = output.creases(cage, options, new_edges)
+    if edge_weights.any() or cage.edge_weights.any():
         compat.write_edge_creases(new, edge_weights)
-    vertex_weights = np.zeros(len(new.vertices), dtype=np.float32)
-    vertex_weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
     if compat.has_vertex_creases(new):
         compat.write_vertex_creases(new, vertex_weights)
 
 
-def _write_edge_data(new, source, plan, new_edges):
+def _write_edge_data(new, source, output, new_edges):
     """Seam and sharp marks and edge attributes pass to the child edges that lie on a cage edge; edges inside a cage
     face get none (zero, false). Returns the child edges' sharp marks (None when there are none)."""
     flags = {prop: values for prop, values in source.edge_flags.items() if values.any()}
     if not flags and not source.edge:
         return None
-    cage = source.cage
-    parents = geometry.parent_edges(new_edges, [plan.level_edges(level) for level in range(plan.levels)],
-                                    [plan.level_num_vertices(level) for level in range(plan.levels)],
-                                    cage.edge_vertices, cage.num_vertices)
+    parents = output.edge_parents(new_edges, source.cage)
     inherited = {prop: geometry.inherit_edge_values(values, parents) for prop, values in flags.items()}
     for prop, values in inherited.items():
         new.edges.foreach_set(prop, values)

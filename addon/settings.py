@@ -73,6 +73,21 @@ SETTINGS = (
                "boundaries"),
         Choice('SMOOTH_ALL', "All", "UVs and boundaries are smoothed", "none"),
     )),
+    # Cycles' adaptive subdivision's names and defaults (its Dicing Rate Render and Viewport, in pixels).
+    Setting("use_adaptive", "Adaptive Subdivision", False,
+            "Cut each face as finely as the camera sees it, on the limit surface (the scene camera when rendering "
+            "and applying, the 3D Viewport's view in the viewport), instead of by levels"),
+    Setting("dicing_rate", "Dicing Rate Viewport", 8.0, "Size of a micropolygon in pixels in the 3D viewport",
+            limits=dict(min=0.1, max=1000.0, soft_min=0.5, subtype='PIXEL')),
+    Setting("render_dicing_rate", "Render", 1.0, "Size of a micropolygon in pixels when rendering and applying",
+            limits=dict(min=0.1, max=1000.0, soft_min=0.5, subtype='PIXEL'), live=False),
+    Setting("dicing_measure", "Dicing Measure", 'LENGTH', "What the dicing rate holds each segment to", choices=(
+        Choice('LENGTH', "Length", "Each segment at most the dicing rate long on screen, as Cycles dices", "length"),
+        Choice('DEVIATION', "Deviation", "Each segment strays at most the dicing rate from the surface on screen: "
+               "flat stretches stay coarse however long they are", "deviation"),
+    )),
+    Setting("max_rate", "Max Segments", 64, "Largest number of segments an edge of the cage is cut into",
+            limits=dict(min=1, max=4096, soft_max=256)),
     Setting("store_result", "Store Result", False,
             "Save the result at Render levels in the file, for machines without the add-on (render farms). Off, "
             "the file holds the cage and the settings, as with Subdivision Surface, and the result is made again "
@@ -80,8 +95,10 @@ SETTINGS = (
 )
 BY_NAME = {setting.name: setting for setting in SETTINGS}
 
-# What one subdivision reads: the settings but the Render levels (a render passes them as levels) and Store Result.
-SUBDIVISION = tuple(setting.name for setting in SETTINGS if setting.name not in ("render_levels", "store_result"))
+# What one subdivision reads: the settings but the Render levels and dicing rate (a render passes them as levels and
+# dicing_rate) and Store Result.
+SUBDIVISION = tuple(setting.name for setting in SETTINGS
+                    if setting.name not in ("render_levels", "render_dicing_rate", "store_result"))
 
 
 def core_name(name, identifier):
@@ -100,8 +117,22 @@ def _plan_keywords(self):
     }
 
 
+def _tessellation_keywords(self):
+    """Keyword arguments of _loopsub.Tessellation for these options (tags, cones and rates come from the mesh)."""
+    keywords = _plan_keywords(self)
+    del keywords["limit_surface"], keywords["uv_interpolation"]
+    return keywords
+
+
+def _rate_keywords(self):
+    """Keyword arguments of _loopsub.screen_space_rates for these options (Adaptive Subdivision)."""
+    return {"pixels": float(self.dicing_rate), "max_rate": int(self.max_rate),
+            "measure": core_name("dicing_measure", self.dicing_measure)}
+
+
 # Options(levels=2, rules='OPENSUBDIV', ...): one subdivision's settings, the defaults the table's.
 Options = make_dataclass(
     "Options", [(name, type(BY_NAME[name].default), field(default=BY_NAME[name].default)) for name in SUBDIVISION],
-    namespace={"plan_keywords": _plan_keywords, "__doc__": "Settings of one subdivision (the panel's, overridden "
-               "by the operator's arguments)."})
+    namespace={"plan_keywords": _plan_keywords, "tessellation_keywords": _tessellation_keywords,
+               "rate_keywords": _rate_keywords,
+               "__doc__": "Settings of one subdivision (the panel's, overridden by the operator's arguments)."})

@@ -47,13 +47,18 @@ STORED_BYTES_PER_TRIANGLE_COMPRESSED = 30
 
 
 def stored_bytes(obj, modifier):
-    """About how much store_result adds to the file: the result's triangles at Render levels, from the viewport's
-    result where there is one (it holds what the modifiers above make), else from the object's own faces; the file
-    compressed as the preferences say new files are."""
+    """About how much store_result adds to the file: the result's triangles at Render levels (or dicing rate), from
+    the viewport's result where there is one (it holds what the modifiers above make), else from the object's own
+    faces; the file compressed as the preferences say new files are."""
     settings = obj.loop_subdivision
     helper = stack.helper_of(obj, modifier, create=False)
     cache = live.cache_of(obj)
-    if helper is not None and cache is not None and not cache.error and settings.levels > 0:
+    shown = helper is not None and cache is not None and not cache.error
+    if settings.use_adaptive:
+        # Segments per edge go as one over the dicing rate, triangles as its square (up to Max Segments).
+        mesh = helper.data if shown else obj.data
+        triangles = len(mesh.polygons) * (settings.dicing_rate / settings.render_dicing_rate) ** 2
+    elif shown and settings.levels > 0:
         triangles = len(helper.data.polygons) * 4 ** (settings.render_levels - settings.levels)
     else:
         mesh = obj.data
@@ -80,15 +85,27 @@ def _draw_settings(layout, obj, modifier, columns=None):
     layout.use_property_split = True
     layout.use_property_decorate = False
 
+    adaptive = settings.use_adaptive
     column = layout.column(align=True)
+    column.active = not adaptive
     column.prop(settings, "levels", text="Levels Viewport")
     column.prop(settings, "render_levels", text="Render")
+    layout.prop(settings, "use_adaptive")
+    if adaptive:
+        column = layout.column(align=True)
+        column.prop(settings, "dicing_rate", text="Dicing Rate Viewport")
+        column.prop(settings, "render_dicing_rate", text="Render")
+        layout.prop(settings, "dicing_measure")
+        layout.prop(settings, "max_rate")
     layout.prop(settings, "rules")
     threshold = layout.row()
     threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
     threshold.prop(settings, "crease_threshold")
-    layout.prop(settings, "use_limit_surface")
-    layout.prop(settings, "uv_smooth")
+    # Adaptive Subdivision cuts the limit surface, with UVs linear within each cage face.
+    for name in ("use_limit_surface", "uv_smooth"):
+        row = layout.row()
+        row.active = not adaptive
+        row.prop(settings, name)
     layout.prop(settings, "boundary")
     layout.prop(settings, "use_creases")
     cones = layout.row()
@@ -96,7 +113,8 @@ def _draw_settings(layout, obj, modifier, columns=None):
     cones.prop_search(settings, "cone_group", obj, "vertex_groups", text="Cone Group")
     layout.prop(settings, "store_result")
     if settings.store_result:
-        _note(layout, f"The file keeps the Render level: about {memory.format_bytes(stored_bytes(obj, modifier))}",
+        kept = "Render dicing rate" if settings.use_adaptive else "Render level"
+        _note(layout, f"The file keeps the {kept}: about {memory.format_bytes(stored_bytes(obj, modifier))}",
               'INFO', columns)
 
     cache = live.cache_of(obj)

@@ -7,7 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis blender assimp-testmodels clang-format)
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis blender assimp-testmodels clang-format
+          xvfb)
 source scripts/packages.sh
 install_packages "${packages[@]}"
 

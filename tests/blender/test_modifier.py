@@ -161,7 +161,7 @@ def edits():
     check(plan_builds(obj) == builds and not np.array_equal(in_edit, after),
           "in Edit Mode a vertex move shows in the result, with the same plan")
     edit.faces.ensure_lookup_table()
-    old_plan = weakref.ref(addon.live.cache_of(obj).plan)
+    old_plan = weakref.ref(addon.live.cache_of(obj).output.plan)
     old_gone_when_built = []
     build_plan = addon.cage.Source.plan
 
@@ -180,6 +180,25 @@ def edits():
           "in Edit Mode deleting a face builds a new plan")
     check(old_gone_when_built == [True],
           "the old plan is let go before the new one is built (a large result's two plans are never held at once)")
+    # Rotating an edge keeps every count (vertices, edges, faces) and the layout: only the plan tells the results apart.
+    edit.edges.ensure_lookup_table()
+    inner = next(edge for edge in edit.edges if len(edge.link_faces) == 2
+                 and all(len(face.verts) == 3 for face in edge.link_faces))
+    bmesh.ops.rotate_edges(edit, edges=[inner], use_ccw=True)
+    bmesh.update_edit_mesh(obj.data)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    shown = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    shown_corners = support.read_array(shown.loops, "vertex_index", dtype=np.int32)
+    twin = support.copy_object(obj, "Edited twin")
+    twin.modifiers.clear()
+    support.apply_loop(twin, levels=1)
+    twin_corners = support.read_array(twin.data.loops, "vertex_index", dtype=np.int32)
+    check(plan_builds(obj) == builds + 2 and np.array_equal(shown_corners, twin_corners)
+          and np.array_equal(support.positions(shown), support.positions(twin.data)),
+          "rotating an edge in Edit Mode gives the subdivision of the new triangles, not the old ones moved")
+    support.remove(twin)
+    support.select_only(obj)
+    bpy.ops.object.mode_set(mode='EDIT')
     bpy.ops.object.mode_set(mode='OBJECT')
     check(np.array_equal(evaluated(obj)[0], applied(obj, levels=1)[0]),
           "back in Object Mode the result is the subdivision of the edited mesh")

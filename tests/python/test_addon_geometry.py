@@ -165,7 +165,7 @@ def test_uv_smooth_is_blenders_mapping():
 
 def test_options_are_the_settings_of_one_subdivision():
     options = settings.Options()
-    assert "render_levels" not in vars(options) and "store_result" not in vars(options)
+    assert not {"render_levels", "render_dicing_rate", "store_result"} & set(vars(options))
     assert all(getattr(options, name) == settings.BY_NAME[name].default for name in settings.SUBDIVISION)
     assert all(setting.default in [choice.identifier for choice in setting.choices]
                for setting in settings.SETTINGS if setting.choices)
@@ -224,3 +224,75 @@ def test_every_choice_names_an_option_of_the_core():
     core = _loopsub.option_names()
     for keyword, setting in (("rules", "rules"), ("boundary", "boundary"), ("uv_interpolation", "uv_smooth")):
         assert {choice.core for choice in settings.BY_NAME[setting].choices} <= set(core[keyword])
+    # The dicing measures are screen_space_rates' own: each is accepted, and they differ.
+    square = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.5]], np.float32)
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    camera = np.array([[2, 0, 0, 0], [0, 2, 0, 0], [0, 0, -1, 4], [0, 0, -1, 5]], np.float32)
+    rates = {choice.identifier: _loopsub.screen_space_rates(
+        square, triangles, camera, (500, 500), **settings.Options(dicing_measure=choice.identifier,
+                                                                  dicing_rate=1.0).rate_keywords())[1].tolist()
+             for choice in settings.BY_NAME["dicing_measure"].choices}
+    assert rates['LENGTH'] != rates['DEVIATION']
+
+
+def test_tessellation_keywords_build_a_tessellation():
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    options = settings.Options(rules='OPENSUBDIV', boundary='KEEP_CORNERS', use_adaptive=True)
+    tessellation = _loopsub.Tessellation(triangles, 4, 3, **options.tessellation_keywords())
+    assert tessellation.num_points == 16 and len(tessellation.triangles) == 18
+
+
+def _tessellated_square(rates):
+    """A unit square of two triangles tessellated at rates (per edge: (0,1), (1,3), (3,2), (2,0), (1,2)), its points
+    placed linearly (so that each lies where its parameters say, in the plane)."""
+    square = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float32)
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    edges = np.array([[0, 1], [1, 3], [3, 2], [2, 0], [1, 2]], np.int32)
+    tessellation = _loopsub.Tessellation(triangles, 4, edges=edges, edge_rates=np.array(rates, np.int32))
+    corner_parameters = tessellation.face_point_parameters[tessellation.corner_face_points]
+    corners = geometry.interpolate_in_triangles(square[triangles], np.repeat(tessellation.parent_triangles, 3),
+                                                corner_parameters.reshape(-1, 2)).reshape(-1, 3, 2)
+    return square, triangles, edges, tessellation, corner_parameters, corners
+
+
+def test_triangle_list_edges_numbers_each_edge_once():
+    triangles = np.array([[0, 1, 2], [1, 3, 2], [3, 4, 2]], np.int32)
+    edges, triangle_edges = geometry.triangle_list_edges(triangles, 5)
+    assert len(edges) == 7 and len({tuple(sorted(edge)) for edge in edges.tolist()}) == 7
+    for t, triangle in enumerate(triangles):
+        for k in range(3):
+            assert sorted(edges[triangle_edges[t, k]]) == sorted([triangle[k], triangle[(k + 1) % 3]])
+
+
+def test_tessellated_edges_find_the_cage_edge_they_lie_on():
+    square, triangles, edges, tessellation, corner_parameters, corners = _tessellated_square([2, 3, 1, 4, 5])
+    # The same points by the tessellation's own numbering: each point's place is the same from every triangle.
+    placed = np.zeros((tessellation.num_points, 2), np.float32)
+    placed[tessellation.triangles.ravel()] = corners.reshape(-1, 2)
+    assert np.abs(placed[tessellation.triangles] - corners).max() < 1e-6
+    out_edges, triangle_edges = geometry.triangle_list_edges(tessellation.triangles, tessellation.num_points)
+    sides = geometry.tessellated_edge_sides(corner_parameters)
+    side_edges = geometry.lookup_edges(edges, triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), 4).reshape(-1, 3)
+    parents = geometry.tessellated_edge_parents(triangle_edges, sides, tessellation.parent_triangles, side_edges,
+                                                len(out_edges))
+    # Checked against the square's geometry: an edge lies on the cage edge it names (both ends on its segment), and
+    # on none when it names none; each cage edge is cut into its rate.
+    for edge, parent in zip(out_edges, parents):
+        a, b = placed[edge]
+        lying = [e for e, (p, q) in enumerate(square[edges])
+                 if all(abs((q - p)[0] * (x - p)[1] - (q - p)[1] * (x - p)[0]) < 1e-6 for x in (a, b))]
+        assert parent == (lying[0] if lying else -1)
+    assert np.bincount(parents[parents >= 0], minlength=5).tolist() == [2, 3, 1, 4, 5]
+
+
+def test_interpolate_in_triangles_is_linear():
+    corner_values = np.array([[[0, 0, 1], [2, 0, 1], [0, 4, 1]]], np.float32)
+    values = geometry.interpolate_in_triangles(corner_values, np.array([0, 0, 0]),
+                                               np.array([[0, 0], [0.5, 0.5], [0.25, 0.25]], np.float32))
+    assert np.allclose(values, [[0, 0, 1], [1, 2, 1], [0.5, 1, 1]])
+
+
+def test_limit_crease_weights():
+    assert geometry.limit_crease_weights(np.array([10.0, 3.6, 0.1], np.float32), 'OPENSUBDIV').tolist() == [1, 0, 0]
+    assert geometry.limit_crease_weights(np.array([1.0, 0.6], np.float32), 'HOPPE94').tolist() == pytest.approx(
+        [1.0, 0.6])

@@ -263,13 +263,13 @@ def test_fits_keeps_a_reserve():
 
 
 def test_describe_in_gb_and_mb():
-    assert memory.describe(31 * GB + 123, int(9.23 * GB), 4) == "Level 4 needs about 31 GB; 9.2 GB are free"
-    assert memory.describe(int(2.26 * GB), 900 * MB, 3) == "Level 3 needs about 2.3 GB; 900 MB are free"
-    assert memory.describe(313 * MB + 5, 95 * MB, 2) == "Level 2 needs about 313 MB; 95 MB are free"
-    assert memory.describe(int(9.97 * GB), 3 * GB, 5) == "Level 5 needs about 10 GB; 3 GB are free"
-    assert memory.describe(1000 * MB, 0, 1) == "Level 1 needs about 1 GB; 0 MB are free"
+    assert memory.describe(31 * GB + 123, int(9.23 * GB), "Level 4") == "Level 4 needs about 31 GB; 9.2 GB are free"
+    assert memory.describe(int(2.26 * GB), 900 * MB, "Level 3") == "Level 3 needs about 2.3 GB; 900 MB are free"
+    assert memory.describe(313 * MB + 5, 95 * MB, "Level 2") == "Level 2 needs about 313 MB; 95 MB are free"
+    assert memory.describe(int(9.97 * GB), 3 * GB, "Level 5") == "Level 5 needs about 10 GB; 3 GB are free"
+    assert memory.describe(1000 * MB, 0, "Level 1") == "Level 1 needs about 1 GB; 0 MB are free"
 
 
 def test_describe_says_when_the_reserve_refuses():
-    assert (memory.describe(int(8.5 * GB), int(9.2 * GB), 4)
+    assert (memory.describe(int(8.5 * GB), int(9.2 * GB), "Level 4")
             == "Level 4 needs about 8.5 GB; 9.2 GB are free, less 1.2 GB kept for Blender and the system")

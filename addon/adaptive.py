@@ -1,0 +1,98 @@
+"""Adaptive Subdivision: the view an entry is cut for, the rates it gives the cage's edges, and the tessellation.
+
+A render and Apply take the scene camera at the render's resolution. The viewport takes the view of the largest 3D
+Viewport (which is the camera's when it looks through it), or the scene camera where no 3D Viewport is open
+(background mode). The viewport's result follows the view once the view has stopped moving (live.watch_views): a
+tessellation is made again only where the rates change.
+"""
+import bpy
+import numpy as np
+
+from . import geometry, memory, native
+from .cage import counted
+from .native import LoopSubError
+from .output import TessellationOutput
+
+
+class View:
+    """A camera as the core reads it: world to clip space (4 x 4, OpenGL's convention) and the viewport's size in
+    pixels."""
+
+    def __init__(self, world_to_clip, size):
+        self.world_to_clip = np.asarray(world_to_clip, dtype=np.float32)
+        self.size = size
+
+    def __eq__(self, other):
+        return (isinstance(other, View) and self.size == other.size
+                and np.array_equal(self.world_to_clip, other.world_to_clip))
+
+
+def scene_view(scene, depsgraph):
+    """The scene camera at the render's resolution (its percentage and pixel aspect too), as evaluated in depsgraph
+    (an animated camera where the frame has it)."""
+    if scene.camera is None:
+        raise LoopSubError("Adaptive Subdivision needs a scene camera")
+    render = scene.render
+    scale = render.resolution_percentage / 100
+    width, height = max(1, round(render.resolution_x * scale)), max(1, round(render.resolution_y * scale))
+    camera = scene.camera.evaluated_get(depsgraph)
+    projection = camera.calc_matrix_camera(depsgraph, x=width, y=height, scale_x=render.pixel_aspect_x,
+                                           scale_y=render.pixel_aspect_y)
+    return View(projection @ camera.matrix_world.inverted(), (width, height))
+
+
+def viewport_view(window_manager):
+    """The view of the largest 3D Viewport of any window, None where none is open."""
+    largest, view = 0, None
+    for window in window_manager.windows if window_manager is not None else ():
+        for area in window.screen.areas:
+            space = area.spaces.active
+            if area.type != 'VIEW_3D' or space.region_3d is None:
+                continue
+            for region in area.regions:
+                if region.type == 'WINDOW' and region.width * region.height > largest:
+                    largest = region.width * region.height
+                    view = View(space.region_3d.perspective_matrix, (region.width, region.height))
+    return view
+
+
+def view_for(scene, depsgraph, render):
+    """The view an entry is cut for: a render's (and Apply's) the scene camera, the viewport's its largest 3D
+    Viewport's."""
+    view = None if render or bpy.app.background else viewport_view(bpy.context.window_manager)
+    return view or scene_view(scene, depsgraph)
+
+
+def rates(cage, options, view, matrix_world):
+    """(edges, rates) of a cage (of an object with matrix_world) seen from view, at the options' dicing rate."""
+    object_to_clip = view.world_to_clip @ np.asarray(matrix_world, dtype=np.float32)
+    return native.screen_space_rates(cage.positions, cage.triangles, object_to_clip, view.size, options)
+
+
+def check_memory(source, edge_rates):
+    """Raises LoopSubError where the tessellation at edge_rates would need more memory than this process may still
+    use (as cage.check_memory for levels)."""
+    cage = source.cage
+    edges, segments = edge_rates
+    sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    inner = segments[geometry.lookup_edges(edges, sides, cage.num_vertices)].reshape(-1, 3).max(axis=1).astype(np.int64)
+    triangles = int(np.sum(inner * inner))
+    vertices = cage.num_vertices + int(np.sum(segments - 1)) + int(np.sum((inner - 1) * (inner - 2) // 2))
+    counts = (vertices, vertices + triangles, triangles)
+    mesh = source.mesh
+    required = memory.estimate_bytes(
+        0, 0, 0, 0, memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles, uv_layers=len(mesh.uv_layers),
+        version=bpy.app.version, drawn=not bpy.app.background, counts=counts)
+    available = memory.available_bytes()
+    if not memory.fits(required, available):
+        raise LoopSubError(memory.describe(
+            required, available,
+            f"Adaptive Subdivision at {source.options.dicing_rate:g} px ({counted(triangles, 'triangle')})"))
+
+
+def tessellate(source, edge_rates):
+    """The TessellationOutput of source's cage at edge_rates."""
+    cage, options = source.cage, source.options
+    tessellation = native.build_tessellation(cage.triangles, cage.num_vertices, edge_rates, options,
+                                             cage.tags(options), source.cones)
+    return TessellationOutput(tessellation, cage, options)

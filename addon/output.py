@@ -1,0 +1,140 @@
+"""The structure of a result, whichever way it is cut: by levels (PlanOutput, the core's Plan) or by the camera
+(TessellationOutput, the core's Tessellation). result.build_mesh reads the same things of both: the triangles, the
+cage triangle each lies in, the edges, the cage edge each lies on, the crease weights the result inherits, and the
+refined values of a Source.
+"""
+import numpy as np
+
+from . import geometry, native, tags
+from .cage import Refined
+
+
+class PlanOutput:
+    """Levels of refinement: the plan numbers the result's vertices, edges and triangles (docs/python.md, Output
+    order), so no edge is searched for."""
+
+    def __init__(self, plan):
+        self.plan = plan
+        self.triangles = plan.triangles
+        self.parent_triangles = plan.parent_triangles
+        self.num_vertices = plan.num_output_vertices
+
+    def edges(self):
+        """(edge_vertices (E, 2), triangle_edges (T, 3)): edge k of a triangle joins its corners k and k + 1."""
+        return native.run(self.plan.output_edges)
+
+    def edge_parents(self, edges, cage):
+        """The cage edge each edge lies on, -1 inside a cage face."""
+        plan = self.plan
+        return geometry.parent_edges(edges, [plan.level_edges(level) for level in range(plan.levels)],
+                                     [plan.level_num_vertices(level) for level in range(plan.levels)],
+                                     cage.edge_vertices, cage.num_vertices)
+
+    def has_vertex_creases(self):
+        return len(self.plan.corner_vertices) > 0
+
+    def creases(self, cage, options, edges):
+        """(edge weights (E,), vertex weights (V,)): the core's decremented sharpness (OpenSubdiv) or the carried
+        weights (seed rules)."""
+        plan = self.plan
+        edge_weights = np.zeros(len(edges), dtype=np.float32)
+        edge_weights[plan.crease_edge_indices] = geometry.child_crease_weights(plan.crease_sharpness, options.rules)
+        vertex_weights = np.zeros(self.num_vertices, dtype=np.float32)
+        vertex_weights[plan.corner_vertices] = geometry.child_crease_weights(plan.corner_sharpness, options.rules)
+        return edge_weights, vertex_weights
+
+    def write_tags(self, mesh, num_edges):
+        tags.write_plan_tags(mesh, self.plan, num_edges)
+
+    def refine(self, source, written=None):
+        return source.refine(self.plan, written)
+
+
+class TessellationOutput:
+    """The limit surface cut by the rates of the cage's edges (Adaptive Subdivision): the points are the cage's
+    vertices, then the points inside its edges, then those inside its triangles; each triangle's corners have their
+    parameters (u, v) in the cage triangle they lie in, which place every value but the positions and normals:
+    point and corner attributes, vertex groups and UVs are interpolated linearly within each cage triangle."""
+
+    def __init__(self, tessellation, cage, options):
+        self.tessellation = tessellation
+        self.cage = cage
+        self.options = options
+        self.triangles = tessellation.triangles
+        self.parent_triangles = tessellation.parent_triangles
+        self.num_vertices = tessellation.num_points
+        corner_face_points = tessellation.corner_face_points
+        self.corner_parameters = tessellation.face_point_parameters[corner_face_points]
+        # One face point of each point, with its triangle: where a point's linear values are read.
+        self.point_parent = np.empty(self.num_vertices, dtype=np.int32)
+        self.point_parent[self.triangles.ravel()] = np.repeat(self.parent_triangles, 3)
+        self.point_parameters = np.empty((self.num_vertices, 2), dtype=np.float32)
+        self.point_parameters[self.triangles.ravel()] = self.corner_parameters.reshape(-1, 2)
+        self._triangle_edges = self._edge_parents = None
+
+    def edges(self):
+        edges, self._triangle_edges = geometry.triangle_list_edges(self.triangles, self.num_vertices)
+        self._edge_parents = None
+        return edges, self._triangle_edges
+
+    def edge_parents(self, edges, cage):
+        """The cage edge each edge (of edges(), called first) lies on, -1 inside a cage triangle."""
+        if self._edge_parents is None:
+            sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+            side_edges = geometry.lookup_edges(cage.edge_vertices, sides, cage.num_vertices).reshape(-1, 3)
+            self._edge_parents = geometry.tessellated_edge_parents(
+                self._triangle_edges, geometry.tessellated_edge_sides(self.corner_parameters), self.parent_triangles,
+                side_edges, len(edges))
+        return self._edge_parents
+
+    def has_vertex_creases(self):
+        return len(self.cage.tags(self.options)["corner_vertices"]) > 0
+
+    def creases(self, cage, options, edges):
+        """(edge weights (E,), vertex weights (V,)) on the limit surface (geometry.limit_crease_weights): the edges on
+        a creased cage edge and the cage's corners."""
+        crease_tags = cage.tags(options)
+        cage_weights = np.zeros(len(cage.edge_vertices), dtype=np.float32)
+        tagged = geometry.lookup_edges(cage.edge_vertices, crease_tags["crease_edges"], cage.num_vertices)
+        found = tagged >= 0
+        cage_weights[tagged[found]] = geometry.limit_crease_weights(crease_tags["crease_sharpness"][found],
+                                                                    options.rules)
+        edge_weights = geometry.inherit_edge_values(cage_weights, self.edge_parents(edges, cage))
+        vertex_weights = np.zeros(self.num_vertices, dtype=np.float32)
+        vertex_weights[crease_tags["corner_vertices"]] = geometry.limit_crease_weights(
+            crease_tags["corner_sharpness"], options.rules)
+        return edge_weights, vertex_weights
+
+    def write_tags(self, mesh, num_edges):
+        """None: the tags say how refinement goes on, and the limit surface is where it ends."""
+
+    def refine(self, source, written=None):
+        """The Refined values of source on this tessellation: positions and normals on the limit surface; the other
+        channels linear in the cage triangles (written: as Source.refine's, the UV maps and corner channels whose
+        values are unchanged are left as the result holds them)."""
+        def unchanged(index, values):
+            return written is not None and np.array_equal(written[index], values)
+
+        cage = source.cage
+        points, normals = native.run(self.tessellation.evaluate, cage.positions)
+        vertex = points
+        if source.vertex.width > 3:
+            values = source.vertex.packed()
+            vertex = geometry.interpolate_in_triangles(values[cage.triangles], self.point_parent,
+                                                       self.point_parameters)
+            vertex[:, source.vertex.columns["position"]] = points
+        parents = np.repeat(self.parent_triangles, 3)
+        parameters = self.corner_parameters.reshape(-1, 2)
+
+        def per_corner(corner_values):
+            values = geometry.interpolate_in_triangles(corner_values, parents, parameters)
+            return values.reshape(len(self.triangles), 3, -1)
+
+        uvs = [None if unchanged(2 + layer, values) else per_corner(values[indices])
+               for layer, (indices, values) in enumerate(source.uv_layers)]
+        corners = None
+        if source.corners.parts:
+            values = source.corners.packed()
+            corners = None if unchanged(1, values) and not source.custom_normals else per_corner(values)
+        return Refined(vertex, uvs, corners, normals, self.tessellation.corner_face_points, self.triangles,
+                       vertex_rows=False)

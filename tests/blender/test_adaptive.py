@@ -1,0 +1,218 @@
+"""Adaptive Subdivision in Blender: each cage edge cut into as many segments as the camera needs, on the limit surface.
+
+What an artist relies on: the option is off by default with Cycles' dicing rates; the result has no cracks; its
+points lie on the limit surface; an edge gets the segments its length on screen asks for (worked out here by hand
+from the camera's lens and the render's size, not by the core); the viewport and a render each use their dicing
+rate, Apply the render's; Max Segments caps the rates; an entry with no camera to cut for says so and passes its
+input through.
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+from mathutils.bvhtree import BVHTree  # noqa: E402
+
+import blender_test_support as support  # noqa: E402
+
+addon = support.load_addon()
+check = support.Check("test_adaptive")
+stack = addon.stack
+
+
+def core():
+    from importlib import import_module
+    return import_module(addon.__name__ + "._loopsub")
+
+
+def top_camera(height, lens=20.0, resolution=1000, percentage=10):
+    """A camera at (0, 0, height) looking down -z at the origin; the render resolution x resolution pixels at
+    percentage. Returns its pixels per unit of length at depth 1 (the lens over the sensor's width, 36 mm, times the
+    render's width in pixels)."""
+    scene = bpy.context.scene
+    camera = scene.camera
+    if camera is None:
+        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        scene.collection.objects.link(camera)
+        scene.camera = camera
+    camera.location = (0.0, 0.0, height)
+    camera.rotation_euler = (0.0, 0.0, 0.0)
+    camera.data.lens = lens
+    camera.data.sensor_width = 36.0
+    camera.data.sensor_fit = 'AUTO'
+    scene.render.resolution_x = scene.render.resolution_y = resolution
+    scene.render.resolution_percentage = percentage
+    return lens / 36.0 * resolution * percentage / 100
+
+
+def shown(obj):
+    return obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+
+
+def points_on_side(mesh):
+    """How many vertices lie on the middle half of the side y = -1 of a 2 x 2 grid in the xy-plane cut 4 x 4 (its two
+    middle edges, which the limit keeps straight: its rounded corners are an edge away)."""
+    p = support.positions(mesh)
+    return int(np.count_nonzero((np.abs(p[:, 1] + 1) < 1e-5) & (np.abs(p[:, 0]) <= 0.5 + 1e-5)))
+
+
+def expected_rate(length, depth, pixels_per_unit, dicing_rate):
+    """Cycles' dicing: an edge facing the camera at depth, cut into segments of at most dicing_rate pixels."""
+    return int(np.ceil(length * pixels_per_unit / depth / dicing_rate))
+
+
+def defaults():
+    """Off by default, so that a file behaves as before; the dicing rates Cycles defaults to."""
+    obj = support.object_from_bmesh("Defaults", support.octahedron())
+    bpy.ops.object.loop_subdivision_add()
+    settings = obj.loop_subdivision
+    check(not settings.use_adaptive and settings.dicing_rate == 8.0 and settings.render_dicing_rate == 1.0
+          and settings.dicing_measure == 'LENGTH',
+          "Adaptive Subdivision is off by default; Dicing Rate Viewport 8 px, Render 1 px, by length (Cycles')")
+    support.remove(obj)
+
+
+def rates_from_the_camera():
+    """A 2 x 2 grid seen from above: the segments of its boundary edges are what their length on screen gives, at the
+    viewport's dicing rate in the entry (background mode: the scene camera), at the render's in Apply; more for an
+    object scaled 1.5 times (its transform counts); Max Segments caps them."""
+    pixels_per_unit = top_camera(2.0)
+    obj = support.object_from_bmesh("Grid", support.grid(cuts=4, size=2.0))
+    length = 0.5
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=4.0)
+    viewport = expected_rate(length, 2.0, pixels_per_unit, 4.0)
+    check(points_on_side(shown(obj)) == 2 * viewport + 1,
+          f"viewport: each boundary edge cut into {viewport} segments "
+          f"({points_on_side(shown(obj)) - 1} / 2)")
+    obj.scale = (1.5, 1.5, 1.5)  # its side y = -1.5 still in view
+    bpy.context.view_layer.update()
+    scaled = expected_rate(1.5 * length, 2.0, pixels_per_unit, 4.0)
+    check(points_on_side(shown(obj)) == 2 * scaled + 1,
+          f"the object scaled by 1.5: {scaled} segments an edge ({points_on_side(shown(obj)) - 1} / 2)")
+    obj.scale = (1.0, 1.0, 1.0)
+    obj.loop_subdivision.max_rate = 3
+    check(points_on_side(shown(obj)) == 2 * 3 + 1, "Max Segments 3: 3 segments an edge")
+    obj.loop_subdivision.max_rate = 64
+    obj.loop_subdivision.render_dicing_rate = 0.5
+    render = expected_rate(length, 2.0, pixels_per_unit, 0.5)
+    result = support.apply_loop(obj)
+    check(result == {'FINISHED'} and points_on_side(obj.data) == 2 * render + 1
+          and stack.entry(obj) is None,
+          f"Apply cuts at the Render dicing rate: {render} segments an edge "
+          f"({points_on_side(obj.data) - 1} / 2) and removes the entry")
+    support.remove(obj)
+
+
+def limit_surface_without_cracks():
+    """A closed cage with creases, seen from a camera that makes rates differ from edge to edge: the result is closed
+    (every edge between two faces, Euler characteristic 2: no crack), every point lies on the limit surface (a
+    dense mesh of it, level 6 of the core's plan with the limit surface, verified against OpenSubdiv elsewhere) and
+    its normals are the surface's; a nearer camera cuts finer."""
+    top_camera(6.0)
+    obj, _ = support.creased_cube(addon.compat, weight=1.0)
+    obj.rotation_euler = (0.3, 0.2, 0.1)
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True, rules='OPENSUBDIV', dicing_rate=2.0)
+    support.shade_smooth(obj)
+    mesh = shown(obj)
+    counts = support.edge_face_counts(mesh)
+    euler = len(mesh.vertices) - len(mesh.edges) + len(mesh.polygons)
+    check(len(mesh.polygons) > 4 * 24 and (counts == 2).all() and euler == 2,
+          f"closed: {len(mesh.polygons)} triangles, every edge between two faces, V - E + F = {euler}")
+    cage = obj.data
+    cage.calc_loop_triangles()
+    triangles = support.read_array(cage.loop_triangles, "vertices", 3, np.int32)
+    crease_edges = support.edges(cage)[addon.compat.read_edge_creases(cage) > 0]
+    plan = core().Plan(triangles, len(cage.vertices), 6, rules="opensubdiv", limit_surface=True,
+                       crease_edges=np.ascontiguousarray(crease_edges, np.int32),
+                       crease_sharpness=np.full(len(crease_edges), 10.0, np.float32))
+    dense, _ = plan.evaluate_with_normals(support.positions(cage))
+    tree = BVHTree.FromPolygons([tuple(map(float, p)) for p in dense], [tuple(map(int, t)) for t in plan.triangles])
+    points = support.positions(mesh)
+    nearest = [tree.find_nearest(tuple(map(float, p))) for p in points]
+    distance = max(found[3] for found in nearest)
+    diagonal = support.bbox_diagonal(points)
+    check(distance < 1e-4 * diagonal, f"every point on the limit surface: within {distance / diagonal:.1e} of the "
+                                      "diagonal of a level-6 limit mesh")
+    normals = addon.compat.read_corner_normals(mesh).reshape(-1, 3, 3)
+    loops = support.read_array(mesh.loops, "vertex_index", dtype=np.int32).reshape(-1, 3)
+    # On a crease each side's normal is its face's: measure each corner against the surface normal nearest to its
+    # triangle's middle, which lies on the corner's side.
+    middles = points[loops].mean(axis=1)
+    side = np.array([tree.find_nearest(tuple(map(float, p)))[1] for p in middles])
+    angle = np.degrees(np.arccos(np.clip(np.einsum("tkc,tc->tk", normals, side), -1.0, 1.0)))
+    check(np.percentile(angle, 99) < 5.0,
+          f"the normals are the surface's (99% within {np.percentile(angle, 99):.2f} degrees of the nearest face "
+          "of the dense mesh on the same side)")
+    far = len(mesh.polygons)
+    top_camera(3.0)
+    bpy.context.view_layer.update()
+    near = len(shown(obj).polygons)
+    check(near > 2 * far, f"the scene camera moved twice as near (background mode: the viewport's view): finer, "
+                          f"{near} triangles (was {far})")
+    support.remove(obj)
+
+
+def render_and_viewport_rates():
+    """A render cuts at the Render dicing rate (what Apply gives), and the viewport gets its own back afterwards."""
+    pixels_per_unit = top_camera(2.0)
+    scene = bpy.context.scene
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 1
+    scene.cycles.use_denoising = False
+    obj = support.object_from_bmesh("Rendered", support.grid(cuts=2, size=2.0))
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=8.0, render_dicing_rate=2.0)
+    viewport = len(shown(obj).polygons)
+    seen = []
+
+    def during_render(scene, *_):
+        helper = stack.helper_of(obj, stack.entry(obj), create=False)
+        seen.append(len(helper.data.polygons))
+
+    bpy.app.handlers.render_post.append(during_render)
+    try:
+        bpy.ops.render.render()
+    finally:
+        bpy.app.handlers.render_post.remove(during_render)
+    after = len(shown(obj).polygons)
+    twin = support.copy_object(obj, "Rendered applied")
+    twin.modifiers.clear()
+    twin.loop_subdivision.use_adaptive = True
+    twin.loop_subdivision.render_dicing_rate = 2.0
+    support.apply_loop(twin)
+    check(seen and seen[0] == len(twin.data.polygons) and seen[0] > viewport,
+          f"the render cut at 2 px: {seen[0] if seen else None} triangles as Apply's {len(twin.data.polygons)} "
+          f"(viewport {viewport}; {pixels_per_unit:.1f} px a unit at depth 1)")
+    check(after == viewport, f"the viewport has its 8 px cut back after the render ({after})")
+    support.remove(twin)
+    support.remove(obj)
+
+
+def no_camera():
+    """No scene camera: the entry passes its input through and says why, and Apply refuses with the same words."""
+    scene = bpy.context.scene
+    camera = scene.camera
+    scene.camera = None
+    obj = support.object_from_bmesh("NoCamera", support.octahedron())
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True)
+    cache = addon.live.cache_of(obj)
+    check(len(shown(obj).polygons) == 8 and cache is not None and "camera" in cache.error,
+          f"the entry shows its input and says why: {cache.error if cache else None!r}")
+    try:
+        support.apply_loop(obj)
+        refusal = ""
+    except RuntimeError as error:  # an operator's error report, in background mode
+        refusal = str(error)
+    check("Adaptive Subdivision needs a scene camera" in refusal and len(obj.data.polygons) == 8,
+          f"Apply refuses and says why ({refusal!r}); the mesh is unchanged")
+    scene.camera = camera
+    support.remove(obj)
+
+
+support.clear_scene()
+defaults()
+rates_from_the_camera()
+limit_surface_without_cracks()
+render_and_viewport_rates()
+no_camera()
+check.finish()
