@@ -153,6 +153,24 @@ void bind_tessellation(py::module_& m) {
              py::arg("triangles"), py::arg("num_vertices"), py::arg("rate") = 1, py::kw_only(),
              py::arg("edges") = py::none(),
              py::arg("edge_rates") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG))
+        .def(
+            "output_edges",
+            [](PyTessellation& p) {
+                loopsub::Tessellation::Edges edges;
+                {
+                    py::gil_scoped_release nogil;
+                    edges = p.tessellation.output_edges();
+                }
+                py::array_t<std::int32_t> edge_vertices({py::ssize_t(edges.edge_vertices.size() / 2), py::ssize_t(2)});
+                py::array_t<std::int32_t> triangle_edges(
+                    {py::ssize_t(edges.triangle_edges.size() / 3), py::ssize_t(3)});
+                std::copy(edges.edge_vertices.begin(), edges.edge_vertices.end(), edge_vertices.mutable_data());
+                std::copy(edges.triangle_edges.begin(), edges.triangle_edges.end(), triangle_edges.mutable_data());
+                return py::make_tuple(edge_vertices, triangle_edges);
+            },
+            "output_edges()\n\n(edge_vertices (E, 2) int32, triangle_edges (T, 3) int32): the triangles' edges, each "
+            "once, and each triangle's edges (edge k joins corners k and k + 1), as Plan.output_edges: a mesh "
+            "without an edge search. New arrays.")
         .def("evaluate", &evaluate_points, kEvaluateDoc, py::arg("positions"), py::arg("out") = py::none(),
              py::arg("normals") = py::none())
         .def_property_readonly(

@@ -280,6 +280,32 @@ TEST(Tessellation, ClosedMeshesStayClosedForAnyRates) {
     }
 }
 
+// output_edges names each side of each triangle by the edge with its two ends, the same edge for both triangles on it
+// and a different one for every other pair of ends, on closed and open meshes.
+TEST(Tessellation, OutputEdgesAreEachPairOfEndsOnce) {
+    for (unsigned seed = 0; seed < 6; ++seed) {
+        TestMesh mesh = seed % 3 == 0 ? icosphere(1) : seed % 3 == 1 ? torus(6, 5) : grid(4, 3);
+        const RatesFor rates(mesh, -int(2 + seed), seed);
+        const Tessellation tessellation(mesh.view(), options_for(mesh), rates.view);
+        const Tessellation::Edges edges = tessellation.output_edges();
+        const std::int32_t* t = tessellation.triangles();
+        ASSERT_EQ(edges.triangle_edges.size(), 3 * std::size_t(tessellation.num_triangles()));
+        std::map<std::pair<int, int>, int> edge_of;
+        for (int f = 0; f < tessellation.num_triangles(); ++f)
+            for (int c = 0; c < 3; ++c) {
+                const int a = t[3 * f + c], b = t[3 * f + (c + 1) % 3];
+                const int e = edges.triangle_edges[3 * std::size_t(f) + std::size_t(c)];
+                ASSERT_GE(e, 0);
+                ASSERT_LT(std::size_t(e), edges.edge_vertices.size() / 2);
+                const int u = edges.edge_vertices[2 * std::size_t(e)], v = edges.edge_vertices[2 * std::size_t(e) + 1];
+                ASSERT_EQ(std::minmax(u, v), std::minmax(a, b)) << "seed " << seed << " triangle " << f;
+                const auto [at, added] = edge_of.emplace(std::minmax(a, b), e);
+                ASSERT_EQ(at->second, e) << "seed " << seed << ": two numbers for one edge";
+            }
+        EXPECT_EQ(edge_of.size(), edges.edge_vertices.size() / 2) << "seed " << seed << ": an edge no triangle has";
+    }
+}
+
 TEST(Tessellation, RateTwoToTheLGivesLevelLOnTheLimitSurface) {
     TestMesh mesh = icosphere(1);
     jitter(mesh, 253, 0.03f);

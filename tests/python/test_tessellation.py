@@ -48,6 +48,18 @@ def test_counts_and_views_for_rates_per_edge():
     assert np.isfinite(points).all() and np.isfinite(normals).all()
 
 
+def test_output_edges_name_each_pair_of_ends_once():
+    positions, triangles = grid(4, seed=1, height=0.1)
+    tessellation = _loopsub.Tessellation(triangles, len(positions), 3)
+    edge_vertices, triangle_edges = tessellation.output_edges()
+    t = tessellation.triangles
+    assert edge_vertices.shape[1] == 2 and triangle_edges.shape == t.shape
+    sides = np.stack([t, np.roll(t, -1, axis=1)], axis=2)  # (T, 3, 2): side k joins corners k and k + 1
+    assert np.array_equal(np.sort(edge_vertices[triangle_edges], axis=2), np.sort(sides, axis=2))
+    assert len({tuple(pair) for pair in np.sort(edge_vertices, axis=1).tolist()}) == len(edge_vertices)
+    assert len(np.unique(triangle_edges)) == len(edge_vertices)
+
+
 def test_views_keep_the_tessellation_alive_and_out_is_written_in_place():
     positions, triangles = icosahedron()
     tessellation = _loopsub.Tessellation(triangles, len(positions), 3)

@@ -92,6 +92,14 @@ public:
     int num_face_points() const;
     const std::int32_t* corner_face_points() const;  // 3 per triangle
     const float* face_point_parameters() const;      // (u, v) per face point
+    // The triangles' edges, each once (in the order the triangles first reach them, each as its first triangle has
+    // it), and per triangle its three edges (edge k joins its corners k and k + 1), as Plan::output_edges gives them:
+    // a mesh built from the tessellation needs no edge search. Made on each call (one pass, no sorting).
+    struct Edges {
+        std::vector<std::int32_t> edge_vertices;   // 2 per edge
+        std::vector<std::int32_t> triangle_edges;  // 3 per triangle
+    };
+    Edges output_edges() const;
     // The refinement levels whose control points and limit the points are made from.
     int levels() const;
 

@@ -540,6 +540,43 @@ const std::int32_t* Tessellation::corner_face_points() const { return impl_->cor
 const float* Tessellation::face_point_parameters() const { return impl_->parameters.data(); }
 int Tessellation::levels() const { return impl_->levels; }
 
+Tessellation::Edges Tessellation::output_edges() const {
+    const std::vector<std::int32_t>& corners = impl_->triangles;
+    const std::size_t num_points = std::size_t(impl_->num_points);
+    // Each side of each triangle, under its smaller end: a side already there under that end is an edge found again.
+    // A point's sides are few (its valence), so a bucket is searched linearly.
+    std::vector<std::int32_t> bucket_first(num_points + 1, 0);
+    auto lower_end = [&](std::size_t c) {
+        const std::size_t face = c - c % 3;
+        return std::min(corners[c], corners[face + (c + 1) % 3]);
+    };
+    for (std::size_t c = 0; c < corners.size(); ++c) ++bucket_first[std::size_t(lower_end(c)) + 1];
+    for (std::size_t p = 0; p < num_points; ++p) bucket_first[p + 1] += bucket_first[p];
+    std::vector<std::int32_t> bucket_size(num_points, 0), bucket_edges(corners.size());
+    Edges out;
+    out.triangle_edges.resize(corners.size());
+    out.edge_vertices.reserve(corners.size());  // closed: 1.5 edges a triangle; open: up to 3
+    for (std::size_t c = 0; c < corners.size(); ++c) {
+        const std::size_t face = c - c % 3;
+        const std::int32_t a = corners[c], b = corners[face + (c + 1) % 3];
+        const std::size_t low = std::size_t(std::min(a, b));
+        const std::int32_t high = std::max(a, b);
+        const std::int32_t* first = &bucket_edges[std::size_t(bucket_first[low])];
+        const std::int32_t* last = first + bucket_size[low];
+        // Every edge in the bucket has `low` as an end; the one whose other end is `high` is this side's.
+        const std::int32_t* found = std::find_if(first, last, [&](std::int32_t e) {
+            return out.edge_vertices[2 * std::size_t(e)] == high || out.edge_vertices[2 * std::size_t(e) + 1] == high;
+        });
+        if (found == last) {  // a new edge, appended to the bucket (at `last`)
+            bucket_edges[std::size_t(bucket_first[low]) + std::size_t(bucket_size[low]++)] =
+                std::int32_t(out.edge_vertices.size() / 2);
+            out.edge_vertices.push_back(a), out.edge_vertices.push_back(b);
+        }
+        out.triangle_edges[c] = *found;
+    }
+    return out;
+}
+
 void Tessellation::evaluate(const float* positions, float* points, float* normals) const {
     const TessellationImpl& d = *impl_;
     const std::size_t num_faces = d.face_patch.size();
