@@ -70,29 +70,37 @@ def rates(cage, options, view, matrix_world):
 
 
 def check_memory(source, edge_rates):
-    """Raises LoopSubError where the tessellation at edge_rates would need more memory than this process may still
-    use (as cage.check_memory for levels)."""
+    """The memory the core's tessellation may use (memory_limit_bytes; None where the memory free is unknown), after
+    what Blender's side of the result at edge_rates needs (counted as cage.check_memory counts a level's). Raises
+    LoopSubError where even that does not fit. The core's own need depends on how many triangles are no patch of the
+    cage (those refined through plans need several times a patch's memory), which it works out itself and refuses
+    past the limit."""
     cage = source.cage
     edges, segments = edge_rates
     sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    inner = segments[geometry.lookup_edges(edges, sides, cage.num_vertices)].reshape(-1, 3).max(axis=1).astype(np.int64)
+    inner = segments[geometry.lookup_edges(edges, sides, cage.num_vertices)].reshape(-1, 3).max(axis=1)
+    inner = inner.astype(np.int64)
     triangles = int(np.sum(inner * inner))
     vertices = cage.num_vertices + int(np.sum(segments - 1)) + int(np.sum((inner - 1) * (inner - 2) // 2))
     counts = (vertices, vertices + triangles, triangles)
     mesh = source.mesh
-    required = memory.estimate_bytes(
-        0, 0, 0, 0, memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles, uv_layers=len(mesh.uv_layers),
-        version=bpy.app.version, drawn=not bpy.app.background, counts=counts)
+    product = memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles
+    required = memory.estimate_bytes(0, 0, 0, 0, product, uv_layers=len(mesh.uv_layers), version=bpy.app.version,
+                                     drawn=not bpy.app.background, counts=counts)
     available = memory.available_bytes()
     if not memory.fits(required, available):
         raise LoopSubError(memory.describe(
             required, available,
             f"Adaptive Subdivision at {source.options.dicing_rate:g} px ({counted(triangles, 'triangle')})"))
+    if available is None:
+        return None
+    return available - memory.reserve_bytes(available) - (required - product)
 
 
 def tessellate(source, edge_rates):
-    """The TessellationOutput of source's cage at edge_rates."""
+    """The TessellationOutput of source's cage at edge_rates, within the memory left (check_memory)."""
     cage, options = source.cage, source.options
+    memory_limit = check_memory(source, edge_rates)
     tessellation = native.build_tessellation(cage.triangles, cage.num_vertices, edge_rates, options,
-                                             cage.tags(options), source.cones)
+                                             cage.tags(options), source.cones, memory_limit)
     return TessellationOutput(tessellation, cage, options)

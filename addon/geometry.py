@@ -125,15 +125,6 @@ def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_ve
     return np.where(on_edge, found, -1)
 
 
-def triangle_list_edges(triangles, num_vertices):
-    """The edges of a triangle list, each once, as Plan.output_edges gives them for a plan: (edge_vertices (E, 2)
-    int32, triangle_edges (T, 3) int32), edge k of a triangle joining its corners k and k + 1."""
-    triangles = np.asarray(triangles, dtype=np.int32)
-    pairs = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=2).reshape(-1, 2)
-    _, first, inverse = np.unique(edge_keys(pairs, num_vertices), return_index=True, return_inverse=True)
-    return pairs[first], inverse.reshape(-1, 3).astype(np.int32)
-
-
 # How far a face point's parameters may be from a side of its triangle and still lie on it: parameters are multiples
 # of 1 / rate (at most 4096) computed in float32, so an ulp's worth apart from the side, never 1e-4 apart.
 _ON_SIDE = 1e-6
@@ -152,7 +143,7 @@ def tessellated_edge_sides(corner_parameters):
 
 def tessellated_edge_parents(triangle_edges, edge_sides, parent_triangles, side_edges, num_edges):
     """For each edge of a tessellation, the cage edge it lies on, -1 inside a cage triangle: triangle_edges (T, 3)
-    from triangle_list_edges, edge_sides (T, 3) from tessellated_edge_sides, parent_triangles (T,), side_edges
+    from Tessellation.output_edges, edge_sides (T, 3) from tessellated_edge_sides, parent_triangles (T,), side_edges
     (T_cage, 3) the cage edge of each side of each cage triangle (-1 where it is none, as a diagonal Blender's
     triangulation of an n-gon added)."""
     parents = np.full(num_edges, -1, dtype=np.int64)

@@ -130,7 +130,6 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
             # plans are never held at once, and the new one reuses its memory.
             cache.output = cache.plan_key = None
             if options.use_adaptive:
-                adaptive.check_memory(source, edge_rates)
                 cache.output = adaptive.tessellate(source, edge_rates)
             else:
                 cache.output = PlanOutput(source.plan())

@@ -63,17 +63,17 @@ class TessellationOutput:
         self.triangles = tessellation.triangles
         self.parent_triangles = tessellation.parent_triangles
         self.num_vertices = tessellation.num_points
-        corner_face_points = tessellation.corner_face_points
-        self.corner_parameters = tessellation.face_point_parameters[corner_face_points]
-        # One face point of each point, with its triangle: where a point's linear values are read.
-        self.point_parent = np.empty(self.num_vertices, dtype=np.int32)
-        self.point_parent[self.triangles.ravel()] = np.repeat(self.parent_triangles, 3)
-        self.point_parameters = np.empty((self.num_vertices, 2), dtype=np.float32)
-        self.point_parameters[self.triangles.ravel()] = self.corner_parameters.reshape(-1, 2)
+        # Linear values are worked out once per face point (each in one cage triangle, at its parameters), then read
+        # per corner or per point: a point or a corner takes one of its face points.
+        corner_face_points = tessellation.corner_face_points.ravel()
+        self.face_point_parent = np.empty(tessellation.num_face_points, dtype=np.int32)
+        self.face_point_parent[corner_face_points] = np.repeat(self.parent_triangles, 3)
+        self.point_face_point = np.empty(self.num_vertices, dtype=np.int32)
+        self.point_face_point[self.triangles.ravel()] = corner_face_points
         self._triangle_edges = self._edge_parents = None
 
     def edges(self):
-        edges, self._triangle_edges = geometry.triangle_list_edges(self.triangles, self.num_vertices)
+        edges, self._triangle_edges = native.run(self.tessellation.output_edges)
         self._edge_parents = None
         return edges, self._triangle_edges
 
@@ -82,8 +82,9 @@ class TessellationOutput:
         if self._edge_parents is None:
             sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
             side_edges = geometry.lookup_edges(cage.edge_vertices, sides, cage.num_vertices).reshape(-1, 3)
+            corner_parameters = self.tessellation.face_point_parameters[self.tessellation.corner_face_points]
             self._edge_parents = geometry.tessellated_edge_parents(
-                self._triangle_edges, geometry.tessellated_edge_sides(self.corner_parameters), self.parent_triangles,
+                self._triangle_edges, geometry.tessellated_edge_sides(corner_parameters), self.parent_triangles,
                 side_edges, len(edges))
         return self._edge_parents
 
@@ -94,12 +95,14 @@ class TessellationOutput:
         """(edge weights (E,), vertex weights (V,)) on the limit surface (geometry.limit_crease_weights): the edges on
         a creased cage edge and the cage's corners."""
         crease_tags = cage.tags(options)
-        cage_weights = np.zeros(len(cage.edge_vertices), dtype=np.float32)
-        tagged = geometry.lookup_edges(cage.edge_vertices, crease_tags["crease_edges"], cage.num_vertices)
-        found = tagged >= 0
-        cage_weights[tagged[found]] = geometry.limit_crease_weights(crease_tags["crease_sharpness"][found],
-                                                                    options.rules)
-        edge_weights = geometry.inherit_edge_values(cage_weights, self.edge_parents(edges, cage))
+        edge_weights = np.zeros(len(edges), dtype=np.float32)
+        if len(crease_tags["crease_edges"]):
+            cage_weights = np.zeros(len(cage.edge_vertices), dtype=np.float32)
+            tagged = geometry.lookup_edges(cage.edge_vertices, crease_tags["crease_edges"], cage.num_vertices)
+            found = tagged >= 0
+            cage_weights[tagged[found]] = geometry.limit_crease_weights(crease_tags["crease_sharpness"][found],
+                                                                        options.rules)
+            edge_weights = geometry.inherit_edge_values(cage_weights, self.edge_parents(edges, cage))
         vertex_weights = np.zeros(self.num_vertices, dtype=np.float32)
         vertex_weights[crease_tags["corner_vertices"]] = geometry.limit_crease_weights(
             crease_tags["corner_sharpness"], options.rules)
@@ -116,19 +119,20 @@ class TessellationOutput:
             return written is not None and np.array_equal(written[index], values)
 
         cage = source.cage
-        points, normals = native.run(self.tessellation.evaluate, cage.positions)
+        tessellation = self.tessellation
+        points, normals = native.run(tessellation.evaluate, cage.positions)
+
+        def per_face_point(corner_values):
+            return geometry.interpolate_in_triangles(corner_values, self.face_point_parent,
+                                                     tessellation.face_point_parameters)
+
         vertex = points
         if source.vertex.width > 3:
-            values = source.vertex.packed()
-            vertex = geometry.interpolate_in_triangles(values[cage.triangles], self.point_parent,
-                                                       self.point_parameters)
+            vertex = per_face_point(source.vertex.packed()[cage.triangles])[self.point_face_point]
             vertex[:, source.vertex.columns["position"]] = points
-        parents = np.repeat(self.parent_triangles, 3)
-        parameters = self.corner_parameters.reshape(-1, 2)
 
         def per_corner(corner_values):
-            values = geometry.interpolate_in_triangles(corner_values, parents, parameters)
-            return values.reshape(len(self.triangles), 3, -1)
+            return per_face_point(corner_values)[tessellation.corner_face_points]
 
         uvs = [None if unchanged(2 + layer, values) else per_corner(values[indices])
                for layer, (indices, values) in enumerate(source.uv_layers)]
@@ -136,5 +140,5 @@ class TessellationOutput:
         if source.corners.parts:
             values = source.corners.packed()
             corners = None if unchanged(1, values) and not source.custom_normals else per_corner(values)
-        return Refined(vertex, uvs, corners, normals, self.tessellation.corner_face_points, self.triangles,
+        return Refined(vertex, uvs, corners, normals, tessellation.corner_face_points, self.triangles,
                        vertex_rows=False)

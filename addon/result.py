@@ -40,7 +40,6 @@ def subdivide(obj, options, progress, view=None):
     progress(1)
     if options.use_adaptive:
         edge_rates = adaptive.rates(source.cage, options, view, obj.matrix_world)
-        adaptive.check_memory(source, edge_rates)
         output = adaptive.tessellate(source, edge_rates)
     else:
         output = PlanOutput(source.plan())

@@ -4,6 +4,7 @@ are all made from it, so that a name, a default, a limit or a description is wri
 
 No bpy here: tests load this file with plain Python.
 """
+import os
 from dataclasses import dataclass, field, make_dataclass
 
 
@@ -106,9 +107,15 @@ def core_name(name, identifier):
     return next(choice.core for choice in BY_NAME[name].choices if choice.identifier == identifier)
 
 
+# The core's threads: every core, as Blender's own modifiers use them (any count gives the same bits; the core takes
+# at most 256).
+THREADS = max(1, min(os.cpu_count() or 1, 256))
+
+
 def _plan_keywords(self):
     """Keyword arguments of _loopsub.Plan for these options (tags, cones and UV layers come from the mesh)."""
     return {
+        "threads": THREADS,
         "rules": core_name("rules", self.rules),
         "boundary": core_name("boundary", self.boundary),
         "crease_threshold": float(self.crease_threshold) if self.rules == 'HOPPE94' else 0.0,

@@ -1,8 +1,9 @@
 """Too many levels never get Blender killed: a second Blender runs in a memory cgroup of 2 GiB (the kernel's OOM
 killer ends a process there, as on a desktop out of memory or in a render farm's slot) and asks a 20,480-triangle
 icosphere for level 5 (21 million triangles, some 15 GB) at every entry point: Levels Viewport, Render levels and a
-render, the add-on's Apply, and adding an entry. Each is refused with a message that says what it needs and what is
-free, the input shows meanwhile, and the process lives to the end.
+render, the add-on's Apply, and adding an entry; and Adaptive Subdivision for 64 segments an edge (84 million
+triangles). Each is refused with a message that says what it needs and what is free, the input shows meanwhile, and
+the process lives to the end.
 
 The control: the same Blender with the add-on's memory check taken out (its estimate of the memory left made
 unknown) and asked for level 5 is killed, so the cgroup is a real limit and the check is what saves Blender.
@@ -71,6 +72,12 @@ bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=6, location=(3, 0, 0))
 other = bpy.context.object
 bpy.ops.object.loop_subdivision_add(levels=5)
 say("ADD", faces(other) == cage, "|", live.cache_of(other).error)
+
+scene.render.resolution_x = scene.render.resolution_y = 2000
+bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=6, location=(0, 0, 0))
+near = bpy.context.object
+bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=0.1, max_rate=64)
+say("ADAPTIVE", faces(near) == cage, "|", live.cache_of(near).error)
 say("SURVIVED")
 """
 
@@ -113,6 +120,11 @@ with support.memory_cgroup(LIMIT) as cgroup, tempfile.TemporaryDirectory() as fo
     added = line(output, "ADD")
     check(added.startswith("ADD True") and need in added,
           f"adding an entry at level 5: refused, the input shown ({added})")
+
+    adaptive = line(output, "ADAPTIVE")
+    check(adaptive.startswith("ADAPTIVE True") and "Adaptive Subdivision at 0.1 px" in adaptive
+          and "are free" in adaptive,
+          f"Adaptive Subdivision at 0.1 px, 64 segments an edge: refused, the input shown ({adaptive})")
 
     code, output = support.run_blender(blend, UNCHECKED, cgroup=cgroup, timeout=600)
     check("ASKING" in output and "SURVIVED" not in output and code != 0,

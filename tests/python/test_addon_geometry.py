@@ -142,11 +142,11 @@ def test_inherit_edge_values():
 
 def test_options_keywords():
     assert settings.Options(rules='OPENSUBDIV', boundary='KEEP_CORNERS', crease_threshold=0.7).plan_keywords() == {
-        "rules": "opensubdiv", "boundary": "edges-and-corners", "crease_threshold": 0.0, "limit_surface": True,
-        "uv_interpolation": "boundaries"}
+        "threads": settings.THREADS, "rules": "opensubdiv", "boundary": "edges-and-corners", "crease_threshold": 0.0,
+        "limit_surface": True, "uv_interpolation": "boundaries"}
     assert settings.Options(crease_threshold=0.7, use_limit_surface=False, uv_smooth='NONE').plan_keywords() == {
-        "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7), "limit_surface": False,
-        "uv_interpolation": "all"}
+        "threads": settings.THREADS, "rules": "hoppe94", "boundary": "edges", "crease_threshold": pytest.approx(0.7),
+        "limit_surface": False, "uv_interpolation": "all"}
 
 
 def test_uv_smooth_is_blenders_mapping():
@@ -255,22 +255,13 @@ def _tessellated_square(rates):
     return square, triangles, edges, tessellation, corner_parameters, corners
 
 
-def test_triangle_list_edges_numbers_each_edge_once():
-    triangles = np.array([[0, 1, 2], [1, 3, 2], [3, 4, 2]], np.int32)
-    edges, triangle_edges = geometry.triangle_list_edges(triangles, 5)
-    assert len(edges) == 7 and len({tuple(sorted(edge)) for edge in edges.tolist()}) == 7
-    for t, triangle in enumerate(triangles):
-        for k in range(3):
-            assert sorted(edges[triangle_edges[t, k]]) == sorted([triangle[k], triangle[(k + 1) % 3]])
-
-
 def test_tessellated_edges_find_the_cage_edge_they_lie_on():
     square, triangles, edges, tessellation, corner_parameters, corners = _tessellated_square([2, 3, 1, 4, 5])
     # The same points by the tessellation's own numbering: each point's place is the same from every triangle.
     placed = np.zeros((tessellation.num_points, 2), np.float32)
     placed[tessellation.triangles.ravel()] = corners.reshape(-1, 2)
     assert np.abs(placed[tessellation.triangles] - corners).max() < 1e-6
-    out_edges, triangle_edges = geometry.triangle_list_edges(tessellation.triangles, tessellation.num_points)
+    out_edges, triangle_edges = tessellation.output_edges()
     sides = geometry.tessellated_edge_sides(corner_parameters)
     side_edges = geometry.lookup_edges(edges, triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), 4).reshape(-1, 3)
     parents = geometry.tessellated_edge_parents(triangle_edges, sides, tessellation.parent_triangles, side_edges,

@@ -113,3 +113,24 @@ def test_two_plans_evaluate_concurrently_with_correct_results():
     for k in range(2):
         for r in results[k]:
             np.testing.assert_array_equal(r, expected[k])
+
+
+def test_any_thread_count_gives_the_same_bits():
+    """The add-on runs the core on every core the machine has (artists' machines have 8 to 64): plans, their limit
+    normals and UV layers, and tessellations give the same bits whatever the count, more threads than cores too."""
+    p, t = grid(40, seed=5, height=0.2)
+    uv = np.ascontiguousarray(p[t][:, :, :2])
+    indices, values = _loopsub.weld_corner_values(t, len(p), uv)
+    reference = None
+    for threads in (1, 2, 3, 5, 8):
+        plan = _loopsub.Plan(t, len(p), 3, rules="opensubdiv", limit_surface=True, threads=threads,
+                             uv_interpolation="boundaries", face_varying_indices=[indices])
+        points, normals = plan.evaluate_with_limit_normals(p)
+        uvs = plan.evaluate_face_varying(values, layer=0)
+        tessellation = _loopsub.Tessellation(t, len(p), 7, rules="opensubdiv", threads=threads)
+        tess_points, tess_normals = tessellation.evaluate(p)
+        result = (points, normals, uvs, tess_points, tess_normals)
+        if reference is None:
+            reference = result
+        for got, expected in zip(result, reference):
+            assert np.array_equal(got, expected), f"{threads} threads"
