@@ -8,6 +8,7 @@
 //
 // Checked on every accepted input: the result's indices are in range, its parameters in the unit triangle, its points
 // and normals finite; on a mesh whose every edge has two triangles, so has every edge of the result (no crack).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -70,7 +71,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (int k = 0; k < 2 * m; ++k)
             if (!(t.face_point_parameters()[k] >= 0.0f && t.face_point_parameters()[k] <= 1.0f)) std::abort();
         if (closed(mesh.triangles.data(), mesh.num_triangles()) && !closed(t.triangles(), t.num_triangles()))
-            std::abort();  // a crack
+            std::abort();                                        // a crack
+        const Tessellation::Edges edges_out = t.output_edges();  // each side names an edge with its two ends
+        for (int c = 0; c < 3 * t.num_triangles(); ++c) {
+            const std::int32_t e = edges_out.triangle_edges[std::size_t(c)];
+            if (e < 0 || std::size_t(e) >= edges_out.edge_vertices.size() / 2) std::abort();
+            const std::int32_t a = t.triangles()[c], b = t.triangles()[c - c % 3 + (c + 1) % 3];
+            const std::int32_t u = edges_out.edge_vertices[2 * std::size_t(e)],
+                               v = edges_out.edge_vertices[2 * std::size_t(e) + 1];
+            if (std::minmax(a, b) != std::minmax(u, v)) std::abort();
+        }
         std::vector<float> points(3 * std::size_t(n)), normals(3 * std::size_t(m));
         try {
             t.evaluate(mesh.positions.data(), points.data(), normals.data());

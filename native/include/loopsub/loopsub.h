@@ -101,9 +101,9 @@ struct Options {
     // and can write the limit normals too. OpenSubdiv: Far::PrimvarRefiner::Limit. Hoppe94: the limits of its own
     // masks (docs/python.md, "The limit surface").
     bool limit_surface = false;
-    // 1 or 2 (up to kMaxThreads are accepted and used, but the machines this targets have 2 cores). From 2, the process
-    // keeps the extra threads between calls (awake for 1 ms after each, then asleep), so that frames back to back start
-    // none.
+    // Up to kMaxThreads, each a real thread (the add-on gives every core; any count gives the same bits). From 2, the
+    // process keeps the extra threads between calls (awake for 1 ms after each, then asleep), so that frames back to
+    // back start none.
     int threads = 1;
     LevelTables level_tables = LevelTables::Auto;
     // Plan building refuses to allocate past this (MemoryLimitError says how much it would need).
