@@ -144,6 +144,19 @@ def limit_surface_without_cracks():
     check(np.percentile(angle, 99) < 5.0,
           f"the normals are the surface's (99% within {np.percentile(angle, 99):.2f} degrees of the nearest face "
           "of the dense mesh on the same side)")
+    # The creases part the normals, and nothing else does: a vertex has corners with different normals exactly where
+    # it lies on the cube's edges (the limit of the creased sides, straight).
+    spread = np.zeros(len(points))
+    corner_normals = normals.reshape(-1, 3)
+    for axis in range(3):
+        low = np.full(len(points), np.inf)
+        high = np.full(len(points), -np.inf)
+        np.minimum.at(low, loops.ravel(), corner_normals[:, axis])
+        np.maximum.at(high, loops.ravel(), corner_normals[:, axis])
+        spread = np.maximum(spread, high - low)
+    on_edges = (np.abs(np.abs(points) - 1.0) < 1e-5).sum(axis=1) >= 2  # object space: the cube's own
+    check(np.array_equal(spread > 0.1, on_edges) and on_edges.any(),
+          f"the normals part along the creases and nowhere else ({np.count_nonzero(on_edges)} vertices on them)")
     far = len(mesh.polygons)
     top_camera(3.0)
     bpy.context.view_layer.update()
