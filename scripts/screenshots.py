@@ -1,7 +1,7 @@
 """Screenshots of the add-on's panel in Blender's real interface for docs/, run by scripts/screenshots.sh (which
 documents the two Blender runs). With --addon-dir: add-modifier-menu.png, modifier-panel.png, modifier-not-first.png,
-and --save FILE.blend (an entry with default settings); without it (FILE.blend opened by a Blender without the add-on):
-modifier-without-addon.png.
+modifier-adaptive.png, and --save FILE.blend (an entry with default settings); without it (FILE.blend opened by a
+Blender without the add-on): modifier-without-addon.png.
 
 Everything happens in bpy.app.timers stages, so that Blender's event loop evaluates, runs the add-on's handlers and
 draws between them, as for an artist; each stage returns the seconds to wait before the next one.
@@ -167,6 +167,26 @@ def panel():
 
 def not_first():
     capture("modifier-not-first.png", *properties_columns())
+    # Adaptive Subdivision on the first sphere, the other out of the way, the viewport close to it with the wireframe
+    # shown: the result is cut finer where the sphere faces the view than at its silhouette and back.
+    bpy.data.objects.remove(bpy.data.objects["Mirrored"])
+    obj = bpy.data.objects["Icosphere"]
+    activate(obj)
+    obj.loop_subdivision.use_adaptive = True
+    obj.loop_subdivision.dicing_rate = 20.0  # segments the picture can show
+    view3d = area('VIEW_3D')
+    view3d.spaces.active.overlay.show_wireframes = True
+    view3d.spaces.active.overlay.wireframe_threshold = 1.0
+    with override(view3d, region=region(view3d)):
+        bpy.ops.view3d.view_selected()
+    obj.select_set(False)  # the wireframe in its own colour, not the selection's
+    return 2.0
+
+
+def adaptive():
+    capture("modifier-adaptive.png", area('VIEW_3D').x, properties_columns()[1], full_height=True)
+    out = os.path.join(ARGS.out, "modifier-adaptive.png")  # the whole window: smaller, as the docs show it
+    subprocess.run(["convert", out, "-resize", "1200x", "-colors", "128", "PNG8:" + out], check=True)
     return quit_blender()
 
 
@@ -204,7 +224,7 @@ def quit_blender():
     return None
 
 
-STAGES = ([setup, arranged, add_button, panel, not_first] if ARGS.addon_dir
+STAGES = ([setup, arranged, add_button, panel, not_first, adaptive] if ARGS.addon_dir
           else [setup_without, frame_without, zoom_out, without_addon])
 
 
