@@ -104,6 +104,29 @@ def rates_from_the_camera():
     support.remove(obj)
 
 
+def edits_keep_the_cut():
+    """Moving a vertex a little changes no rate: the result is updated in place on the same tessellation (its
+    topology and rates kept), and equals what Apply makes of the edited mesh from the same camera and dicing rate."""
+    top_camera(2.0)
+    obj = support.object_from_bmesh("Edited", support.grid(cuts=4, size=2.0))
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=4.0, render_dicing_rate=4.0)
+    cache = addon.live.cache_of(obj)
+    builds = cache.plan_builds
+    before = support.positions(shown(obj))
+    middle = int(np.argmin(np.linalg.norm(support.positions(obj.data), axis=1)))
+    obj.data.vertices[middle].co.z += 0.01
+    obj.data.update()
+    after = support.positions(shown(obj))
+    twin = support.copy_object(obj, "Edited twin")
+    twin.modifiers.clear()
+    support.apply_loop(twin)
+    check(cache.plan_builds == builds and len(after) == len(before) and not np.array_equal(after, before)
+          and np.array_equal(after, support.positions(twin.data)),
+          "an edit that changes no rate updates the result in place, equal to Apply's")
+    support.remove(twin)
+    support.remove(obj)
+
+
 def limit_surface_without_cracks():
     """A closed cage with creases, seen from a camera that makes rates differ from edge to edge: the result is closed
     (every edge between two faces, Euler characteristic 2: no crack), every point lies on the limit surface (a
@@ -225,6 +248,7 @@ def no_camera():
 support.clear_scene()
 defaults()
 rates_from_the_camera()
+edits_keep_the_cut()
 limit_surface_without_cracks()
 render_and_viewport_rates()
 no_camera()
