@@ -45,7 +45,7 @@ def viewport_view(window_manager):
     """The view of the largest 3D Viewport of any window, None where none is open."""
     largest, view = 0, None
     for window in window_manager.windows if window_manager is not None else ():
-        for area in window.screen.areas:
+        for area in window.screen.areas if window.screen is not None else ():
             space = area.spaces.active
             if area.type != 'VIEW_3D' or space.region_3d is None:
                 continue

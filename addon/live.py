@@ -30,6 +30,7 @@ A file holds the cage and the settings, not the results (unless Store Result ask
 """
 import queue
 import threading
+import traceback
 
 import bpy
 import numpy as np
@@ -324,15 +325,24 @@ _view_settled = True
 
 
 def _watch_views():
+    # A timer that raises is dropped by Blender: a failure is printed and the watching goes on.
+    try:
+        _follow_view()
+    except Exception:  # any failure: the next view change tries again
+        traceback.print_exc()
+    return _WATCH_INTERVAL
+
+
+def _follow_view():
     global _watched_view, _view_settled
     if _busy or _rendering or _saving:
-        return _WATCH_INTERVAL
+        return
     view = adaptive.viewport_view(bpy.context.window_manager)
     if view != _watched_view:
         _watched_view, _view_settled = view, False
-        return _WATCH_INTERVAL
+        return
     if _view_settled or view is None:
-        return _WATCH_INTERVAL
+        return
     _view_settled = True
     depsgraph = None
     for name, cache in list(_caches.items()):
@@ -343,7 +353,6 @@ def _watch_views():
         if not _equal(cache.plan_key[-2:], adaptive.rates(cut_cage, options, view, matrix_world)):
             depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
             refresh(obj, depsgraph)
-    return _WATCH_INTERVAL
 
 
 # Work that render threads hand to the main thread, which a timer serves while the interface runs.
