@@ -2,7 +2,7 @@
 
 A render and Apply take the scene camera at the render's resolution. The viewport takes the view of the largest 3D
 Viewport (which is the camera's when it looks through it), or the scene camera where no 3D Viewport is open
-(background mode). The viewport's result follows the view once the view has stopped moving (live.watch_views): a
+(background mode). The viewport's result follows the view once the view has stopped moving (live._watch_views): a
 tessellation is made again only where the rates change.
 """
 import bpy
