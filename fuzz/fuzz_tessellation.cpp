@@ -7,7 +7,9 @@
 // (16 floats, a viewport, pixels, a measure byte).
 //
 // Checked on every accepted input: the result's indices are in range, its parameters in the unit triangle, its points
-// and normals finite; on a mesh whose every edge has two triangles, so has every edge of the result (no crack).
+// and normals finite; on a mesh whose every edge has two triangles, so has every edge of the result (no crack), where
+// no two triangles share two edges (else the lattice edge between those edges' points joins the same two points in
+// both triangles, two edges that vertex pairs cannot tell apart); and output_edges names each side by its ends.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -31,6 +33,22 @@ bool closed(const std::int32_t* triangles, int count) {
     for (const auto& [edge, n] : uses)
         if (n != 2) return false;
     return !uses.empty();
+}
+
+// Whether two triangles share two edges (or all three: two triangles on the same three vertices).
+bool shares_two_edges(const std::int32_t* triangles, int count) {
+    std::map<std::pair<int, int>, std::vector<int>> faces_of;
+    for (int c = 0; c < 3 * count; ++c) {
+        const int a = triangles[c], b = triangles[c - c % 3 + (c + 1) % 3];
+        faces_of[{std::min(a, b), std::max(a, b)}].push_back(c / 3);
+    }
+    std::map<std::pair<int, int>, int> shared;
+    for (const auto& [edge, faces] : faces_of)
+        for (std::size_t i = 0; i < faces.size(); ++i)
+            for (std::size_t j = i + 1; j < faces.size(); ++j)
+                if (faces[i] != faces[j] && ++shared[{std::min(faces[i], faces[j]), std::max(faces[i], faces[j])}] > 1)
+                    return true;
+    return false;
 }
 
 }  // namespace
@@ -70,7 +88,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 std::abort();
         for (int k = 0; k < 2 * m; ++k)
             if (!(t.face_point_parameters()[k] >= 0.0f && t.face_point_parameters()[k] <= 1.0f)) std::abort();
-        if (closed(mesh.triangles.data(), mesh.num_triangles()) && !closed(t.triangles(), t.num_triangles()))
+        if (closed(mesh.triangles.data(), mesh.num_triangles()) &&
+            !shares_two_edges(mesh.triangles.data(), mesh.num_triangles()) && !closed(t.triangles(), t.num_triangles()))
             std::abort();                                        // a crack
         const Tessellation::Edges edges_out = t.output_edges();  // each side names an edge with its two ends
         for (int c = 0; c < 3 * t.num_triangles(); ++c) {

@@ -280,6 +280,26 @@ TEST(Tessellation, ClosedMeshesStayClosedForAnyRates) {
     }
 }
 
+// Two triangles on the same three vertices, facing apart (a closed "pillow", which fuzz_tessellation met): each gets
+// its whole lattice, the points on their shared edges once, every point finite. (The lattice edges between two edges'
+// points at a corner then join the same two points in both triangles: output_edges gives them one edge with four
+// triangles, as a mesh of vertex pairs must.)
+TEST(Tessellation, TwoTrianglesOnTheSameThreeVerticesEachGetTheirLattice) {
+    TestMesh mesh;
+    mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    mesh.triangles = {0, 1, 2, 0, 2, 1};
+    const TessellationRates rates{5};
+    const Tessellation tessellation(mesh.view(), options_for(mesh), rates);
+    EXPECT_EQ(tessellation.num_triangles(), 2 * 25);
+    EXPECT_EQ(tessellation.num_points(), 3 + 3 * 4 + 2 * 6);
+    std::vector<float> points(3 * std::size_t(tessellation.num_points()));
+    std::vector<float> normals(3 * std::size_t(tessellation.num_face_points()));
+    tessellation.evaluate(mesh.positions.data(), points.data(), normals.data());
+    for (float x : points) ASSERT_TRUE(std::isfinite(x));
+    const Tessellation::Edges edges = tessellation.output_edges();
+    EXPECT_EQ(edges.triangle_edges.size(), 3 * std::size_t(tessellation.num_triangles()));
+}
+
 // output_edges names each side of each triangle by the edge with its two ends, the same edge for both triangles on it
 // and a different one for every other pair of ends, on closed and open meshes.
 TEST(Tessellation, OutputEdgesAreEachPairOfEndsOnce) {
