@@ -84,7 +84,7 @@ def check_memory(source, edge_rates):
     vertices = cage.num_vertices + int(np.sum(segments - 1)) + int(np.sum((inner - 1) * (inner - 2) // 2))
     counts = (vertices, vertices + triangles, triangles)
     mesh = source.mesh
-    product = memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles
+    product = memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles * (1 + len(mesh.uv_layers))  # a UV map is cut too
     required = memory.estimate_bytes(0, 0, 0, 0, product, uv_layers=len(mesh.uv_layers), version=bpy.app.version,
                                      drawn=not bpy.app.background, counts=counts)
     available = memory.available_bytes()
@@ -102,5 +102,6 @@ def tessellate(source, edge_rates):
     cage, options = source.cage, source.options
     memory_limit = check_memory(source, edge_rates)
     tessellation = native.build_tessellation(cage.triangles, cage.num_vertices, edge_rates, options,
-                                             cage.tags(options), source.cones, memory_limit)
+                                             cage.tags(options), source.cones,
+                                             [indices for indices, _ in source.uv_layers], memory_limit)
     return TessellationOutput(tessellation, cage, options)

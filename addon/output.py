@@ -53,8 +53,9 @@ class PlanOutput:
 class TessellationOutput:
     """The limit surface cut by the rates of the cage's edges (Adaptive Subdivision): the points are the cage's
     vertices, then the points inside its edges, then those inside its triangles; each triangle's corners have their
-    parameters (u, v) in the cage triangle they lie in, which place every value but the positions and normals:
-    point and corner attributes, vertex groups and UVs are interpolated linearly within each cage triangle."""
+    parameters (u, v) in the cage triangle they lie in, which place the values the core does not refine: point and
+    corner attributes and vertex groups are interpolated linearly within each cage triangle. UV maps are refined by
+    the core as levels refine them (UV Smooth), each as a mesh of its own cut by the same rates."""
 
     def __init__(self, tessellation, cage, options):
         self.tessellation = tessellation
@@ -112,9 +113,9 @@ class TessellationOutput:
         """None: the tags say how refinement goes on, and the limit surface is where it ends."""
 
     def refine(self, source, written=None):
-        """The Refined values of source on this tessellation: positions and normals on the limit surface; the other
-        channels linear in the cage triangles (written: as Source.refine's, the UV maps and corner channels whose
-        values are unchanged are left as the result holds them)."""
+        """The Refined values of source on this tessellation: positions and normals on the limit surface, UV maps
+        refined by UV Smooth; the other channels linear in the cage triangles (written: as Source.refine's, the UV
+        maps and corner channels whose values are unchanged are left as the result holds them)."""
         def unchanged(index, values):
             return written is not None and np.array_equal(written[index], values)
 
@@ -134,8 +135,9 @@ class TessellationOutput:
         def per_corner(corner_values):
             return per_face_point(corner_values)[tessellation.corner_face_points]
 
-        uvs = [None if unchanged(2 + layer, values) else per_corner(values[indices])
-               for layer, (indices, values) in enumerate(source.uv_layers)]
+        uvs = [None if unchanged(2 + layer, values)
+               else native.run(tessellation.evaluate_face_varying, values, layer=layer)[tessellation.corner_face_points]
+               for layer, (_, values) in enumerate(source.uv_layers)]
         corners = None
         if source.corners.parts:
             values = source.corners.packed()

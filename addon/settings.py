@@ -125,9 +125,10 @@ def _plan_keywords(self):
 
 
 def _tessellation_keywords(self):
-    """Keyword arguments of _loopsub.Tessellation for these options (tags, cones and rates come from the mesh)."""
+    """Keyword arguments of _loopsub.Tessellation for these options (tags, cones, UV layers and rates come from the
+    mesh)."""
     keywords = _plan_keywords(self)
-    del keywords["limit_surface"], keywords["uv_interpolation"]
+    del keywords["limit_surface"]
     return keywords
 
 

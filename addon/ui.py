@@ -101,11 +101,11 @@ def _draw_settings(layout, obj, modifier, columns=None):
     threshold = layout.row()
     threshold.active = settings.use_creases and settings.rules == 'HOPPE94'
     threshold.prop(settings, "crease_threshold")
-    # Adaptive Subdivision cuts the limit surface, with UVs linear within each cage face.
-    for name in ("use_limit_surface", "uv_smooth"):
-        row = layout.row()
-        row.active = not adaptive
-        row.prop(settings, name)
+    # Adaptive Subdivision cuts the limit surface.
+    limit = layout.row()
+    limit.active = not adaptive
+    limit.prop(settings, "use_limit_surface")
+    layout.prop(settings, "uv_smooth")
     layout.prop(settings, "boundary")
     layout.prop(settings, "use_creases")
     cones = layout.row()

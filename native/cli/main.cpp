@@ -31,8 +31,17 @@ loopsub::Camera camera_of(const loopsub::cli::LookAt& look) {
     }
 }
 
-// --tessellate and --camera: the points and their normals (one vn per face point), UVs linear within each input
-// triangle.
+// The mesh the core reads: the input's, and its vt indices as the UV layer's topology (where a vertex's corners name
+// different vt, a seam runs). `layer` holds the layer while the view is read.
+loopsub::MeshView with_uv_layer(const loopsub::obj::ObjMesh& in, loopsub::FaceVaryingLayer& layer) {
+    loopsub::MeshView mesh = in.view();
+    layer = {in.triangle_uvs.data(), int(in.uvs.size() / 2)};
+    if (!in.triangle_uvs.empty()) mesh.face_varying = &layer, mesh.num_face_varying = 1;
+    return mesh;
+}
+
+// --tessellate and --camera: the points and their normals (one vn per face point), and the UVs (one vt per face
+// point) refined by the face-varying interpolation as levels refine them.
 void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const loopsub::Options& options) {
     loopsub::TessellationRates rates;
     rates.uniform_rate = std::max(command.tessellate, 1);
@@ -44,7 +53,8 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
                                         command.camera->dicing_rate, command.camera->max_rate, command.camera->measure);
         rates = screen.view();
     }
-    const loopsub::Tessellation tessellation(in.view(), options, rates);
+    loopsub::FaceVaryingLayer uv_layer;
+    const loopsub::Tessellation tessellation(with_uv_layer(in, uv_layer), options, rates);
     const auto planned = std::chrono::steady_clock::now();
     loopsub::obj::ObjMesh out;
     out.positions.resize(3 * std::size_t(tessellation.num_points()));
@@ -55,21 +65,8 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     out.triangles.assign(tessellation.triangles(), tessellation.triangles() + corners);
     out.triangle_normals.assign(tessellation.corner_face_points(), tessellation.corner_face_points() + corners);
     if (!in.triangle_uvs.empty()) {
-        // Each face point's UV from its triangle's corners, at its parameters.
-        std::vector<std::int32_t> face_of(std::size_t(tessellation.num_face_points()));
-        for (std::size_t c = 0; c < corners; ++c)
-            face_of[std::size_t(out.triangle_normals[c])] = tessellation.parent_triangles()[c / 3];
-        const float* parameters = tessellation.face_point_parameters();
-        out.uvs.resize(2 * face_of.size());
-        for (std::size_t p = 0; p < face_of.size(); ++p) {
-            const std::int32_t* uv = &in.triangle_uvs[3 * std::size_t(face_of[p])];
-            const float u = parameters[2 * p], v = parameters[2 * p + 1], weights[3] = {1.0f - u - v, u, v};
-            for (int c = 0; c < 2; ++c) {
-                float value = 0.0f;
-                for (int k = 0; k < 3; ++k) value += weights[k] * in.uvs[2 * std::size_t(uv[k]) + std::size_t(c)];
-                out.uvs[2 * p + std::size_t(c)] = value;
-            }
-        }
+        out.uvs.resize(2 * std::size_t(tessellation.num_face_points()));
+        tessellation.evaluate_face_varying(0, in.uvs.data(), 2, out.uvs.data());
         out.triangle_uvs = out.triangle_normals;
     }
     loopsub::obj::write_obj(command.output, out, options.threads);
@@ -109,14 +106,8 @@ int run(const Command& command) {
         return 0;
     }
 
-    // The vt indices are the UV layer's topology: where a vertex's corners name different vt, a seam runs.
-    loopsub::MeshView mesh = in.view();
-    const loopsub::FaceVaryingLayer uv_layer{in.triangle_uvs.data(), int(in.uvs.size() / 2)};
-    if (!in.triangle_uvs.empty()) {
-        mesh.face_varying = &uv_layer;
-        mesh.num_face_varying = 1;
-    }
-    loopsub::Plan plan(mesh, options);
+    loopsub::FaceVaryingLayer uv_layer;
+    loopsub::Plan plan(with_uv_layer(in, uv_layer), options);
 
     loopsub::obj::ObjMesh out;
     out.positions.resize(std::size_t(plan.num_output_vertices()) * 3);

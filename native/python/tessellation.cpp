@@ -17,11 +17,12 @@ namespace loopsub::python {
 namespace {
 
 struct PyTessellation {
-    explicit PyTessellation(loopsub::Tessellation&& t, int vertices)
-        : tessellation(std::move(t)), num_input_vertices(vertices) {}
+    PyTessellation(loopsub::Tessellation&& t, int vertices, std::vector<int> values)
+        : tessellation(std::move(t)), num_input_vertices(vertices), layer_values(std::move(values)) {}
     loopsub::Tessellation tessellation;
     int num_input_vertices;
-    std::mutex evaluate_mutex;  // Tessellation::evaluate is not reentrant and runs without the GIL
+    std::vector<int> layer_values;  // values of each face-varying layer
+    std::mutex evaluate_mutex;      // Tessellation::evaluate is not reentrant and runs without the GIL
 };
 
 std::unique_ptr<PyTessellation> build(py::handle triangles, long long num_vertices, int rate, py::handle edges,
@@ -39,8 +40,31 @@ std::unique_ptr<PyTessellation> build(py::handle triangles, long long num_vertic
         rates.edges = data_of<std::int32_t>(edge_array), rates.rates = data_of<std::int32_t>(rate_array);
         rates.num_edges = checked_count(edge_array.shape(0), "number of edges");
     }
+    std::vector<int> layer_values;
+    for (const loopsub::FaceVaryingLayer& layer : in.layers) layer_values.push_back(layer.num_values);
     py::gil_scoped_release nogil;
-    return std::make_unique<PyTessellation>(loopsub::Tessellation(in.mesh, in.options, rates), in.mesh.num_vertices);
+    return std::make_unique<PyTessellation>(loopsub::Tessellation(in.mesh, in.options, rates), in.mesh.num_vertices,
+                                            std::move(layer_values));
+}
+
+py::array face_varying_at_face_points(py::object self, py::handle values, int layer, py::handle out) {
+    PyTessellation& p = self.cast<PyTessellation&>();
+    const loopsub::Tessellation& t = p.tessellation;
+    if (layer < 0 || layer >= int(p.layer_values.size()))
+        throw py::index_error("layer must be in [0, " + std::to_string(p.layer_values.size()) + "), got " +
+                              std::to_string(layer));
+    py::array in = require_array<float>(values, "values", {{p.layer_values[std::size_t(layer)], "V"}, {-1, "C"}});
+    const int channels = checked_count(in.shape(1), "number of channels");
+    if (channels < 1) throw py::value_error("values need at least one channel");
+    py::array result = output_array(out, {{t.num_face_points(), "num_face_points"}, {channels, "C"}}, in);
+    const float* src = data_of<float>(in);
+    float* dst = static_cast<float*>(result.mutable_data());
+    {
+        py::gil_scoped_release nogil;
+        std::lock_guard<std::mutex> lock(p.evaluate_mutex);
+        t.evaluate_face_varying(layer, src, channels, dst);
+    }
+    return result;
 }
 
 py::tuple evaluate_points(py::object self, py::handle positions, py::handle out, py::handle normals_out) {
@@ -61,7 +85,7 @@ py::tuple evaluate_points(py::object self, py::handle positions, py::handle out,
 }
 
 constexpr const char* kDoc =
-    R"doc(Tessellation(triangles, num_vertices, rate=1, *, edges=None, edge_rates=None, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
+    R"doc(Tessellation(triangles, num_vertices, rate=1, *, edges=None, edge_rates=None, uv_interpolation="corners", face_varying_indices=None, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
 
 The limit surface at a rate per edge: each triangle cut into a lattice as fine along each edge as
 its rate says (``rate`` segments, or the rate ``edge_rates[k]`` of ``edges[k]``, a vertex pair
@@ -78,8 +102,11 @@ rate : int, 1 to 4096
 edges : numpy.ndarray of int32, shape (K, 2), optional
 edge_rates : numpy.ndarray of int32, shape (K,), optional
 
-Raises ``ValueError`` for a rate out of range, an edge no triangle has, holes, face-varying
-layers or boundary="none", and as Plan for a bad mesh.
+Face-varying layers (``face_varying_indices``, as Plan's) are refined by ``uv_interpolation``:
+``evaluate_face_varying`` gives their values at every face point.
+
+Raises ``ValueError`` for a rate out of range, an edge no triangle has, holes or
+boundary="none", and as Plan for a bad mesh or layer.
 )doc";
 
 constexpr const char* kEvaluateDoc = R"doc(evaluate(positions, out=None, normals=None)
@@ -87,6 +114,14 @@ constexpr const char* kEvaluateDoc = R"doc(evaluate(positions, out=None, normals
 positions (N, 3) float32. Returns (points, normals): points (num_points, 3) float32 on the limit
 surface, and the unit normal at each face point, (num_face_points, 3) float32 (zero where the
 surface has no tangent plane). ``out`` and ``normals`` may be given to be written in place.
+)doc";
+
+constexpr const char* kEvaluateLayerDoc = R"doc(evaluate_face_varying(values, layer=0, out=None)
+
+values (V, C) float32, one row per value of face-varying layer ``layer``. Returns (num_face_points,
+C) float32: the layer at every face point (per output corner: ``out[corner_face_points]``), refined
+by ``uv_interpolation`` as Plan refines it: the layer as a mesh of its own, one vertex per (vertex,
+value) pair, cut by the same rates; with "all", linear in each triangle.
 )doc";
 
 constexpr const char* kScreenRatesDoc =
@@ -143,16 +178,25 @@ void bind_tessellation(py::module_& m) {
           py::arg("measure") = "length", py::arg("offscreen_scale") = 4.0);
     py::class_<PyTessellation>(m, "Tessellation", kDoc)
         .def(py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges,
-                         py::handle edge_rates LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
+                         py::handle edge_rates, const std::string& uv_interpolation,
+                         py::object face_varying_indices LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
                  OptionArgs args;
 #define LOOPSUB_OPTION_ASSIGN(type, keyword, default_value) args.keyword = keyword;
                  LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ASSIGN)
 #undef LOOPSUB_OPTION_ASSIGN
+                 args.uv_interpolation = uv_interpolation;
+                 args.face_varying_indices = face_varying_indices;
                  return build(triangles, num_vertices, rate, edges, edge_rates, args);
              }),
              py::arg("triangles"), py::arg("num_vertices"), py::arg("rate") = 1, py::kw_only(),
-             py::arg("edges") = py::none(),
-             py::arg("edge_rates") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG))
+             py::arg("edges") = py::none(), py::arg("edge_rates") = py::none(),
+             py::arg("uv_interpolation") = OptionArgs{}.uv_interpolation,
+             py::arg("face_varying_indices") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG))
+        .def("evaluate_face_varying", &face_varying_at_face_points, kEvaluateLayerDoc, py::arg("values"),
+             py::arg("layer") = 0, py::arg("out") = py::none())
+        .def_property_readonly(
+            "num_face_varying_layers", [](PyTessellation& p) { return int(p.layer_values.size()); },
+            "int: the face-varying layers given.")
         .def(
             "output_edges",
             [](PyTessellation& p) {

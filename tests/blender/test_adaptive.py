@@ -10,6 +10,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bmesh  # noqa: E402
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 from mathutils.bvhtree import BVHTree  # noqa: E402
@@ -125,6 +126,37 @@ def edits_keep_the_cut():
           "an edit that changes no rate updates the result in place, equal to Apply's")
     support.remove(twin)
     support.remove(obj)
+
+
+def uvs_follow_uv_smooth():
+    """UV maps on the adaptive path are refined as levels refine them, in every UV Smooth mode: with every edge cut
+    into 2 segments (Max Segments 2 from a near camera), Apply's corners are level 1's with the limit surface, each
+    corner's position with its UV (a UV sphere: a seam along a meridian, every pole triangle its own UVs)."""
+    top_camera(3.0)
+    modes = [item.identifier for item in bpy.types.SubsurfModifier.bl_rna.properties["uv_smooth"].enum_items]
+    for mode in modes:
+        bm = bmesh.new()
+        bm.loops.layers.uv.new("UVMap")
+        bmesh.ops.create_uvsphere(bm, u_segments=8, v_segments=6, radius=1.0, calc_uvs=True)
+        obj = support.object_from_bmesh("UVs", bm)
+        obj.loop_subdivision.max_rate = 2
+        levels = support.copy_object(obj, "UVs levels")
+        support.apply_loop(obj, use_adaptive=True, dicing_rate=0.5, uv_smooth=mode, rules='OPENSUBDIV')
+        support.apply_loop(levels, levels=1, uv_smooth=mode, rules='OPENSUBDIV')
+
+        def corners(mesh):
+            loops = support.read_array(mesh.loops, "vertex_index", dtype=np.int32)
+            return support.positions(mesh)[loops], support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2)
+
+        (points, uvs), (level_points, level_uvs) = corners(obj.data), corners(levels.data)
+        # Each corner against level 1's corners at its place (a seam vertex has several, with different UVs).
+        worst = max(np.abs(level_uvs[np.linalg.norm(level_points - point, axis=1) < 1e-5] - uv).max(axis=1).min()
+                    for point, uv in zip(points, uvs))
+        check(len(obj.data.polygons) == len(levels.data.polygons) and worst < 1e-5,
+              f"UV Smooth {mode}: Adaptive at 2 segments an edge gives level 1's UV at every corner (within "
+              f"{worst:.1e})")
+        support.remove(levels)
+        support.remove(obj)
 
 
 def limit_surface_without_cracks():
@@ -249,6 +281,7 @@ support.clear_scene()
 defaults()
 rates_from_the_camera()
 edits_keep_the_cut()
+uvs_follow_uv_smooth()
 limit_surface_without_cracks()
 render_and_viewport_rates()
 no_camera()

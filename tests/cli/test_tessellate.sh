@@ -1,6 +1,6 @@
 # --tessellate N on OpenSubdiv's shapes: valid OBJ output with the counts a rate of N gives (V + E (N - 1) +
-# F (N - 1)(N - 2) / 2 points, F N^2 triangles), a normal and a UV for every corner, and at N = 2^L the points of
-# --levels L --limit.
+# F (N - 1)(N - 2) / 2 points, F N^2 triangles), a normal and a UV for every corner, and at N = 2^L the points (and
+# each corner's UV) of --levels L --limit.
 source "$(dirname "$0")/cli_lib.sh"
 require_shapes
 
@@ -21,22 +21,37 @@ for shape in loop_cube loop_cube_creases0 loop_fvar_bound0 loop_icos_semisharp l
       grep -q '^t ' "$out" && fail "$out: a tessellation has no tags to feed back, yet wrote $(grep -c '^t ' "$out")"
     done
   done
-  # Rate 4 is level 2 on the limit surface: the same points (sorted, as the numbering differs inside the faces).
+  # Rate 4 is level 2 on the limit surface: the same points (sorted, as the numbering differs inside the faces), and
+  # where the input has UVs, the same UV at every corner (each corner's point with its vt, refined as levels refine).
   run_cli 0 "$in" "$WORK/t4.obj" --tessellate 4 --rules opensubdiv
   run_cli 0 "$in" "$WORK/l2.obj" --levels 2 --limit --rules opensubdiv
   # (A regular triangle's points come from its box spline, not the limit masks: the same within rounding, 1e-5.)
   python3 - "$WORK/t4.obj" "$WORK/l2.obj" <<'PY' || fail "$shape: --tessellate 4 is not --levels 2 --limit"
 import sys
-def points(path):
-    return sorted(tuple(float(x) for x in line.split()[1:4]) for line in open(path) if line.startswith("v "))
-a, b = points(sys.argv[1]), points(sys.argv[2])
-unmatched = list(b)
-for p in a:
-    near = min(range(len(unmatched)), key=lambda i: max(abs(p[k] - unmatched[i][k]) for k in range(3)), default=None)
-    if near is None or max(abs(p[k] - unmatched[near][k]) for k in range(3)) > 1e-5:
-        sys.exit(f"no point of the refinement near {p}")
-    unmatched.pop(near)
-sys.exit(1 if unmatched else 0)
+def read(path):
+    rows = {"v": [], "vt": []}
+    corners = []
+    for line in open(path):
+        parts = line.split()
+        if parts and parts[0] in rows:
+            rows[parts[0]].append(tuple(float(x) for x in parts[1:]))
+        elif parts and parts[0] == "f":
+            for corner in parts[1:]:
+                index = corner.split("/")
+                if len(index) > 1 and index[1]:
+                    corners.append(rows["v"][int(index[0]) - 1][:3] + rows["vt"][int(index[1]) - 1][:2])
+    return sorted(rows["v"]), corners
+def match(a, b, size):
+    unmatched = sorted(b)
+    for p in sorted(a):
+        near = min(range(len(unmatched)), key=lambda i: max(abs(p[k] - unmatched[i][k]) for k in range(size)),
+                   default=None)
+        if near is None or max(abs(p[k] - unmatched[near][k]) for k in range(size)) > 1e-5:
+            sys.exit(f"no point of the refinement near {p}")
+        unmatched.pop(near)
+    return not unmatched
+(points_a, corners_a), (points_b, corners_b) = read(sys.argv[1]), read(sys.argv[2])
+sys.exit(0 if match(points_a, points_b, 3) and match(sorted(set(corners_a)), sorted(set(corners_b)), 5) else 1)
 PY
 done
 

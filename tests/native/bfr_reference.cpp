@@ -191,4 +191,29 @@ BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points)
     return out;
 }
 
+std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::vector<BfrPoint>& points,
+                                              FaceVaryingInterpolation mode) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, mode, true);
+    Bfr::SurfaceFactory::Options options;
+    options.SetApproxLevelSmooth(10).SetApproxLevelSharp(10).SetDefaultFVarID(0);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
+    std::vector<double> out(2 * points.size(), 0.0);
+    std::vector<double> control(mesh.uvs.begin(), mesh.uvs.end()), patch_points;
+    const Bfr::Surface<double>::PointDescriptor point(2);
+    Bfr::Surface<double> surface;
+    int face = -1;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (points[i].face != face) {
+            face = points[i].face;
+            if (!factory.InitFaceVaryingSurface(face, &surface) || !surface.IsValid())
+                throw std::runtime_error("Bfr: no face-varying surface for a face");
+            patch_points.resize(2 * std::size_t(surface.GetNumPatchPoints()));
+            surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
+        }
+        const double uv[2] = {points[i].u, points[i].v};
+        surface.Evaluate(uv, patch_points.data(), point, &out[2 * i]);
+    }
+    return out;
+}
+
 }  // namespace loopsub::testing

@@ -33,6 +33,10 @@ struct BfrPoint {
 // near irregular vertices is an approximation, here at its finest (2^-10 of a face).
 BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points);
 
+// The limit of the mesh's UVs (its face-varying layer, interpolated by `mode`) at points of its faces: 2 per point.
+std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::vector<BfrPoint>& points,
+                                              FaceVaryingInterpolation mode);
+
 // The plan must have been built for `mesh` (its tags, boundary and crease method; no holes) with the OpenSubdiv rules.
 BfrLimit bfr_limit(const TestMesh& mesh, const Plan& plan);
 // The limit of the mesh's UVs (its face-varying layer, interpolated by the plan's Options::face_varying) at the

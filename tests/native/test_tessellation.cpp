@@ -257,6 +257,130 @@ TEST_P(TessellationAgainstBfr, PointsAndNormalsAreTheLimitSurfaces) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, TessellationAgainstBfr, ::testing::ValuesIn(shapes()), case_name<ShapeCase>);
 
+// Face-varying layers are Bfr's face-varying surfaces at the same parameters (within 1e-5 of the UVs' extent), in every
+// mode, at uniform and random rates: a layer is cut as a mesh of its own, its values classified as a plan classifies
+// them. The meshes: OpenSubdiv's Loop shapes that have UVs, and a UV seam across an icosphere with no creases, with
+// infinitely sharp ones and with semi-sharp ones, across a grid with Keep Corners, and across a torus (the seam's ends
+// are darts of the layer). CornersPlus1 / CornersPlus2 leave out the semi-sharp mesh: there Bfr differs from the
+// refinement itself at a value held for its sibling's features (test_limit_bfr.cpp).
+struct LayerCase {
+    std::string name;
+    std::function<TestMesh()> make;
+    bool semi_sharp = false;
+};
+void PrintTo(const LayerCase& c, std::ostream* os) { *os << c.name; }
+
+std::vector<LayerCase> layer_shapes() {
+    std::vector<LayerCase> out;
+    for (const ShapeCase& shape : shapes()) {
+        if (shape.name == "loop_pole8" || shape.name == "torus_semisharp" || shape.name == "grid_creases_and_corners")
+            continue;  // no UVs
+        out.push_back(
+            {shape.name, shape.make,
+             shape.name.find("semisharp") != std::string::npos || shape.name.find("chaikin") != std::string::npos});
+    }
+    out.push_back({"icosphere_seam", [] {
+                       TestMesh mesh = icosphere(2);
+                       jitter(mesh, 71, 0.01f);
+                       add_uvs_with_seam(mesh);
+                       return mesh;
+                   }});
+    out.push_back({"icosphere_seam_creases", [] {
+                       TestMesh mesh = icosphere(2);
+                       jitter(mesh, 72, 0.01f);
+                       add_random_creases(mesh, 72, 0.15, false);
+                       add_uvs_with_seam(mesh);
+                       return mesh;
+                   }});
+    out.push_back({"icosphere_seam_semisharp",
+                   [] {
+                       TestMesh mesh = icosphere(2);
+                       jitter(mesh, 61, 0.01f);
+                       add_random_creases(mesh, 61, 0.2, true);
+                       add_uvs_with_seam(mesh);
+                       return mesh;
+                   },
+                   true});
+    out.push_back({"grid_seam_keep_corners", [] {
+                       TestMesh mesh = grid(6, 5);
+                       jitter(mesh, 73, 0.02f);
+                       mesh.boundary = Boundary::EdgesAndCorners;
+                       add_uvs_with_seam(mesh);
+                       return mesh;
+                   }});
+    out.push_back({"torus_seam", [] {
+                       TestMesh mesh = torus(8, 6);
+                       jitter(mesh, 74, 0.02f);
+                       add_uvs_with_seam(mesh);
+                       return mesh;
+                   }});
+    return out;
+}
+
+class TessellationLayerAgainstBfr : public ::testing::TestWithParam<LayerCase> {};
+
+TEST_P(TessellationLayerAgainstBfr, LayersAreBfrsFaceVaryingSurfaces) {
+    TestMesh mesh;
+    try {
+        mesh = GetParam().make();
+    } catch (const PeerShapesMissing& missing) { GTEST_SKIP() << missing.what(); }
+    if (mesh.triangle_uvs.empty()) GTEST_SKIP() << GetParam().name << " has no UVs";
+    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    MeshView view = mesh.view();
+    view.face_varying = &layer, view.num_face_varying = 1;
+    float low[2] = {INFINITY, INFINITY}, high[2] = {-INFINITY, -INFINITY};
+    for (std::size_t i = 0; i < mesh.uvs.size(); ++i)
+        low[i % 2] = std::min(low[i % 2], mesh.uvs[i]), high[i % 2] = std::max(high[i % 2], mesh.uvs[i]);
+    const double extent = std::hypot(high[0] - low[0], high[1] - low[1]);
+    // At an input dart (one infinitely sharp edge) Bfr's surface is not the limit: refinement converges to ours there
+    // (an icosahedron's dart, refined 6, 8 and 9 levels: 9e-4, 2e-4 and 8e-5 from ours, each step about half the last),
+    // while Bfr's point lies 1e-3 of the diagonal off. Those points are left out.
+    std::vector<bool> at_dart(std::size_t(mesh.num_vertices()), false);
+    {
+        std::vector<int> sharp_edges(std::size_t(mesh.num_vertices()), 0);
+        for (std::size_t e = 0; e < mesh.crease_sharpness.size(); ++e)
+            if (mesh.crease_sharpness[e] >= kInfiniteSharpness)
+                ++sharp_edges[std::size_t(mesh.crease_edges[2 * e])],
+                    ++sharp_edges[std::size_t(mesh.crease_edges[2 * e + 1])];
+        for (std::size_t v = 0; v < at_dart.size(); ++v) at_dart[v] = sharp_edges[v] == 1;
+    }
+    using Mode = FaceVaryingInterpolation;
+    for (Mode mode :
+         {Mode::None, Mode::CornersOnly, Mode::CornersPlus1, Mode::CornersPlus2, Mode::Boundaries, Mode::All}) {
+        if (GetParam().semi_sharp && (mode == Mode::CornersPlus1 || mode == Mode::CornersPlus2)) continue;
+        for (int uniform : {2, 4, 3, -6}) {
+            const RatesFor rates(mesh, uniform, 26);
+            Options options = options_for(mesh);
+            options.face_varying = mode;
+            const Tessellation tessellation(view, options, rates.view);
+            ASSERT_EQ(tessellation.num_face_varying_layers(), 1);
+            std::vector<float> values(2 * std::size_t(tessellation.num_face_points()));
+            tessellation.evaluate_face_varying(0, mesh.uvs.data(), 2, values.data());
+            std::vector<BfrPoint> asked(std::size_t(tessellation.num_face_points()));
+            std::vector<std::int32_t> point_of(asked.size());
+            for (int t = 0; t < tessellation.num_triangles(); ++t)
+                for (int k = 0; k < 3; ++k) {
+                    const std::size_t fp = std::size_t(tessellation.corner_face_points()[3 * t + k]);
+                    point_of[fp] = tessellation.triangles()[3 * t + k];
+                    asked[fp] = {tessellation.parent_triangles()[t], tessellation.face_point_parameters()[2 * fp],
+                                 tessellation.face_point_parameters()[2 * fp + 1]};
+                }
+            const std::vector<double> expected = bfr_evaluate_face_varying(mesh, asked, mode);
+            double worst = 0.0;
+            for (std::size_t fp = 0; fp < asked.size(); ++fp)
+                if (point_of[fp] >= mesh.num_vertices() || !at_dart[std::size_t(point_of[fp])])
+                    worst = std::max(worst, std::hypot(values[2 * fp] - expected[2 * fp],
+                                                       values[2 * fp + 1] - expected[2 * fp + 1]) /
+                                                extent);
+            EXPECT_LE(worst, 1e-5) << GetParam().name << ", mode " << int(mode) << ", rate "
+                                   << (uniform > 0 ? std::to_string(uniform) : "1.." + std::to_string(-uniform));
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, TessellationLayerAgainstBfr, ::testing::ValuesIn(layer_shapes()),
+                         case_name<LayerCase>);
+
 // On a closed mesh every edge of the result has exactly two triangles and V - E + F stays the input's: no crack,
 // whatever the rates, and each point on an input edge is one point.
 TEST(Tessellation, ClosedMeshesStayClosedForAnyRates) {

@@ -60,6 +60,50 @@ def test_output_edges_name_each_pair_of_ends_once():
     assert len(np.unique(triangle_edges)) == len(edge_vertices)
 
 
+def _seamed_grid():
+    """A bent 6 x 6 grid with UVs split along the column x = 3: the right side's values moved, a real seam."""
+    positions, triangles = grid(6, seed=2, height=0.3)
+    middle = np.unique(positions[:, 0])[3]
+    on_seam = np.abs(positions[:, 0] - middle) < 1e-6
+    right = positions[triangles][:, :, 0].mean(axis=1) > middle
+    copy = {v: len(positions) + k for k, v in enumerate(np.flatnonzero(on_seam))}
+    indices = triangles.copy()
+    for f in np.flatnonzero(right):
+        for k in range(3):
+            if on_seam[indices[f, k]]:
+                indices[f, k] = copy[indices[f, k]]
+    values = np.concatenate([positions[:, :2], positions[on_seam, :2] + 0.05]).astype(np.float32)
+    return positions, triangles, indices.astype(np.int32), values
+
+
+@pytest.mark.parametrize("mode", ["none", "corners", "corners-plus1", "corners-plus2", "boundaries", "all"])
+def test_a_layer_at_rate_two_to_the_l_is_the_plans_layer_at_level_l(mode):
+    positions, triangles, indices, values = _seamed_grid()
+    for levels in (1, 2):
+        plan = _loopsub.Plan(triangles, len(positions), levels, rules="opensubdiv", limit_surface=True,
+                             uv_interpolation=mode, face_varying_indices=[indices])
+        plan_points = plan.evaluate(positions)[plan.triangles].reshape(-1, 3)
+        plan_uvs = plan.evaluate_face_varying(values, layer=0)[plan.face_varying_indices(0)].reshape(-1, 2)
+        tessellation = _loopsub.Tessellation(triangles, len(positions), 2**levels, rules="opensubdiv",
+                                             uv_interpolation=mode, face_varying_indices=[indices])
+        assert tessellation.num_face_varying_layers == 1
+        points, _ = tessellation.evaluate(positions)
+        layer = tessellation.evaluate_face_varying(values)
+        assert layer.shape == (tessellation.num_face_points, 2) and layer.dtype == np.float32
+        tess_points = points[tessellation.triangles].reshape(-1, 3)
+        tess_uvs = layer[tessellation.corner_face_points].reshape(-1, 2)
+        # Each corner of the tessellation is a corner of the plan in the same input triangle at the same place.
+        plan_parents = np.repeat(plan.parent_triangles, 3)
+        tess_parents = np.repeat(tessellation.parent_triangles, 3)
+        for parent in range(len(triangles)):
+            ours = np.flatnonzero(tess_parents == parent)
+            theirs = np.flatnonzero(plan_parents == parent)
+            distance = np.linalg.norm(tess_points[ours, None, :] - plan_points[None, theirs, :], axis=2)
+            nearest = theirs[distance.argmin(axis=1)]
+            assert distance.min(axis=1).max() < 1e-5
+            np.testing.assert_allclose(tess_uvs[ours], plan_uvs[nearest], atol=2e-6)
+
+
 def test_views_keep_the_tessellation_alive_and_out_is_written_in_place():
     positions, triangles = icosahedron()
     tessellation = _loopsub.Tessellation(triangles, len(positions), 3)

@@ -110,6 +110,14 @@ struct Options {
     std::uint64_t memory_limit_bytes = std::uint64_t(4) << 30;
 };
 
+// How a face-varying value is refined, as a plan classifies it at the input's level (Plan::face_varying_base).
+enum class FaceVaryingValueClass : std::uint8_t {
+    Vertex,  // its vertex has no seam: it takes the vertex's own rules
+    Seam,    // it runs along its seam as a crease
+    Stays,   // it stays where it is (a corner of its UV island, as Options::face_varying keeps it)
+    Held     // held while semi-sharp features around it decay, then it runs along its seam
+};
+
 // One face-varying layer (a UV map): the value index of each corner of each triangle. Corners of a vertex with the
 // same index share their value; where a vertex's corners take different values the layer has a seam there, and each
 // side is refined from its own values (OpenSubdiv's face-varying channel).
@@ -297,6 +305,15 @@ public:
     // by Options::face_varying, to the limit with Options::limit_surface. Throws InputError on a non-finite value.
     // Not reentrant, as evaluate().
     void evaluate_face_varying(int layer, ChannelsView<const float> in, ChannelsView<float> out);
+
+    // A face-varying layer's input level as a mesh of its own, one vertex per (vertex, value) pair, so that a seam is a
+    // boundary of it (docs/rules.md, "Face-varying layers"), with each base value's class: per corner of each input
+    // triangle its base value, per base value the caller's value and its FaceVaryingValueClass.
+    struct FaceVaryingBase {
+        std::vector<std::int32_t> corner_values, values;
+        std::vector<FaceVaryingValueClass> classes;
+    };
+    FaceVaryingBase face_varying_base(int layer) const;
 
     // Face-varying data without a layer: in holds num_channels floats per corner of each input triangle
     // (num_triangles x 3 x C, row-major), out the same per output triangle. Linear within each face, whatever

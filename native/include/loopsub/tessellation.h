@@ -68,8 +68,8 @@ struct TessellationImpl;
 
 class Tessellation {
 public:
-    // The mesh as for Plan (no holes, no face-varying layers, Boundary::EdgesOnly or EdgesAndCorners); of options,
-    // the rules, boundary, crease method, crease threshold, kernel, threads and memory limit count (the levels are the
+    // The mesh as for Plan (no holes, Boundary::EdgesOnly or EdgesAndCorners); of options, the rules, boundary, crease
+    // method, crease threshold, face-varying interpolation, kernel, threads and memory limit count (the levels are the
     // ones the rates need). A face's inner rate is the largest of its edges'. Throws InputError for bad input,
     // MemoryLimitError past the memory limit.
     Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates);
@@ -100,6 +100,14 @@ public:
         std::vector<std::int32_t> triangle_edges;  // 3 per triangle
     };
     Edges output_edges() const;
+    // Face-varying layers (MeshView::face_varying), refined by Options::face_varying as a Plan refines them. A layer is
+    // its input level as a mesh of its own (Plan::face_varying_base: one vertex per (vertex, value) pair, so that a
+    // seam is a boundary of it) cut by the same rates, the values its class keeps (FaceVaryingValueClass::Stays)
+    // tagged as corners and the mesh's tags carried onto it; with FaceVaryingInterpolation::All, linear in each
+    // triangle. Writes `channels` floats per face point (num_face_points() rows, as the normals) from `channels` per
+    // value of the layer. Throws InputError on a non-finite value. Not reentrant.
+    int num_face_varying_layers() const;
+    void evaluate_face_varying(int layer, const float* values, int channels, float* out) const;
     // The refinement levels whose control points and limit the points are made from.
     int levels() const;
 

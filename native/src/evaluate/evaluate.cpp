@@ -165,6 +165,15 @@ const std::int32_t* Plan::output_face_varying_indices(int layer) const {
 }
 int Plan::num_output_face_varying_values(int layer) const { return layer_plan(*impl_, layer).counts.back(); }
 
+Plan::FaceVaryingBase Plan::face_varying_base(int layer) const {
+    const detail::FaceVaryingPlan& plan = layer_plan(*impl_, layer);
+    FaceVaryingBase base;
+    base.corner_values.assign(plan.base_corner_values.begin(), plan.base_corner_values.end());
+    base.values.assign(plan.base_values.begin(), plan.base_values.end());
+    for (std::uint8_t c : plan.base_classes) base.classes.push_back(FaceVaryingValueClass(c));
+    return base;
+}
+
 void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, ChannelsView<float> out) {
     PlanImpl& p = *impl_;
     const detail::FaceVaryingPlan& plan = layer_plan(p, layer);

@@ -167,6 +167,16 @@ FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Op
     plan_.counts.push_back(values_.num_vertices);
     map_to_vertices(base);
     classify_base(base);
+    plan_.base_corner_values.assign(triangles.begin(), triangles.end());
+    plan_.base_classes.resize(tags_.size());
+    for (std::size_t x = 0; x < tags_.size(); ++x) {
+        const Tag& tag = tags_[x];
+        const FaceVaryingValueClass c = !tag.mismatch                     ? FaceVaryingValueClass::Vertex
+                                        : tag.crease                      ? FaceVaryingValueClass::Seam
+                                        : tag.semi_sharp || tag.dep_sharp ? FaceVaryingValueClass::Held
+                                                                          : FaceVaryingValueClass::Stays;
+        plan_.base_classes[x] = std::uint8_t(c);
+    }
 }
 
 void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {

@@ -14,6 +14,7 @@
 // values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "plan/level_state.h"
@@ -25,6 +26,8 @@ namespace loopsub::detail {
 struct FaceVaryingPlan {
     int num_input_values = 0;
     LargeVector<Index> base_values;           // per value of the layer's base mesh: the caller's value index
+    std::vector<Index> base_corner_values;    // 3 per input triangle: the base mesh's value at each corner
+    std::vector<std::uint8_t> base_classes;   // per base value: its FaceVaryingValueClass at the base level
     std::vector<LevelStencils> passes;        // one per level, then the limit
     std::vector<int> counts;                  // values before each pass, and after the last
     LargeVector<Index> output_corner_values;  // 3 per output triangle

@@ -78,6 +78,18 @@ struct TessellationImpl {
     std::vector<std::int64_t> stencil_offsets{0};
     std::vector<std::int32_t> stencil_points;
     std::vector<float> stencil_weights;  // position, d/ds, d/dt per entry
+    // Face-varying layers: each its input level as a mesh of its own, cut by the same rates, whose face points are
+    // this tessellation's one for one; or (FaceVaryingInterpolation::All) linear in each triangle, from the caller's
+    // value at each input corner.
+    struct Layer {
+        int num_values = 0;
+        std::vector<std::int32_t> base_values;       // per vertex of the layer's mesh: the caller's value
+        std::unique_ptr<Tessellation> surface;       // none: linear
+        std::vector<std::int32_t> face_point_point;  // the surface's point at each face point
+        std::vector<std::int32_t> corner_values;     // linear: the caller's value at each input corner
+    };
+    std::vector<Layer> layers;
+    std::vector<std::int32_t> face_point_parent;  // each face point's input triangle (the linear layers read it)
 };
 
 namespace {
@@ -517,14 +529,156 @@ private:
 
 }  // namespace
 
+namespace {
+
+// A face-varying layer cut as the surface is: its input level as a mesh of its own (Plan::face_varying_base) with the
+// mesh's tags carried onto it where they apply to its values (their class says which), the values that stay tagged as
+// corners, each of its edges at the rate of the mesh edge it lies on. Its face points are the surface's, one for one:
+// the same triangles in the same order, with the same rates.
+void add_face_varying_layers(TessellationImpl& d, const MeshView& mesh, const Options& options,
+                             const TessellationRates& rates) {
+    const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
+    d.face_point_parent.resize(d.samples.size());
+    for (std::size_t c = 0; c < d.corner_face_points.size(); ++c)
+        d.face_point_parent[std::size_t(d.corner_face_points[c])] = d.parent_triangles[c / 3];
+    Options classify = options;
+    classify.levels = 0, classify.limit_surface = false;
+    const Plan plan(mesh, classify);  // checks the layers, and classifies their values as a plan refines them
+    if (options.face_varying == FaceVaryingInterpolation::All) {
+        for (int k = 0; k < mesh.num_face_varying; ++k) {
+            TessellationImpl::Layer& layer = d.layers.emplace_back();
+            layer.num_values = mesh.face_varying[k].num_values;
+            layer.corner_values.assign(mesh.face_varying[k].corner_values,
+                                       mesh.face_varying[k].corner_values + corners);
+        }
+        return;
+    }
+
+    std::unordered_map<std::uint64_t, float> crease_of;
+    for (int e = 0; e < mesh.num_crease_edges; ++e)
+        crease_of[detail::edge_key(mesh.crease_edges[2 * e], mesh.crease_edges[2 * e + 1])] = mesh.crease_sharpness[e];
+    std::unordered_map<std::int32_t, float> corner_of;
+    for (int k = 0; k < mesh.num_corners; ++k) corner_of[mesh.corner_vertices[k]] = mesh.corner_sharpness[k];
+    std::vector<bool> cone(std::size_t(mesh.num_vertices), false);
+    for (int k = 0; k < mesh.num_cones; ++k) cone[std::size_t(mesh.cone_vertices[k])] = true;
+    std::vector<int> faces_at(std::size_t(mesh.num_vertices), 0);
+    for (std::size_t c = 0; c < corners; ++c) ++faces_at[std::size_t(mesh.triangles[c])];
+    std::unordered_map<std::uint64_t, int> rate_of;
+    for (int e = 0; e < rates.num_edges; ++e)
+        rate_of[detail::edge_key(rates.edges[2 * e], rates.edges[2 * e + 1])] = rates.rates[e];
+
+    for (int k = 0; k < mesh.num_face_varying; ++k) {
+        TessellationImpl::Layer& layer = d.layers.emplace_back();
+        layer.num_values = mesh.face_varying[k].num_values;
+        const Plan::FaceVaryingBase base = plan.face_varying_base(k);
+        layer.base_values = base.values;
+        const int n = int(base.values.size());
+        std::vector<std::int32_t> vertex_of(static_cast<std::size_t>(n));
+        for (std::size_t c = 0; c < corners; ++c) vertex_of[std::size_t(base.corner_values[c])] = mesh.triangles[c];
+
+        detail::LocalMesh tags;
+        std::vector<std::int32_t> edges, edge_rates;
+        std::unordered_map<std::uint64_t, bool> seen;
+        for (std::size_t c = 0; c < corners; ++c) {
+            const std::size_t next = c - c % 3 + (c + 1) % 3;
+            const std::int32_t x = base.corner_values[c], y = base.corner_values[next];
+            if (!seen.try_emplace(detail::edge_key(x, y), true).second) continue;
+            const std::uint64_t key = detail::edge_key(mesh.triangles[c], mesh.triangles[next]);
+            if (const auto crease = crease_of.find(key); crease != crease_of.end())
+                tags.creases.insert(tags.creases.end(), {x, y}), tags.crease_sharpness.push_back(crease->second);
+            const auto rate = rate_of.find(key);
+            edges.insert(edges.end(), {x, y}),
+                edge_rates.push_back(rate != rate_of.end() ? rate->second : rates.uniform_rate);
+        }
+        for (std::int32_t x = 0; x < n; ++x) {
+            const std::int32_t v = vertex_of[std::size_t(x)];
+            const auto corner = corner_of.find(v);
+            float sharpness = 0.0f;
+            switch (base.classes[std::size_t(x)]) {
+                case FaceVaryingValueClass::Stays: sharpness = kInfiniteSharpness; break;
+                case FaceVaryingValueClass::Vertex:  // the vertex's own rules: its tags, its corner of one face
+                    if (corner != corner_of.end()) sharpness = corner->second;
+                    if (options.boundary == Boundary::EdgesAndCorners && faces_at[std::size_t(v)] == 1)
+                        sharpness = kInfiniteSharpness;
+                    if (cone[std::size_t(v)]) tags.cones.push_back(x);
+                    break;
+                case FaceVaryingValueClass::Held:  // by the vertex's own sharpness (its span's edges are carried)
+                    if (corner != corner_of.end()) sharpness = corner->second;
+                    break;
+                case FaceVaryingValueClass::Seam: break;
+            }
+            if (sharpness > 0.0f) tags.corners.push_back(x), tags.corner_sharpness.push_back(sharpness);
+        }
+        tags.triangles = base.corner_values;
+        Options cut = options;
+        cut.boundary = Boundary::EdgesOnly;  // a corner of one face is tagged above where the rules make one
+        TessellationRates layer_rates;
+        layer_rates.uniform_rate = rates.uniform_rate;
+        layer_rates.edges = edges.data(), layer_rates.rates = edge_rates.data();
+        layer_rates.num_edges = int(edge_rates.size());
+        layer.surface = std::make_unique<Tessellation>(tags.view(n), cut, layer_rates);
+        const Tessellation& surface = *layer.surface;
+        if (surface.num_face_points() != int(d.samples.size()) ||
+            !std::equal(d.corner_face_points.begin(), d.corner_face_points.end(), surface.corner_face_points()))
+            throw std::logic_error("tessellation: a face-varying layer's face points are not the surface's");
+        layer.face_point_point.resize(d.samples.size());
+        for (std::size_t c = 0; c < d.corner_face_points.size(); ++c)
+            layer.face_point_point[std::size_t(d.corner_face_points[c])] = surface.triangles()[c];
+    }
+}
+
+}  // namespace
+
 Tessellation::Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates)
     : impl_(std::make_unique<TessellationImpl>()) {
     if (mesh.num_holes > 0) fail("holes are not supported");
-    if (mesh.num_face_varying > 0) fail("face-varying layers are not supported");
     if (options.boundary == Boundary::None) fail("Boundary::None is not supported (it makes holes)");
     impl_->threads = std::max(1, options.threads);
     impl_->patch_kernel = detail::kernel_functions(detail::resolve_kernel(options.kernel)).patch;
-    Builder(*impl_, mesh, options).build(rates);
+    MeshView surface = mesh;
+    surface.face_varying = nullptr, surface.num_face_varying = 0;
+    Builder(*impl_, surface, options).build(rates);
+    if (mesh.num_face_varying > 0) add_face_varying_layers(*impl_, mesh, options, rates);
+}
+
+int Tessellation::num_face_varying_layers() const { return int(impl_->layers.size()); }
+
+void Tessellation::evaluate_face_varying(int layer, const float* values, int channels, float* out) const {
+    const TessellationImpl& d = *impl_;
+    if (layer < 0 || layer >= int(d.layers.size()))
+        throw InputError("tessellation: face-varying layer " + std::to_string(layer) + " is not in 0.." +
+                         std::to_string(int(d.layers.size()) - 1));
+    if (channels < 1) throw InputError("tessellation: at least one face-varying channel is needed");
+    const TessellationImpl::Layer& l = d.layers[std::size_t(layer)];
+    const std::size_t c = std::size_t(channels);
+    for (std::size_t i = 0; i < std::size_t(l.num_values) * c; ++i)
+        if (!std::isfinite(values[i]))
+            throw InputError("tessellation: face-varying value " + std::to_string(i / c) + " is not finite");
+    const std::size_t num_face_points = d.samples.size();
+    if (!l.surface) {
+        for (std::size_t f = 0; f < num_face_points; ++f) {
+            const std::int32_t* v = &l.corner_values[3 * std::size_t(d.face_point_parent[f])];
+            const float u = d.parameters[2 * f], w = d.parameters[2 * f + 1];
+            for (std::size_t j = 0; j < c; ++j) {
+                const float a = values[std::size_t(v[0]) * c + j], b = values[std::size_t(v[1]) * c + j],
+                            e = values[std::size_t(v[2]) * c + j];
+                out[f * c + j] = a + u * (b - a) + w * (e - a);
+            }
+        }
+        return;
+    }
+    // The layer's surface places three channels at a time, as positions.
+    std::vector<float> positions(3 * l.base_values.size()), points(3 * std::size_t(l.surface->num_points()));
+    for (std::size_t first = 0; first < c; first += 3) {
+        const std::size_t count = std::min<std::size_t>(3, c - first);
+        for (std::size_t x = 0; x < l.base_values.size(); ++x)
+            for (std::size_t j = 0; j < 3; ++j)
+                positions[3 * x + j] = j < count ? values[std::size_t(l.base_values[x]) * c + first + j] : 0.0f;
+        l.surface->evaluate(positions.data(), points.data(), nullptr);
+        for (std::size_t f = 0; f < num_face_points; ++f)
+            for (std::size_t j = 0; j < count; ++j)
+                out[f * c + first + j] = points[3 * std::size_t(l.face_point_point[f]) + j];
+    }
 }
 
 Tessellation::~Tessellation() = default;
