@@ -4,12 +4,14 @@
 // kernel, 2 threads, boundary none), uniform rate 0-15, vertex count 0-31, triangle count 0-31, crease count 0-7,
 // corner count 0-3, cone count 0-3, rated edge count 0-7, then the triangles' indices, crease edges and sharpness,
 // corners and sharpness, cones, rated edges and their rates (0-15), then the positions (raw float bits) and a camera
-// (16 floats, a viewport, pixels, a measure byte).
+// (16 floats, a viewport, pixels, a measure byte), then a face-varying layer (a byte: bit 0 whether, the rest its mode;
+// a value count 0-63, each corner's value index, the values' raw float bits).
 //
 // Checked on every accepted input: the result's indices are in range, its parameters in the unit triangle, its points
 // and normals finite; on a mesh whose every edge has two triangles, so has every edge of the result (no crack), where
 // no two triangles share two edges (else the lattice edge between those edges' points joins the same two points in
-// both triangles, two edges that vertex pairs cannot tell apart); and output_edges names each side by its ends.
+// both triangles, two edges that vertex pairs cannot tell apart); output_edges names each side by its ends; the
+// layer's values at the face points are finite.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -75,12 +77,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     camera.viewport_width = in.number(), camera.viewport_height = in.number();
     const float pixels = in.number();
     const DicingMeasure measure = in.byte() & 1 ? DicingMeasure::Deviation : DicingMeasure::Length;
+    // A face-varying layer, when the next byte says so: its mode, its value count, each corner's value, the values.
+    const std::uint8_t layer_flags = in.byte();
+    options.face_varying = FaceVaryingInterpolation((layer_flags >> 1) % 6);
+    const int layer_values = in.byte() % 64;
+    std::vector<std::int32_t> corner_values(mesh.triangles.size());
+    for (std::int32_t& value : corner_values) value = in.index(layer_values);
+    std::vector<float> values(2 * std::size_t(layer_values));
+    for (float& value : values) value = in.number();
+    const FaceVaryingLayer layer{corner_values.data(), layer_values};
+    MeshView view = mesh.view();
+    if (layer_flags & 1) view.face_varying = &layer, view.num_face_varying = 1;
 
     TessellationRates given;
     given.uniform_rate = uniform;
     given.edges = edges.data(), given.rates = rates.data(), given.num_edges = rated;
     try {
-        const Tessellation t(mesh.view(), options, given);
+        const Tessellation t(view, options, given);
         const int n = t.num_points(), m = t.num_face_points();
         for (int c = 0; c < 3 * t.num_triangles(); ++c)
             if (t.triangles()[c] < 0 || t.triangles()[c] >= n || t.corner_face_points()[c] < 0 ||
@@ -106,6 +119,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             fuzz::require_finite(points);
             fuzz::require_finite(normals);
         } catch (const InputError&) {}
+        for (int k = 0; k < t.num_face_varying_layers(); ++k) {
+            std::vector<float> at_face_points(2 * std::size_t(m));
+            try {
+                t.evaluate_face_varying(k, values.data(), 2, at_face_points.data());
+                fuzz::require_finite(at_face_points);
+            } catch (const InputError&) {}
+        }
     } catch (const InputError&) {
     } catch (const MemoryLimitError&) {}
     try {
