@@ -85,8 +85,8 @@ def check_memory(source, edge_rates):
     counts = (vertices, vertices + triangles, triangles)
     mesh = source.mesh
     product = memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles * (1 + len(mesh.uv_layers))  # a UV map is cut too
-    required = memory.estimate_bytes(0, 0, 0, 0, product, uv_layers=len(mesh.uv_layers), version=bpy.app.version,
-                                     drawn=not bpy.app.background, counts=counts)
+    required = memory.estimate_output_bytes(counts, product, uv_layers=len(mesh.uv_layers), version=bpy.app.version,
+                                            drawn=not bpy.app.background)
     available = memory.available_bytes()
     if not memory.fits(required, available):
         raise LoopSubError(memory.describe(

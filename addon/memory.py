@@ -226,20 +226,24 @@ _FIXED = 48 << 20
 _FIXED_DRAWN = 64 << 20
 
 
-def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, uv_layers=0, corner_channels=0, vertex_channels=3,
-                   limit_surface=True, version=(4, 5, 0), drawn=True, counts=None):
+def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, **arguments):
     """Peak bytes one update of an entry adds at `levels`, from the cage's counts (edges and triangles after
     triangulation: the mesh's edges plus its triangles minus its faces) and the core's own estimate of its plan and
-    one evaluation of the vertex channels (plan_bytes: _loopsub.estimate_plan_bytes). corner_channels: floats per
-    corner refined linearly (colour attributes, the cage's own custom normals); vertex_channels: floats per vertex
-    (3 for positions, plus point attributes and vertex groups); drawn: False in background mode, which has no
-    viewport.
+    one evaluation of the vertex channels (plan_bytes: _loopsub.estimate_plan_bytes); arguments: as
+    estimate_output_bytes."""
+    return estimate_output_bytes(output_counts(vertices, edges, triangles, levels), plan_bytes, **arguments)
+
+
+def estimate_output_bytes(counts, plan_bytes, uv_layers=0, corner_channels=0, vertex_channels=3, limit_surface=True,
+                          version=(4, 5, 0), drawn=True):
+    """Peak bytes one update of an entry adds for a result of counts (vertices, edges, triangles): levels' (see
+    estimate_bytes) or a tessellation's; plan_bytes: the core's own. corner_channels: floats per corner refined
+    linearly (colour attributes, the cage's own custom normals); vertex_channels: floats per vertex (3 for positions,
+    plus point attributes and vertex groups); drawn: False in background mode, which has no viewport.
 
     The peak comes either while the update builds the result (the refined values, then the larger of two moments'
     temporaries), or once it is shown (the result with its caches and evaluated copies, the draw cache) and, with the
-    limit surface, its limit normals are written into it; the core's plan lives throughout. counts: the output's
-    (vertices, edges, triangles) where levels do not give them (a tessellation)."""
-    counts = counts or output_counts(vertices, edges, triangles, levels)
+    limit surface, its limit normals are written into it; the core's plan lives throughout."""
     old = version < (3, 5, 0)
     # Point attributes and vertex groups beyond the positions, and corner attributes, are stored too (4 bytes a
     # channel; a vertex group's weight takes 8 in Blender's deform weights).
