@@ -161,58 +161,72 @@ std::vector<double> bfr_face_varying_limit(const TestMesh& mesh, const Plan& pla
 
 namespace loopsub::testing {
 
-BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points) {
-    const std::unique_ptr<Far::TopologyRefiner> refiner =
-        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false);
-    // Isolated as deep as Bfr goes: its approximation near irregular vertices shrinks to 2^-10 of a face.
+namespace {
+
+// Walks `points` (grouped by face) over the surfaces a factory isolated as deep as Bfr goes (its approximation near
+// irregular vertices shrinks to 2^-10 of a face): init(factory, face, surface) makes a face's surface, whose patch
+// points are prepared from `control` (`width` doubles a control point), and evaluate(i, surface, patch_points,
+// descriptor) reads point i.
+template <typename Init, typename Evaluate>
+void over_points(const Far::TopologyRefiner& refiner, bool face_varying, const std::vector<BfrPoint>& points,
+                 const std::vector<double>& control, int width, Init init, Evaluate evaluate) {
     Bfr::SurfaceFactory::Options options;
     options.SetApproxLevelSmooth(10).SetApproxLevelSharp(10);
-    const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
-    BfrLimit out;
-    out.positions.assign(3 * points.size(), 0.0);
-    out.normals.assign(3 * points.size(), 0.0);
-    std::vector<double> control(mesh.positions.begin(), mesh.positions.end()), patch_points;
-    const Bfr::Surface<double>::PointDescriptor point(3);
+    if (face_varying) options.SetDefaultFVarID(0);
+    const Bfr::RefinerSurfaceFactory<> factory(refiner, options);
+    const Bfr::Surface<double>::PointDescriptor descriptor(width);
     Bfr::Surface<double> surface;
+    std::vector<double> patch_points;
     int face = -1;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (points[i].face != face) {
             face = points[i].face;
-            if (!factory.InitVertexSurface(face, &surface) || !surface.IsValid())
+            if (!init(factory, face, surface) || !surface.IsValid())
                 throw std::runtime_error("Bfr: no surface for a face");
-            patch_points.resize(3 * std::size_t(surface.GetNumPatchPoints()));
-            surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
+            patch_points.resize(std::size_t(width) * std::size_t(surface.GetNumPatchPoints()));
+            surface.PreparePatchPoints(control.data(), descriptor, patch_points.data(), descriptor);
         }
-        const double uv[2] = {points[i].u, points[i].v};
-        double du[3], dv[3];
-        surface.Evaluate(uv, patch_points.data(), point, &out.positions[3 * i], du, dv);
-        unit_normal(du, dv, &out.normals[3 * i]);
+        evaluate(i, surface, patch_points, descriptor);
     }
+}
+
+}  // namespace
+
+BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner =
+        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false);
+    BfrLimit out;
+    out.positions.assign(3 * points.size(), 0.0);
+    out.normals.assign(3 * points.size(), 0.0);
+    over_points(
+        *refiner, false, points, std::vector<double>(mesh.positions.begin(), mesh.positions.end()), 3,
+        [](const Bfr::RefinerSurfaceFactory<>& factory, int face, Bfr::Surface<double>& surface) {
+            return factory.InitVertexSurface(face, &surface);
+        },
+        [&](std::size_t i, const Bfr::Surface<double>& surface, const std::vector<double>& patch_points,
+            const Bfr::Surface<double>::PointDescriptor& descriptor) {
+            const double uv[2] = {points[i].u, points[i].v};
+            double du[3], dv[3];
+            surface.Evaluate(uv, patch_points.data(), descriptor, &out.positions[3 * i], du, dv);
+            unit_normal(du, dv, &out.normals[3 * i]);
+        });
     return out;
 }
 
 std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::vector<BfrPoint>& points,
                                               FaceVaryingInterpolation mode) {
     const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, mode, true);
-    Bfr::SurfaceFactory::Options options;
-    options.SetApproxLevelSmooth(10).SetApproxLevelSharp(10).SetDefaultFVarID(0);
-    const Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
     std::vector<double> out(2 * points.size(), 0.0);
-    std::vector<double> control(mesh.uvs.begin(), mesh.uvs.end()), patch_points;
-    const Bfr::Surface<double>::PointDescriptor point(2);
-    Bfr::Surface<double> surface;
-    int face = -1;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        if (points[i].face != face) {
-            face = points[i].face;
-            if (!factory.InitFaceVaryingSurface(face, &surface) || !surface.IsValid())
-                throw std::runtime_error("Bfr: no face-varying surface for a face");
-            patch_points.resize(2 * std::size_t(surface.GetNumPatchPoints()));
-            surface.PreparePatchPoints(control.data(), point, patch_points.data(), point);
-        }
-        const double uv[2] = {points[i].u, points[i].v};
-        surface.Evaluate(uv, patch_points.data(), point, &out[2 * i]);
-    }
+    over_points(
+        *refiner, true, points, std::vector<double>(mesh.uvs.begin(), mesh.uvs.end()), 2,
+        [](const Bfr::RefinerSurfaceFactory<>& factory, int face, Bfr::Surface<double>& surface) {
+            return factory.InitFaceVaryingSurface(face, &surface);
+        },
+        [&](std::size_t i, const Bfr::Surface<double>& surface, const std::vector<double>& patch_points,
+            const Bfr::Surface<double>::PointDescriptor& descriptor) {
+            const double uv[2] = {points[i].u, points[i].v};
+            surface.Evaluate(uv, patch_points.data(), descriptor, &out[2 * i]);
+        });
     return out;
 }
 

@@ -324,7 +324,7 @@ TEST_P(TessellationLayerAgainstBfr, LayersAreBfrsFaceVaryingSurfaces) {
     try {
         mesh = GetParam().make();
     } catch (const PeerShapesMissing& missing) { GTEST_SKIP() << missing.what(); }
-    if (mesh.triangle_uvs.empty()) GTEST_SKIP() << GetParam().name << " has no UVs";
+    ASSERT_FALSE(mesh.triangle_uvs.empty()) << GetParam().name << " has no UVs";
     const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
     MeshView view = mesh.view();
     view.face_varying = &layer, view.num_face_varying = 1;
