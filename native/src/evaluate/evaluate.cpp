@@ -95,10 +95,8 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
                 if (part != 0) return;
                 part = 0, parts = 1;
             }
-            if (limit != nullptr && pass == n - 1) {
-                const auto [begin, end] = detail::part_of(s.num_vertices, part, parts);
-                return kernels.limit(*limit, sources[pass], targets[pass], normals, {begin, end});
-            }
+            if (limit != nullptr && pass == n - 1)
+                return detail::limit_part(kernels, *limit, sources[pass], targets[pass], normals, part, parts);
             detail::refine_part(kernels, s, sources[pass], targets[pass], part, parts);
         },
         kPiecesPerThread);

@@ -52,14 +52,35 @@ void refine_fans_avx2(const LevelStencils&, ChannelsView<const float>, ChannelsV
 // The limit stage of a frame (Options::limit_surface) over last-level vertices [vertices.begin, vertices.end) of the
 // last level's points `in`: their limit points, every channel (the masks of LimitTables::positions, specials
 // included), and, where `normals` is not null, from the first three channels their normals as rows of three at
-// normals + 3 v (limit_normals.h: a vertex's own, or zero where its normals are its sides'). The SIMD kernels take
-// the normals of smooth disk fans from the loads of their limit points (kernels_limit.h).
-using LimitFn = void (*)(const LimitTables& tables, ChannelsView<const float> in, ChannelsView<float> out,
-                         float* normals, Range vertices);
+// normals + 3 v (limit_normals.h: a vertex's own, or zero where its normals are its sides'). The rings are read
+// through `view` (which covers the range). The SIMD kernels take the normals of smooth disk fans from the loads of
+// their limit points (kernels_limit.h).
+using LimitFn = void (*)(const LimitTables& tables, const StencilView& view, ChannelsView<const float> in,
+                         ChannelsView<float> out, float* normals, Range vertices);
 
-void limit_scalar(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
-void limit_sse41(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
-void limit_avx2(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
+void limit_scalar(const LimitTables&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, float*,
+                  Range);
+void limit_sse41(const LimitTables&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
+void limit_avx2(const LimitTables&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
+
+// A share of the last-level vertices made by the splits after the grandparent (LimitTables::from_grandparent), by kind
+// and in the grandparent's elements: the child's midpoints of grandparent edges [child_midpoints), the midpoints of
+// both halves of grandparent edges [halves), those of the interior edges of grandparent faces [faces).
+struct GrandchildShare {
+    Range child_midpoints, halves, faces;
+};
+
+// The limit stage over such a share: what LimitFn writes for those vertices, from the rings the grandparent's
+// numbering gives. The scalar kernel writes the rings a chunk at a time and runs limit_scalar over them (the
+// reference); the SIMD kernels load each ring's points once for the vertices that share them (kernels_limit.h).
+using GrandchildLimitFn = void (*)(const LimitTables& tables, ChannelsView<const float> in, ChannelsView<float> out,
+                                   float* normals, GrandchildShare share);
+
+void limit_grandchild_scalar(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*,
+                             GrandchildShare);
+void limit_grandchild_sse41(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*,
+                            GrandchildShare);
+void limit_grandchild_avx2(const LimitTables&, ChannelsView<const float>, ChannelsView<float>, float*, GrandchildShare);
 
 // One regular patch of a tessellation evaluated at a block of points: the box spline of its 12 points (xyz and a
 // fourth float, rules/box_spline.h's order; a phantom is zero with zero weights) at each sample, with weights for kind
@@ -80,6 +101,7 @@ struct Kernels {
     InteriorFn interior;
     FanFn fans;
     LimitFn limit;
+    GrandchildLimitFn limit_grandchild;
     PatchFn patch;
 };
 
@@ -89,6 +111,12 @@ struct Kernels {
 // together write every output once.
 void refine_part(const Kernels& kernels, const LevelStencils& stencils, ChannelsView<const float> in,
                  ChannelsView<float> out, int part, int parts);
+
+// Runs the limit kernels over part `part` of `parts` of the last level: through the stored rings, or, where the limit
+// tables come from the grandparent (LimitTables::from_grandparent), its own vertices so and the others by kind
+// (GrandchildLimitFn), each kind shared on its own. The parts together write every output once.
+void limit_part(const Kernels& kernels, const LimitTables& tables, ChannelsView<const float> in,
+                ChannelsView<float> out, float* normals, int part, int parts);
 
 // The kernels for a kernel choice; Auto resolves to the widest one the CPU runs (see resolve_kernel).
 Kernel resolve_kernel(Kernel requested);

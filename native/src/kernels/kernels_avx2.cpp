@@ -184,12 +184,17 @@ void refine_fans_avx2(const LevelStencils& s, ChannelsView<const float> in, Chan
                    {2 * parent_edges.begin, 2 * parent_edges.end});
 }
 
-void limit_avx2(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
-                Range vertices) {
-    limit_pass(lt, in, out, normals, vertices, smooth_vertex, multiply_add, unit_normals,
+void limit_avx2(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
+                float* normals, Range vertices) {
+    limit_pass(lt, view, in, out, normals, vertices, smooth_vertex, multiply_add, unit_normals,
                [](const Tables& t, auto source, auto target, Range v) {
                    smooth_quad(t, source, target, v, {0, 0});
                });
+}
+
+void limit_grandchild_avx2(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
+                           GrandchildShare share) {
+    grandchild_limit_pass(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals);
 }
 
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

@@ -55,7 +55,7 @@ void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<co
     const RefineFn refine = kernels.refine;
     if (!s.derived_from) return refine(s, stored_view(s), in, out, vertices, edges);
     // Chunks small enough that their tables stay in the first-level cache while the kernel reads them.
-    constexpr int kChunk = 1024;
+    constexpr int kChunk = 256;
     const Topology& parent = *s.derived_from;
     std::vector<std::int32_t> offsets(kChunk + 1), ring, ends(2 * kChunk), c(kChunk), d(kChunk);
     for (int first = vertices.begin; first < vertices.end; first += kChunk) {
@@ -73,6 +73,39 @@ void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<co
     }
 }
 
+void limit_part(const Kernels& kernels, const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out,
+                float* normals, int part, int parts) {
+    const auto share = [part, parts](int count) {
+        const auto [first, last] = part_of(count, part, parts);
+        return Range{first, last};
+    };
+    if (!lt.from_grandparent)
+        return kernels.limit(lt, stored_view(lt.positions), in, out, normals, share(lt.positions.num_vertices));
+    const Grandparent& g = lt.from_grandparent->grandparent;
+    kernels.limit(lt, stored_view(lt.positions), in, out, normals, share(g.num_vertices));
+    kernels.limit_grandchild(lt, in, out, normals, {share(g.num_edges), share(g.num_edges), share(g.num_faces)});
+}
+
+void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out,
+                             float* normals, GrandchildShare share) {
+    const Grandparent& g = lt.from_grandparent->grandparent;
+    const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
+    // Chunks whose rings stay in the first-level cache while the kernel reads them.
+    constexpr int kChunk = 256;
+    std::int32_t offsets[kChunk + 1], ring[6 * kChunk];
+    for (int k = 0; k <= kChunk; ++k) offsets[k] = 6 * k;
+    const Range vertices[3] = {
+        {g.num_vertices + share.child_midpoints.begin, g.num_vertices + share.child_midpoints.end},
+        {child_vertices + 2 * share.halves.begin, child_vertices + 2 * share.halves.end},
+        {halves_end + 3 * share.faces.begin, halves_end + 3 * share.faces.end}};
+    for (const Range& kind : vertices)
+        for (int first = kind.begin; first < kind.end; first += kChunk) {
+            const int last = std::min(kind.end, first + kChunk);
+            write_ordered_grandchild_rings(g, first, last, ring);
+            limit_scalar(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
+        }
+}
+
 // A forced kernel the CPU cannot run steps down to the next narrower one rather than crash.
 Kernel resolve_kernel(Kernel requested) {
     const bool avx2 = cpu_runs_avx2_fma();
@@ -87,13 +120,19 @@ Kernel resolve_kernel(Kernel requested) {
 Kernels kernel_functions(Kernel resolved) {
 #if defined(LOOPSUB_X86_SIMD)
     switch (resolved) {
-        case Kernel::AVX2: return {refine_avx2, refine_interior_avx2, refine_fans_avx2, limit_avx2, patch_avx2};
-        case Kernel::SSE41: return {refine_sse41, refine_interior_sse41, refine_fans_sse41, limit_sse41, patch_sse41};
-        default: return {refine_scalar, refine_interior_scalar, refine_fans_scalar, limit_scalar, patch_scalar};
+        case Kernel::AVX2:
+            return {refine_avx2, refine_interior_avx2, refine_fans_avx2, limit_avx2, limit_grandchild_avx2, patch_avx2};
+        case Kernel::SSE41:
+            return {refine_sse41, refine_interior_sse41,  refine_fans_sse41,
+                    limit_sse41,  limit_grandchild_sse41, patch_sse41};
+        default:
+            return {refine_scalar, refine_interior_scalar,  refine_fans_scalar,
+                    limit_scalar,  limit_grandchild_scalar, patch_scalar};
     }
 #else
     (void)resolved;  // resolve_kernel gives Scalar when the build has no SIMD kernel
-    return {refine_scalar, refine_interior_scalar, refine_fans_scalar, limit_scalar, patch_scalar};
+    return {refine_scalar, refine_interior_scalar,  refine_fans_scalar,
+            limit_scalar,  limit_grandchild_scalar, patch_scalar};
 #endif
 }
 

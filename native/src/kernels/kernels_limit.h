@@ -24,6 +24,73 @@
 namespace loopsub::detail {
 namespace {
 
+// The limit point and tangents of a vertex of valence 6 (nearly every one) from its point and its ring's six in order:
+// the smooth vertex mask as the table passes weigh it (the ring summed from zero in ring order), and the tangents of
+// LimitTables::regular_tangents.
+template <typename Vertex, typename MultiplyAdd>
+struct RegularLimit {
+    __m128 a, b, c;
+    float w_self, w_ring;
+    Vertex vertex;
+    MultiplyAdd multiply_add;
+
+    RegularLimit(const LimitTables& lt, Vertex vertex_mask, MultiplyAdd step)
+        : a(_mm_set1_ps(lt.regular_tangents[0])),
+          b(_mm_set1_ps(lt.regular_tangents[1])),
+          c(_mm_set1_ps(lt.regular_tangents[2])),
+          w_self(lt.positions.smooth_self.size() > 6 ? lt.positions.smooth_self[6] : 0.0f),
+          w_ring(lt.positions.smooth_self.size() > 6 ? lt.positions.smooth_ring[6] : 0.0f),
+          vertex(vertex_mask),
+          multiply_add(step) {}
+
+    void operator()(__m128 centre, const __m128 p[6], __m128& position, __m128& t1, __m128& t2) const {
+        __m128 ring_sum = _mm_setzero_ps();
+        for (int k = 0; k < 6; ++k) ring_sum = _mm_add_ps(ring_sum, p[k]);
+        t1 = _mm_mul_ps(a, _mm_sub_ps(p[0], p[3]));
+        t1 = multiply_add(b, _mm_sub_ps(p[1], p[2]), t1);
+        t1 = multiply_add(b, _mm_sub_ps(p[5], p[4]), t1);
+        t2 = multiply_add(c, _mm_sub_ps(p[2], p[5]), _mm_mul_ps(c, _mm_sub_ps(p[1], p[4])));
+        position = vertex(centre, ring_sum, w_self, w_ring);
+    }
+};
+
+// Stores `count` consecutive vertices' limit points from `first` on and, where `normals` is set, their unit normals
+// (unit_normals, four at a time; zero where by_side, if given, says the vertex's normals are its sides'). Two tight
+// loops of independent steps (the points, then this), where one loop of both kept the square roots' latency in every
+// step. A last group of fewer than four repeats its last vertex: every vertex's bits are those of its lane alone,
+// wherever a part of a range begins.
+template <typename Out, typename UnitNormals>
+void store_limit_chunk(const Out out, float* normals, const std::uint8_t* by_side, int first, int count,
+                       __m128* position, __m128* t1, __m128* t2, UnitNormals unit_normals) {
+    const PackedRows3 normal_rows{normals};
+    for (int i = count; i % 4 != 0; ++i) t1[i] = t1[count - 1], t2[i] = t2[count - 1];
+    for (int i = 0; i < count; i += 4) {
+        const int v = first + i;
+        if (normals == nullptr) {
+            for (int k = 0; k < 4 && i + k < count; ++k) out.store(std::size_t(v + k), position[i + k]);
+            continue;
+        }
+        __m128 normal[4];
+        unit_normals(t1 + i, t2 + i, normal);
+        std::uint32_t sides = by_side != nullptr;  // four vertices' by_side bytes at once: nearly always none
+        if (by_side != nullptr && i + 4 <= count) std::memcpy(&sides, by_side + v, sizeof sides);
+        if (sides != 0)
+            for (int k = 0; k < 4 && i + k < count; ++k)
+                if (by_side[v + k]) normal[k] = _mm_setzero_ps();
+        if constexpr (std::is_same_v<Out, PackedRows3>) {
+            if (i + 4 <= count) {
+                out.store_four(std::size_t(v), position[i], position[i + 1], position[i + 2], position[i + 3]);
+                normal_rows.store_four(std::size_t(v), normal[0], normal[1], normal[2], normal[3]);
+                continue;
+            }
+        }
+        for (int k = 0; k < 4 && i + k < count; ++k) {
+            out.store(std::size_t(v + k), position[i + k]);
+            normal_rows.store(std::size_t(v + k), normal[k]);
+        }
+    }
+}
+
 // The positions quad (the first) of vertices [vertices.begin, vertices.end) with their normals, rows of three at
 // `normals`: zero for a vertex whose normals are its sides'. vertex(self, ring_sum, w_self, w_ring) is the
 // instruction set's smooth vertex mask, multiply_add(w, d, sum) its step of a tangent's sum, unit_normals(t1, t2,
@@ -33,34 +100,21 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
                 Range vertices, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals) {
     const std::vector<float>* smooth_t1 = lt.smooth_t1.data();
     const std::vector<float>* smooth_t2 = lt.smooth_t2.data();
-    const std::uint8_t* by_side = lt.by_side.data();
-    const PackedRows3 normal_rows{normals};
-    const __m128 a = _mm_set1_ps(lt.regular_tangents[0]), b = _mm_set1_ps(lt.regular_tangents[1]),
-                 c = _mm_set1_ps(lt.regular_tangents[2]);
-    const bool any_regular = lt.positions.smooth_self.size() > 6;
-    const float w_self6 = any_regular ? t.smooth_self[6] : 0.0f, w_ring6 = any_regular ? t.smooth_ring[6] : 0.0f;
+    const RegularLimit<Vertex, MultiplyAdd> regular(lt, vertex, multiply_add);
     auto point = [&](int v, __m128& position, __m128& t1, __m128& t2) {
         const int n = t.valence(v);
         const std::int32_t* ring = t.ring + t.ring_first(v);
         const __m128 centre = _mm_loadu_ps(in.at(v));
-        __m128 ring_sum = _mm_setzero_ps();
-        if (n == 6) {  // nearly every vertex: LimitTables::regular_tangents
+        if (n == 6) {  // nearly every vertex
             std::int32_t r[6];
             for (int k = 0; k < 6; k += 2) load_index_pair(ring + k, r[k], r[k + 1]);
             __m128 p[6];
-            for (int k = 0; k < 6; ++k) {
-                p[k] = _mm_loadu_ps(in.at(r[k]));
-                ring_sum = _mm_add_ps(ring_sum, p[k]);
-            }
-            t1 = _mm_mul_ps(a, _mm_sub_ps(p[0], p[3]));
-            t1 = multiply_add(b, _mm_sub_ps(p[1], p[2]), t1);
-            t1 = multiply_add(b, _mm_sub_ps(p[5], p[4]), t1);
-            t2 = multiply_add(c, _mm_sub_ps(p[2], p[5]), _mm_mul_ps(c, _mm_sub_ps(p[1], p[4])));
-            position = vertex(centre, ring_sum, w_self6, w_ring6);
-            return;
+            for (int k = 0; k < 6; ++k) p[k] = _mm_loadu_ps(in.at(r[k]));
+            return regular(centre, p, position, t1, t2);
         }
         const float* w1 = smooth_t1[n].data();
         const float* w2 = smooth_t2[n].data();
+        __m128 ring_sum = _mm_setzero_ps();
         t1 = t2 = _mm_setzero_ps();
         for (int k = 0; k < n; ++k) {
             const __m128 p = _mm_loadu_ps(in.at(ring[k]));
@@ -71,56 +125,140 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
         }
         position = vertex(centre, ring_sum, t.smooth_self[n], t.smooth_ring[n]);
     };
-    // A chunk at a time: first every vertex's point and tangents, then their normals four at a time. Two tight loops
-    // of independent steps, where one loop of both kept the square roots' latency in every step.
+    // A chunk at a time: first every vertex's point and tangents, then their normals (store_limit_chunk).
     constexpr int kChunk = 64;
     alignas(16) __m128 position[kChunk], t1[kChunk], t2[kChunk];
     for (int first = vertices.begin; first < vertices.end; first += kChunk) {
         const int count = std::min(kChunk, vertices.end - first);
         for (int i = 0; i < count; ++i) point(first + i, position[i], t1[i], t2[i]);
-        // A last group of fewer than four repeats its last vertex: every vertex's bits are those of its lane alone,
-        // wherever a part of the range begins.
-        for (int i = count; i % 4 != 0; ++i) t1[i] = t1[count - 1], t2[i] = t2[count - 1];
-        for (int i = 0; i < count; i += 4) {
-            __m128 normal[4];
-            unit_normals(t1 + i, t2 + i, normal);
-            const int v = first + i;
-            std::uint32_t sides = 1;  // four vertices' by_side bytes at once: nearly always none
-            if (i + 4 <= count) std::memcpy(&sides, by_side + v, sizeof sides);
-            if (sides != 0)
-                for (int k = 0; k < 4 && i + k < count; ++k)
-                    if (by_side[v + k]) normal[k] = _mm_setzero_ps();
-            if constexpr (std::is_same_v<Out, PackedRows3>) {
-                if (i + 4 <= count) {
-                    out.store_four(std::size_t(v), position[i], position[i + 1], position[i + 2], position[i + 3]);
-                    normal_rows.store_four(std::size_t(v), normal[0], normal[1], normal[2], normal[3]);
-                    continue;
-                }
-            }
-            for (int k = 0; k < 4 && i + k < count; ++k) {
-                out.store(std::size_t(v + k), position[i + k]);
-                normal_rows.store(std::size_t(v + k), normal[k]);
-            }
-        }
+        store_limit_chunk(out, normals, lt.by_side.data(), first, count, position, t1, t2, unit_normals);
     }
+}
+
+// The limit points, and where `normals` is set the normals, of a share of the vertices made by the splits after the
+// grandparent (LimitTables::from_grandparent; kernels.h, GrandchildShare), by kind, each ring's points loaded once for
+// the vertices that share them: the rings are write_ordered_grandchild_rings', in its order, their indices worked out
+// in registers, and the arithmetic RegularLimit's, so that the bits are those of limit_quad over those rings. A
+// grandparent edge's child midpoint reads 7 points, its halves' midpoints 13 for the two, a grandparent face's three
+// interior edges' midpoints 12 for the three (21 from rings).
+template <std::size_t Step, typename Out, typename Vertex, typename MultiplyAdd, typename UnitNormals>
+void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, const Out out, float* normals,
+                           GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals) {
+    const Grandparent& g = lt.from_grandparent->grandparent;
+    const RegularLimit<Vertex, MultiplyAdd> regular(lt, vertex, multiply_add);
+    const Index nv = g.num_vertices, child_vertices = nv + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
+    const Index* corners = g.edge_face_corners;
+    const Index* corner_halves = g.corner_halves;
+    auto load = [&](Index v) { return _mm_loadu_ps(in.at(std::size_t(v))); };
+    // The two faces of grandparent edge h: f runs along it from its first end (h its edge k), g_face the other way.
+    struct EdgeFaces {
+        Index f, g_face;
+        int k, j;
+    };
+    auto faces_of = [corners](Index h) {
+        return EdgeFaces{corners[2 * h] >> 2, corners[2 * h + 1] >> 2, int(corners[2 * h] & 3),
+                         int(corners[2 * h + 1] & 3)};
+    };
+    auto interior = [halves_end](Index f, int k) { return halves_end + 3 * f + k; };
+    auto next_corner = [](int k) { return k == 2 ? 0 : k + 1; };  // a triangle's corners, counter-clockwise
+    auto prev_corner = [](int k) { return k == 0 ? 2 : k - 1; };
+    auto half_at_start = [=](Index f, int k) { return child_vertices + corner_halves[3 * f + k]; };
+    auto half_at_end = [=](Index f, int k) { return child_vertices + (corner_halves[3 * f + k] ^ 1); };
+
+    constexpr int kChunk = 64;  // a multiple of 2 and 3 plus one: whole units fill it to 63 or 64
+    alignas(16) __m128 position[kChunk], t1[kChunk], t2[kChunk];
+    // One kind's outputs, consecutive from `first`: units of `per_unit` vertices, each written by unit(u, i) at
+    // position[i ..] and after.
+    auto run = [&](Range units, int per_unit, Index first, auto unit) {
+        int count = 0;
+        for (int u = units.begin; u < units.end; ++u) {
+            if (count + per_unit > kChunk) {
+                store_limit_chunk(out, normals, nullptr, first, count, position, t1, t2, unit_normals);
+                first += count, count = 0;
+            }
+            unit(Index(u), count);
+            count += per_unit;
+        }
+        if (count > 0) store_limit_chunk(out, normals, nullptr, first, count, position, t1, t2, unit_normals);
+    };
+    // The child's midpoint R = nv + h: its ring 2h, G's interior edges j and j - 1, 2h + 1, F's k and k - 1.
+    run(share.child_midpoints, 1, nv + share.child_midpoints.begin, [&](Index h, int i) {
+        const EdgeFaces e = faces_of(h);
+        const __m128 p[6] = {
+            load(child_vertices + 2 * h),     load(interior(e.g_face, e.j)), load(interior(e.g_face, prev_corner(e.j))),
+            load(child_vertices + 2 * h + 1), load(interior(e.f, e.k)),      load(interior(e.f, prev_corner(e.k)))};
+        regular(load(nv + h), p, position[i], t1[i], t2[i]);
+    });
+    // The midpoints of halves 2h = (a, R) and 2h + 1 = (R, b).
+    run(share.halves, 2, child_vertices + 2 * share.halves.begin, [&](Index h, int i) {
+        const EdgeFaces e = faces_of(h);
+        const __m128 r = load(nv + h);
+        const __m128 g_interior = load(interior(e.g_face, e.j)), f_interior = load(interior(e.f, e.k));
+        const __m128 g_interior_before = load(interior(e.g_face, prev_corner(e.j)));
+        const __m128 f_interior_before = load(interior(e.f, prev_corner(e.k)));
+        const __m128 at_a[6] = {load(g.edge_vertices[2 * h]),
+                                load(half_at_start(e.g_face, next_corner(e.j))),
+                                g_interior,
+                                r,
+                                f_interior_before,
+                                load(half_at_end(e.f, prev_corner(e.k)))};
+        const __m128 at_b[6] = {r,
+                                g_interior_before,
+                                load(half_at_end(e.g_face, prev_corner(e.j))),
+                                load(g.edge_vertices[2 * h + 1]),
+                                load(half_at_start(e.f, next_corner(e.k))),
+                                f_interior};
+        regular(load(child_vertices + 2 * h), at_a, position[i], t1[i], t2[i]);
+        regular(load(child_vertices + 2 * h + 1), at_b, position[i + 1], t1[i + 1], t2[i + 1]);
+    });
+    // The midpoints of face f's interior edges k, from m_k to m_k+1: its ring m_k, the half of edge k at its end,
+    // that of edge k + 1 at its start, m_k+1, interior edges k + 1 and k - 1.
+    run(share.faces, 3, halves_end + 3 * share.faces.begin, [&](Index f, int i) {
+        const Index* halves = &corner_halves[3 * std::size_t(f)];
+        __m128 m[3], start[3], end[3], edge[3];
+        for (int k = 0; k < 3; ++k) {
+            m[k] = load(nv + (halves[k] >> 1));
+            start[k] = load(child_vertices + halves[k]);
+            end[k] = load(child_vertices + (halves[k] ^ 1));
+            edge[k] = load(interior(f, k));
+        }
+        for (int k = 0; k < 3; ++k) {
+            const int next = next_corner(k), before = prev_corner(k);
+            const __m128 p[6] = {m[k], end[k], start[next], m[next], edge[next], edge[before]};
+            regular(edge[k], p, position[i + k], t1[i + k], t2[i + k]);
+        }
+    });
 }
 
 // A SIMD kernel's LimitFn (kernels.h) from its arithmetic: the positions' quad with the normals (limit_quad), the other
 // quads by smooth_quad(tables, source, target, vertices) as a refinement's vertex pass, then the specials; other
 // layouts run the scalar reference.
 template <typename Vertex, typename MultiplyAdd, typename UnitNormals, typename SmoothQuad>
-void limit_pass(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
-                Range vertices, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals,
+void limit_pass(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
+                float* normals, Range vertices, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals,
                 SmoothQuad smooth_quad) {
-    if (!reads_as_quads(in)) return limit_scalar(lt, in, out, normals, vertices);
+    if (!reads_as_quads(in)) return limit_scalar(lt, view, in, out, normals, vertices);
     const LevelStencils& s = lt.positions;
-    for_each_quad(s, stored_view(s), in, out, [&](const Tables& t, auto source, auto target) {
+    for_each_quad(s, view, in, out, [&](const Tables& t, auto source, auto target) {
         if (normals != nullptr && source.in == in.data)  // the positions: the normals from the same loads
             return limit_quad(lt, t, source, target, normals, vertices, vertex, multiply_add, unit_normals);
         smooth_quad(t, source, target, vertices);
     });
-    apply_specials(s, stored_view(s), in, out, vertices, {0, 0});
+    apply_specials(s, view, in, out, vertices, {0, 0});
     if (normals != nullptr) own_vertex_normals(lt, in, normals, vertices);
+}
+
+// A SIMD kernel's GrandchildLimitFn (kernels.h) from its arithmetic: every quad by grandchild_limit_quad, the
+// positions' with the normals; other layouts run the scalar reference.
+template <typename Vertex, typename MultiplyAdd, typename UnitNormals>
+void grandchild_limit_pass(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
+                           GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals) {
+    if (!reads_as_quads(in)) return limit_grandchild_scalar(lt, in, out, normals, share);
+    const LevelStencils& s = lt.positions;
+    for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
+        grandchild_limit_quad(lt, source, target, source.in == in.data ? normals : nullptr, share, vertex, multiply_add,
+                              unit_normals);
+    });
 }
 
 }  // namespace

@@ -38,10 +38,10 @@ void refine_fans_scalar(const LevelStencils& s, ChannelsView<const float> in, Ch
                   {2 * parent_edges.begin, 2 * parent_edges.end});
 }
 
-void limit_scalar(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
-                  Range vertices) {
-    refine_scalar(lt.positions, stored_view(lt.positions), in, out, vertices, {0, 0});
-    if (normals != nullptr) vertex_normals_reference(lt, in, normals, vertices);
+void limit_scalar(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in, ChannelsView<float> out,
+                  float* normals, Range vertices) {
+    refine_scalar(lt.positions, view, in, out, vertices, {0, 0});
+    if (normals != nullptr) vertex_normals_reference(lt, view, in, normals, vertices);
 }
 
 void refine_interior_scalar(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,

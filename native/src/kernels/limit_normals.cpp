@@ -120,8 +120,8 @@ Tangents own_vertex_tangents(const LimitTables& lt, ChannelsView<const float> in
 
 }  // namespace
 
-void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices) {
-    const LevelStencils& s = lt.positions;
+void vertex_normals_reference(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in,
+                              float* normals, Range vertices) {
     // Not a structured binding: C++17 lambdas cannot capture one (clang refuses).
     const auto own_range = own_in(lt, vertices);
     const std::pair<Index, Index>* own = own_range.first;
@@ -131,11 +131,10 @@ void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> i
         [&](std::size_t v) {
             if (lt.by_side[v]) return Tangents();  // zero: its normals are its sides' (side_normals)
             if (own != own_end && std::size_t(own->first) == v) return own_vertex_tangents(lt, in, *own++);
-            const Index first = s.ring_offsets[v];
-            const int valence = s.ring_offsets[v + 1] - first;
-            if (valence == 6) return Tangents::regular(in, s.ring.data() + first, lt.regular_tangents);
-            return Tangents(in, Index(v), s.ring.data() + first, valence, lt.smooth_t1[valence].data(),
-                            lt.smooth_t2[valence].data());
+            const Index* ring = view.ring + view.ring_first(int(v));
+            const int valence = view.valence(int(v));
+            if (valence == 6) return Tangents::regular(in, ring, lt.regular_tangents);
+            return Tangents(in, Index(v), ring, valence, lt.smooth_t1[valence].data(), lt.smooth_t2[valence].data());
         },
         normals, itself);
 }

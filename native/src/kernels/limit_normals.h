@@ -17,8 +17,10 @@ namespace loopsub::detail {
 
 // The normals of last-level vertices [vertices.begin, vertices.end) from the last level's points `in` (their first
 // three channels, an element's channels side by side): a vertex with a smooth disk fan its own, one whose normals are
-// its sides' a zero vector (side_normals writes an only side's there). The scalar kernel's.
-void vertex_normals_reference(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices);
+// its sides' a zero vector (side_normals writes an only side's there), the rings read through `view`. The scalar
+// kernel's.
+void vertex_normals_reference(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in,
+                              float* normals, Range vertices);
 
 // Of those, the vertices with tangent weights of their own (LimitTables::own_vertex_tangents): their normals, written
 // over what a SIMD kernel's smooth normals put there.

@@ -42,15 +42,51 @@ void scale_to_at_most_unit_sum(std::vector<float>& weights) {
 
 }  // namespace
 
+// A closed surface without features (limit_from_grandparent_), while the level before the last is planned: the rings
+// of the last level's old vertices of its grandparent are that grandparent's edges in counter-clockwise order, each
+// for its half at the vertex; the rest is left to the frames (write_ordered_grandchild_rings), which read the
+// grandparent's faces at each edge (edge_face_corners) and places from here.
+void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
+    const Topology& g = grandparent;
+    plan_.limit = std::make_unique<LimitTables>();
+    LimitTables& lt = *plan_.limit;
+    LevelStencils& s = lt.positions;
+    lt.from_grandparent = std::make_unique<LimitTables::FromGrandparent>();
+    LimitTables::FromGrandparent& from = *lt.from_grandparent;
+    const Index nv = g.num_vertices, child_vertices = nv + g.num_edges();
+    s.ring_offsets = g.vertex_edge_offsets;
+    s.ring.resize(std::size_t(g.vertex_edge_offsets[nv]));
+    from.edge_face_corners.resize(2 * std::size_t(g.num_edges()));
+    from.corner_halves.resize(g.face_edges.size());
+    TransientVector<Index> next_at(2 * std::size_t(g.num_edges()));
+    run_levels(std::max(1, options_.threads), 2, [&](int step, int part, int parts) {
+        if (step == 0) {
+            const auto [f0, f1] = part_of(g.num_faces(), part, parts);
+            write_grandparent_corners(g, f0, f1, from.edge_face_corners.data(), from.corner_halves.data());
+            return write_next_halves(g, f0, f1, next_at.data());
+        }
+        const auto [v0, v1] = part_of(nv, part, parts);
+        Index* ring = s.ring.data() + g.vertex_edge_offsets[v0];
+        write_ordered_old_vertex_halves(g, next_at.data(), v0, v1, ring);
+        for (Index* k = ring; k != s.ring.data() + g.vertex_edge_offsets[v1]; ++k) *k += child_vertices;
+    });
+    from.grandparent.num_vertices = nv;
+    from.grandparent.num_edges = g.num_edges();
+    from.grandparent.num_faces = g.num_faces();
+    from.grandparent.edge_face_corners = from.edge_face_corners.data();
+    from.grandparent.corner_halves = from.corner_halves.data();
+    from.max_valence = std::max(g.max_valence, 6);
+}
+
 void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) {
     Topology& t = level.topology;
     const int nv = t.num_vertices;
-    plan_.limit = std::make_unique<LimitTables>();
+    if (!plan_.limit) plan_.limit = std::make_unique<LimitTables>();
     LimitTables& lt = *plan_.limit;
     LevelStencils& s = lt.positions;
     s.num_vertices = nv;
     s.num_edges = 0;
-    const int max_valence = t.max_valence;
+    const int max_valence = lt.from_grandparent ? lt.from_grandparent->max_valence : t.max_valence;
     plan_.max_summed_terms = std::max(plan_.max_summed_terms, std::max(max_valence, 2));
     set_smooth_masks(s, max_valence, smooth_limit_mask);
     lt.smooth_t1.resize(max_valence + 1);
@@ -64,6 +100,12 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         assert(t1[3] == -t1[0] && t1[2] == -t1[1] && t1[4] == -t1[1] && t1[5] == t1[1]);
         assert(t2[0] == 0.0f && t2[3] == 0.0f && t2[2] == t2[1] && t2[4] == -t2[1] && t2[5] == -t2[1]);
         lt.regular_tangents[0] = t1[0], lt.regular_tangents[1] = t1[1], lt.regular_tangents[2] = t2[1];
+    }
+    if (lt.from_grandparent) {  // every vertex smooth, in one disk: nothing else to plan
+        // The grandparent's edge ends are its own tables' now.
+        lt.from_grandparent->grandparent.edge_vertices = plan_.stencils[plan_.stencils.size() - 2].edge_ends.data();
+        lt.by_side.assign(std::size_t(nv), 0);
+        return;
     }
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.

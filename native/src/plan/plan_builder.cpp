@@ -119,7 +119,7 @@ void PlanBuilder::run() {
     const std::uint64_t needed = check_memory(level.topology);
     std::vector<FaceVaryingBuilder> layers;
     for (int k = 0; k < mesh_.num_face_varying; ++k) layers.emplace_back(mesh_, k, options_, level);
-    choose_table_forms(level.topology, !layers.empty());
+    choose_table_forms(level, !layers.empty());
     Topology parent;  // the level before `level`: the next-to-last level derives its neighbourhoods from it
     for (int l = 0; l < options_.levels; ++l) {
         LevelState child;
@@ -128,6 +128,7 @@ void PlanBuilder::run() {
         for (FaceVaryingBuilder& layer : layers)
             layer.plan_level(level, skip_level_before_last_ && last ? &parent : nullptr, plan_.stencils[l], child,
                              last);
+        if (limit_from_grandparent_ && last) plan_limit_rings(parent);
         retire_parent(parent, l);
         parent = std::move(level.topology);
         level = std::move(child);
@@ -142,7 +143,7 @@ void PlanBuilder::run() {
     if (!plan_.holes.empty()) drop_holes();
     collect_output_tags(level);
     assert(std::all_of(plan_.stencils.begin(), plan_.stencils.end(), follows_table_layout));
-    assert(!plan_.limit || follows_table_layout(plan_.limit->positions));
+    assert(!plan_.limit || plan_.limit->from_grandparent || follows_table_layout(plan_.limit->positions));
     kept_base_ = Topology();  // back to the pool before a large plan empties it
     if (needed > 4 * BlockPool::kPoolBytes) BlockPool::instance().release_all(LargeAllocator<char>::free_large);
 }
@@ -235,15 +236,23 @@ std::uint64_t PlanBuilder::check_memory(const Topology& base) const {
     return needed;
 }
 
-void PlanBuilder::choose_table_forms(const Topology& base, bool face_varying_layers) {
-    // Without a limit surface to plan over two levels or more, the level before the last is never built.
-    skip_level_before_last_ = options_.levels >= 2 && !options_.limit_surface;
+void PlanBuilder::choose_table_forms(const LevelState& base_level, bool face_varying_layers) {
+    const Topology& base = base_level.topology;
+    // A closed surface (every edge in two faces) without features stays one: every vertex a split makes has six
+    // neighbours in one disk, and the last level's rings follow from its grandparent through the numbering.
+    limit_from_grandparent_ = options_.limit_surface && options_.levels >= 2 && !face_varying_layers &&
+                              base_level.edges.empty() && base_level.vertices.empty() && cones_.empty() &&
+                              plan_.holes.empty() && base.max_edge_face_count == 2 &&
+                              base.edge_face_offsets[base.num_edges()] == 2 * base.num_edges();
+    // Without a limit surface to plan over two levels or more, or with one from the grandparent, the level before the
+    // last is never built.
+    skip_level_before_last_ = options_.levels >= 2 && (!options_.limit_surface || limit_from_grandparent_);
     // Options::level_tables. Auto: an evaluation from stored tables is faster (docs/benchmark.md), so a plan keeps
     // them up to where its memory, and its build time, matter more; a plan with face-varying layers keeps them.
     LevelCounts last_but_one = base_counts(base);
     for (int l = 1; l < options_.levels; ++l) last_but_one = last_but_one.child();
     const std::uint64_t stored_tables = mul(24, add(last_but_one.edges, last_but_one.faces));  // ring, edges, faces
-    derive_tables_ = skip_level_before_last_ && !face_varying_layers &&
+    derive_tables_ = skip_level_before_last_ && !options_.limit_surface && !face_varying_layers &&
                      (options_.level_tables == LevelTables::Derived ||
                       (options_.level_tables == LevelTables::Auto && stored_tables > kDeriveAboveBytes));
 }
@@ -254,7 +263,8 @@ LevelCounts PlanBuilder::base_counts(const Topology& base) const {
 
 void PlanBuilder::plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level) {
     // With the limit surface, the last level is planned like the others, its limit pass standing in for a child.
-    const int final_level = options_.levels + (options_.limit_surface ? 1 : 0);
+    // From the grandparent, the limit needs no level of its own.
+    const int final_level = options_.levels + (options_.limit_surface && !limit_from_grandparent_ ? 1 : 0);
     const VertexNeighbourhood around(level.topology, level.own_neighbourhood ? nullptr : &parent,
                                      &plan_.level_num_vertices, base_for_walks_);
     LevelStencils& tables = start_tables(around, level.topology.num_vertices);

@@ -11,6 +11,7 @@
 //     plan_edge_masks          the masks of sharp edges
 //     hand_over_tables         the level's arrays the tables keep, moved rather than copied
 //   then retire_parent: the level before, done with, gives its arrays to the tables that read them
+//   plan_limit_rings     where the limit's rings come from the last level's grandparent: its own (limit.cpp)
 //   plan_limit           the limit pass and the normals' tables (limit.cpp)
 //   drop_holes, collect_output_tags
 // Every rule decision is the rule set's (rule_set.h, rules.h): the builder gathers the local facts and asks.
@@ -44,7 +45,7 @@ private:
     LevelState base_level();
     // Returns the bytes the plan is estimated to need.
     std::uint64_t check_memory(const Topology& base) const;
-    void choose_table_forms(const Topology& base, bool face_varying_layers);
+    void choose_table_forms(const LevelState& base, bool face_varying_layers);
     LevelCounts base_counts(const Topology& base) const;
 
     void plan_level(LevelState& level, const Topology& parent, LevelState& child, int child_level);
@@ -73,6 +74,7 @@ private:
         }
     };
     void plan_limit(LevelState& last, const Topology& parent);
+    void plan_limit_rings(Topology& grandparent);
     Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
                 std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
     void plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const;
@@ -94,6 +96,10 @@ private:
     // the tables of levels 1 .. levels - 1 are derived as an evaluation runs.
     bool skip_level_before_last_ = false;
     bool derive_tables_ = false;
+    // A closed surface without features, planned with the limit surface over two levels or more: the level before the
+    // last is skipped as without the limit, and the limit pass's rings come from the last level's grandparent
+    // (LimitTables::from_grandparent).
+    bool limit_from_grandparent_ = false;
 };
 
 }  // namespace loopsub::detail

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -50,6 +51,18 @@ struct LimitTables {
     // side (Side::own). Their vertex's weight is what the points' leave, as in the tables above.
     std::vector<float> own_t1, own_t2;
     std::vector<std::pair<Index, Index>> own_vertex_tangents;
+
+    // A closed surface without features (PlanBuilder::plan_limit_rings): the last level's rings come from the level
+    // two before it, `grandparent`. positions.ring and ring_offsets hold those of its vertices only (the last level's
+    // first ones); the others' are written a chunk at a time as the limit pass runs (limit_part,
+    // write_ordered_grandchild_rings), the same rings as stored ones, from the grandparent's faces at each edge and
+    // halves at each corner (kept here) and its edge ends (its own tables'). Null: every ring is stored.
+    struct FromGrandparent {
+        Grandparent grandparent;
+        LargeVector<Index> edge_face_corners, corner_halves;
+        int max_valence = 0;  // the last level's
+    };
+    std::unique_ptr<FromGrandparent> from_grandparent;
 };
 
 }  // namespace loopsub::detail

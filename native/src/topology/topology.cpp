@@ -657,6 +657,118 @@ void write_ordered_child_rings(const Topology& p, int begin, int end, std::uint8
     }
 }
 
+void write_grandparent_corners(const Topology& t, int f0, int f1, Index* edge_face_corners, Index* corner_halves) {
+    for (Index f = f0; f < f1; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t c = 3 * std::size_t(f) + std::size_t(k);
+            const Index e = t.face_edges[c], starts = t.face_edge_places[c] & 1;
+            edge_face_corners[2 * std::size_t(e) + std::size_t(1 - starts)] = 4 * f + k;
+            corner_halves[c] = 2 * e + 1 - starts;
+        }
+}
+
+void write_next_halves(const Topology& t, int f0, int f1, Index* next_at) {
+    // In face f, the edge that leaves corner k (edge k, its half at its start) is followed around v_k by the one that
+    // enters it (edge k - 1, its half at its end): write_ordered_child_rings' follower rule.
+    for (Index f = f0; f < f1; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t c = 3 * std::size_t(f) + std::size_t(k),
+                              before = c - std::size_t(k) + std::size_t(prev_corner(k));
+            next_at[2 * t.face_edges[c] + 1 - (t.face_edge_places[c] & 1)] =
+                2 * t.face_edges[before] + (t.face_edge_places[before] & 1);
+        }
+}
+
+void write_ordered_old_vertex_halves(const Topology& t, const Index* next_at, int v0, int v1, Index* ring) {
+    for (Index v = v0; v < v1; ++v) {
+        const Index first = t.vertex_edge_offsets[v], n = t.vertex_edge_offsets[v + 1] - first;
+        if (n == 0) continue;
+        Index half = child_edge_at(t, t.vertex_edges[first], v);
+        for (Index k = 0; k < n; ++k, half = next_at[half]) *ring++ = half;
+        assert(half == child_edge_at(t, t.vertex_edges[first], v));  // back where it began: one disk
+    }
+}
+
+void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, Index* ring) {
+    // The grandparent's edge h = (a, b) has its midpoint R = nv + h in the child, and faces F (which runs from a to b,
+    // h its edge k) and G (from b to a, h its edge j). Around R in the child, the follower rule of
+    // write_ordered_child_rings gives its edges from the half at a: 2h, then G's interior edges j and j - 1, 2h + 1,
+    // F's interior edges k and k - 1. A child edge's ring in the grandchild is (write_ordered_child_rings) its ends,
+    // the other face's midpoints next to each end, then the face's that runs from the first end, reversed: for the
+    // halves of h their corner children in F and G, for interior edge k of F its corner child k + 1 and F's middle
+    // child. Child edges are numbered as the split says (halves 2h and 2h + 1, interior edges 2 ne + 3f + k), and a
+    // grandchild vertex made by a split is the child's vertex count plus its child edge. Each kind in a loop of its
+    // own: the child's midpoints, the halves' midpoints a pair at a time, the interior edges' a face at a time.
+    const Index nv = g.num_vertices, ne = g.num_edges, child_vertices = nv + ne;
+    const Index halves_end = child_vertices + 2 * ne;  // the first grandchild vertex on an interior edge
+    assert(begin >= nv);
+    const Index* corner_halves = g.corner_halves;
+    // The grandchild vertex on the child edge of face f's edge k at its corner k (where the edge starts in f) or at
+    // its corner k + 1; on interior edge k of face f.
+    auto half_at_start = [=](Index f, int k) {
+        return child_vertices + corner_halves[3 * std::size_t(f) + std::size_t(k)];
+    };
+    auto half_at_end = [=](Index f, int k) {
+        return child_vertices + (corner_halves[3 * std::size_t(f) + std::size_t(k)] ^ 1);
+    };
+    auto interior_edge = [=](Index f, int k) { return halves_end + 3 * f + k; };
+    Index v = begin;
+    for (; v < std::min(end, child_vertices); ++v, ring += 6) {  // the child's midpoint R of h
+        const Index h = v - nv, f = g.edge_face_corners[2 * h] >> 2, g_face = g.edge_face_corners[2 * h + 1] >> 2;
+        const int k = g.edge_face_corners[2 * h] & 3, j = g.edge_face_corners[2 * h + 1] & 3;
+        ring[0] = child_vertices + 2 * h;
+        ring[1] = interior_edge(g_face, j);
+        ring[2] = interior_edge(g_face, prev_corner(j));
+        ring[3] = child_vertices + 2 * h + 1;
+        ring[4] = interior_edge(f, k);
+        ring[5] = interior_edge(f, prev_corner(k));
+    }
+    const Index halves_stop = std::min(end, halves_end);
+    while (v < halves_stop) {  // the midpoints of halves 2h = (a, R) and 2h + 1 = (R, b)
+        const Index h = (v - child_vertices) / 2, f = g.edge_face_corners[2 * h] >> 2,
+                    g_face = g.edge_face_corners[2 * h + 1] >> 2;
+        const int k = g.edge_face_corners[2 * h] & 3, j = g.edge_face_corners[2 * h + 1] & 3;
+        if ((v - child_vertices) % 2 == 0) {
+            ring[0] = g.edge_vertices[2 * std::size_t(h)];
+            ring[1] = half_at_start(g_face, next_corner(j));
+            ring[2] = interior_edge(g_face, j);
+            ring[3] = nv + h;
+            ring[4] = interior_edge(f, prev_corner(k));
+            ring[5] = half_at_end(f, prev_corner(k));
+            ring += 6;
+            if (++v == halves_stop) break;
+        }
+        ring[0] = nv + h;
+        ring[1] = interior_edge(g_face, prev_corner(j));
+        ring[2] = half_at_end(g_face, prev_corner(j));
+        ring[3] = g.edge_vertices[2 * std::size_t(h) + 1];
+        ring[4] = half_at_start(f, next_corner(k));
+        ring[5] = interior_edge(f, k);
+        ring += 6;
+        ++v;
+    }
+    // The midpoint of interior edge k of face f, from m_k to m_k+1: a face's three at a time, from its corners' halves.
+    auto interior_ring = [&](const Index halves[3], Index first_interior, int k, Index* out) {
+        const int next = next_corner(k);
+        out[0] = nv + (halves[k] >> 1);
+        out[1] = child_vertices + (halves[k] ^ 1);
+        out[2] = child_vertices + halves[next];
+        out[3] = nv + (halves[next] >> 1);
+        out[4] = first_interior + next;
+        out[5] = first_interior + prev_corner(k);
+    };
+    for (; v < end && (v - halves_end) % 3 != 0; ++v, ring += 6) {
+        const Index f = (v - halves_end) / 3;
+        interior_ring(&corner_halves[3 * std::size_t(f)], interior_edge(f, 0), int((v - halves_end) % 3), ring);
+    }
+    for (; v < end; v += 3, ring += 18) {
+        const Index f = (v - halves_end) / 3;
+        const Index* halves = &corner_halves[3 * std::size_t(f)];
+        const int count = std::min(3, end - v);
+        for (int k = 0; k < count; ++k) interior_ring(halves, interior_edge(f, 0), k, ring + 6 * k);
+    }
+}
+
 void child_edges(const Topology& p, int begin, int end, Index* ends, Index* c, Index* d) {
     const Index nv = p.num_vertices, halves = 2 * p.num_edges();
     auto put = [&](int e, Index a, Index b, Index wing_c, Index wing_d) {
