@@ -130,57 +130,64 @@ TEST(CompactLimitNormals, LeaveTheLimitPointsAsTheyAreInEveryKernel) {
 }
 
 // A closed surface without features plans its limit from the last level's grandparent (LimitTables::from_grandparent:
-// no level before the last, no rings stored for most vertices, the SIMD kernels by kind): the same bits as the same
-// surface with a UV layer, whose plan stores every ring. Positions alone and beside other channels, compact and
-// per-corner normals, in every kernel, on one thread and three, two levels and three (the grandparent the input and a
-// split level), on surfaces with vertices of valence 3 to 9.
+// no level before the last, no rings stored for most vertices, the SIMD kernels by kind) unless its tables are to be
+// stored: the same bits either way. Positions alone and beside other channels, compact and per-corner normals, a UV
+// layer's values, in every kernel, on one thread and three, two levels and three (the grandparent the input and a
+// split level), on surfaces with vertices of valence 3 to 9, with a UV layer and without.
 TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
     TestMesh sphere = icosphere(1);
     jitter(sphere, 11, 0.05f);
     for (TestMesh mesh : {icosahedron(), sphere, torus(5, 6), bipyramid(9), cube()}) {
-        TestMesh with_uvs = mesh;
-        add_uvs_with_seam(with_uvs);
-        for (int levels = 2; levels <= 3; ++levels)
-            for (int channels : {3, 5})
-                for (int threads : {1, 3})
-                    for (Kernel kernel : {Kernel::Scalar, Kernel::SSE41, Kernel::AVX2}) {
-                        SCOPED_TRACE(mesh.name + ", levels " + std::to_string(levels) + ", " +
-                                     std::to_string(channels) + " channels, " + std::to_string(threads) + " threads, " +
-                                     kernel_name(kernel));
-                        Options options = limit_options(Rules::OpenSubdiv, levels, threads);
-                        options.kernel = kernel;
-                        const FaceVaryingLayer layer{with_uvs.triangle_uvs.data(), int(with_uvs.uvs.size() / 2)};
-                        MeshView with_layer = with_uvs.view();
-                        with_layer.face_varying = &layer;
-                        with_layer.num_face_varying = 1;
-                        Plan plan(mesh.view(), options), stored(with_layer, options);
-                        if (plan.kernel() != kernel) continue;  // not on this CPU
-                        ASSERT_EQ(plan.num_limit_normals(), stored.num_limit_normals());
-                        std::vector<float> in(std::size_t(channels) * std::size_t(mesh.num_vertices()));
-                        const std::vector<float> extra = random_positions(int(in.size()), 13);
-                        for (std::size_t v = 0; v < std::size_t(mesh.num_vertices()); ++v)
-                            for (int k = 0; k < channels; ++k)
-                                in[v * channels + k] = k < 3 ? mesh.positions[3 * v + k] : extra[v * channels + k];
-                        const std::size_t size = std::size_t(channels) * std::size_t(plan.num_output_vertices());
-                        const std::size_t corners = 9 * std::size_t(plan.num_output_triangles());
-                        std::vector<float> values[2], normals[2], corner_normals[2];
-                        Plan* plans[2] = {&plan, &stored};
-                        for (int k = 0; k < 2; ++k) {
-                            values[k].resize(size), normals[k].resize(3 * std::size_t(plan.num_limit_normals()));
-                            corner_normals[k].resize(corners);
-                            std::vector<float> alone(size);
-                            plans[k]->evaluate(interleaved(in.data(), channels), interleaved(alone.data(), channels));
-                            plans[k]->evaluate(interleaved(in.data(), channels),
-                                               interleaved(values[k].data(), channels),
-                                               Plan::LimitNormals{normals[k].data()});
-                            EXPECT_EQ(alone, values[k]);
-                            plans[k]->evaluate(interleaved(in.data(), channels), interleaved(alone.data(), channels),
-                                               corner_normals[k].data());
+        add_uvs_with_seam(mesh);
+        const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+        MeshView with_layer = mesh.view();
+        with_layer.face_varying = &layer;
+        with_layer.num_face_varying = 1;
+        for (const MeshView& view : {mesh.view(), with_layer})
+            for (int levels = 2; levels <= 3; ++levels)
+                for (int channels : {3, 5})
+                    for (int threads : {1, 3})
+                        for (Kernel kernel : {Kernel::Scalar, Kernel::SSE41, Kernel::AVX2}) {
+                            SCOPED_TRACE(mesh.name + (view.num_face_varying ? " with UVs" : "") + ", levels " +
+                                         std::to_string(levels) + ", " + std::to_string(channels) + " channels, " +
+                                         std::to_string(threads) + " threads, " + kernel_name(kernel));
+                            Options options = limit_options(Rules::OpenSubdiv, levels, threads);
+                            options.kernel = kernel;
+                            Plan plan(view, options);
+                            if (plan.kernel() != kernel) continue;  // not on this CPU
+                            options.level_tables = LevelTables::Stored;
+                            Plan stored(view, options);
+                            ASSERT_EQ(plan.num_limit_normals(), stored.num_limit_normals());
+                            std::vector<float> in(std::size_t(channels) * std::size_t(mesh.num_vertices()));
+                            const std::vector<float> extra = random_positions(int(in.size()), 13);
+                            for (std::size_t v = 0; v < std::size_t(mesh.num_vertices()); ++v)
+                                for (int k = 0; k < channels; ++k)
+                                    in[v * channels + k] = k < 3 ? mesh.positions[3 * v + k] : extra[v * channels + k];
+                            const std::size_t size = std::size_t(channels) * std::size_t(plan.num_output_vertices());
+                            std::vector<float> values[2], normals[2], corner_normals[2], uvs[2];
+                            Plan* plans[2] = {&plan, &stored};
+                            for (int k = 0; k < 2; ++k) {
+                                values[k].resize(size), normals[k].resize(3 * std::size_t(plan.num_limit_normals()));
+                                corner_normals[k].resize(9 * std::size_t(plan.num_output_triangles()));
+                                std::vector<float> alone(size);
+                                plans[k]->evaluate(interleaved(in.data(), channels),
+                                                   interleaved(alone.data(), channels));
+                                plans[k]->evaluate(interleaved(in.data(), channels),
+                                                   interleaved(values[k].data(), channels),
+                                                   Plan::LimitNormals{normals[k].data()});
+                                EXPECT_EQ(alone, values[k]);
+                                plans[k]->evaluate(interleaved(in.data(), channels),
+                                                   interleaved(alone.data(), channels), corner_normals[k].data());
+                                if (view.num_face_varying == 0) continue;
+                                uvs[k].resize(2 * std::size_t(plans[k]->num_output_face_varying_values(0)));
+                                plans[k]->evaluate_face_varying(0, interleaved(mesh.uvs.data(), 2),
+                                                                interleaved(uvs[k].data(), 2));
+                            }
+                            EXPECT_EQ(values[0], values[1]);
+                            EXPECT_EQ(normals[0], normals[1]);
+                            EXPECT_EQ(corner_normals[0], corner_normals[1]);
+                            EXPECT_EQ(uvs[0], uvs[1]);
                         }
-                        EXPECT_EQ(values[0], values[1]);
-                        EXPECT_EQ(normals[0], normals[1]);
-                        EXPECT_EQ(corner_normals[0], corner_normals[1]);
-                    }
     }
 }
 

@@ -221,32 +221,35 @@ void FaceVaryingBuilder::map_to_vertices(const LevelState& base) {
 // e is the half of e's edge at the same end, and an edge inside a face is the same edge inside the same face of the
 // vertex mesh; the seams' halves are seams, the edges inside faces never are. This spares a pass over the child's
 // corners, scattered writes to arrays a level's size (docs/benchmark.md, "Measurements behind the code").
-void FaceVaryingBuilder::inherit_mapping(const Topology& t, int parts) {
-    const Index nx = values_.num_vertices, layer_edges = values_.num_edges(), nv = t.num_vertices, ne = t.num_edges();
-    const Index inside = 3 * Index(t.num_faces());
+void FaceVaryingBuilder::inherit_mapping(const Topology& t, const VertexNeighbourhood& vertex_level, int parts) {
+    const Index nx = values_.num_vertices, layer_edges = values_.num_edges(), nv = t.num_vertices,
+                ne = vertex_level.num_edges();
+    // The vertex level may be known through its parent only (a limit planned from the last level's grandparent): its
+    // faces are the layer's, its edge ends the neighbourhood's.
+    const Index inside = 3 * Index(values_.num_faces());
     TransientVector<Index> vertex_of(std::size_t(nx) + layer_edges),
         edge_of(2 * std::size_t(layer_edges) + std::size_t(inside));
     TransientVector<std::uint8_t> split(2 * std::size_t(ne) + std::size_t(inside));
-    assert(values_.num_faces() == t.num_faces());
+    assert(t.face_vertices.empty() || values_.num_faces() == t.num_faces());
     // Through local pointers: a store of a byte (split) may alias anything, and the loops would otherwise reload every
     // array's place after each.
     const Index* const parent_vertex_of = vertex_of_.data();
     const Index* const parent_edge_of = edge_of_.data();
     const std::uint8_t* const parent_split = split_.data();
     const Index* const layer_ends = values_.edge_vertices.data();
-    const Index* const ends = t.edge_vertices.data();
     Index* const child_vertex_of = vertex_of.data();
     Index* const child_edge_of = edge_of.data();
     std::uint8_t* const child_split = split.data();
-    run_levels(parts, 1, [=](int, int part, int) {
+    run_levels(parts, 1, [=, &vertex_level](int, int part, int) {
         const auto [x0, x1] = part_of(nx, part, parts);
         std::copy(parent_vertex_of + x0, parent_vertex_of + x1, child_vertex_of + x0);
         const auto [e0, e1] = part_of(layer_edges, part, parts);
         for (Index e = e0; e < e1; ++e) {
             const Index edge = parent_edge_of[e];
-            const bool same_way = parent_vertex_of[layer_ends[2 * std::size_t(e)]] == ends[2 * std::size_t(edge)];
-            assert(parent_vertex_of[layer_ends[2 * std::size_t(e) + (same_way ? 1 : 0)]] ==
-                   ends[2 * std::size_t(edge) + 1]);
+            Index ends[2];
+            vertex_level.edge_ends(edge, ends);
+            const bool same_way = parent_vertex_of[layer_ends[2 * std::size_t(e)]] == ends[0];
+            assert(parent_vertex_of[layer_ends[2 * std::size_t(e) + (same_way ? 1 : 0)]] == ends[1]);
             child_vertex_of[std::size_t(nx) + std::size_t(e)] = nv + edge;
             child_edge_of[2 * std::size_t(e)] = 2 * edge + (same_way ? 0 : 1);
             child_edge_of[2 * std::size_t(e) + 1] = 2 * edge + (same_way ? 1 : 0);
@@ -480,7 +483,7 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         else
             child_values =
                 refine_topology(values_, planned_further ? Refined::Full : Refined::FacesOnly, options_.threads);
-        if (planned_further) inherit_mapping(t, parts);
+        if (planned_further) inherit_mapping(t, vertex_level, parts);
         // A child not built is read through this level: it keeps its offsets and edges (copies to the tables).
         if (child_not_built)
             s.ring_offsets = copy_in_parts(values_.vertex_edge_offsets, parts),

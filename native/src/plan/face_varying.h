@@ -74,7 +74,7 @@ private:
     void map_to_vertices(const LevelState& base);
     // The child level's, from this level's through refine_topology's numbering (`t`: this level's vertex mesh), in
     // `parts` parts.
-    void inherit_mapping(const Topology& t, int parts);
+    void inherit_mapping(const Topology& t, const VertexNeighbourhood& vertex_level, int parts);
     void classify_base(const LevelState& base);
     // The layer's current level as the queries below read it: its own arrays, or its parent's where it is not built.
     VertexNeighbourhood layer() const {

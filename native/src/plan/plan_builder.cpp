@@ -239,11 +239,12 @@ std::uint64_t PlanBuilder::check_memory(const Topology& base) const {
 void PlanBuilder::choose_table_forms(const LevelState& base_level, bool face_varying_layers) {
     const Topology& base = base_level.topology;
     // A closed surface (every edge in two faces) without features stays one: every vertex a split makes has six
-    // neighbours in one disk, and the last level's rings follow from its grandparent through the numbering.
-    limit_from_grandparent_ = options_.limit_surface && options_.levels >= 2 && !face_varying_layers &&
-                              base_level.edges.empty() && base_level.vertices.empty() && cones_.empty() &&
-                              plan_.holes.empty() && base.max_edge_face_count == 2 &&
-                              base.edge_face_offsets[base.num_edges()] == 2 * base.num_edges();
+    // neighbours in one disk, and the last level's rings follow from its grandparent through the numbering. Stored
+    // tables store them.
+    limit_from_grandparent_ =
+        options_.limit_surface && options_.levels >= 2 && options_.level_tables != LevelTables::Stored &&
+        base_level.edges.empty() && base_level.vertices.empty() && cones_.empty() && plan_.holes.empty() &&
+        base.max_edge_face_count == 2 && base.edge_face_offsets[base.num_edges()] == 2 * base.num_edges();
     // Without a limit surface to plan over two levels or more, or with one from the grandparent, the level before the
     // last is never built.
     skip_level_before_last_ = options_.levels >= 2 && (!options_.limit_surface || limit_from_grandparent_);
