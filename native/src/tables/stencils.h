@@ -45,8 +45,8 @@ struct SpecialEdge {
 // four forms, which the plan builder chooses (PlanBuilder::choose_table_forms and hand_over_tables; how their speed and
 // memory compare: docs/benchmark.md, "Stored or derived tables"; docs/architecture.md, "Level tables"):
 //   stored    ring_offsets, ring, edge_ends and edge_wing_c / _d hold every vertex and edge. The base level's; the
-//   limit
-//             pass's; the built levels of a face-varying layer.
+//             limit pass's (or its first vertices' only, where the rest come from the grandparent:
+//             LimitTables::from_grandparent); the built levels of a face-varying layer.
 //   fans      stored, with fan_first_midpoint / fan_midpoints set: the midpoints' rings are laid out so that the fan
 //             kernels compute a midpoint and its two halves from one fan of loads. Every stored level of the vertex
 //             plan past the base.
