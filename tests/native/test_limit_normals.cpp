@@ -129,15 +129,38 @@ TEST(CompactLimitNormals, LeaveTheLimitPointsAsTheyAreInEveryKernel) {
         }
 }
 
-// A closed surface without features plans its limit from the last level's grandparent (LimitTables::from_grandparent:
-// no level before the last, no rings stored for most vertices, the SIMD kernels by kind) unless its tables are to be
-// stored: the same bits either way. Positions alone and beside other channels, compact and per-corner normals, a UV
-// layer's values, in every kernel, on one thread and three, two levels and three (the grandparent the input and a
-// split level), on surfaces with vertices of valence 3 to 9, with a UV layer and without.
+// A closed surface plans its limit from the last level's grandparent (LimitTables::from_grandparent: no level before
+// the last, no rings stored for most vertices, the SIMD kernels by kind, their LimitFn again for the vertices next to
+// tags) unless its tables are to be stored: the same bits either way. Positions alone and beside other channels,
+// compact and per-corner normals, a UV layer's values, in every kernel, on one thread and three, two levels and three
+// (the grandparent the input and a split level), on surfaces with vertices of valence 3 to 9, with a UV layer and
+// without; and with sharp and semi-sharp creases and corners, darts and Hoppe 94's cones (without a UV layer: with one
+// and tags the level before the last is built).
 TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
     TestMesh sphere = icosphere(1);
     jitter(sphere, 11, 0.05f);
-    for (TestMesh mesh : {icosahedron(), sphere, torus(5, 6), bipyramid(9), cube()}) {
+    struct Tagged {
+        TestMesh mesh;
+        Rules rules;
+    };
+    std::vector<Tagged> meshes;
+    for (TestMesh mesh : {icosahedron(), sphere, torus(5, 6), bipyramid(9), cube()})
+        meshes.push_back({mesh, Rules::OpenSubdiv});
+    TestMesh creased = icosphere(2), semi = icosphere(2);
+    jitter(creased, 3, 0.02f), jitter(semi, 5, 0.02f);
+    add_random_creases(creased, 3, 0.15, false), add_random_corners(creased, 3, 4, false);
+    add_random_creases(semi, 5, 0.15, true), add_random_corners(semi, 5, 4, true);
+    TestMesh cones = creased;
+    cones.cone_vertices = {0, 5, 17};
+    TestMesh dart = icosahedron();
+    dart.add_crease(0, dart.triangles[1]);  // one sharp edge: a dart at each end
+    meshes.push_back({creased, Rules::OpenSubdiv});
+    meshes.push_back({creased, Rules::Hoppe94});
+    meshes.push_back({semi, Rules::OpenSubdiv});
+    meshes.push_back({cones, Rules::Hoppe94});
+    meshes.push_back({dart, Rules::OpenSubdiv});
+    for (Tagged& tagged : meshes) {
+        TestMesh& mesh = tagged.mesh;
         add_uvs_with_seam(mesh);
         const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
         MeshView with_layer = mesh.view();
@@ -151,7 +174,7 @@ TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
                             SCOPED_TRACE(mesh.name + (view.num_face_varying ? " with UVs" : "") + ", levels " +
                                          std::to_string(levels) + ", " + std::to_string(channels) + " channels, " +
                                          std::to_string(threads) + " threads, " + kernel_name(kernel));
-                            Options options = limit_options(Rules::OpenSubdiv, levels, threads);
+                            Options options = limit_options(tagged.rules, levels, threads);
                             options.kernel = kernel;
                             Plan plan(view, options);
                             if (plan.kernel() != kernel) continue;  // not on this CPU

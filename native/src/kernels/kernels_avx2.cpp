@@ -194,7 +194,7 @@ void limit_avx2(const LimitTables& lt, const StencilView& view, ChannelsView<con
 
 void limit_grandchild_avx2(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
                            GrandchildShare share) {
-    grandchild_limit_pass(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals);
+    grandchild_limit_pass(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals, limit_avx2);
 }
 
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

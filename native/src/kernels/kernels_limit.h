@@ -245,20 +245,42 @@ void limit_pass(const LimitTables& lt, const StencilView& view, ChannelsView<con
         smooth_quad(t, source, target, vertices);
     });
     apply_specials(s, view, in, out, vertices, {0, 0});
-    if (normals != nullptr) own_vertex_normals(lt, in, normals, vertices);
+    if (normals != nullptr) own_vertex_normals(lt, view, in, normals, vertices);
 }
 
 // A SIMD kernel's GrandchildLimitFn (kernels.h) from its arithmetic: every quad by grandchild_limit_quad, the
-// positions' with the normals; other layouts run the scalar reference.
+// positions' with the normals; then the vertices next to tags (LimitTables::FromGrandparent::redone) again by its
+// LimitFn, `limit`, over their rings, runs of consecutive ones at a time; other layouts run the scalar reference.
 template <typename Vertex, typename MultiplyAdd, typename UnitNormals>
 void grandchild_limit_pass(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
-                           GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals) {
+                           GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals,
+                           LimitFn limit) {
     if (!reads_as_quads(in)) return limit_grandchild_scalar(lt, in, out, normals, share);
     const LevelStencils& s = lt.positions;
     for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
         grandchild_limit_quad(lt, source, target, source.in == in.data ? normals : nullptr, share, vertex, multiply_add,
                               unit_normals);
     });
+    const std::vector<Index>& redone = lt.from_grandparent->redone;
+    if (redone.empty()) return;
+    const Grandparent& g = lt.from_grandparent->grandparent;
+    const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
+    constexpr int kRun = 64;
+    std::int32_t offsets[kRun + 1], ring[6 * kRun];
+    for (int k = 0; k <= kRun; ++k) offsets[k] = 6 * k;
+    const Range kinds[3] = {{g.num_vertices + share.child_midpoints.begin, g.num_vertices + share.child_midpoints.end},
+                            {child_vertices + 2 * share.halves.begin, child_vertices + 2 * share.halves.end},
+                            {halves_end + 3 * share.faces.begin, halves_end + 3 * share.faces.end}};
+    for (const Range& kind : kinds) {
+        auto next = std::lower_bound(redone.begin(), redone.end(), kind.begin);
+        while (next != redone.end() && *next < kind.end) {
+            const Index first = *next;
+            Index last = first + 1;
+            while (++next != redone.end() && *next == last && last < kind.end && last - first < kRun) ++last;
+            write_ordered_grandchild_rings(g, first, last, ring);
+            limit(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
+        }
+    }
 }
 
 }  // namespace

@@ -111,10 +111,10 @@ std::pair<const std::pair<Index, Index>*, const std::pair<Index, Index>*> own_in
     return {own.data() + (lo - own.begin()), own.data() + (hi - own.begin())};
 }
 
-Tangents own_vertex_tangents(const LimitTables& lt, ChannelsView<const float> in, const std::pair<Index, Index>& own) {
-    const LevelStencils& s = lt.positions;
-    const Index v = own.first, first = s.ring_offsets[v];
-    return Tangents(in, v, s.ring.data() + first, s.ring_offsets[v + 1] - first, lt.own_t1.data() + own.second,
+Tangents own_vertex_tangents(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in,
+                             const std::pair<Index, Index>& own) {
+    const Index v = own.first;
+    return Tangents(in, v, view.ring + view.ring_first(v), view.valence(v), lt.own_t1.data() + own.second,
                     lt.own_t2.data() + own.second);
 }
 
@@ -130,7 +130,7 @@ void vertex_normals_reference(const LimitTables& lt, const StencilView& view, Ch
         std::size_t(vertices.begin), std::size_t(vertices.end),
         [&](std::size_t v) {
             if (lt.by_side[v]) return Tangents();  // zero: its normals are its sides' (side_normals)
-            if (own != own_end && std::size_t(own->first) == v) return own_vertex_tangents(lt, in, *own++);
+            if (own != own_end && std::size_t(own->first) == v) return own_vertex_tangents(lt, view, in, *own++);
             const Index* ring = view.ring + view.ring_first(int(v));
             const int valence = view.valence(int(v));
             if (valence == 6) return Tangents::regular(in, ring, lt.regular_tangents);
@@ -139,12 +139,13 @@ void vertex_normals_reference(const LimitTables& lt, const StencilView& view, Ch
         normals, itself);
 }
 
-void own_vertex_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices) {
+void own_vertex_normals(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in, float* normals,
+                        Range vertices) {
     const auto [own, own_end] = own_in(lt, vertices);
     for (const auto* it = own; it != own_end; ++it) {  // never a vertex by sides (PlanBuilder::pull_back_spent)
         const std::size_t v = std::size_t(it->first);
         normals_in_batches(
-            v, v + 1, [&](std::size_t) { return own_vertex_tangents(lt, in, *it); }, normals, itself);
+            v, v + 1, [&](std::size_t) { return own_vertex_tangents(lt, view, in, *it); }, normals, itself);
     }
 }
 

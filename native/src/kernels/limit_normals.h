@@ -24,7 +24,8 @@ void vertex_normals_reference(const LimitTables& lt, const StencilView& view, Ch
 
 // Of those, the vertices with tangent weights of their own (LimitTables::own_vertex_tangents): their normals, written
 // over what a SIMD kernel's smooth normals put there.
-void own_vertex_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range vertices);
+void own_vertex_normals(const LimitTables& lt, const StencilView& view, ChannelsView<const float> in, float* normals,
+                        Range vertices);
 
 // The normals of sides [sides.begin, sides.end) (LimitTables::sides), each at normals + 3 * its row.
 void side_normals(const LimitTables& lt, ChannelsView<const float> in, float* normals, Range sides);

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "plan/level_state.h"
@@ -38,6 +39,23 @@ void scale_to_at_most_unit_sum(std::vector<float>& weights) {
     std::frexp(sum, &exponent);  // sum <= 2^exponent
     if (exponent > 0)
         for (float& w : weights) w = std::ldexp(w, -exponent);
+}
+
+// The places of the set bytes among bytes [0, count), in order: eight at a time, as nearly all are zero (the vertices
+// by sides among a level's).
+std::vector<Index> set_bytes(const std::uint8_t* bytes, Index count) {
+    std::vector<Index> set;
+    Index i = 0;
+    for (; i + 8 <= count; i += 8) {
+        std::uint64_t eight;
+        std::memcpy(&eight, bytes + i, sizeof eight);
+        if (eight == 0) continue;
+        for (Index k = i; k < i + 8; ++k)
+            if (bytes[k]) set.push_back(k);
+    }
+    for (; i < count; ++i)
+        if (bytes[i]) set.push_back(i);
+    return set;
 }
 
 }  // namespace
@@ -101,11 +119,13 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         assert(t2[0] == 0.0f && t2[3] == 0.0f && t2[2] == t2[1] && t2[4] == -t2[1] && t2[5] == -t2[1]);
         lt.regular_tangents[0] = t1[0], lt.regular_tangents[1] = t1[1], lt.regular_tangents[2] = t2[1];
     }
-    if (lt.from_grandparent) {  // every vertex smooth, in one disk: nothing else to plan
+    if (lt.from_grandparent) {
         // The grandparent's edge ends are its own tables' now.
         lt.from_grandparent->grandparent.edge_vertices = plan_.stencils[plan_.stencils.size() - 2].edge_ends.data();
-        lt.by_side.assign(std::size_t(nv), 0);
-        return;
+        if (level.edges.empty() && level.vertices.empty() && cones_.empty()) {  // every vertex smooth, in one disk
+            lt.by_side.assign(std::size_t(nv), 0);
+            return;
+        }
     }
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
@@ -119,8 +139,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::vector<Spent> spent;  // by vertex
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
-    const VertexNeighbourhood around(t, level.own_neighbourhood ? nullptr : &parent, &plan_.level_num_vertices,
-                                     base_for_walks_);
+    // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
+    const bool through_parent = lt.from_grandparent || !level.own_neighbourhood;
+    const VertexNeighbourhood around(t, through_parent ? &parent : nullptr, &plan_.level_num_vertices, base_for_walks_);
     std::vector<Index> far_edges;
     std::vector<float> far_sharpness;
     for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
@@ -168,7 +189,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     // through its parent (its faces only) has them written from the split's numbering, in parts on the plan's threads
     // (write_ordered_child_rings); a level of its own (the base) from its triangles, each corner's edges to a and b
     // naming their slots in v's ring (slot_at: an edge's slot at each end), so that no ring is searched.
-    if (!level.own_neighbourhood) {
+    if (lt.from_grandparent) {
+        // The rings are the grandparent's (limit_ring): nothing to write.
+    } else if (!level.own_neighbourhood) {
         s.ring_offsets.resize(std::size_t(nv) + 1);
         s.ring.resize(std::size_t(child_ring_offset(parent, nv)));
         // Old vertices and midpoints shared out each on their own: an old vertex's ring costs more.
@@ -232,8 +255,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     std::vector<Corner> at_sides;  // in vertex order, each vertex's corners in order
     std::vector<Index> corners_at;
-    for (Index v = 0; v < nv; ++v) {
-        if (!lt.by_side[v]) continue;
+    const std::vector<Index> by_side = set_bytes(lt.by_side.data(), nv);
+    for (const Index v : by_side) {
         around.corners(v, corners_at);
         for (const Index c : corners_at) {
             const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
@@ -313,6 +336,28 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::sort(lt.own_vertex_tangents.begin(), lt.own_vertex_tangents.end(), by_vertex);
     std::sort(s.ring_weighted_vertices.begin(), s.ring_weighted_vertices.end(),
               [](const RingWeightedVertex& a, const RingWeightedVertex& b) { return a.vertex < b.vertex; });
+    if (lt.from_grandparent) {
+        // The vertices past the grandparent's that the SIMD kernels' regular pass does not finish: those with masks,
+        // tangents or sides of their own.
+        std::vector<Index>& redone = lt.from_grandparent->redone;
+        const Index first = lt.from_grandparent->grandparent.num_vertices;
+        for (const SpecialVertex& special : s.special_vertices) redone.push_back(special.vertex);
+        for (const RingWeightedVertex& weighted : s.ring_weighted_vertices) redone.push_back(weighted.vertex);
+        for (const auto& [v, weights] : lt.own_vertex_tangents) redone.push_back(v);
+        redone.insert(redone.end(), by_side.begin(), by_side.end());
+        std::sort(redone.begin(), redone.end());
+        redone.erase(std::unique(redone.begin(), redone.end()), redone.end());
+        redone.erase(redone.begin(), std::lower_bound(redone.begin(), redone.end(), first));
+    }
+}
+
+detail::PlanBuilder::LimitRing detail::PlanBuilder::limit_ring(const LimitTables& lt, Index v, Index buffer[6]) const {
+    const LevelStencils& s = lt.positions;
+    if (lt.from_grandparent && v >= lt.from_grandparent->grandparent.num_vertices) {
+        write_ordered_grandchild_rings(lt.from_grandparent->grandparent, v, v + 1, buffer);
+        return {buffer, 6};
+    }
+    return {s.ring.data() + s.ring_offsets[v], int(s.ring_offsets[v + 1] - s.ring_offsets[v])};
 }
 
 // Darts whose sharp edge refines as a crease (OpenSubdiv's): their limit point and tangents of their own
@@ -321,9 +366,8 @@ void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>&
     LevelStencils& s = lt.positions;
     std::vector<std::vector<double>> position, t1, t2;  // by valence, made on first use
     for (const auto& [v, sharp_end] : darts) {
-        const Index first = s.ring_offsets[v];
-        const int n = int(s.ring_offsets[v + 1] - first);
-        const Index* ring = &s.ring[first];
+        Index buffer[6];
+        const auto [ring, n] = limit_ring(lt, v, buffer);
         const int at = int(std::find(ring, ring + n, sharp_end) - ring);
         if (at == n || lt.by_side[v]) continue;  // no disk fan to order: its sides' normals
         if (position.size() <= std::size_t(n)) position.resize(n + 1), t1.resize(n + 1), t2.resize(n + 1);
@@ -431,14 +475,15 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         if (x.ring.crease[0] >= 0) mask[1 + x.ring.crease[0]] += limit.end_a;
         if (x.ring.crease[1] >= 0) mask[1 + x.ring.crease[1]] += limit.end_b;
         pull_back(x);
-        const Index first = s.ring_offsets[v], last = s.ring_offsets[v + 1];
+        Index buffer[6];
+        const auto [ring, count] = limit_ring(lt, v, buffer);
+        assert(count == n);
         s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(pulled[0])});
-        for (Index k = first; k < last; ++k) s.ring_weights.push_back(float(pulled[x.slot(s.ring[k])]));
+        for (int k = 0; k < count; ++k) s.ring_weights.push_back(float(pulled[x.slot(ring[k])]));
         // Smooth once spent, its ring counter-clockwise: one normal.
-        if (!lt.by_side[v]) {
+        if (!lt.by_side[v])
             lt.own_vertex_tangents.push_back(
-                {v, own_tangents(x, &s.ring[first], n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
-        }
+                {v, own_tangents(x, ring, n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
     }
     for (LimitTables::Side& side : lt.sides) {
         const auto found = std::lower_bound(spent.begin(), spent.end(), side.vertex,

@@ -128,12 +128,18 @@ void PlanBuilder::run() {
         for (FaceVaryingBuilder& layer : layers)
             layer.plan_level(level, skip_level_before_last_ && last ? &parent : nullptr, plan_.stencils[l], child,
                              last);
-        if (limit_from_grandparent_ && last) plan_limit_rings(parent);
+        if (limit_from_grandparent_ && last) {
+            plan_limit_rings(parent);
+            // The last level's vertices next to tags are classified, and their sides found, through the level before
+            // the last: its connectivity, built for them alone (no tables are read from it).
+            if (!child.edges.empty() || !child.vertices.empty() || !cones_.empty())
+                limit_parent_ = refine_topology(parent, Refined::Connectivity, options_.threads);
+        }
         retire_parent(parent, l);
         parent = std::move(level.topology);
         level = std::move(child);
     }
-    if (options_.limit_surface) plan_limit(level, parent);
+    if (options_.limit_surface) plan_limit(level, limit_from_grandparent_ ? limit_parent_ : parent);
     for (FaceVaryingBuilder& layer : layers) {
         if (options_.limit_surface) layer.plan_limit(plan_.limit->positions, level, *rules_);
         plan_.face_varying.push_back(layer.finish());
@@ -179,6 +185,11 @@ LevelState PlanBuilder::base_level() {
     // (docs/benchmark.md, "Measurements behind the code").
     const std::vector<std::uint8_t> non_manifold_edge = non_manifold_edges(t);
     const std::vector<std::uint8_t> non_manifold_vertex = non_manifold_vertices(t, non_manifold_edge, options_.threads);
+    auto manifold = [](std::uint8_t flag) { return flag == 0; };
+    closed_surface_ = t.num_faces() > 0 && t.max_edge_face_count == 2 &&
+                      t.edge_face_offsets[t.num_edges()] == 2 * t.num_edges() &&
+                      std::all_of(non_manifold_edge.begin(), non_manifold_edge.end(), manifold) &&
+                      std::all_of(non_manifold_vertex.begin(), non_manifold_vertex.end(), manifold);
     std::vector<std::uint8_t> leaves_surface;  // per vertex, where a boundary edge takes its faces out (Boundary::None)
     for (int e = 0; e < t.num_edges(); ++e) {
         const float tag = edge_tag[e];
@@ -238,13 +249,13 @@ std::uint64_t PlanBuilder::check_memory(const Topology& base) const {
 
 void PlanBuilder::choose_table_forms(const LevelState& base_level, bool face_varying_layers) {
     const Topology& base = base_level.topology;
-    // A closed surface (every edge in two faces) without features stays one: every vertex a split makes has six
-    // neighbours in one disk, and the last level's rings follow from its grandparent through the numbering. Stored
-    // tables store them.
-    limit_from_grandparent_ =
-        options_.limit_surface && options_.levels >= 2 && options_.level_tables != LevelTables::Stored &&
-        base_level.edges.empty() && base_level.vertices.empty() && cones_.empty() && plan_.holes.empty() &&
-        base.max_edge_face_count == 2 && base.edge_face_offsets[base.num_edges()] == 2 * base.num_edges();
+    // A closed surface stays one: every vertex a split makes has six neighbours in one disk, and the last level's
+    // rings follow from its grandparent through the numbering. Stored tables store them. Where it has tags, its last
+    // level's vertices next to them are classified through the level before the last; a UV layer then keeps it built.
+    const bool tagged = !base_level.edges.empty() || !base_level.vertices.empty() || !cones_.empty();
+    limit_from_grandparent_ = options_.limit_surface && options_.levels >= 2 &&
+                              options_.level_tables != LevelTables::Stored && closed_surface_ && plan_.holes.empty() &&
+                              !(tagged && face_varying_layers);
     // Without a limit surface to plan over two levels or more, or with one from the grandparent, the level before the
     // last is never built.
     skip_level_before_last_ = options_.levels >= 2 && (!options_.limit_surface || limit_from_grandparent_);

@@ -61,6 +61,9 @@ struct LimitTables {
         Grandparent grandparent;
         LargeVector<Index> edge_face_corners, corner_halves;
         int max_valence = 0;  // the last level's
+        // Past the grandparent's vertices, sorted: those next to tags, whose masks, tangents or sides are their own
+        // (what the SIMD kernels' pass by kind leaves to their LimitFn).
+        std::vector<Index> redone;
     };
     std::unique_ptr<FromGrandparent> from_grandparent;
 };
