@@ -143,8 +143,12 @@ TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
         TestMesh mesh;
         Rules rules;
     };
+    TestMesh pillow;  // two triangles on the same three vertices, facing apart: closed, every fan two faces
+    pillow.name = "pillow";
+    pillow.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0.5f};
+    pillow.triangles = {0, 1, 2, 0, 2, 1};
     std::vector<Tagged> meshes;
-    for (TestMesh mesh : {icosahedron(), sphere, torus(5, 6), bipyramid(9), cube()})
+    for (TestMesh mesh : {icosahedron(), sphere, torus(5, 6), bipyramid(9), cube(), bipyramid(3), pillow})
         meshes.push_back({mesh, Rules::OpenSubdiv});
     TestMesh creased = icosphere(2), semi = icosphere(2);
     jitter(creased, 3, 0.02f), jitter(semi, 5, 0.02f);

@@ -269,7 +269,11 @@ TEST(Topology, GrandchildRingsAreTheChildsOrderedRings) {
     using namespace loopsub::testing;
     TestMesh sphere = icosphere(1);
     jitter(sphere, 7, 0.05f);
-    for (const TestMesh& mesh : {icosahedron(), sphere, torus(5, 7), bipyramid(9), cube()}) {
+    TestMesh pillow;  // two triangles on the same three vertices, facing apart: closed, every fan two faces
+    pillow.name = "pillow";
+    pillow.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    pillow.triangles = {0, 1, 2, 0, 2, 1};
+    for (const TestMesh& mesh : {icosahedron(), sphere, torus(5, 7), bipyramid(9), cube(), bipyramid(3), pillow}) {
         SCOPED_TRACE(mesh.name);
         Topology grandparent =
             loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
