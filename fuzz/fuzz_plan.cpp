@@ -1,12 +1,14 @@
 // libFuzzer target: raw bytes as a mesh with tags and options, straight into Plan, evaluate and
 // evaluate_face_varying, with no reader in between: indices out of range, NaN and huge values, negative counts
 // of nothing, every option. Layout (each field taken from the bytes in turn, zero when they run out):
-//   options byte (rules, boundary, crease method, kernel, 2 threads, limit surface), second options byte
+//   options byte (rules, boundary, crease method, kernel, 2 threads, limit surface, closed), second options byte
 //   (boundary none, face-varying mode, a face-varying layer), levels 0-3, crease threshold (float),
 //   vertex count 0-63, triangle count 0-63, crease count 0-15, corner count 0-7, cone count 0-7, hole count 0-3,
 //   layer value count 0-63, then the triangles' indices, crease edges and sharpness, corners and sharpness, cones,
 //   holes, the layer's value indices (indices are bytes, so some fall outside the mesh), then the positions, two
-//   face-varying channels per corner and the layer's values (raw float bits).
+//   face-varying channels per corner and the layer's values (raw float bits). "Closed" takes an octahedron's 6
+//   vertices and 8 triangles instead of the counts and the triangles' indices (the bytes are read all the same): a
+//   closed surface, which random triangles hardly ever are, and whose limit comes from the last level's grandparent.
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -26,12 +28,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.level_tables = LevelTables((more >> 5) % 3);
     options.levels = in.byte() % 4;
     options.crease_threshold = in.number();
-    const int vertices = in.byte() % 64, triangles = in.byte() % 64, creases = in.byte() % 16, corners = in.byte() % 8,
-              cones = in.byte() % 8, holes = in.byte() % 4, layer_values = in.byte() % 64;
+    const bool closed = (flags & 128) != 0;
+    int vertices = in.byte() % 64, triangles = in.byte() % 64;
+    const int creases = in.byte() % 16, corners = in.byte() % 8, cones = in.byte() % 8, holes = in.byte() % 4,
+              layer_values = in.byte() % 64;
+    if (closed) vertices = 6, triangles = 8;
 
     MeshData mesh;
     mesh.positions.resize(3 * std::size_t(vertices));
     fuzz::read_mesh(in, mesh, vertices, triangles, creases, corners, cones);
+    if (closed)  // the octahedron: vertices +x -x +y -y +z -z, each face counter-clockwise seen from outside
+        mesh.triangles = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
     for (int i = 0; i < holes; ++i) mesh.hole_triangles.push_back(in.index(triangles));
     std::vector<std::int32_t> corner_values(3 * std::size_t(triangles));
     for (std::int32_t& value : corner_values) value = in.index(layer_values);

@@ -367,7 +367,9 @@ void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>&
     std::vector<std::vector<double>> position, t1, t2;  // by valence, made on first use
     for (const auto& [v, sharp_end] : darts) {
         Index buffer[6];
-        const auto [ring, n] = limit_ring(lt, v, buffer);
+        const LimitRing found = limit_ring(lt, v, buffer);
+        const Index* ring = found.ring;
+        const int n = found.count;
         const int at = int(std::find(ring, ring + n, sharp_end) - ring);
         if (at == n || lt.by_side[v]) continue;  // no disk fan to order: its sides' normals
         if (position.size() <= std::size_t(n)) position.resize(n + 1), t1.resize(n + 1), t2.resize(n + 1);
@@ -476,7 +478,9 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         if (x.ring.crease[1] >= 0) mask[1 + x.ring.crease[1]] += limit.end_b;
         pull_back(x);
         Index buffer[6];
-        const auto [ring, count] = limit_ring(lt, v, buffer);
+        const LimitRing found = limit_ring(lt, v, buffer);
+        const Index* ring = found.ring;
+        const int count = found.count;
         assert(count == n);
         s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(pulled[0])});
         for (int k = 0; k < count; ++k) s.ring_weights.push_back(float(pulled[x.slot(ring[k])]));
