@@ -55,7 +55,7 @@ void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<co
     const RefineFn refine = kernels.refine;
     if (!s.derived_from) return refine(s, stored_view(s), in, out, vertices, edges);
     // Chunks small enough that their tables stay in the first-level cache while the kernel reads them.
-    constexpr int kChunk = 256;
+    constexpr int kChunk = 1024;
     const Topology& parent = *s.derived_from;
     std::vector<std::int32_t> offsets(kChunk + 1), ring, ends(2 * kChunk), c(kChunk), d(kChunk);
     for (int first = vertices.begin; first < vertices.end; first += kChunk) {
