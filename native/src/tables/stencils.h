@@ -53,8 +53,9 @@ struct SpecialEdge {
 //   interior  fans, with the edges inside the parent's faces read from those faces (`interior`) rather than stored: a
 //             level that is not built, whose tables are filled from its parent (fill_tables_from_parent) with the
 //             last level's triangles beside them. The level before the last where the builder skips it
-//             (skip_level_before_last_: two levels or more, no limit surface), in the vertex plan unless its tables
-//             are derived, and in a face-varying layer unless the layer is linear everywhere.
+//             (skip_level_before_last_: two levels or more, no limit surface or one from the grandparent), in the
+//             vertex plan unless its tables are derived, and in a face-varying layer unless the layer is linear
+//             everywhere.
 //   derived   nothing stored but the parent level's connectivity (`derived_from`): the kernels derive the tables a
 //             chunk at a time as they run. Every level of the vertex plan past the base where the builder derives
 //             tables (derive_tables_: Options::level_tables Derived, or Auto past 128 MiB of stored tables of the
