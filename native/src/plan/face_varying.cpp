@@ -723,7 +723,8 @@ void FaceVaryingBuilder::plan_held_limits(const LevelState& last, const RuleSet&
               [](const SpecialVertex& a, const SpecialVertex& b) { return a.vertex < b.vertex; });
 }
 
-void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const LevelState& last, const RuleSet& rules) {
+void FaceVaryingBuilder::plan_limit(const LimitTables& limit, const LevelState& last, const RuleSet& rules) {
+    const LevelStencils& vertex_limit = limit.positions;
     const int nx = values_.num_vertices;
     LevelStencils& s = plan_.passes.emplace_back();
     s.num_vertices = nx;
@@ -749,7 +750,7 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
             return;
         }
         const auto [x0, x1] = part_of(nx, part, parts);
-        plan_limit_points(vertex_limit, special_vertex, ring_weighted, s.special_vertices.data(), held, x0, x1,
+        plan_limit_points(limit, special_vertex, ring_weighted, s.special_vertices.data(), held, x0, x1,
                           outputs[std::size_t(part)]);
     });
     std::vector<std::size_t> weights_before(outputs.size() + 1, 0);
@@ -779,7 +780,7 @@ void FaceVaryingBuilder::plan_limit(const LevelStencils& vertex_limit, const Lev
     plan_.counts.push_back(nx);
 }
 
-void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit,
+void FaceVaryingBuilder::plan_limit_points(const LimitTables& limit,
                                            const TransientVector<const SpecialVertex*>& special_vertex,
                                            const TransientVector<const RingWeightedVertex*>& ring_weighted,
                                            const SpecialVertex* held, std::size_t num_held, Index x0, Index x1,
@@ -805,14 +806,13 @@ void FaceVaryingBuilder::plan_limit_points(const LevelStencils& vertex_limit,
             out.vertices.push_back(on_layer(x, *m, walk));
         } else if (const RingWeightedVertex* m = ring_weighted[std::size_t(vertex_of_[x])]) {
             // Without a seam at the vertex, the value's ring is the vertex's, value for neighbour, in its own order.
-            const Index v = m->vertex, first = vertex_limit.ring_offsets[v], last = vertex_limit.ring_offsets[v + 1];
+            Index buffer[6];
+            const LimitRing ring = limit_ring(limit, m->vertex, buffer);
             out.ring_weighted.push_back({x, Index(out.ring_weights.size()), m->w_self});
             for (Index k = values_.vertex_edge_offsets[x]; k < values_.vertex_edge_offsets[x + 1]; ++k) {
                 const Index neighbour = vertex_of_[values_.vertex_vertices[k]];
-                const Index slot =
-                    Index(std::find(&vertex_limit.ring[first], &vertex_limit.ring[first] + (last - first), neighbour) -
-                          &vertex_limit.ring[first]);
-                out.ring_weights.push_back(slot < last - first ? vertex_limit.ring_weights[m->first + slot] : 0.0f);
+                const int slot = int(std::find(ring.ring, ring.ring + ring.count, neighbour) - ring.ring);
+                out.ring_weights.push_back(slot < ring.count ? limit.positions.ring_weights[m->first + slot] : 0.0f);
             }
         }
     }

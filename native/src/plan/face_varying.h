@@ -19,6 +19,7 @@
 
 #include "plan/level_state.h"
 #include "rules/rule_set.h"
+#include "tables/limit_tables.h"
 #include "tables/stencils.h"
 
 namespace loopsub::detail {
@@ -43,9 +44,9 @@ public:
     // through `level_parent`, the level before it), the vertex plan's stencils for it, and the child level's features.
     void plan_level(const LevelState& level, const Topology* level_parent, const LevelStencils& vertex_stencils,
                     const LevelState& child, bool last);
-    // The limit pass over the last level (`last`: its features), from the vertex plan's limit stencils; `rules` decays
+    // The limit pass over the last level (`last`: its features), from the vertex plan's limit tables; `rules` decays
     // the sharpness that outlasts the last level.
-    void plan_limit(const LevelStencils& vertex_limit, const LevelState& last, const RuleSet& rules);
+    void plan_limit(const LimitTables& limit, const LevelState& last, const RuleSet& rules);
     FaceVaryingPlan finish();
 
 private:
@@ -112,8 +113,7 @@ private:
     static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges,
                                     InnerSemi inner_semi);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
-    void plan_limit_points(const LevelStencils& vertex_limit,
-                           const TransientVector<const SpecialVertex*>& special_vertex,
+    void plan_limit_points(const LimitTables& limit, const TransientVector<const SpecialVertex*>& special_vertex,
                            const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
     // Where a value held on the last level goes: held until its features are spent, then along its seam.

@@ -351,15 +351,6 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     }
 }
 
-detail::PlanBuilder::LimitRing detail::PlanBuilder::limit_ring(const LimitTables& lt, Index v, Index buffer[6]) const {
-    const LevelStencils& s = lt.positions;
-    if (lt.from_grandparent && v >= lt.from_grandparent->grandparent.num_vertices) {
-        write_ordered_grandchild_rings(lt.from_grandparent->grandparent, v, v + 1, buffer);
-        return {buffer, 6};
-    }
-    return {s.ring.data() + s.ring_offsets[v], int(s.ring_offsets[v + 1] - s.ring_offsets[v])};
-}
-
 // Darts whose sharp edge refines as a crease (OpenSubdiv's): their limit point and tangents of their own
 // (rules.h, dart_limit_masks) over their counter-clockwise ring, as weights of their own.
 void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const {

@@ -141,7 +141,7 @@ void PlanBuilder::run() {
     }
     if (options_.limit_surface) plan_limit(level, limit_from_grandparent_ ? limit_parent_ : parent);
     for (FaceVaryingBuilder& layer : layers) {
-        if (options_.limit_surface) layer.plan_limit(plan_.limit->positions, level, *rules_);
+        if (options_.limit_surface) layer.plan_limit(*plan_.limit, level, *rules_);
         plan_.face_varying.push_back(layer.finish());
     }
     if (options_.levels > 0 && !skip_level_before_last_) hand_over_edges_and_offsets(parent, plan_.stencils.back());
@@ -251,11 +251,9 @@ void PlanBuilder::choose_table_forms(const LevelState& base_level, bool face_var
     const Topology& base = base_level.topology;
     // A closed surface stays one: every vertex a split makes has six neighbours in one disk, and the last level's
     // rings follow from its grandparent through the numbering. Stored tables store them. Where it has tags, its last
-    // level's vertices next to them are classified through the level before the last; a UV layer then keeps it built.
-    const bool tagged = !base_level.edges.empty() || !base_level.vertices.empty() || !cones_.empty();
+    // level's vertices next to them are classified through the level before the last's connectivity (plan_limit).
     limit_from_grandparent_ = options_.limit_surface && options_.levels >= 2 &&
-                              options_.level_tables != LevelTables::Stored && closed_surface_ && plan_.holes.empty() &&
-                              !(tagged && face_varying_layers);
+                              options_.level_tables != LevelTables::Stored && closed_surface_ && plan_.holes.empty();
     // Without a limit surface to plan over two levels or more, or with one from the grandparent, the level before the
     // last is never built.
     skip_level_before_last_ = options_.levels >= 2 && (!options_.limit_surface || limit_from_grandparent_);

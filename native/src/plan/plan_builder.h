@@ -75,13 +75,6 @@ private:
     };
     void plan_limit(LevelState& last, const Topology& parent);
     void plan_limit_rings(Topology& grandparent);
-    // Last-level vertex v's ring, counter-clockwise where its fan is a disk: stored, or written into `buffer` from the
-    // grandparent (LimitTables::from_grandparent).
-    struct LimitRing {
-        const Index* ring;
-        int count;
-    };
-    LimitRing limit_ring(const LimitTables& lt, Index v, Index buffer[6]) const;
     Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
                 std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
     void plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const;
@@ -105,7 +98,7 @@ private:
     bool derive_tables_ = false;
     // The input is a closed surface: every edge in two faces that run along it opposite ways, every fan one disk.
     bool closed_surface_ = false;
-    // A closed surface planned with the limit surface over two levels or more (no holes; with tags, no UV layer): the
+    // A closed surface planned with the limit surface over two levels or more (no holes): the
     // level before the last is skipped as without the limit, and the limit pass's rings come from the last level's
     // grandparent (LimitTables::from_grandparent). With tags, limit_parent_ is the level before the last's
     // connectivity, through which plan_limit reads the last level's vertices next to them.

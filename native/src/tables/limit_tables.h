@@ -68,4 +68,19 @@ struct LimitTables {
     std::unique_ptr<FromGrandparent> from_grandparent;
 };
 
+// Last-level vertex v's ring as the limit pass reads it (counter-clockwise where its fan is a disk): stored, or past
+// the grandparent's vertices (LimitTables::from_grandparent) written into `buffer`.
+struct LimitRing {
+    const Index* ring;
+    int count;
+};
+inline LimitRing limit_ring(const LimitTables& lt, Index v, Index buffer[6]) {
+    const LevelStencils& s = lt.positions;
+    if (lt.from_grandparent && v >= lt.from_grandparent->grandparent.num_vertices) {
+        write_ordered_grandchild_rings(lt.from_grandparent->grandparent, v, v + 1, buffer);
+        return {buffer, 6};
+    }
+    return {s.ring.data() + s.ring_offsets[v], int(s.ring_offsets[v + 1] - s.ring_offsets[v])};
+}
+
 }  // namespace loopsub::detail
