@@ -158,6 +158,8 @@ TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
     cones.cone_vertices = {0, 5, 17};
     TestMesh dart = icosahedron();
     dart.add_crease(0, dart.triangles[1]);  // one sharp edge: a dart at each end
+    for (TestMesh mesh : {grid(5, 4), open_cylinder(7, 2), hemisphere(1)})
+        for (Rules rules : {Rules::OpenSubdiv, Rules::Hoppe94}) meshes.push_back({mesh, rules});
     meshes.push_back({creased, Rules::OpenSubdiv});
     meshes.push_back({creased, Rules::Hoppe94});
     meshes.push_back({semi, Rules::OpenSubdiv});

@@ -262,9 +262,10 @@ TEST(Topology, ChildRingsOrderedCounterClockwise) {
     }
 }
 
-// The grandchild's rings read two splits on (write_ordered_grandchild_rings, what a limit plan of a closed surface
-// reads instead of building the level before the last) are write_ordered_child_rings' of the child built in full, entry
-// for entry, from the base and from split levels, on closed surfaces of several valences, jittered or not.
+// The grandchild's rings read two splits on (write_ordered_grandchild_rings, what a limit plan of a manifold surface
+// reads instead of building the level before the last) are write_ordered_child_rings' of the child built in full,
+// entry for entry and offset for offset, from the base and from split levels: on closed surfaces of several valences,
+// jittered or not, and open ones (a boundary's vertices are no disks and keep write_child_rings' order there too).
 TEST(Topology, GrandchildRingsAreTheChildsOrderedRings) {
     using namespace loopsub::testing;
     TestMesh sphere = icosphere(1);
@@ -273,46 +274,51 @@ TEST(Topology, GrandchildRingsAreTheChildsOrderedRings) {
     pillow.name = "pillow";
     pillow.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     pillow.triangles = {0, 1, 2, 0, 2, 1};
-    for (const TestMesh& mesh : {icosahedron(), sphere, torus(5, 7), bipyramid(9), cube(), bipyramid(3), pillow}) {
+    for (const TestMesh& mesh : {icosahedron(), sphere, torus(5, 7), bipyramid(9), cube(), bipyramid(3), pillow,
+                                 grid(4, 3), open_cylinder(7, 2), hemisphere(1), open_fan(5)}) {
         SCOPED_TRACE(mesh.name);
         Topology grandparent =
             loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
         for (int split = 0; split <= 1; ++split) {
             SCOPED_TRACE(split);
             const Topology parent = loopsub::detail::refine_topology(grandparent, loopsub::detail::Refined::Full, 1);
-            std::vector<std::uint8_t> apart(std::size_t(parent.num_vertices + parent.num_edges()), 0);
-            std::vector<Index> expected(std::size_t(loopsub::detail::child_ring_offset(parent, Index(apart.size()))));
-            loopsub::detail::write_ordered_child_rings(parent, 0, Index(apart.size()), apart.data(), expected.data());
-            ASSERT_TRUE(std::none_of(apart.begin(), apart.end(), [](std::uint8_t a) { return a != 0; }));
-            ASSERT_EQ(grandparent.max_edge_face_count, 2);
-            std::vector<Index> corners(2 * std::size_t(grandparent.num_edges())), halves(grandparent.face_edges.size());
+            const Index count = parent.num_vertices + parent.num_edges();
+            std::vector<std::uint8_t> apart(std::size_t(count), 0);
+            std::vector<Index> expected(std::size_t(loopsub::detail::child_ring_offset(parent, count)));
+            loopsub::detail::write_ordered_child_rings(parent, 0, count, apart.data(), expected.data());
+            ASSERT_LE(grandparent.max_edge_face_count, 2);
+            std::vector<Index> corners(2 * std::size_t(grandparent.num_edges()), -1),
+                halves(grandparent.face_edges.size());
             loopsub::detail::write_grandparent_corners(grandparent, 0, grandparent.num_faces(), corners.data(),
                                                        halves.data());
             const loopsub::detail::Grandparent g{grandparent.num_vertices, grandparent.num_edges(),
                                                  grandparent.num_faces(),  grandparent.edge_vertices.data(),
                                                  corners.data(),           halves.data()};
-            const Index begin = grandparent.num_vertices, end = Index(apart.size());
-            const Index first_old_end = loopsub::detail::child_ring_offset(parent, begin);
-            std::vector<Index> ring(6 * std::size_t(end - begin));
+            const Index begin = grandparent.num_vertices, end = count;
+            const Index first = loopsub::detail::child_ring_offset(parent, begin);
             // In chunks, as a frame writes them, which begin and end inside a pair of halves or a face's three.
-            for (Index first = begin; first < end; first += 7) {
-                const Index last = std::min(end, first + 7);
-                loopsub::detail::write_ordered_grandchild_rings(g, first, last,
-                                                                ring.data() + 6 * std::size_t(first - begin));
+            std::vector<Index> ring(6 * std::size_t(end - begin)), offsets(8);
+            std::size_t written = 0;
+            for (Index chunk = begin; chunk < end; chunk += 7) {
+                const Index last = std::min(end, chunk + 7);
+                loopsub::detail::write_ordered_grandchild_rings(g, chunk, last, offsets.data(), ring.data() + written);
+                for (Index v = chunk; v < last; ++v)
+                    ASSERT_EQ(Index(written) + offsets[std::size_t(v - chunk)],
+                              loopsub::detail::child_ring_offset(parent, v) - first)
+                        << "vertex " << v;
+                written += std::size_t(offsets[std::size_t(last - chunk)]);
             }
+            ASSERT_EQ(written, expected.size() - std::size_t(first));
+            for (std::size_t k = 0; k < written; ++k)
+                ASSERT_EQ(ring[k], expected[std::size_t(first) + k]) << "entry " << k;
             // The old vertices: the halves to their neighbours, which are the grandchild's midpoints of them.
-            std::vector<Index> next_at(2 * std::size_t(grandparent.num_edges()));
-            std::vector<Index> old(static_cast<std::size_t>(first_old_end));
+            std::vector<Index> next_at(2 * std::size_t(grandparent.num_edges()), -1);
+            std::vector<Index> old(static_cast<std::size_t>(first));
             loopsub::detail::write_next_halves(grandparent, 0, grandparent.num_faces(), next_at.data());
             loopsub::detail::write_ordered_old_vertex_halves(grandparent, next_at.data(), 0, grandparent.num_vertices,
                                                              old.data());
             for (std::size_t k = 0; k < old.size(); ++k)
                 ASSERT_EQ(parent.num_vertices + old[k], expected[k]) << "entry " << k;
-            const Index first = loopsub::detail::child_ring_offset(parent, begin);
-            ASSERT_EQ(expected.size() - std::size_t(first), ring.size());
-            for (std::size_t k = 0; k < ring.size(); ++k)
-                ASSERT_EQ(ring[k], expected[std::size_t(first) + k])
-                    << "vertex " << begin + Index(k / 6) << ", entry " << k % 6;
             grandparent = loopsub::detail::refine_topology(grandparent, loopsub::detail::Refined::Full, 1);
         }
     }

@@ -93,7 +93,6 @@ void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in
     // Chunks whose rings stay in the first-level cache while the kernel reads them.
     constexpr int kChunk = 256;
     std::int32_t offsets[kChunk + 1], ring[6 * kChunk];
-    for (int k = 0; k <= kChunk; ++k) offsets[k] = 6 * k;
     const Range vertices[3] = {
         {g.num_vertices + share.child_midpoints.begin, g.num_vertices + share.child_midpoints.end},
         {child_vertices + 2 * share.halves.begin, child_vertices + 2 * share.halves.end},
@@ -101,7 +100,7 @@ void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in
     for (const Range& kind : vertices)
         for (int first = kind.begin; first < kind.end; first += kChunk) {
             const int last = std::min(kind.end, first + kChunk);
-            write_ordered_grandchild_rings(g, first, last, ring);
+            write_ordered_grandchild_rings(g, first, last, offsets, ring);
             limit_scalar(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
         }
 }

@@ -155,9 +155,11 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
         Index f, g_face;
         int k, j;
     };
+    // A boundary edge has F only: its vertices are by sides, and their limits are LimitFn's (`redone`), so G stands
+    // in for F there, only to keep the loads in place.
     auto faces_of = [corners](Index h) {
-        return EdgeFaces{corners[2 * h] >> 2, corners[2 * h + 1] >> 2, int(corners[2 * h] & 3),
-                         int(corners[2 * h + 1] & 3)};
+        const Index g_corner = corners[2 * h + 1] < 0 ? corners[2 * h] : corners[2 * h + 1];
+        return EdgeFaces{corners[2 * h] >> 2, g_corner >> 2, int(corners[2 * h] & 3), int(g_corner & 3)};
     };
     auto interior = [halves_end](Index f, int k) { return halves_end + 3 * f + k; };
     auto next_corner = [](int k) { return k == 2 ? 0 : k + 1; };  // a triangle's corners, counter-clockwise
@@ -267,7 +269,6 @@ void grandchild_limit_pass(const LimitTables& lt, ChannelsView<const float> in, 
     const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
     constexpr int kRun = 64;
     std::int32_t offsets[kRun + 1], ring[6 * kRun];
-    for (int k = 0; k <= kRun; ++k) offsets[k] = 6 * k;
     const Range kinds[3] = {{g.num_vertices + share.child_midpoints.begin, g.num_vertices + share.child_midpoints.end},
                             {child_vertices + 2 * share.halves.begin, child_vertices + 2 * share.halves.end},
                             {halves_end + 3 * share.faces.begin, halves_end + 3 * share.faces.end}};
@@ -277,7 +278,7 @@ void grandchild_limit_pass(const LimitTables& lt, ChannelsView<const float> in, 
             const Index first = *next;
             Index last = first + 1;
             while (++next != redone.end() && *next == last && last < kind.end && last - first < kRun) ++last;
-            write_ordered_grandchild_rings(g, first, last, ring);
+            write_ordered_grandchild_rings(g, first, last, offsets, ring);
             limit(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
         }
     }

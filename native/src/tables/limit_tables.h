@@ -77,8 +77,9 @@ struct LimitRing {
 inline LimitRing limit_ring(const LimitTables& lt, Index v, Index buffer[6]) {
     const LevelStencils& s = lt.positions;
     if (lt.from_grandparent && v >= lt.from_grandparent->grandparent.num_vertices) {
-        write_ordered_grandchild_rings(lt.from_grandparent->grandparent, v, v + 1, buffer);
-        return {buffer, 6};
+        Index offsets[2];
+        write_ordered_grandchild_rings(lt.from_grandparent->grandparent, v, v + 1, offsets, buffer);
+        return {buffer, int(offsets[1])};
     }
     return {s.ring.data() + s.ring_offsets[v], int(s.ring_offsets[v + 1] - s.ring_offsets[v])};
 }

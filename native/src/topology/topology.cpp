@@ -683,13 +683,17 @@ void write_ordered_old_vertex_halves(const Topology& t, const Index* next_at, in
     for (Index v = v0; v < v1; ++v) {
         const Index first = t.vertex_edge_offsets[v], n = t.vertex_edge_offsets[v + 1] - first;
         if (n == 0) continue;
-        Index half = child_edge_at(t, t.vertex_edges[first], v);
-        for (Index k = 0; k < n; ++k, half = next_at[half]) *ring++ = half;
-        assert(half == child_edge_at(t, t.vertex_edges[first], v));  // back where it began: one disk
+        const Index start = child_edge_at(t, t.vertex_edges[first], v);
+        Index half = start, k = 0;
+        for (; k < n && half >= 0; ++k, half = next_at[half]) ring[k] = half;
+        // Not back where it began after n steps: no disk (a boundary), whose ring keeps the order of its edges.
+        if (k < n || half != start)
+            for (k = 0; k < n; ++k) ring[k] = child_edge_at(t, t.vertex_edges[first + k], v);
+        ring += n;
     }
 }
 
-void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, Index* ring) {
+void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, Index* offsets, Index* ring) {
     // The grandparent's edge h = (a, b) has its midpoint R = nv + h in the child, and faces F (which runs from a to b,
     // h its edge k) and G (from b to a, h its edge j). Around R in the child, the follower rule of
     // write_ordered_child_rings gives its edges from the half at a: 2h, then G's interior edges j and j - 1, 2h + 1,
@@ -697,8 +701,11 @@ void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, In
     // the other face's midpoints next to each end, then the face's that runs from the first end, reversed: for the
     // halves of h their corner children in F and G, for interior edge k of F its corner child k + 1 and F's middle
     // child. Child edges are numbered as the split says (halves 2h and 2h + 1, interior edges 2 ne + 3f + k), and a
-    // grandchild vertex made by a split is the child's vertex count plus its child edge. Each kind in a loop of its
-    // own: the child's midpoints, the halves' midpoints a pair at a time, the interior edges' a face at a time.
+    // grandchild vertex made by a split is the child's vertex count plus its child edge. A boundary edge has F only
+    // (an edge's first face runs along it from its first end): R and its halves' midpoints are no disks, and their
+    // rings keep write_child_rings' order (R's edges 2h, 2h + 1, then F's interior edges k - 1 and k; a half's ends,
+    // then its wings in F). Each kind in a loop of its own: the child's midpoints, the halves' midpoints a pair at a
+    // time, the interior edges' a face at a time.
     const Index nv = g.num_vertices, ne = g.num_edges, child_vertices = nv + ne;
     const Index halves_end = child_vertices + 2 * ne;  // the first grandchild vertex on an interior edge
     assert(begin >= nv);
@@ -712,60 +719,85 @@ void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, In
         return child_vertices + (corner_halves[3 * std::size_t(f) + std::size_t(k)] ^ 1);
     };
     auto interior_edge = [=](Index f, int k) { return halves_end + 3 * f + k; };
+    const Index* const start = ring;
+    *offsets++ = 0;
+    auto close = [&](Index* next) { ring = next, *offsets++ = Index(ring - start); };
     Index v = begin;
-    for (; v < std::min(end, child_vertices); ++v, ring += 6) {  // the child's midpoint R of h
-        const Index h = v - nv, f = g.edge_face_corners[2 * h] >> 2, g_face = g.edge_face_corners[2 * h + 1] >> 2;
-        const int k = g.edge_face_corners[2 * h] & 3, j = g.edge_face_corners[2 * h + 1] & 3;
+    for (; v < std::min(end, child_vertices); ++v) {  // the child's midpoint R of h
+        const Index h = v - nv, f = g.edge_face_corners[2 * h] >> 2;
+        const int k = g.edge_face_corners[2 * h] & 3;
         ring[0] = child_vertices + 2 * h;
+        if (g.edge_face_corners[2 * h + 1] < 0) {  // a boundary edge
+            ring[1] = child_vertices + 2 * h + 1;
+            ring[2] = interior_edge(f, prev_corner(k));
+            ring[3] = interior_edge(f, k);
+            close(ring + 4);
+            continue;
+        }
+        const Index g_face = g.edge_face_corners[2 * h + 1] >> 2;
+        const int j = g.edge_face_corners[2 * h + 1] & 3;
         ring[1] = interior_edge(g_face, j);
         ring[2] = interior_edge(g_face, prev_corner(j));
         ring[3] = child_vertices + 2 * h + 1;
         ring[4] = interior_edge(f, k);
         ring[5] = interior_edge(f, prev_corner(k));
+        close(ring + 6);
     }
     const Index halves_stop = std::min(end, halves_end);
     while (v < halves_stop) {  // the midpoints of halves 2h = (a, R) and 2h + 1 = (R, b)
-        const Index h = (v - child_vertices) / 2, f = g.edge_face_corners[2 * h] >> 2,
-                    g_face = g.edge_face_corners[2 * h + 1] >> 2;
-        const int k = g.edge_face_corners[2 * h] & 3, j = g.edge_face_corners[2 * h + 1] & 3;
+        const Index h = (v - child_vertices) / 2, f = g.edge_face_corners[2 * h] >> 2;
+        const int k = g.edge_face_corners[2 * h] & 3;
+        const bool boundary = g.edge_face_corners[2 * h + 1] < 0;
+        const Index g_face = boundary ? f : g.edge_face_corners[2 * h + 1] >> 2;
+        const int j = boundary ? k : g.edge_face_corners[2 * h + 1] & 3;
         if ((v - child_vertices) % 2 == 0) {
             ring[0] = g.edge_vertices[2 * std::size_t(h)];
-            ring[1] = half_at_start(g_face, next_corner(j));
-            ring[2] = interior_edge(g_face, j);
-            ring[3] = nv + h;
-            ring[4] = interior_edge(f, prev_corner(k));
-            ring[5] = half_at_end(f, prev_corner(k));
-            ring += 6;
+            if (boundary) {
+                ring[1] = nv + h;
+                ring[2] = half_at_end(f, prev_corner(k));
+                ring[3] = interior_edge(f, prev_corner(k));
+                close(ring + 4);
+            } else {
+                ring[1] = half_at_start(g_face, next_corner(j));
+                ring[2] = interior_edge(g_face, j);
+                ring[3] = nv + h;
+                ring[4] = interior_edge(f, prev_corner(k));
+                ring[5] = half_at_end(f, prev_corner(k));
+                close(ring + 6);
+            }
             if (++v == halves_stop) break;
         }
         ring[0] = nv + h;
-        ring[1] = interior_edge(g_face, prev_corner(j));
-        ring[2] = half_at_end(g_face, prev_corner(j));
-        ring[3] = g.edge_vertices[2 * std::size_t(h) + 1];
-        ring[4] = half_at_start(f, next_corner(k));
-        ring[5] = interior_edge(f, k);
-        ring += 6;
+        if (boundary) {
+            ring[1] = g.edge_vertices[2 * std::size_t(h) + 1];
+            ring[2] = interior_edge(f, k);
+            ring[3] = half_at_start(f, next_corner(k));
+            close(ring + 4);
+        } else {
+            ring[1] = interior_edge(g_face, prev_corner(j));
+            ring[2] = half_at_end(g_face, prev_corner(j));
+            ring[3] = g.edge_vertices[2 * std::size_t(h) + 1];
+            ring[4] = half_at_start(f, next_corner(k));
+            ring[5] = interior_edge(f, k);
+            close(ring + 6);
+        }
         ++v;
     }
-    // The midpoint of interior edge k of face f, from m_k to m_k+1: a face's three at a time, from its corners' halves.
-    auto interior_ring = [&](const Index halves[3], Index first_interior, int k, Index* out) {
+    // The midpoint of interior edge k of face f, from m_k to m_k+1 (always two faces: the corner child k + 1 and the
+    // middle child): a face's three at a time, from its corners' halves.
+    auto interior_ring = [&](const Index halves[3], Index first_interior, int k) {
         const int next = next_corner(k);
-        out[0] = nv + (halves[k] >> 1);
-        out[1] = child_vertices + (halves[k] ^ 1);
-        out[2] = child_vertices + halves[next];
-        out[3] = nv + (halves[next] >> 1);
-        out[4] = first_interior + next;
-        out[5] = first_interior + prev_corner(k);
+        ring[0] = nv + (halves[k] >> 1);
+        ring[1] = child_vertices + (halves[k] ^ 1);
+        ring[2] = child_vertices + halves[next];
+        ring[3] = nv + (halves[next] >> 1);
+        ring[4] = first_interior + next;
+        ring[5] = first_interior + prev_corner(k);
+        close(ring + 6);
     };
-    for (; v < end && (v - halves_end) % 3 != 0; ++v, ring += 6) {
+    for (; v < end; ++v) {
         const Index f = (v - halves_end) / 3;
-        interior_ring(&corner_halves[3 * std::size_t(f)], interior_edge(f, 0), int((v - halves_end) % 3), ring);
-    }
-    for (; v < end; v += 3, ring += 18) {
-        const Index f = (v - halves_end) / 3;
-        const Index* halves = &corner_halves[3 * std::size_t(f)];
-        const int count = std::min(3, end - v);
-        for (int k = 0; k < count; ++k) interior_ring(halves, interior_edge(f, 0), k, ring + 6 * k);
+        interior_ring(&corner_halves[3 * std::size_t(f)], interior_edge(f, 0), int((v - halves_end) % 3));
     }
 }
 

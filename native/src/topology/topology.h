@@ -158,15 +158,15 @@ void write_child_rings(const Topology& parent, int begin, int end, Index* ring);
 // (v, a, b), b follows a around v), from the numbering, without the child's faces. Vertices with apart[v] set keep
 // write_child_rings' order; one whose fan is no single disk too, and gets apart[v] set.
 void write_ordered_child_rings(const Topology& parent, int begin, int end, std::uint8_t* apart, Index* ring);
-// A level read two splits on, for the rings of its grandchild (write_ordered_grandchild_rings): a closed surface, every
-// edge in exactly two faces that run along it opposite ways and every fan one disk, so that every grandchild vertex
-// made by a split has six neighbours counter-clockwise. Plain pointers into the level's arrays, which a plan keeps
-// where its tables hold them.
+// A level read two splits on, for the rings of its grandchild (write_ordered_grandchild_rings): a surface, every edge
+// in one or two faces (two running along it opposite ways) and every fan one fan, so that every grandchild vertex made
+// by a split off the boundary has six neighbours counter-clockwise. Plain pointers into the level's arrays, which a
+// plan keeps where its tables hold them.
 struct Grandparent {
     Index num_vertices = 0, num_edges = 0, num_faces = 0;
     const Index* edge_vertices = nullptr;  // 2 per edge
     // 2 per edge: 4 f + k for the face f that runs along it from its first end (the edge its edge k), then for the
-    // other.
+    // other (-1 for a boundary edge).
     const Index* edge_face_corners = nullptr;
     // 3 per face: the child edge of face edge k at corner k, where the edge starts in the face (the other half, at
     // corner k + 1, is this one xor 1).
@@ -175,16 +175,19 @@ struct Grandparent {
 // Grandparent::edge_face_corners and corner_halves from a level's faces [f0, f1): each writes its edges' entries and
 // its own, from its face edges and places.
 void write_grandparent_corners(const Topology& level, int f0, int f1, Index* edge_face_corners, Index* corner_halves);
-// The counter-clockwise rings of the child's old vertices [v0, v1) of a level whose fans are all disks (in a child
-// triangle (v, a, b), b follows a around v), as write_ordered_child_rings writes them but each entry the child edge
-// to the neighbour (not the midpoint), from ring[0]. `next_at`: per child edge h, the next half around the old vertex
-// at its end, from each face's share (write_next_halves; 2 per edge of the level).
+// The rings of the child's old vertices [v0, v1) of a level whose fans are one fan each, as write_ordered_child_rings
+// writes them (counter-clockwise around a disk: in a child triangle (v, a, b), b follows a around v; in the order of
+// the vertex's edges around a boundary) but each entry the child edge to the neighbour (not the midpoint), from
+// ring[0]. `next_at`: per child edge h, the next half around the old vertex at its end, from each face's share
+// (write_next_halves; 2 per edge of the level, -1 where no face follows).
 void write_next_halves(const Topology& level, int f0, int f1, Index* next_at);
 void write_ordered_old_vertex_halves(const Topology& level, const Index* next_at, int v0, int v1, Index* ring);
-// What write_ordered_child_rings writes of the child of the grandparent's child, without either: the counter-clockwise
-// rings of grandchild vertices [begin, end), every one made by a split (begin >= the grandparent's vertex count), six
-// each from ring[0], through the numbering of both splits.
-void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, Index* ring);
+// What write_ordered_child_rings writes of the child of the grandparent's child, without either: the rings of
+// grandchild vertices [begin, end), every one made by a split (begin >= the grandparent's vertex count), through the
+// numbering of both splits, counter-clockwise where a vertex's fan is a disk (six neighbours; four on a boundary, in
+// write_child_rings' order). From ring[0]; vertex begin + i's at ring[offsets[i]] to ring[offsets[i + 1]], offsets
+// from 0 (end - begin + 1 of them).
+void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, Index* offsets, Index* ring);
 
 // Ends (A, B) and the vertices opposite (C, D) of child edges [begin, end), as refine_topology's edge_vertices (2 per
 // edge) and edge_wing_c / _d give them; written from index 0 of each array.
