@@ -68,7 +68,20 @@ void limit_avx2(const LimitTables&, const StencilView&, ChannelsView<const float
 // both halves of grandparent edges [halves), those of the interior edges of grandparent faces [faces).
 struct GrandchildShare {
     Range child_midpoints, halves, faces;
+
+    // The same share as last-level vertices, a range per kind in that order.
+    void vertices(const Grandparent& g, Range out[3]) const {
+        const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
+        out[0] = {g.num_vertices + child_midpoints.begin, g.num_vertices + child_midpoints.end};
+        out[1] = {child_vertices + 2 * halves.begin, child_vertices + 2 * halves.end};
+        out[2] = {halves_end + 3 * faces.begin, halves_end + 3 * faces.end};
+    }
 };
+
+// Runs `limit` over last-level vertices [vertices.begin, vertices.end), all made by the splits after the grandparent,
+// a chunk at a time, each chunk's rings written just before (write_ordered_grandchild_rings).
+void limit_over_grandchild_rings(LimitFn limit, const LimitTables& tables, ChannelsView<const float> in,
+                                 ChannelsView<float> out, float* normals, Range vertices);
 
 // The limit stage over such a share: what LimitFn writes for those vertices, from the rings the grandparent's
 // numbering gives. The scalar kernel writes the rings a chunk at a time and runs limit_scalar over them (the

@@ -11,6 +11,12 @@ namespace loopsub::detail {
 
 namespace {
 
+// Part `part` of `parts` of [begin, end).
+Range share_of(int begin, int end, int part, int parts) {
+    const auto [first, last] = part_of(end - begin, part, parts);
+    return Range{begin + first, begin + last};
+}
+
 // The interior edges [edges.begin, edges.end) of a level that reads them from its parent's faces: whole faces by the
 // interior kernel, the edges of a face the range cuts through from a table of their own.
 void refine_interior(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in,
@@ -38,10 +44,7 @@ void refine_interior(const Kernels& kernels, const LevelStencils& s, ChannelsVie
 
 void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out,
                  int part, int parts) {
-    auto share = [part, parts](int begin, int end) {
-        const auto [first, last] = part_of(end - begin, part, parts);
-        return Range{begin + first, begin + last};
-    };
+    auto share = [part, parts](int begin, int end) { return share_of(begin, end, part, parts); };
     if (s.fan_midpoints > 0) {  // each kind shared on its own: they cost differently
         kernels.refine(s, stored_view(s), in, out, share(0, s.fan_first_midpoint), {0, 0});  // old vertices
         kernels.fans(s, in, out, share(0, s.fan_midpoints));
@@ -75,10 +78,7 @@ void refine_part(const Kernels& kernels, const LevelStencils& s, ChannelsView<co
 
 void limit_part(const Kernels& kernels, const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out,
                 float* normals, int part, int parts) {
-    const auto share = [part, parts](int count) {
-        const auto [first, last] = part_of(count, part, parts);
-        return Range{first, last};
-    };
+    auto share = [part, parts](int count) { return share_of(0, count, part, parts); };
     if (!lt.from_grandparent)
         return kernels.limit(lt, stored_view(lt.positions), in, out, normals, share(lt.positions.num_vertices));
     const Grandparent& g = lt.from_grandparent->grandparent;
@@ -86,23 +86,23 @@ void limit_part(const Kernels& kernels, const LimitTables& lt, ChannelsView<cons
     kernels.limit_grandchild(lt, in, out, normals, {share(g.num_edges), share(g.num_edges), share(g.num_faces)});
 }
 
-void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out,
-                             float* normals, GrandchildShare share) {
-    const Grandparent& g = lt.from_grandparent->grandparent;
-    const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
+void limit_over_grandchild_rings(LimitFn limit, const LimitTables& lt, ChannelsView<const float> in,
+                                 ChannelsView<float> out, float* normals, Range vertices) {
     // Chunks whose rings stay in the first-level cache while the kernel reads them.
     constexpr int kChunk = 256;
     std::int32_t offsets[kChunk + 1], ring[6 * kChunk];
-    const Range vertices[3] = {
-        {g.num_vertices + share.child_midpoints.begin, g.num_vertices + share.child_midpoints.end},
-        {child_vertices + 2 * share.halves.begin, child_vertices + 2 * share.halves.end},
-        {halves_end + 3 * share.faces.begin, halves_end + 3 * share.faces.end}};
-    for (const Range& kind : vertices)
-        for (int first = kind.begin; first < kind.end; first += kChunk) {
-            const int last = std::min(kind.end, first + kChunk);
-            write_ordered_grandchild_rings(g, first, last, offsets, ring);
-            limit_scalar(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
-        }
+    for (int first = vertices.begin; first < vertices.end; first += kChunk) {
+        const int last = std::min(vertices.end, first + kChunk);
+        write_ordered_grandchild_rings(lt.from_grandparent->grandparent, first, last, offsets, ring);
+        limit(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
+    }
+}
+
+void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out,
+                             float* normals, GrandchildShare share) {
+    Range kinds[3];
+    share.vertices(lt.from_grandparent->grandparent, kinds);
+    for (const Range& kind : kinds) limit_over_grandchild_rings(limit_scalar, lt, in, out, normals, kind);
 }
 
 // A forced kernel the CPU cannot run steps down to the next narrower one rather than crash.

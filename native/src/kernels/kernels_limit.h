@@ -147,6 +147,8 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
     const Grandparent& g = lt.from_grandparent->grandparent;
     const RegularLimit<Vertex, MultiplyAdd> regular(lt, vertex, multiply_add);
     const Index nv = g.num_vertices, child_vertices = nv + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
+    Range kinds[3];  // the share's outputs, a range of last-level vertices per kind
+    share.vertices(g, kinds);
     const Index* corners = g.edge_face_corners;
     const Index* corner_halves = g.corner_halves;
     auto load = [&](Index v) { return _mm_loadu_ps(in.at(std::size_t(v))); };
@@ -184,7 +186,7 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
         if (count > 0) store_limit_chunk(out, normals, nullptr, first, count, position, t1, t2, unit_normals);
     };
     // The child's midpoint R = nv + h: its ring 2h, G's interior edges j and j - 1, 2h + 1, F's k and k - 1.
-    run(share.child_midpoints, 1, nv + share.child_midpoints.begin, [&](Index h, int i) {
+    run(share.child_midpoints, 1, kinds[0].begin, [&](Index h, int i) {
         const EdgeFaces e = faces_of(h);
         const __m128 p[6] = {
             load(child_vertices + 2 * h),     load(interior(e.g_face, e.j)), load(interior(e.g_face, prev_corner(e.j))),
@@ -192,7 +194,7 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
         regular(load(nv + h), p, position[i], t1[i], t2[i]);
     });
     // The midpoints of halves 2h = (a, R) and 2h + 1 = (R, b).
-    run(share.halves, 2, child_vertices + 2 * share.halves.begin, [&](Index h, int i) {
+    run(share.halves, 2, kinds[1].begin, [&](Index h, int i) {
         const EdgeFaces e = faces_of(h);
         const __m128 r = load(nv + h);
         const __m128 g_interior = load(interior(e.g_face, e.j)), f_interior = load(interior(e.f, e.k));
@@ -215,7 +217,7 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
     });
     // The midpoints of face f's interior edges k, from m_k to m_k+1: its ring m_k, the half of edge k at its end,
     // that of edge k + 1 at its start, m_k+1, interior edges k + 1 and k - 1.
-    run(share.faces, 3, halves_end + 3 * share.faces.begin, [&](Index f, int i) {
+    run(share.faces, 3, kinds[2].begin, [&](Index f, int i) {
         const Index* halves = &corner_halves[3 * std::size_t(f)];
         __m128 m[3], start[3], end[3], edge[3];
         for (int k = 0; k < 3; ++k) {
@@ -265,21 +267,15 @@ void grandchild_limit_pass(const LimitTables& lt, ChannelsView<const float> in, 
     });
     const std::vector<Index>& redone = lt.from_grandparent->redone;
     if (redone.empty()) return;
-    const Grandparent& g = lt.from_grandparent->grandparent;
-    const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
-    constexpr int kRun = 64;
-    std::int32_t offsets[kRun + 1], ring[6 * kRun];
-    const Range kinds[3] = {{g.num_vertices + share.child_midpoints.begin, g.num_vertices + share.child_midpoints.end},
-                            {child_vertices + 2 * share.halves.begin, child_vertices + 2 * share.halves.end},
-                            {halves_end + 3 * share.faces.begin, halves_end + 3 * share.faces.end}};
+    Range kinds[3];
+    share.vertices(lt.from_grandparent->grandparent, kinds);
     for (const Range& kind : kinds) {
         auto next = std::lower_bound(redone.begin(), redone.end(), kind.begin);
         while (next != redone.end() && *next < kind.end) {
             const Index first = *next;
             Index last = first + 1;
-            while (++next != redone.end() && *next == last && last < kind.end && last - first < kRun) ++last;
-            write_ordered_grandchild_rings(g, first, last, offsets, ring);
-            limit(lt, {offsets, ring, nullptr, nullptr, nullptr, first, 0}, in, out, normals, {first, last});
+            while (++next != redone.end() && *next == last && last < kind.end) ++last;
+            limit_over_grandchild_rings(limit, lt, in, out, normals, {first, last});
         }
     }
 }
