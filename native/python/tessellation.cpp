@@ -226,6 +226,10 @@ void bind_tessellation(py::module_& m) {
             "levels", [](PyTessellation& p) { return p.tessellation.levels(); },
             "int: the refinement levels the points are made from.")
         .def_property_readonly(
+            "estimated_bytes", [](PyTessellation& p) { return p.tessellation.estimated_bytes(); },
+            "int: bytes the memory check counted against memory_limit_bytes: the result's arrays, the plans of the "
+            "input triangles that are no patch, each UV layer's own cut.")
+        .def_property_readonly(
             "triangles",
             [](py::object self) {
                 const auto& t = self.cast<PyTessellation&>().tessellation;

@@ -596,6 +596,37 @@ TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
     EXPECT_EQ(tessellation.num_triangles(), expected);
 }
 
+// The memory limit is one budget for everything a tessellation holds: its result, the plans of the triangles that are
+// no patch (an icosahedron has no regular vertex: all of it), each face-varying layer's own cut. A limit one byte below
+// what it counted refuses it; a limit that covers the result but not the plans did not, before.
+TEST(Tessellation, OneMemoryBudgetCoversItsPlansAndLayers) {
+    TestMesh mesh = icosahedron();
+    add_uvs_with_seam(mesh);
+    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    MeshView with_layer = mesh.view();
+    with_layer.face_varying = &layer, with_layer.num_face_varying = 1;
+    TessellationRates rates;
+    rates.uniform_rate = 32;  // level 5
+    const Options options = options_for(mesh);
+    const Tessellation plain(mesh.view(), options, rates), layered(with_layer, options, rates);
+    ASSERT_EQ(plain.levels(), 5);
+    // The band's two plans, limit and control points, on the whole icosahedron, at level 5.
+    const std::uint64_t plans = 2 * Plan::estimate_bytes(mesh.num_vertices(), mesh.num_triangles(), 5, 3, 30);
+    EXPECT_GT(plain.estimated_bytes(), plans);
+    EXPECT_GT(layered.estimated_bytes(), plain.estimated_bytes() + plans);  // the layer's cut has its own band
+    for (const auto& [view, counted] :
+         {std::pair(mesh.view(), plain.estimated_bytes()), std::pair(with_layer, layered.estimated_bytes())}) {
+        Options limited = options;
+        limited.memory_limit_bytes = counted;
+        EXPECT_EQ(Tessellation(view, limited, rates).estimated_bytes(), counted);
+        limited.memory_limit_bytes = counted - 1;
+        try {
+            Tessellation(view, limited, rates);
+            ADD_FAILURE() << "made within a limit one byte below its count";
+        } catch (const MemoryLimitError& error) { EXPECT_EQ(error.required_bytes, counted) << error.what(); }
+    }
+}
+
 TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {
     TestMesh mesh = icosahedron();
     auto refuses = [&](const MeshView& view, const Options& options, const TessellationRates& rates,

@@ -140,6 +140,18 @@ def test_bad_input_raises():
         tessellation.evaluate(bad)
 
 
+def test_the_memory_limit_refuses_below_what_the_tessellation_counts():
+    """estimated_bytes is what memory_limit_bytes is checked against: a limit one byte below it raises MemoryError
+    with it as required_bytes, a limit at it is met. It grows with the rate."""
+    positions, triangles = icosahedron()
+    counted = _loopsub.Tessellation(triangles, len(positions), 16).estimated_bytes
+    assert _loopsub.Tessellation(triangles, len(positions), 32).estimated_bytes > 3 * counted
+    assert _loopsub.Tessellation(triangles, len(positions), 16, memory_limit_bytes=counted).estimated_bytes == counted
+    with pytest.raises(MemoryError) as refused:
+        _loopsub.Tessellation(triangles, len(positions), 16, memory_limit_bytes=counted - 1)
+    assert refused.value.required_bytes == counted
+
+
 def perspective_down_z(width=100, height=100):
     """A camera at the origin looking down -z, OpenGL's perspective with a 90 degree vertical field of view."""
     near, far = 0.1, 100.0

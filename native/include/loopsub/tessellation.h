@@ -110,6 +110,9 @@ public:
     void evaluate_face_varying(int layer, const float* values, int channels, float* out) const;
     // The refinement levels whose control points and limit the points are made from.
     int levels() const;
+    // Bytes the memory check counted against Options::memory_limit_bytes: the result's arrays, the plans of the input
+    // triangles that are no patch (Plan::estimate_bytes), and each face-varying layer's own cut.
+    std::uint64_t estimated_bytes() const;
 
     // Places the points for the input's positions (3 floats per input vertex): points gets 3 * num_points() floats,
     // normals (optional, may be null) 3 * num_face_points() floats, unit length (zero where the surface has no tangent

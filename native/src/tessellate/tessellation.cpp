@@ -90,6 +90,7 @@ struct TessellationImpl {
     };
     std::vector<Layer> layers;
     std::vector<std::int32_t> face_point_parent;  // each face point's input triangle (the linear layers read it)
+    std::uint64_t estimated_bytes = 0;            // Tessellation::estimated_bytes
 };
 
 namespace {
@@ -258,18 +259,30 @@ public:
             d_.levels = std::max(d_.levels, levels);
         }
         // What the result holds: per face point its sample, point, parameters and a normal; per triangle its corners,
-        // their face points and its parent; per point its position (the plans check their own).
-        const std::uint64_t bytes =
+        // their face points and its parent; per point its position. Then each band's two plans (limit and control
+        // points, Plan::estimate_bytes of its submesh): one budget for all, checked before any of them is made.
+        std::uint64_t bytes =
             std::uint64_t(num_samples) * 40 + std::uint64_t(num_triangles) * 28 + std::uint64_t(next) * 16;
+        const std::uint64_t result_bytes = bytes;
+        for (std::size_t b = 0; b < d_.bands.size(); ++b) {
+            make_submesh(input_patches, int(b));
+            const MeshView& sub = band_builders_[b].view;
+            const auto sub_edges = std::int64_t(detail::sorted_edge_keys(sub.triangles, sub.num_triangles).size());
+            for (int levels : {d_.bands[b].limit_levels, d_.bands[b].levels})
+                bytes += Plan::estimate_bytes(sub.num_vertices, sub.num_triangles, levels, 3, sub_edges);
+        }
         if (bytes > options_.memory_limit_bytes)
-            throw MemoryLimitError("tessellation: the result would need " + std::to_string(bytes >> 20) +
-                                       " MiB, more than the memory limit",
+            throw MemoryLimitError("tessellation: " + std::to_string(num_triangles) + " triangles would need about " +
+                                       describe_bytes(bytes) + " (the result " + describe_bytes(result_bytes) +
+                                       ", the plans of the triangles that are no patch the rest), more than the "
+                                       "limit of " +
+                                       describe_bytes(options_.memory_limit_bytes),
                                    bytes);
         if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX) ||
             3 * num_triangles > std::int64_t(INT32_MAX))
             throw MemoryLimitError("tessellation: more than 2^31 points", bytes);
+        d_.estimated_bytes = bytes;
         for (std::size_t b = 0; b < d_.bands.size(); ++b) {
-            make_submesh(input_patches, int(b));
             options_.levels = d_.bands[b].limit_levels;
             d_.bands[b].limit = std::make_unique<Plan>(band_builders_[b].view, options_);
         }
@@ -616,8 +629,19 @@ void add_face_varying_layers(TessellationImpl& d, const MeshView& mesh, const Op
         layer_rates.uniform_rate = rates.uniform_rate;
         layer_rates.edges = edges.data(), layer_rates.rates = edge_rates.data();
         layer_rates.num_edges = int(edge_rates.size());
-        layer.surface = std::make_unique<Tessellation>(tags.view(n), cut, layer_rates);
+        // The layer's cut spends what the surface's left of the memory limit.
+        cut.memory_limit_bytes = options.memory_limit_bytes - std::min(options.memory_limit_bytes, d.estimated_bytes);
+        try {
+            layer.surface = std::make_unique<Tessellation>(tags.view(n), cut, layer_rates);
+        } catch (const MemoryLimitError& error) {
+            const std::uint64_t total = d.estimated_bytes + error.required_bytes;
+            throw MemoryLimitError("tessellation: with face-varying layer " + std::to_string(k) +
+                                       " it would need about " + describe_bytes(total) + ", more than the limit of " +
+                                       describe_bytes(options.memory_limit_bytes),
+                                   total);
+        }
         const Tessellation& surface = *layer.surface;
+        d.estimated_bytes += surface.estimated_bytes();
         if (surface.num_face_points() != int(d.samples.size()) ||
             !std::equal(d.corner_face_points.begin(), d.corner_face_points.end(), surface.corner_face_points()))
             throw std::logic_error("tessellation: a face-varying layer's face points are not the surface's");
@@ -686,6 +710,7 @@ Tessellation::Tessellation(Tessellation&&) noexcept = default;
 Tessellation& Tessellation::operator=(Tessellation&&) noexcept = default;
 
 int Tessellation::num_points() const { return int(impl_->num_points); }
+std::uint64_t Tessellation::estimated_bytes() const { return impl_->estimated_bytes; }
 int Tessellation::num_triangles() const { return int(impl_->triangles.size() / 3); }
 const std::int32_t* Tessellation::triangles() const { return impl_->triangles.data(); }
 const std::int32_t* Tessellation::parent_triangles() const { return impl_->parent_triangles.data(); }
