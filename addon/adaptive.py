@@ -70,11 +70,10 @@ def rates(cage, options, view, matrix_world):
 
 
 def check_memory(source, edge_rates):
-    """The memory the core's tessellation may use (memory_limit_bytes; None where the memory free is unknown), after
-    what Blender's side of the result at edge_rates needs (counted as cage.check_memory counts a level's). Raises
-    LoopSubError where even that does not fit. The core's own need depends on how many triangles are no patch of the
-    cage (those refined through plans need several times a patch's memory), which it works out itself and refuses
-    past the limit."""
+    """Whether the tessellation of source's cage at edge_rates fits: raises LoopSubError, saying what it would need
+    and what is free, where Blender's side of the result (counted as cage.check_memory counts a level's) and the
+    core's, at TESSELLATION_BYTES_PER_TRIANGLE, do not. Returns the MemoryBudget the core's own count (which knows how
+    many triangles it refines through plans, at several times a patch's memory) must then fit."""
     cage = source.cage
     edges, segments = edge_rates
     sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
@@ -87,21 +86,41 @@ def check_memory(source, edge_rates):
     product = memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles * (1 + len(mesh.uv_layers))  # a UV map is cut too
     required = memory.estimate_output_bytes(counts, product, uv_layers=len(mesh.uv_layers), version=bpy.app.version,
                                             drawn=not bpy.app.background)
-    available = memory.available_bytes()
-    if not memory.fits(required, available):
-        raise LoopSubError(memory.describe(
-            required, available,
-            f"Adaptive Subdivision at {source.options.dicing_rate:g} px ({counted(triangles, 'triangle')})"))
-    if available is None:
-        return None
-    return available - memory.reserve_bytes(available) - (required - product)
+    subject = f"Adaptive Subdivision at {source.options.dicing_rate:g} px ({counted(triangles, 'triangle')})"
+    budget = MemoryBudget(required - product, memory.available_bytes(), subject)
+    if not memory.fits(required, budget.available):
+        raise LoopSubError(memory.describe(required, budget.available, budget.subject))
+    return budget
+
+
+class MemoryBudget:
+    """What a tessellation may use: blender_bytes, Blender's side of the result, come off what is available (None:
+    unknown) and the reserve; the core gets the rest (core_limit) and refuses past it."""
+
+    def __init__(self, blender_bytes, available, subject):
+        self.blender_bytes, self.available, self.subject = blender_bytes, available, subject
+
+    def core_limit(self):
+        if self.available is None:
+            return None
+        return self.available - memory.reserve_bytes(self.available) - self.blender_bytes
+
+    def refusal(self, core_bytes):
+        """The LoopSubError of a core that counted core_bytes for itself, past core_limit()."""
+        return LoopSubError(memory.describe(self.blender_bytes + core_bytes, self.available, self.subject))
 
 
 def tessellate(source, edge_rates):
     """The TessellationOutput of source's cage at edge_rates, within the memory left (check_memory)."""
     cage, options = source.cage, source.options
-    memory_limit = check_memory(source, edge_rates)
-    tessellation = native.build_tessellation(cage.triangles, cage.num_vertices, edge_rates, options,
-                                             cage.tags(options), source.cones,
-                                             [indices for indices, _ in source.uv_layers], memory_limit)
+    budget = check_memory(source, edge_rates)
+    try:
+        tessellation = native.build_tessellation(cage.triangles, cage.num_vertices, edge_rates, options,
+                                                 cage.tags(options), source.cones,
+                                                 [indices for indices, _ in source.uv_layers], budget.core_limit())
+    except LoopSubError as error:
+        core_bytes = getattr(error.__cause__, "required_bytes", None)
+        if not isinstance(error.__cause__, MemoryError) or core_bytes is None:
+            raise
+        raise budget.refusal(core_bytes) from error
     return TessellationOutput(tessellation, cage, options)

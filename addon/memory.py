@@ -272,7 +272,8 @@ def estimate_output_bytes(counts, plan_bytes, uv_layers=0, corner_channels=0, ve
 # The core's tessellation per output triangle, where each cage triangle is a patch of the cage (its arrays: corners'
 # points and face points, parents, per face point its parameters and normal, the points): 72 bytes, measured as the
 # peak growth of building and evaluating a 702,631-triangle ground plane. Triangles that are no patch go through plans
-# (478 bytes a triangle measured on Suzanne): the core counts those itself against the limit it is given.
+# (478 bytes a triangle measured on Suzanne): the core counts those itself, in one budget with the result and each UV
+# map's cut, against the limit it is given (Tessellation.estimated_bytes; adaptive.MemoryBudget).
 TESSELLATION_BYTES_PER_TRIANGLE = 72
 
 

@@ -4,10 +4,11 @@ What an artist relies on: the option is off by default with Cycles' dicing rates
 points lie on the limit surface; an edge gets the segments its length on screen asks for (worked out here by hand
 from the camera's lens and the render's size, not by the core); the viewport and a render each use their dicing
 rate, Apply the render's; Max Segments caps the rates; an entry with no camera to cut for says so and passes its
-input through.
+input through; the memory check's estimate of an update covers what Blender's memory grows by.
 """
 import os
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
@@ -277,6 +278,118 @@ def no_camera():
     support.remove(obj)
 
 
+# A second Blender adds an adaptive entry to the cage of the file it opens and prints how many triangles it shows, what
+# its memory grew by (the peak of its resident memory, reset before, over what it held), and what the memory check
+# counted: the add-on for Blender's side of the result, the core for its own (Tessellation.estimated_bytes).
+PEAK_SCRIPT = """
+import sys, bpy
+sys.path.insert(0, {parent!r})
+import {package} as addon
+addon.register()
+blender_side = []
+estimate = addon.memory.estimate_output_bytes
+def recorded(counts, core_bytes, **options):
+    blender_side.append(estimate(counts, core_bytes, **options) - core_bytes)
+    return blender_side[-1] + core_bytes
+addon.memory.estimate_output_bytes = recorded
+
+def status(field):
+    with open("/proc/self/status") as file:
+        return next(int(line.split()[1]) << 10 for line in file if line.startswith(field + ":"))
+
+obj = bpy.data.objects["Cage"]
+bpy.context.view_layer.objects.active = obj
+obj.select_set(True)
+bpy.context.view_layer.update()
+held = status("VmRSS")
+with open("/proc/self/clear_refs", "w") as file:
+    file.write("5")  # resets the peak (VmHWM) to what is held now
+bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate={rate})
+triangles = len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.polygons)
+obj.location.x += 0.0  # an edit that changes no rate: written in place
+bpy.context.view_layer.update()
+core = addon.live.cache_of(obj).output.tessellation.estimated_bytes
+print("PEAK", triangles, status("VmHWM") - held, blender_side[-1], core, flush=True)
+"""
+
+
+def memory_estimate():
+    """Adding an entry with Adaptive Subdivision (its update, then an edit) grows Blender's memory by no more than the
+    memory check counted (the add-on Blender's side, the core its own, each refusing past what is left): on Suzanne,
+    whose irregular triangles the core refines through plans, and on an icosphere, all patches; over a million
+    triangles each. A count below the growth would let Blender be killed for lack of memory."""
+    for name, rate in (("Suzanne", 3.0), ("Icosphere", 3.0)):
+        support.clear_scene()
+        top_camera(4.0, lens=50.0, resolution=1920, percentage=100)
+        if name == "Suzanne":
+            bpy.ops.mesh.primitive_monkey_add()
+        else:
+            bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=5)
+        obj = bpy.context.object
+        obj.name = "Cage"
+        support.shade_smooth(obj)
+        with tempfile.TemporaryDirectory() as folder:
+            blend = os.path.join(folder, "cage.blend")
+            bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
+            script = PEAK_SCRIPT.format(parent=os.path.dirname(os.path.dirname(addon.__file__)),
+                                        package=addon.__name__, rate=rate)
+            code, output = support.run_blender(blend, script)
+        line = next((text.split() for text in output.splitlines() if text.startswith("PEAK ")), None)
+        if not check(code == 0 and line is not None, f"{name}: the second Blender measured its update (exit {code})"):
+            print(output[-3000:])
+            continue
+        triangles, grown, blender_side, core = (int(word) for word in line[1:])
+        counted = blender_side + core
+        check(triangles > 1_000_000 and counted >= grown,
+              f"{name}, {triangles} triangles: Blender's memory grew by {grown / 2**20:.0f} MB; counted "
+              f"{counted / 2**20:.0f} MB ({counted / grown:.2f}x): Blender's side {blender_side / 2**20:.0f}, the "
+              f"core's {core / 2**20:.0f}")
+
+
+def core_refusal():
+    """Where Blender's side of the result fits what is free but the core's own count (its plans for Suzanne's irregular
+    triangles) does not fit what is left, the entry shows its input and says what the whole needs; with the memory
+    free unknown, the same entry is made."""
+    support.clear_scene()
+    top_camera(4.0, lens=50.0, resolution=1920, percentage=100)
+    bpy.ops.mesh.primitive_monkey_add()
+    obj = bpy.context.object
+    memory = addon.memory
+    estimate, available_bytes = memory.estimate_output_bytes, memory.available_bytes
+    blender_side = []
+
+    def recorded(counts, core_bytes, **options):
+        blender_side.append(estimate(counts, core_bytes, **options) - core_bytes)
+        return blender_side[-1] + core_bytes
+
+    memory.estimate_output_bytes = recorded
+    memory.available_bytes = lambda root="/": None
+    try:
+        bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=8.0)
+        made = len(shown(obj).polygons)
+        core = addon.live.cache_of(obj).output.tessellation.estimated_bytes
+        core_at_a_patch = memory.TESSELLATION_BYTES_PER_TRIANGLE * made * (1 + len(obj.data.uv_layers))
+        bpy.ops.object.loop_subdivision_remove()
+        # Free memory that leaves, after the reserve and Blender's side, room for the core at a patch's bytes a
+        # triangle but not for its count.
+        room = blender_side[-1] + (core_at_a_patch + core) // 2
+        free = room
+        while free - memory.reserve_bytes(free) < room:
+            free += 1 << 20
+        memory.available_bytes = lambda root="/": free
+        bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=8.0)
+        error = addon.live.cache_of(obj).error
+        need = memory.describe(blender_side[-1] + core, free, "")  # " needs about ...; ... are free, less ..."
+        cage = len(obj.data.polygons)
+        check(made > 100 * cage and core > core_at_a_patch and len(shown(obj).polygons) == cage
+              and error.startswith("Adaptive Subdivision at 8 px (") and error.endswith(need),
+              f"the core's count ({core / 2**20:.0f} MB, {core / made:.0f} bytes a triangle) past what is left: "
+              f"the input shown, and {error!r}")
+    finally:
+        memory.estimate_output_bytes, memory.available_bytes = estimate, available_bytes
+    support.remove(obj)
+
+
 support.clear_scene()
 defaults()
 rates_from_the_camera()
@@ -285,4 +398,6 @@ uvs_follow_uv_smooth()
 limit_surface_without_cracks()
 render_and_viewport_rates()
 no_camera()
+core_refusal()
+memory_estimate()
 check.finish()
