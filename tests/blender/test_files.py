@@ -3,6 +3,8 @@ Surface; and Blender's own Apply of an entry that is not first.
 
 - By default a file holds the cage and the settings: it is at most 1.2 times the size of the same file with
   Subdivision Surface in place of the entry, and opening it (the add-on enabled) makes the same result again.
+- With Adaptive Subdivision on, the same: at most 1.2 times the size of the Subdivision Surface file, and the same cut
+  made again on opening (the scene camera's).
 - Store Result keeps the Render-level result in the file; the panel's estimate of what that costs is within a third
   of what the file grows by.
 - A file saved by the add-on's first layout of the node group (the helper's mesh alone) opens with the current one.
@@ -31,7 +33,7 @@ def evaluated(obj):
 
 
 def sphere(name):
-    """A UV-mapped icosphere of 5,120 triangles, shaded smooth, as an artist starts from."""
+    """A UV-mapped icosphere of 1,280 triangles, shaded smooth, as an artist starts from."""
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=1.0)
     obj = bpy.context.object
     obj.name = name
@@ -83,6 +85,33 @@ def file_sizes(folder):
           f"the file opened with the add-on shows the same result, made again ({reopened_faces} faces)")
     check(not any(other.get(stack.PLACEHOLDER_TAG) for other in bpy.data.objects),
           "nothing of the saving stays in the opened file")
+
+
+def adaptive_file_size(folder):
+    """The result of Adaptive Subdivision (finer here than level 3) is made again on opening, never stored: the file
+    is the cage's and the settings'."""
+    support.clear_scene()
+    support.tiny_render_camera(4.0)
+    obj = sphere("Adaptive")
+    subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
+    subsurf.levels, subsurf.render_levels = 3, 3
+    _, reference = saved_size(folder, "adaptive-subsurf")
+    obj.modifiers.remove(subsurf)
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=0.02)
+    positions, faces = evaluated(obj)
+    bpy.app.handlers.save_pre.append(thumbnail)
+    try:
+        path, size = saved_size(folder, "adaptive")
+    finally:
+        bpy.app.handlers.save_pre.remove(thumbnail)
+    check(faces > 4 ** 3 * len(obj.data.polygons) and size <= 1.2 * reference,
+          f"Adaptive Subdivision ({faces} triangles): the file is {size / reference:.2f}x the size of the same file "
+          f"with Subdivision Surface at level 3 ({size} against {reference} bytes; at most 1.2x)")
+    bpy.ops.wm.open_mainfile(filepath=path)
+    reopened, reopened_faces = evaluated(bpy.data.objects["Adaptive"])
+    check(reopened_faces == faces and np.array_equal(reopened, positions),
+          f"the file opened with the add-on shows the same adaptive cut, made again ({reopened_faces} faces)")
 
 
 def first_layout(folder):
@@ -153,6 +182,7 @@ def blender_apply_not_first():
 
 with tempfile.TemporaryDirectory() as folder:
     file_sizes(folder)
+    adaptive_file_size(folder)
     first_layout(folder)
 blender_apply_not_first()
 addon.unregister()

@@ -1,7 +1,8 @@
 """The data the Loop Subdivision modifier leaves in a file, against what Blender's own Subdivision Surface leaves after
 the same steps: cycles of adding, removing and re-adding the entry, Shift D and Alt D copies, a tiny Cycles render,
 deleting the Alt D copy and applying the original (Blender's Apply refuses a mesh that a deleted copy still shares),
-deleting the Shift D copy, then saving and reopening the file.
+deleting the Shift D copy, then saving and reopening the file. Our entry runs the cycles twice: by levels, and with
+Adaptive Subdivision on (its result is made the same way, and must leave no more behind).
 
 After each cycle (before saving, and after reopening) every bpy.data collection holds as many IDs as with Subdivision
 Surface, except that the add-on may have one helper object, one result mesh and one node group more per live entry;
@@ -41,13 +42,16 @@ def select(obj):
     support.select_only(obj)
 
 
-# --- the two kinds of entry: Blender's Subdivision Surface, and ours through its operators ---------------------------
+# --- the kinds of entry: Blender's Subdivision Surface, and ours through its operators, by levels (LOOP) or cut for the
+# scene camera (ADAPTIVE) ---------------------------------------------------------------------------------------------
 
 def add_entry(kind, obj):
     select(obj)
     if kind == 'SUBSURF':
         modifier = obj.modifiers.new("Subdivision", 'SUBSURF')
         modifier.levels, modifier.render_levels = 1, 2
+    elif kind == 'ADAPTIVE':
+        assert bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=0.5) == {'FINISHED'}
     else:
         assert bpy.ops.object.loop_subdivision_add(levels=1, render_levels=2) == {'FINISHED'}
 
@@ -169,7 +173,7 @@ def run(kind, base, folder):
         remove_entry(kind, obj)
         add_entry(kind, obj)  # removed and re-added within one step
         update()
-        if kind == 'LOOP':
+        if kind != 'SUBSURF':
             notes.append((cycle, f"re-added, the entry reuses the object's helper ({before})",
                           result_object(kind, obj) == before == f"{name} (Loop Subdivision)"))
         shift_d = duplicate(obj, linked=False)
@@ -186,6 +190,11 @@ def run(kind, base, folder):
             cage = len(obj.data.polygons)
             notes.append((cycle, f"renders show Render levels ({rendered}), the viewport Levels Viewport after",
                           rendered.count(16 * cage) == 2 and viewport_faces(obj) == 4 * cage))
+        elif kind == 'ADAPTIVE':  # the render's dicing rate (1 px) is coarser than the viewport's (0.5 px) here
+            shown = viewport_faces(obj)
+            notes.append((cycle, f"renders show the render's cut ({rendered}), the viewport its own after ({shown})",
+                          len(rendered) == 2 and rendered[0] == rendered[1] and 2 * len(obj.data.polygons)
+                          < rendered[0] < shown))
         delete(alt_d)
         update()
         notes.append((cycle, "the Alt D copy deleted, the original's mesh has one user", obj.data.users == 1))
@@ -242,10 +251,10 @@ def run(kind, base, folder):
     return snapshots, notes
 
 
-def compare(theirs, ours):
+def compare(theirs, ours, label):
     for (cycle, when, blender), (_, _, loop) in zip(theirs, ours):
         live = blender["live"]
-        what = f"cycle {cycle}, {when}"
+        what = f"{label}, cycle {cycle}, {when}"
         print(f"  {what}: objects {loop['counts']['objects']} (Subdivision Surface {blender['counts']['objects']}), "
               f"meshes {loop['counts']['meshes']} ({blender['counts']['meshes']}), node groups "
               f"{loop['counts']['node_groups']} ({blender['counts']['node_groups']}), live entries {loop['live']} "
@@ -264,13 +273,13 @@ def compare(theirs, ours):
         if when == "reopened":
             check(not loop["orphans"], f"{what}: nothing without users after reopening")
     check(ours[-1][2]["counts"] == theirs[-1][2]["counts"],
-          "every entry removed, saved and reopened: the file holds exactly what Subdivision Surface's does")
+          f"{label}, every entry removed, saved and reopened: the file holds exactly what Subdivision Surface's does")
 
 
 def original_deleted(base):
     """Alt D, then the original deleted: the copy keeps showing the subdivision through one helper, and only it uses
     the mesh."""
-    for kind in ('SUBSURF', 'LOOP'):
+    for kind in ('SUBSURF', 'LOOP', 'ADAPTIVE'):
         bpy.ops.wm.open_mainfile(filepath=base)
         update()
         obj = support.object_from_bmesh("Original", support.cube("Original"))
@@ -325,12 +334,13 @@ def legacy_file(base, folder):
 with tempfile.TemporaryDirectory() as folder:
     base = base_file(folder)
     theirs, their_notes = run('SUBSURF', base, folder)
-    ours, our_notes = run('LOOP', base, folder)
     for cycle, what, passed in their_notes:
         check(passed, f"Subdivision Surface, cycle {cycle}: {what}")
-    for cycle, what, passed in our_notes:
-        check(passed, f"Loop Subdivision, cycle {cycle}: {what}")
-    compare(theirs, ours)
+    for kind, label in (('LOOP', "Loop Subdivision"), ('ADAPTIVE', "Adaptive Subdivision")):
+        ours, our_notes = run(kind, base, folder)
+        for cycle, what, passed in our_notes:
+            check(passed, f"{label}, cycle {cycle}: {what}")
+        compare(theirs, ours, label)
     original_deleted(base)
     legacy_file(base, folder)
     bpy.ops.wm.open_mainfile(filepath=base)
