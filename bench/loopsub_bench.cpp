@@ -1024,10 +1024,19 @@ int measure_screen_error() {
             std::printf("%-34s %12d %14.3f %14.3f", name, t.num_triangles(), error.p99, error.max);
             const auto as_good = std::find_if(uniform.begin(), uniform.end(),
                                               [&](const Row& row) { return row.error.p99 <= error.p99; });
-            if (as_good == uniform.end()) std::printf("   no uniform rate up to 64 as good\n");
-            else
-                std::printf("   uniform %d as good: %.1fx the triangles\n", 1 << int(as_good - uniform.begin()),
-                            double(as_good->triangles) / t.num_triangles());
+            if (as_good == uniform.end() || as_good == uniform.begin()) {
+                std::printf("   no uniform rate from 2 to 64 as good\n");
+                continue;
+            }
+            // Between the uniform rows around it, log(triangles) linear in log(p99) (at rate r, triangles grow as
+            // r^2 and the error falls as 1 / r^2).
+            const Row &finer = *as_good, &coarser = *(as_good - 1);
+            const double slope =
+                std::log(double(finer.triangles) / coarser.triangles) / std::log(finer.error.p99 / coarser.error.p99);
+            const double same = coarser.triangles * std::pow(error.p99 / coarser.error.p99, slope);
+            std::printf("   uniform %d as good: %.1fx the triangles; a uniform rate between, as good: %.1fx\n",
+                        1 << int(as_good - uniform.begin()), double(as_good->triangles) / t.num_triangles(),
+                        same / t.num_triangles());
         }
     }
     std::printf("(issue 25's target: the first uniform rate as good has >= 5x the triangles)\n");

@@ -130,9 +130,9 @@ constexpr const char* kScreenRatesDoc =
 Rates from a camera, measured as Cycles measures its dicing (at each edge's midpoint's depth, as if
 the edge faced the camera): each edge of the mesh cut into as few segments as keep it to ``pixels``
 - its length per segment (``measure="length"``, Cycles' dicing rate), or how far a segment may
-stray from the surface, from the edge's bulge (``measure="deviation"``) - from 1 to ``max_rate``;
-an edge whose midpoint is out of view ``offscreen_scale`` times fewer, one with both ends behind the
-camera 1.
+stray from the surface along the edge, from its bulge after one split (``measure="deviation"``;
+then no edge coarser than the other edges of its triangles) - from 1 to ``max_rate``; an edge
+out of view (the box around its ends on screen misses it) ``offscreen_scale`` times fewer, one with both ends behind the camera 1.
 
 positions (N, 3) float32, triangles (M, 3) int32, world_to_clip (4, 4) float32 (clip = M (x, y, z,
 1), OpenGL's convention: in view where w > 0 and -w <= x, y <= w), viewport (width, height) in

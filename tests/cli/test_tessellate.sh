@@ -84,9 +84,29 @@ rate=$(sed -n 's/.* rate=\([0-9]*\) .*/\1/p' "$WORK/stdout")
 run_cli 0 "$WORK/ground.obj" "$WORK/far.obj" --camera 0,1,60,0,0,0 --dicing-rate 8 --max-rate 32
 [ "$(count_lines f "$WORK/far.obj")" -lt "$(count_lines f "$WORK/near.obj")" ] ||
   fail "--camera: a camera ten times farther away gave no fewer triangles"
-# By deviation the flat ground needs one segment per edge however near: its 4 triangles stay 4.
-run_cli 0 "$WORK/ground.obj" "$WORK/flat.obj" --camera 0,1,6,0,0,0 --dicing-rate 0.01 --dicing-measure deviation
-[ "$(count_lines f "$WORK/flat.obj")" -eq 4 ] || fail "--dicing-measure deviation cut a flat ground"
+# By deviation the cut follows the shape: a ground of 8 x 8 quads with bumps (every other inner vertex raised by 1)
+# takes over three times the triangles it takes flat, where only the rounding of its corners is cut.
+ground_of_quads() {  # $1: 1 for bumps
+  awk -v bumps="$1" 'BEGIN {
+    n = 8
+    for (j = 0; j <= n; j++)
+      for (i = 0; i <= n; i++)
+        printf "v %d %d %d\n", i - n / 2, (bumps && i % 2 == 0 && j % 2 == 0 && i > 0 && i < n && j > 0 && j < n), j - n / 2
+    for (j = 0; j < n; j++)
+      for (i = 0; i < n; i++) {
+        a = j * (n + 1) + i + 1; c = a + n + 1
+        printf "f %d %d %d\nf %d %d %d\n", a, c, c + 1, a, c + 1, a + 1
+      }
+  }'
+}
+ground_of_quads 0 >"$WORK/flat.obj"
+ground_of_quads 1 >"$WORK/bumps.obj"
+run_cli 0 "$WORK/flat.obj" "$WORK/flat_cut.obj" --camera 0,3,8,0,0,0 --dicing-rate 0.2 --dicing-measure deviation
+run_cli 0 "$WORK/bumps.obj" "$WORK/bumps_cut.obj" --camera 0,3,8,0,0,0 --dicing-rate 0.2 --dicing-measure deviation
+flat=$(count_lines f "$WORK/flat_cut.obj")
+bumps=$(count_lines f "$WORK/bumps_cut.obj")
+[ "$flat" -gt 0 ] && [ $((3 * flat)) -lt "$bumps" ] ||
+  fail "--dicing-measure deviation: bumps took $bumps triangles, flat ground $flat (expected over 3 times)"
 run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,1,6,0,0,0 --dicing-measure area
 expect_stderr "--dicing-measure expects length or deviation, got 'area'"
 run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --dicing-rate 2

@@ -558,27 +558,23 @@ TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
     // Midpoint (0, -1, 0.5), behind the camera, depth 0.5: 5 units are 500 pixels there, 125 / 4 off screen = 31.25.
     EXPECT_EQ(rate_of(6, 7), 32);
     EXPECT_EQ(rate_of(7, 8), 1);
-    // By deviation: edge 0-1's bulge is (c + d - a - b) / 8 with one face: none, 1 segment. Edge 0-2 and 1-2 likewise
-    // (one face each); a flat pair of faces has no bulge either.
-    const ScreenRates flat =
-        screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 0.01f, 64, DicingMeasure::Deviation);
-    for (int rate : flat.rates) EXPECT_EQ(rate, 1);
     // Farther away, fewer segments; never below one.
     const ScreenRates coarse = screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 100.0f, 64);
     for (int rate : coarse.rates) EXPECT_GE(rate, 1);
     EXPECT_THROW(screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 0.0f, 64), InputError);
-    // A bent pair of faces, 2 units from the camera: the edge between them bulges by (c + d - a - b) / 8 =
-    // (0, 0, 0.125), 0.125 * 50 / 2 = 3.125 pixels at its midpoint's depth: sqrt(3.125 / 0.1) = 5.6 -> 6 segments.
+    // A bent pair of faces, 2 units from the camera, by deviation: each edge's bulge is its new point off the chord of
+    // its ends' new points after one split. The middle edge 0-1 runs straight: 3/8 (a + b) + 1/8 (c + d) against
+    // ends moved to 3/4 a + 1/8 (c + d) and 3/4 b + 1/8 (c + d) along the boundary, 0. A boundary edge, 0-2: its
+    // midpoint against 3/4 v0 + 1/8 (v2 + v3) and 3/4 v2 + 1/8 (v0 + v1), (v0 + v2 - v1 - v3) / 16 = (-1, 2, 0) / 16,
+    // 0.140 long, at its midpoint's depth 1.75 3.99 pixels: sqrt(3.99 / 0.1) = 6.3 -> 7 segments; so are the three
+    // others, by symmetry. Edge 0-1 is raised to its triangles' 7.
     MeshData bent;
     bent.positions = {-0.5f, 0, -2, 0.5f, 0, -2, 0, 1, -1.5f, 0, -1, -1.5f};
     bent.triangles = {0, 1, 2, 1, 0, 3};
     const ScreenRates bulge =
         screen_space_rates(bent.view(), bent.positions.data(), camera_down_z(), 0.1f, 64, DicingMeasure::Deviation);
-    for (std::size_t e = 0; e < bulge.rates.size(); ++e) {
-        if (std::minmax(bulge.edges[2 * e], bulge.edges[2 * e + 1]) == std::minmax(0, 1)) {
-            EXPECT_EQ(bulge.rates[e], 6);
-        }
-    }
+    ASSERT_EQ(bulge.rates.size(), 5u);
+    for (int rate : bulge.rates) EXPECT_EQ(rate, 7);
     EXPECT_THROW(screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 1.0f, 0), InputError);
     // A tessellation at these rates: per triangle its inner rate's lattice, or (rates differing) the inner lattice
     // of rate n - 3 and a strip of r + n - 3 triangles along each edge of rate r (a fan of r around the centre below
@@ -625,6 +621,55 @@ TEST(Tessellation, OneMemoryBudgetCoversItsPlansAndLayers) {
             ADD_FAILURE() << "made within a limit one byte below its count";
         } catch (const MemoryLimitError& error) { EXPECT_EQ(error.required_bytes, counted) << error.what(); }
     }
+}
+
+// A patch of the triangular lattice of unit edges, rows j = -3..3 and columns i = -4..4 (vertex (i, j) at
+// x = i + j / 2, y = j sqrt(3) / 2), lifted to z = height(x, y) - 4 before camera_down_z. Edge (0, 0)-(1, 0) runs
+// along x through the middle, its ends interior with six neighbours.
+MeshData lattice(const std::function<double(double, double)>& height) {
+    MeshData mesh;
+    for (int j = -3; j <= 3; ++j)
+        for (int i = -4; i <= 4; ++i) {
+            const double x = i + 0.5 * j, y = 0.8660254037844386 * j;
+            mesh.positions.insert(mesh.positions.end(), {float(x), float(y), float(height(x, y) - 4.0)});
+        }
+    auto at = [](int i, int j) { return (j + 3) * 9 + (i + 4); };
+    for (int j = -3; j < 3; ++j)
+        for (int i = -4; i < 4; ++i) {
+            mesh.triangles.insert(mesh.triangles.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+            mesh.triangles.insert(mesh.triangles.end(), {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    return mesh;
+}
+
+int lattice_rate(const ScreenRates& rates, int a, int b) {
+    for (std::size_t e = 0; e < rates.rates.size(); ++e)
+        if (std::minmax(rates.edges[2 * e], rates.edges[2 * e + 1]) == std::minmax(a, b)) return rates.rates[e];
+    return -1;
+}
+
+// By deviation an edge is held to how far its segments stray from the surface along it. On z = x^2 + y^2 / 3 the
+// middle edge a-b along x (h = 1, t = x): its new point is 3/8 (0 + 1) + 1/8 (0.5 + 0.5) = 1/2 high; its ends' new
+// points 1/16 of their six neighbours' heights above them, 1/16 (1 + 1 + 4 (1/4 + 1/4)) = 1/4 (the Hessian's trace
+// 8/3 times 3/2): the chord between them at 1/2 + 1/4, so the bulge is 1/4, (h^2 / 8) t'Ht. At the midpoint's depth
+// 3.5, 0.25 * 50 / 3.5 = 3.57 pixels: sqrt(3.57 / 0.2) = 4.2 -> 5 segments. The midpoint's distance from the old ends'
+// midpoint, (c + d - a - b) / 8, is 0 there: blind to the curve along the edge.
+TEST(ScreenRates, ByDeviationAnEdgeIsHeldToItsCurveAlongIt) {
+    const MeshData curved = lattice([](double x, double y) { return x * x + y * y / 3.0; });
+    const int a = 3 * 9 + 4, b = a + 1;
+    const ScreenRates rates =
+        screen_space_rates(curved.view(), curved.positions.data(), camera_down_z(), 0.2f, 64, DicingMeasure::Deviation);
+    EXPECT_EQ(lattice_rate(rates, a, b), 5);
+    // On z = y^2 every edge along x is straight (bulge 0), and the surface curves across it: each takes the largest
+    // rate of its triangles' other edges, more than one segment, so that no strip of slivers fans from its ends.
+    const MeshData across = lattice([](double, double y) { return y * y; });
+    const ScreenRates raised =
+        screen_space_rates(across.view(), across.positions.data(), camera_down_z(), 0.2f, 64, DicingMeasure::Deviation);
+    for (int j = -2; j <= 2; ++j)
+        for (int i = -3; i < 3; ++i) {
+            const int from = (j + 3) * 9 + (i + 4);
+            EXPECT_GT(lattice_rate(raised, from, from + 1), 1) << "edge along x at row " << j;
+        }
 }
 
 TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {

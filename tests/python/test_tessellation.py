@@ -177,9 +177,15 @@ def test_screen_space_rates_cut_an_edge_by_its_length_on_screen():
         _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), pixels=0.0)
     with pytest.raises(ValueError, match="measure must be 'length' or 'deviation'"):
         _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), measure="area")
-    # By deviation a lone flat triangle needs one segment per edge, however near.
-    _, flat = _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100), pixels=0.01,
-                                          measure="deviation")
-    assert (flat == 1).all()
+    # By deviation a flat grid, however near, is cut only where its limit rounds it: at its four corners. Along its
+    # straight sides and inside, one segment an edge.
+    grid_positions, grid_triangles = grid(7)
+    grid_positions[:, 2] = -2.0
+    flat_edges, flat = _loopsub.screen_space_rates(grid_positions, grid_triangles, perspective_down_z(), (100, 100),
+                                                   pixels=0.01, measure="deviation")
+    corners = np.array([[0, 0], [0, 1], [1, 0], [1, 1]], np.float32)
+    ends = grid_positions[flat_edges][:, :, :2]  # (E, 2 ends, xy)
+    cells_from_a_corner = np.abs(ends[:, :, None, :] - corners[None, None]).max(axis=-1).min(axis=-1) * 6
+    assert (flat[(cells_from_a_corner > 2.01).any(axis=1)] == 1).all() and (flat > 1).any()
     with pytest.raises(ValueError, match=r"world_to_clip must have shape \(4, 4\)"):
         _loopsub.screen_space_rates(positions, triangles, np.eye(3, dtype=np.float32), (100, 100))

@@ -44,14 +44,16 @@ Camera look_at_camera(const float eye[3], const float target[3], const float up[
 // camera is not blown up by the projection), in pixels.
 enum class DicingMeasure {
     Length,    // Cycles' dicing rate: the edge's length, `pixels` per segment
-    Deviation  // the edge's bulge (how far one step of refinement moves its midpoint off the chord: (c + d - a - b) / 8
-               // for an edge a-b between faces with third corners c and d) over r^2 for r segments, at most `pixels`:
-               // flat stretches take few segments however long they are
+    Deviation  // how far a segment strays from the surface along the edge: the edge's bulge (after one smooth split,
+               // boundaries as creases, its new point's distance from the chord of its ends' new points: (h^2 / 8)
+               // t'Ht on a quadratic surface) over r^2 for r segments, at most `pixels`; then no edge coarser than
+               // the other edges of its triangles. Flat stretches take few segments however long they are.
 };
 
 // Rates from the screen: each edge of the mesh (its cage's straight edge, from its vertices' positions) cut into as
-// few segments as keep it to `pixels` by `measure`, from 1 to max_rate. An edge whose midpoint is out of the view (or
-// behind the camera) takes `offscreen_scale` times fewer; an edge with both ends behind the camera, 1.
+// few segments as keep it to `pixels` by `measure`, from 1 to max_rate. An edge out of the view (the box around its
+// ends on screen misses it; for one reaching behind the camera, its midpoint is out of it) takes `offscreen_scale`
+// times fewer; an edge with both ends behind the camera, 1.
 struct ScreenRates {
     std::vector<std::int32_t> edges;  // each edge of the mesh once, as a vertex pair
     std::vector<std::int32_t> rates;  // its rate

@@ -4,8 +4,11 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "loopsub/tessellation.h"
+#include "rules/rules.h"
 #include "tessellate/level_patches.h"
 
 namespace loopsub {
@@ -23,6 +26,100 @@ Clip to_clip(const float m[16], const float* p) {
         return double(m[4 * r]) * p[0] + double(m[4 * r + 1]) * p[1] + m[4 * r + 2] * double(p[2]) + m[4 * r + 3];
     };
     return {row(0), row(1), row(3)};
+}
+
+// The first split of the mesh under the smooth rules, with boundaries as creases, for DicingMeasure::Deviation: each
+// edge's bulge, how far its new point lies off the chord of its ends' new points. For a quadratic surface that is
+// (h^2 / 8) t'Ht, the chord's distance from the surface along the edge (h its length, t its direction, H the Hessian):
+// what a segment of the edge strays by, over r^2 when the edge is cut into r. (The distance of the new point from the
+// old ends' midpoint, (c + d - a - b) / 8, measures the curvature across the edge and is blind to the curvature along
+// it.)
+class FirstSplit {
+public:
+    FirstSplit() = default;
+    FirstSplit(const MeshView& mesh, const float* positions, const std::vector<std::uint64_t>& keys)
+        : positions_(positions), opposite_(2 * keys.size(), -1), corner_edges_(3 * std::size_t(mesh.num_triangles)) {
+        for (std::size_t c = 0; c < corner_edges_.size(); ++c) {
+            const std::size_t face = c - c % 3;
+            const std::uint64_t key = detail::edge_key(mesh.triangles[c], mesh.triangles[face + (c + 1) % 3]);
+            const std::size_t e = std::size_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+            corner_edges_[c] = e;
+            std::int32_t* slot = &opposite_[2 * e];
+            slot[slot[0] < 0 ? 0 : 1] = mesh.triangles[face + (c + 2) % 3];
+        }
+        // Each vertex's neighbours summed, all of them and those along the boundary.
+        const std::size_t n = std::size_t(mesh.num_vertices);
+        std::vector<double> ring(3 * n, 0.0), along(3 * n, 0.0);
+        std::vector<int> valence(n, 0), boundary(n, 0);
+        for (std::size_t e = 0; e < keys.size(); ++e) {
+            const std::int32_t ends[2] = {std::int32_t(keys[e] >> 32), std::int32_t(keys[e] & 0xffffffffu)};
+            const bool on_boundary = opposite_[2 * e + 1] < 0;
+            for (int k = 0; k < 2; ++k) {
+                const std::size_t v = std::size_t(ends[k]);
+                const float* other = positions + 3 * std::size_t(ends[1 - k]);
+                ++valence[v];
+                boundary[v] += on_boundary;
+                for (int i = 0; i < 3; ++i) ring[3 * v + i] += other[i], along[3 * v + i] += on_boundary ? other[i] : 0;
+            }
+        }
+        // A vertex's new point: the smooth mask inside, the crease mask on a boundary it runs along, itself where
+        // neither applies (a boundary vertex on more than one stretch of boundary).
+        split_vertices_.resize(3 * n);
+        for (std::size_t v = 0; v < n; ++v) {
+            const float* p = positions + 3 * v;
+            const bool inside = boundary[v] == 0 && valence[v] >= 3, crease = boundary[v] == 2;
+            const detail::VertexMask mask =
+                inside ? detail::smooth_vertex_mask(valence[v]) : detail::crease_vertex_mask();
+            for (int i = 0; i < 3; ++i)
+                split_vertices_[3 * v + i] = inside   ? mask.self * p[i] + mask.ring * ring[3 * v + i]
+                                             : crease ? mask.self * p[i] + mask.crease * along[3 * v + i]
+                                                      : p[i];
+        }
+    }
+
+    // Edge e's bulge, from a to b.
+    void bulge(std::size_t e, std::int32_t a, std::int32_t b, float out[3]) const {
+        const std::int32_t c = opposite_[2 * e], d = opposite_[2 * e + 1];
+        const float *pa = positions_ + 3 * std::size_t(a), *pb = positions_ + 3 * std::size_t(b);
+        const detail::EdgeMask mask = d >= 0 ? detail::smooth_edge_mask() : detail::crease_edge_mask();
+        for (int i = 0; i < 3; ++i) {
+            const double wings =
+                d >= 0 ? mask.wings * (double(positions_[3 * std::size_t(c) + i]) + positions_[3 * std::size_t(d) + i])
+                       : 0.0;
+            const double point = mask.a * pa[i] + mask.b * pb[i] + wings;
+            out[i] = float(point -
+                           0.5 * (split_vertices_[3 * std::size_t(a) + i] + split_vertices_[3 * std::size_t(b) + i]));
+        }
+    }
+
+    // No edge coarser than the other edges of its triangles: a triangle whose edges' rates differ is cut into its
+    // inner lattice and a strip along each edge, and the strip along a coarse edge fans from its few points to the
+    // fine lattice beside it. Along an edge where the surface is straight (its bulge 0) but twisted across, those fans
+    // would stray by the twist, several times what the lattice does (docs/benchmark.md).
+    void raise_to_triangles(std::vector<std::int32_t>& rates) const {
+        std::vector<std::int32_t> raised = rates;
+        for (std::size_t c = 0; c < corner_edges_.size(); c += 3) {
+            const std::size_t* e = &corner_edges_[c];
+            const std::int32_t most = std::max({rates[e[0]], rates[e[1]], rates[e[2]]});
+            for (int k = 0; k < 3; ++k) raised[e[k]] = std::max(raised[e[k]], most);
+        }
+        rates = std::move(raised);
+    }
+
+private:
+    const float* positions_ = nullptr;
+    std::vector<std::int32_t> opposite_;     // the third corners of each edge's first two faces (-1: none)
+    std::vector<std::size_t> corner_edges_;  // per triangle corner k, the edge from it to corner k + 1
+    std::vector<double> split_vertices_;     // 3 per vertex
+};
+
+// Whether the edge from p to q, midpoint mid, is in view: the box around its ends on screen overlaps the view (its
+// midpoint alone would leave the triangles along the view's border coarse where their edges run out of it); an edge
+// that reaches behind the camera, where its midpoint is.
+bool reaches_view(const Clip& p, const Clip& q, const Clip& mid) {
+    if (!(p.w > 0.0 && q.w > 0.0)) return mid.w > 0.0 && std::fabs(mid.x) <= mid.w && std::fabs(mid.y) <= mid.w;
+    const double px = p.x / p.w, py = p.y / p.w, qx = q.x / q.w, qy = q.y / q.w;
+    return std::max(px, qx) >= -1.0 && std::min(px, qx) <= 1.0 && std::max(py, qy) >= -1.0 && std::min(py, qy) <= 1.0;
 }
 
 }  // namespace
@@ -90,16 +187,7 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
                  ", not in 0.." + std::to_string(mesh.num_vertices - 1));
     const std::vector<std::uint64_t> keys = detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles);
 
-    // The third corners of each edge's first two faces (-1: none), for its bulge.
-    std::vector<std::int32_t> opposite(2 * keys.size(), -1);
-    if (by_deviation)
-        for (std::size_t c = 0; c < 3 * std::size_t(mesh.num_triangles); ++c) {
-            const std::size_t face = c - c % 3;
-            const std::uint64_t key = detail::edge_key(mesh.triangles[c], mesh.triangles[face + (c + 1) % 3]);
-            const std::size_t e = std::size_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
-            std::int32_t* slot = &opposite[2 * e];
-            (slot[0] < 0 ? slot[0] : slot[1]) = mesh.triangles[face + (c + 2) % 3];
-        }
+    const FirstSplit split = by_deviation ? FirstSplit(mesh, positions, keys) : FirstSplit();
 
     ScreenRates out;
     out.edges.reserve(2 * keys.size()), out.rates.reserve(keys.size());
@@ -114,14 +202,7 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         const float* pb = positions + 3 * std::size_t(b);
         float middle[3], offset[3];  // the edge's midpoint, and what is measured there: the edge or its bulge
         for (int k = 0; k < 3; ++k) middle[k] = 0.5f * (pa[k] + pb[k]), offset[k] = pb[k] - pa[k];
-        if (by_deviation) {
-            const std::int32_t c = opposite[2 * e], d = opposite[2 * e + 1];
-            for (int k = 0; k < 3; ++k)
-                offset[k] =
-                    c >= 0 && d >= 0
-                        ? (positions[3 * std::size_t(c) + k] + positions[3 * std::size_t(d) + k] - pa[k] - pb[k]) / 8.0f
-                        : 0.0f;
-        }
+        if (by_deviation) split.bulge(e, a, b, offset);
         const Clip p = to_clip(m, pa), q = to_clip(m, pb), mid = to_clip(m, middle);
         const double length =
             std::sqrt(double(offset[0]) * offset[0] + double(offset[1]) * offset[1] + double(offset[2]) * offset[2]);
@@ -133,13 +214,14 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
             // midpoint out of the view (or behind the camera) coarser by offscreen_scale.
             const double depth = std::max(std::fabs(mid.w), 1e-6);
             double measured = length * pixels_at_depth_one / depth;
-            const bool in_view = mid.w > 0.0 && std::fabs(mid.x) <= mid.w && std::fabs(mid.y) <= mid.w;
+            const bool in_view = reaches_view(p, q, mid);
             double segments = by_deviation ? std::sqrt(measured / pixels) : measured / pixels;
             if (!in_view) segments /= offscreen_scale;
             rate = int(std::clamp(std::ceil(segments), 1.0, double(max_rate)));
         }
         out.edges.push_back(a), out.edges.push_back(b), out.rates.push_back(rate);
     }
+    if (by_deviation) split.raise_to_triangles(out.rates);
     return out;
 }
 
