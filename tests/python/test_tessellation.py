@@ -187,5 +187,10 @@ def test_screen_space_rates_cut_an_edge_by_its_length_on_screen():
     ends = grid_positions[flat_edges][:, :, :2]  # (E, 2 ends, xy)
     cells_from_a_corner = np.abs(ends[:, :, None, :] - corners[None, None]).max(axis=-1).min(axis=-1) * 6
     assert (flat[(cells_from_a_corner > 2.01).any(axis=1)] == 1).all() and (flat > 1).any()
+    bad = grid_positions.copy()
+    bad[9, 1] = np.nan  # inside the grid: by deviation its neighbours' edges read it too
+    for measure in ("length", "deviation"):
+        with pytest.raises(ValueError, match="the position of vertex 9 is not finite"):
+            _loopsub.screen_space_rates(bad, grid_triangles, perspective_down_z(), (100, 100), measure=measure)
     with pytest.raises(ValueError, match=r"world_to_clip must have shape \(4, 4\)"):
         _loopsub.screen_space_rates(positions, triangles, np.eye(3, dtype=np.float32), (100, 100))

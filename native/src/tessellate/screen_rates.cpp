@@ -185,6 +185,11 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         if (mesh.triangles[c] < 0 || mesh.triangles[c] >= mesh.num_vertices)
             fail("triangle corner " + std::to_string(c) + " names vertex " + std::to_string(mesh.triangles[c]) +
                  ", not in 0.." + std::to_string(mesh.num_vertices - 1));
+    for (int c = 0; c < 3 * mesh.num_triangles; ++c) {  // a deviation reads the neighbours' positions too
+        const float* p = positions + 3 * std::size_t(mesh.triangles[c]);
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+            fail("the position of vertex " + std::to_string(mesh.triangles[c]) + " is not finite");
+    }
     const std::vector<std::uint64_t> keys = detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles);
 
     const FirstSplit split = by_deviation ? FirstSplit(mesh, positions, keys) : FirstSplit();
@@ -207,11 +212,11 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         const double length =
             std::sqrt(double(offset[0]) * offset[0] + double(offset[1]) * offset[1] + double(offset[2]) * offset[2]);
         if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + length))
-            fail("the positions of edge (" + std::to_string(a) + ", " + std::to_string(b) + ") are not finite");
+            fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is too large to measure");
         int rate = 1;
         if (p.w > 0.0 || q.w > 0.0) {  // else both ends are behind the camera: unseen, one segment
-            // As Cycles measures: the length in pixels it would have at its midpoint's depth, facing the camera; a
-            // midpoint out of the view (or behind the camera) coarser by offscreen_scale.
+            // As Cycles measures: the length in pixels it would have at its midpoint's depth, facing the camera; an
+            // edge out of the view coarser by offscreen_scale.
             const double depth = std::max(std::fabs(mid.w), 1e-6);
             double measured = length * pixels_at_depth_one / depth;
             const bool in_view = reaches_view(p, q, mid);
