@@ -50,22 +50,33 @@ def thumbnail(*_):
     bpy.context.view_layer.update()
 
 
+def saved_as_from_the_interface(folder, name):
+    """saved_size, with the scene evaluated again after the save handlers: the interface draws the file's thumbnail
+    then."""
+    bpy.app.handlers.save_pre.append(thumbnail)
+    try:
+        return saved_size(folder, name)
+    finally:
+        bpy.app.handlers.save_pre.remove(thumbnail)
+
+
+def subsurf_size(folder, obj, name):
+    """The size of the file with a level-3 Subdivision Surface on obj, which is taken off again."""
+    subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
+    subsurf.levels, subsurf.render_levels = 3, 3
+    _, size = saved_size(folder, name)
+    obj.modifiers.remove(subsurf)
+    return size
+
+
 def file_sizes(folder):
     support.clear_scene()
     obj = sphere("Subdivided")
-    subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
-    subsurf.levels, subsurf.render_levels = 3, 3
-    _, reference = saved_size(folder, "subsurf")
-    obj.modifiers.remove(subsurf)
+    reference = subsurf_size(folder, obj, "subsurf")
     support.select_only(obj)
     bpy.ops.object.loop_subdivision_add(levels=3, render_levels=3)
     positions, faces = evaluated(obj)
-    # The interface draws the file's thumbnail after the save handlers, which evaluates the scene: as here.
-    bpy.app.handlers.save_pre.append(thumbnail)
-    try:
-        path, lean = saved_size(folder, "lean")
-    finally:
-        bpy.app.handlers.save_pre.remove(thumbnail)
+    path, lean = saved_as_from_the_interface(folder, "lean")
     check(lean <= 1.2 * reference,
           f"by default the file is {lean / reference:.2f}x the size of the same file with Subdivision Surface "
           f"({lean} against {reference} bytes; at most 1.2x)")
@@ -93,18 +104,11 @@ def adaptive_file_size(folder):
     support.clear_scene()
     support.tiny_render_camera(4.0)
     obj = sphere("Adaptive")
-    subsurf = obj.modifiers.new("Subdivision", 'SUBSURF')
-    subsurf.levels, subsurf.render_levels = 3, 3
-    _, reference = saved_size(folder, "adaptive-subsurf")
-    obj.modifiers.remove(subsurf)
+    reference = subsurf_size(folder, obj, "adaptive-subsurf")
     support.select_only(obj)
     bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=0.02)
     positions, faces = evaluated(obj)
-    bpy.app.handlers.save_pre.append(thumbnail)
-    try:
-        path, size = saved_size(folder, "adaptive")
-    finally:
-        bpy.app.handlers.save_pre.remove(thumbnail)
+    path, size = saved_as_from_the_interface(folder, "adaptive")
     check(faces > 4 ** 3 * len(obj.data.polygons) and size <= 1.2 * reference,
           f"Adaptive Subdivision ({faces} triangles): the file is {size / reference:.2f}x the size of the same file "
           f"with Subdivision Surface at level 3 ({size} against {reference} bytes; at most 1.2x)")
