@@ -46,6 +46,8 @@ LevelPatches::LevelPatches(const Plan& plan)
     for (int v = 0; v < num_vertices; ++v)
         if (types[v] != VertexType::Smooth || has_sharpness_[std::size_t(v)] || corners_end(v) - corners_begin(v) != 6)
             smooth_[std::size_t(v)] = false;
+    corner_rank_.assign(num_corners, 0);
+    ordered_.assign(std::size_t(num_vertices), Order::NotYet);
 }
 
 float LevelPatches::sharpness(int a, int b) const {
@@ -67,16 +69,31 @@ int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
     return found;
 }
 
-// ring: the six neighbours counter-clockwise from the corner's next vertex.
+// ring: the six neighbours counter-clockwise from the corner's next vertex. The six faces around a vertex share its
+// walk: the first puts the vertex's corners in counter-clockwise order (only where a face asks: a plan's level may be
+// far larger than what is sampled of it).
 bool LevelPatches::smooth_corner(int corner, std::int32_t ring[6]) const {
-    if (!smooth_[std::size_t(triangles_[corner])]) return false;
-    int c = corner;
-    for (int k = 0; k < 6; ++k) {
-        ring[k] = triangles_[3 * (c / 3) + (c % 3 + 1) % 3];
-        c = next_corner(c, true);
-        if (c < 0) return false;
+    const int v = triangles_[corner];
+    if (!smooth_[std::size_t(v)]) return false;
+    Order& order = ordered_[std::size_t(v)];
+    if (order == Order::NotYet) {
+        std::int32_t ordered[6];
+        int c = corner, k = 0;
+        for (; k < 6 && c >= 0; ++k) ordered[k] = c, c = next_corner(c, true);
+        order = k == 6 && c == corner ? Order::CounterClockwise : Order::NoDisk;
+        if (order == Order::CounterClockwise)
+            for (k = 0; k < 6; ++k)
+                corners_[std::size_t(offsets_[std::size_t(v)] + k)] = ordered[k],
+                                                                corner_rank_[std::size_t(ordered[k])] = std::uint8_t(k);
     }
-    return c == corner;
+    if (order == Order::NoDisk) return false;
+    const std::int32_t* around = corners_begin(v);
+    const int rank = corner_rank_[std::size_t(corner)];
+    for (int k = 0; k < 6; ++k) {
+        const int c = around[(rank + k) % 6];
+        ring[k] = triangles_[3 * (c / 3) + (c % 3 + 1) % 3];
+    }
+    return true;
 }
 
 // fan: the neighbours met going round from the corner's face's edge to the crease (counter-clockwise from its next

@@ -72,7 +72,13 @@ private:
     bool crease_vertex(int corner, std::int32_t back[4], std::int32_t on[4]) const;
 
     const std::int32_t* triangles_;
-    std::vector<std::int32_t> offsets_, corners_;
+    // Each vertex's corners; a smooth vertex's put in counter-clockwise order by smooth_corner, once a face asks, with
+    // each corner's place among them. Not for two threads at once.
+    std::vector<std::int32_t> offsets_;
+    mutable std::vector<std::int32_t> corners_;
+    mutable std::vector<std::uint8_t> corner_rank_;
+    enum class Order : std::uint8_t { NotYet, CounterClockwise, NoDisk };
+    mutable std::vector<Order> ordered_;
     std::unordered_map<std::uint64_t, float> sharp_;
     // Vertices whose every rule around them is the smooth one: smooth, six faces, no sharp edge, no sharpness.
     std::vector<bool> smooth_;
