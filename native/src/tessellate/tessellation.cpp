@@ -149,17 +149,22 @@ private:
 
 [[noreturn]] void fail(const std::string& message) { throw InputError("tessellation: " + message); }
 
-int rate_in_range(int rate, const std::string& what) {
+// what(): the rate's name, made only for the error.
+template <typename Name>
+int rate_in_range(int rate, Name what) {
     if (rate < 1 || rate > kMaxTessellationRate)
-        fail(what + " must be between 1 and " + std::to_string(kMaxTessellationRate) + ", got " + std::to_string(rate));
+        fail(what() + " must be between 1 and " + std::to_string(kMaxTessellationRate) + ", got " +
+             std::to_string(rate));
     return rate;
 }
 
-// The input's edges, each once, as sorted keys, with their rates and the number of their first inner point.
+// The input's edges, each once, as sorted keys, with their rates and the number of their first inner point; and per
+// triangle corner k, its edge to corner k + 1.
 struct Edges {
     std::vector<std::uint64_t> keys;
     std::vector<int> rates;
     std::vector<std::int64_t> first_point;
+    std::vector<std::int32_t> corner_edges;
     int find(std::int32_t a, std::int32_t b) const {
         const auto at = std::lower_bound(keys.begin(), keys.end(), detail::edge_key(a, b));
         return at != keys.end() && *at == detail::edge_key(a, b) ? int(at - keys.begin()) : -1;
@@ -168,16 +173,29 @@ struct Edges {
 
 Edges edges_with_rates(const MeshView& mesh, const TessellationRates& rates) {
     Edges edges;
-    const int uniform = rate_in_range(rates.uniform_rate, "uniform_rate");
-    edges.keys = detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles);
+    const int uniform = rate_in_range(rates.uniform_rate, [] { return std::string("uniform_rate"); });
+    // The corners by their edges' keys: the keys once each, and every corner's edge, without a search.
+    const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
+    std::vector<std::pair<std::uint64_t, std::int32_t>> by_key(corners);
+    for (std::size_t c = 0; c < corners; ++c)
+        by_key[c] = {detail::edge_key(mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]), std::int32_t(c)};
+    std::sort(by_key.begin(), by_key.end());
+    edges.corner_edges.resize(corners);
+    for (std::size_t i = 0; i < corners; ++i) {
+        if (i == 0 || by_key[i].first != by_key[i - 1].first) edges.keys.push_back(by_key[i].first);
+        edges.corner_edges[std::size_t(by_key[i].second)] = std::int32_t(edges.keys.size() - 1);
+    }
     edges.rates.assign(edges.keys.size(), uniform);
     if (rates.num_edges < 0) fail("num_edges must not be negative");
     for (int k = 0; k < rates.num_edges; ++k) {
         const std::int32_t a = rates.edges[2 * k], b = rates.edges[2 * k + 1];
-        const int e = edges.find(a, b);
-        const std::string name = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
-        if (e < 0) fail("a rate for " + name + ", which no triangle has");
-        edges.rates[std::size_t(e)] = rate_in_range(rates.rates[k], "the rate of " + name);
+        // screen_space_rates gives the edges in this order: then the k-th is the one.
+        const int e = std::size_t(k) < edges.keys.size() && edges.keys[std::size_t(k)] == detail::edge_key(a, b)
+                          ? k
+                          : edges.find(a, b);
+        auto name = [a, b] { return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")"; };
+        if (e < 0) fail("a rate for " + name() + ", which no triangle has");
+        edges.rates[std::size_t(e)] = rate_in_range(rates.rates[k], [&] { return "the rate of " + name(); });
     }
     std::int64_t next = mesh.num_vertices;
     for (int rate : edges.rates) edges.first_point.push_back(next), next += rate - 1;
@@ -227,8 +245,8 @@ public:
             Sides& s = sides[std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
                 const std::int32_t a = mesh_.triangles[3 * f + k], b = mesh_.triangles[3 * f + (k + 1) % 3];
-                const int e = edges.find(a, b);
-                s.rates[k] = edges.rates[std::size_t(e)], s.first_point[k] = edges.first_point[std::size_t(e)];
+                const std::size_t e = std::size_t(edges.corner_edges[3 * std::size_t(f) + std::size_t(k)]);
+                s.rates[k] = edges.rates[e], s.first_point[k] = edges.first_point[e];
                 s.along[k] = a < b;
             }
             face_first[std::size_t(f)] = next;
@@ -287,7 +305,7 @@ public:
             d_.bands[b].limit = std::make_unique<Plan>(band_builders_[b].view, options_);
         }
         d_.num_points = next;
-        placed_.assign(std::size_t(next), false);
+        placed_.assign(std::size_t(next), 0);
         d_.samples.reserve(std::size_t(num_samples)), d_.sample_point.reserve(std::size_t(num_samples));
         d_.triangles.reserve(3 * std::size_t(num_triangles)),
             d_.corner_face_points.reserve(3 * std::size_t(num_triangles));
@@ -300,10 +318,16 @@ public:
 
 private:
     void add_face(int f, const Sides& s, std::int64_t face_first) {
-        // A pattern depends on the rates alone: made once for each triple of them (at one rate, once in all).
+        // A pattern depends on the rates alone: made once for each triple of them (at one rate, once in all), with its
+        // points' parameters.
         const auto [cached, added] = patterns_.try_emplace({s.rates[0], s.rates[1], s.rates[2]});
-        if (added) detail::tessellate_triangle(s.rates, s.inner_rate(), cached->second);
-        const FacePattern& pattern = cached->second;
+        if (added) {
+            detail::tessellate_triangle(s.rates, s.inner_rate(), cached->second.pattern);
+            for (const detail::PatternPoint& at : cached->second.pattern.points)
+                cached->second.parameters.insert(cached->second.parameters.end(),
+                                                 {float(double(at.b1) / at.den), float(double(at.b2) / at.den)});
+        }
+        const FacePattern& pattern = cached->second.pattern;
         const int first_inner = detail::first_edge_point(s.rates, 3);
         std::vector<std::int32_t>& number = numbers_;
         number.resize(pattern.points.size());
@@ -319,22 +343,25 @@ private:
         for (std::int32_t within : touched_) subface_patch_[std::size_t(within)] = kUnknown;
         touched_.clear();
         const std::int32_t input_patch = d_.face_patch[std::size_t(f)];
-        for (std::size_t q = 0; q < pattern.points.size(); ++q) {
-            const std::int32_t point = number[q];
+        for (const std::int32_t point : number) {
             d_.sample_point.push_back(placed_[std::size_t(point)] ? -1 : point);
-            placed_[std::size_t(point)] = true;
-            const detail::PatternPoint& at = pattern.points[q];
-            d_.parameters.push_back(float(double(at.b1) / at.den)),
-                d_.parameters.push_back(float(double(at.b2) / at.den));
-            if (input_patch >= 0) d_.samples.push_back({Kind::InputPatch, 0, -1, -1});
-            else add_sample(face_band_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den}, f);
+            placed_[std::size_t(point)] = 1;
         }
+        d_.parameters.insert(d_.parameters.end(), cached->second.parameters.begin(), cached->second.parameters.end());
+        if (input_patch >= 0) d_.samples.insert(d_.samples.end(), pattern.points.size(), {Kind::InputPatch, 0, -1, -1});
+        else
+            for (const detail::PatternPoint& at : pattern.points)
+                add_sample(face_band_[std::size_t(f)], FacePoint{at.b1, at.b2, at.den}, f);
         for (int part = 0; part < TessellationImpl::kParts; ++part)
             d_.face_blocks.push_back(input_patch >= 0 ? block(pattern, s, part, input_shapes_[std::size_t(input_patch)])
                                                       : -1);
-        for (std::int32_t p : pattern.triangles) {
-            d_.triangles.push_back(number[std::size_t(p)]);
-            d_.corner_face_points.push_back(first_sample + p);
+        const std::size_t corners = d_.triangles.size();
+        d_.triangles.resize(corners + pattern.triangles.size());
+        d_.corner_face_points.resize(corners + pattern.triangles.size());
+        for (std::size_t c = 0; c < pattern.triangles.size(); ++c) {
+            const std::int32_t p = pattern.triangles[c];
+            d_.triangles[corners + c] = number[std::size_t(p)];
+            d_.corner_face_points[corners + c] = first_sample + p;
         }
         d_.parent_triangles.insert(d_.parent_triangles.end(), pattern.triangles.size() / 3, f);
     }
@@ -512,7 +539,7 @@ private:
     std::deque<BandBuilder> band_builders_;  // a deque: each band's view points into its arrays
     const MeshView& mesh_;
     Options options_;
-    std::vector<bool> placed_;
+    std::vector<std::uint8_t> placed_;
     static constexpr std::int32_t kUnknown = -2;
     // Per level triangle of the input triangle at hand: its patch, or -1; and those that have been asked.
     std::vector<std::int32_t> subface_patch_, touched_;
@@ -535,7 +562,11 @@ private:
     static constexpr int kPoints = detail::kBoxSplinePoints;
     using BlockKey = std::tuple<int, int, int, detail::PatchShape>;  // part, its rate, rotation, shape
     std::map<BlockKey, std::int32_t> blocks_;
-    std::map<std::tuple<int, int, int>, FacePattern> patterns_;
+    struct CachedPattern {
+        FacePattern pattern;
+        std::vector<float> parameters;  // (u, v) per point
+    };
+    std::map<std::tuple<int, int, int>, CachedPattern> patterns_;
     std::vector<std::int32_t> numbers_;
     Stencil stencil_;
 };
