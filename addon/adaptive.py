@@ -110,14 +110,16 @@ class MemoryBudget:
         return LoopSubError(memory.describe(self.blender_bytes + core_bytes, self.available, self.subject))
 
 
-def tessellate(source, edge_rates):
-    """The TessellationOutput of source's cage at edge_rates, within the memory left (check_memory)."""
+def tessellate(source, edge_rates, reuse=None):
+    """The TessellationOutput of source's cage at edge_rates, within the memory left (check_memory); reuse: an
+    earlier cut's input_topology (native.build_tessellation)."""
     cage, options = source.cage, source.options
     budget = check_memory(source, edge_rates)
     try:
         tessellation = native.build_tessellation(cage.triangles, cage.num_vertices, edge_rates, options,
                                                  cage.tags(options), source.cones,
-                                                 [indices for indices, _ in source.uv_layers], budget.core_limit())
+                                                 [indices for indices, _ in source.uv_layers], budget.core_limit(),
+                                                 reuse)
     except LoopSubError as error:
         core_bytes = getattr(error.__cause__, "required_bytes", None)
         if not isinstance(error.__cause__, MemoryError) or core_bytes is None:

@@ -38,7 +38,7 @@ from bpy.app.handlers import persistent
 
 from . import adaptive, cage, compat, result, stack
 from .native import LoopSubError
-from .output import PlanOutput
+from .output import PlanOutput, TessellationOutput
 
 
 class Cache:
@@ -128,10 +128,12 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
             plan_key = source.plan_key()
         if not _equal(cache.plan_key, plan_key):
             # The old plan is of another topology: it goes before the new one is built, so that a large result's two
-            # plans are never held at once, and the new one reuses its memory.
+            # plans are never held at once, and the new one reuses its memory. A new cut of the same cage keeps the
+            # old one's work on the cage alone (it holds nothing of the result).
+            reuse = cache.output.tessellation.input_topology if isinstance(cache.output, TessellationOutput) else None
             cache.output = cache.plan_key = None
             if options.use_adaptive:
-                cache.output = adaptive.tessellate(source, edge_rates)
+                cache.output = adaptive.tessellate(source, edge_rates, reuse)
             else:
                 cache.output = PlanOutput(source.plan())
             # A new structure needs a new result, even where its counts and layout are the old one's (an edge

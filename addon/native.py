@@ -38,17 +38,18 @@ def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, fa
 
 
 def build_tessellation(triangles, num_vertices, rates, options, tags, cone_vertices, face_varying_indices=(),
-                       memory_limit=None):
+                       memory_limit=None, reuse=None):
     """The limit surface of the triangulated cage cut by rates ((edges (K, 2), rates (K,)) from screen_space_rates),
     with the options' rules, tags and UV maps (refined by UV Smooth) as for build_plan; memory_limit: bytes it may use
-    (None: the core's default)."""
+    (None: the core's default); reuse: an earlier cut's input_topology (the core takes it where the cage, its tags
+    and rules are the same)."""
     if options.rules != 'HOPPE94':
         cone_vertices = np.zeros(0, dtype=np.int32)
     edges, edge_rates = rates
     limit = {} if memory_limit is None else {"memory_limit_bytes": max(0, int(memory_limit))}
     return run(load().Tessellation, triangles, num_vertices, edges=edges, edge_rates=edge_rates,
-               cone_vertices=cone_vertices, face_varying_indices=list(face_varying_indices) or None, **tags,
-               **options.tessellation_keywords(), **limit)
+               cone_vertices=cone_vertices, face_varying_indices=list(face_varying_indices) or None, reuse=reuse,
+               **tags, **options.tessellation_keywords(), **limit)
 
 
 def screen_space_rates(positions, triangles, object_to_clip, viewport, options):

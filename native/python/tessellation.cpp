@@ -26,7 +26,7 @@ struct PyTessellation {
 };
 
 std::unique_ptr<PyTessellation> build(py::handle triangles, long long num_vertices, int rate, py::handle edges,
-                                      py::handle edge_rates, const OptionArgs& args) {
+                                      py::handle edge_rates, py::handle reuse, const OptionArgs& args) {
     PlanInput in;
     read_input(in, triangles, num_vertices, 0, args);
     loopsub::TessellationRates rates;
@@ -42,9 +42,15 @@ std::unique_ptr<PyTessellation> build(py::handle triangles, long long num_vertic
     }
     std::vector<int> layer_values;
     for (const loopsub::FaceVaryingLayer& layer : in.layers) layer_values.push_back(layer.num_values);
+    loopsub::InputTopology kept;
+    if (!reuse.is_none()) {
+        if (!py::isinstance<loopsub::InputTopology>(reuse))
+            throw py::type_error("reuse must be an InputTopology (Tessellation.input_topology) or None");
+        kept = reuse.cast<const loopsub::InputTopology&>();
+    }
     py::gil_scoped_release nogil;
-    return std::make_unique<PyTessellation>(loopsub::Tessellation(in.mesh, in.options, rates), in.mesh.num_vertices,
-                                            std::move(layer_values));
+    return std::make_unique<PyTessellation>(loopsub::Tessellation(in.mesh, in.options, rates, kept),
+                                            in.mesh.num_vertices, std::move(layer_values));
 }
 
 py::array face_varying_at_face_points(py::object self, py::handle values, int layer, py::handle out) {
@@ -85,7 +91,7 @@ py::tuple evaluate_points(py::object self, py::handle positions, py::handle out,
 }
 
 constexpr const char* kDoc =
-    R"doc(Tessellation(triangles, num_vertices, rate=1, *, edges=None, edge_rates=None, uv_interpolation="corners", face_varying_indices=None, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
+    R"doc(Tessellation(triangles, num_vertices, rate=1, *, edges=None, edge_rates=None, reuse=None, uv_interpolation="corners", face_varying_indices=None, rules="hoppe94", crease_edges=None, crease_sharpness=None, corner_vertices=None, corner_sharpness=None, cone_vertices=None, crease_threshold=0.0, boundary="edges", crease_method="uniform", threads=1, scalar=False, memory_limit_bytes=4294967296)
 
 The limit surface at a rate per edge: each triangle cut into a lattice as fine along each edge as
 its rate says (``rate`` segments, or the rate ``edge_rates[k]`` of ``edges[k]``, a vertex pair
@@ -101,6 +107,10 @@ num_vertices : int
 rate : int, 1 to 4096
 edges : numpy.ndarray of int32, shape (K, 2), optional
 edge_rates : numpy.ndarray of int32, shape (K,), optional
+reuse : InputTopology, optional
+    ``input_topology`` of a tessellation of the same mesh at other rates (a camera's last): what
+    depends on the mesh alone is taken from it where its triangles, tags and rules are these,
+    else made anew; the result is the same either way.
 
 Face-varying layers (``face_varying_indices``, as Plan's) are refined by ``uv_interpolation``:
 ``evaluate_face_varying`` gives their values at every face point.
@@ -176,9 +186,14 @@ void bind_tessellation(py::module_& m) {
     m.def("screen_space_rates", &screen_rates, kScreenRatesDoc, py::arg("positions"), py::arg("triangles"),
           py::arg("world_to_clip"), py::arg("viewport"), py::arg("pixels") = 1.0, py::arg("max_rate") = 64,
           py::arg("measure") = "length", py::arg("offscreen_scale") = 4.0);
+    py::class_<loopsub::InputTopology>(
+        m, "InputTopology",
+        "What a Tessellation read of its input mesh alone (Tessellation.input_topology), "
+        "for one of the same mesh at other rates: Tessellation(..., reuse=). It holds "
+        "nothing of the result.");
     py::class_<PyTessellation>(m, "Tessellation", kDoc)
         .def(py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges,
-                         py::handle edge_rates, const std::string& uv_interpolation,
+                         py::handle edge_rates, py::object reuse, const std::string& uv_interpolation,
                          py::object face_varying_indices LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
                  OptionArgs args;
 #define LOOPSUB_OPTION_ASSIGN(type, keyword, default_value) args.keyword = keyword;
@@ -186,10 +201,10 @@ void bind_tessellation(py::module_& m) {
 #undef LOOPSUB_OPTION_ASSIGN
                  args.uv_interpolation = uv_interpolation;
                  args.face_varying_indices = face_varying_indices;
-                 return build(triangles, num_vertices, rate, edges, edge_rates, args);
+                 return build(triangles, num_vertices, rate, edges, edge_rates, reuse, args);
              }),
              py::arg("triangles"), py::arg("num_vertices"), py::arg("rate") = 1, py::kw_only(),
-             py::arg("edges") = py::none(), py::arg("edge_rates") = py::none(),
+             py::arg("edges") = py::none(), py::arg("edge_rates") = py::none(), py::arg("reuse") = py::none(),
              py::arg("uv_interpolation") = OptionArgs{}.uv_interpolation,
              py::arg("face_varying_indices") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG))
         .def("evaluate_face_varying", &face_varying_at_face_points, kEvaluateLayerDoc, py::arg("values"),
@@ -225,6 +240,9 @@ void bind_tessellation(py::module_& m) {
         .def_property_readonly(
             "levels", [](PyTessellation& p) { return p.tessellation.levels(); },
             "int: the refinement levels the points are made from.")
+        .def_property_readonly(
+            "input_topology", [](PyTessellation& p) { return p.tessellation.input_topology(); },
+            "InputTopology: what this read of its input mesh alone, for Tessellation(..., reuse=) at other rates.")
         .def_property_readonly(
             "estimated_bytes", [](PyTessellation& p) { return p.tessellation.estimated_bytes(); },
             "int: bytes the memory check counted against memory_limit_bytes: the result's arrays, the plans of the "

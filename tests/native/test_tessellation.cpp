@@ -526,6 +526,62 @@ TEST(Tessellation, TwoThreadsPlaceTheSamePoints) {
     }
 }
 
+// A cut at new rates that reuses an earlier cut's input topology is the cut made anew, bit for bit: its triangles,
+// face points, parameters, points, normals and UV layer. Also where the earlier cut was of another mesh (other tags,
+// another triangle), so that nothing of it may be taken; and with the earlier cut gone first.
+TEST(Tessellation, AtNewRatesReusingTheInputTopologyIsTheCutMadeAnew) {
+    TestMesh mesh = icosphere(2);
+    jitter(mesh, 91, 0.02f);
+    add_random_creases(mesh, 91, 0.1, true);
+    add_uvs_with_seam(mesh);
+    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    const Options options = options_for(mesh);
+    auto view_of = [&layer](const TestMesh& m) {
+        MeshView view = m.view();
+        view.face_varying = &layer, view.num_face_varying = 1;
+        return view;
+    };
+    TestMesh other_tags = mesh;
+    other_tags.crease_sharpness[0] += 1.0f;
+    TestMesh other_triangles = mesh;
+    std::swap(other_triangles.triangles[0], other_triangles.triangles[1]);  // turned over: another mesh
+    std::swap(other_triangles.triangle_uvs[0], other_triangles.triangle_uvs[1]);
+    for (const TestMesh* earlier : {&mesh, &other_tags, &other_triangles}) {
+        InputTopology kept;
+        {
+            const RatesFor rates(*earlier, -6, 31);
+            kept = Tessellation(view_of(*earlier), options, rates.view).input_topology();
+        }
+        ASSERT_FALSE(kept.empty());
+        for (int uniform : {-9, 5}) {
+            const RatesFor rates(mesh, uniform, 32);
+            const Tessellation anew(view_of(mesh), options, rates.view);
+            const Tessellation reused(view_of(mesh), options, rates.view, kept);
+            ASSERT_EQ(reused.num_triangles(), anew.num_triangles());
+            ASSERT_EQ(reused.num_face_points(), anew.num_face_points());
+            const std::size_t corners = 3 * std::size_t(anew.num_triangles());
+            EXPECT_TRUE(std::equal(anew.triangles(), anew.triangles() + corners, reused.triangles()));
+            EXPECT_TRUE(std::equal(anew.corner_face_points(), anew.corner_face_points() + corners,
+                                   reused.corner_face_points()));
+            EXPECT_TRUE(std::equal(anew.face_point_parameters(),
+                                   anew.face_point_parameters() + 2 * std::size_t(anew.num_face_points()),
+                                   reused.face_point_parameters()));
+            std::vector<float> points[2], normals[2], uvs[2];
+            for (int k = 0; k < 2; ++k) {
+                const Tessellation& t = k == 0 ? anew : reused;
+                points[k].resize(3 * std::size_t(t.num_points()));
+                normals[k].resize(3 * std::size_t(t.num_face_points()));
+                uvs[k].resize(2 * std::size_t(t.num_face_points()));
+                t.evaluate(mesh.positions.data(), points[k].data(), normals[k].data());
+                t.evaluate_face_varying(0, mesh.uvs.data(), 2, uvs[k].data());
+            }
+            EXPECT_EQ(points[0], points[1]) << uniform;
+            EXPECT_EQ(normals[0], normals[1]) << uniform;
+            EXPECT_EQ(uvs[0], uvs[1]) << uniform;
+        }
+    }
+}
+
 // A camera at the origin looking down -z, OpenGL's perspective with a 90 degree field of view (f = 1), a viewport of
 // 100 x 100 pixels: a point (x, y, z) in view lands at pixel 50 (1 + x / -z) across.
 Camera camera_down_z() {

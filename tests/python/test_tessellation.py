@@ -140,6 +140,30 @@ def test_bad_input_raises():
         tessellation.evaluate(bad)
 
 
+def test_a_cut_at_new_rates_reusing_the_input_topology_is_the_cut_made_anew():
+    """reuse= takes an earlier cut's input_topology: the cut at new rates is the one made anew, also where the earlier
+    was of other tags (nothing is taken then), and after the earlier cut is gone."""
+    positions, triangles = icosahedron()
+    uv_indices = np.arange(60, dtype=np.int32).reshape(20, 3)
+    uvs = np.random.default_rng(5).random((60, 2)).astype(np.float32)
+    tagged = {"crease_edges": np.array([[0, 1]], np.int32), "crease_sharpness": np.array([1.5], np.float32)}
+    edges, rates = _loopsub.screen_space_rates(positions, triangles, perspective_down_z(), (100, 100))
+    rates = (np.arange(len(rates)) % 5 + 1).astype(np.int32)
+    for earlier_tags in (tagged, {}):
+        kept = _loopsub.Tessellation(triangles, len(positions), 3, rules="opensubdiv",
+                                     face_varying_indices=[uv_indices], **earlier_tags).input_topology
+        gc.collect()
+        anew, reused = (_loopsub.Tessellation(triangles, len(positions), edges=edges, edge_rates=rates, reuse=reuse,
+                                              rules="opensubdiv", face_varying_indices=[uv_indices], **tagged)
+                        for reuse in (None, kept))
+        assert np.array_equal(anew.triangles, reused.triangles)
+        for a, b in zip(anew.evaluate(positions), reused.evaluate(positions)):
+            assert np.array_equal(a, b)
+        assert np.array_equal(anew.evaluate_face_varying(uvs), reused.evaluate_face_varying(uvs))
+    with pytest.raises(TypeError, match="reuse must be an InputTopology"):
+        _loopsub.Tessellation(triangles, len(positions), 2, reuse=anew)
+
+
 def test_the_memory_limit_refuses_below_what_the_tessellation_counts():
     """estimated_bytes is what memory_limit_bytes is checked against: a limit one byte below it raises MemoryError
     with it as required_bytes, a limit at it is met. It grows with the rate."""

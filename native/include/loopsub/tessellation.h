@@ -67,6 +67,24 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
 inline constexpr int kMaxTessellationRate = 4096;
 
 struct TessellationImpl;
+struct InputTopologyParts;
+
+// What a Tessellation read of its input mesh alone, whatever the rates (the input's classification, its triangles that
+// are regular patches, its edges; its face-varying layers' the same), for one of the same mesh at other rates: a
+// camera's next cut need not do it again. It holds nothing of the result: an old cut may go before the next is made.
+// Cheap to copy; read only, so tessellations made on several threads may share it.
+class InputTopology {
+public:
+    InputTopology();
+    ~InputTopology();
+    InputTopology(const InputTopology&);
+    InputTopology& operator=(const InputTopology&);
+    bool empty() const;  // nothing kept (an InputTopology made empty)
+
+private:
+    friend class Tessellation;
+    std::shared_ptr<const InputTopologyParts> parts_;
+};
 
 class Tessellation {
 public:
@@ -74,7 +92,13 @@ public:
     // method, crease threshold, face-varying interpolation, kernel, threads and memory limit count (the levels are the
     // ones the rates need). A face's inner rate is the largest of its edges'. Throws InputError for bad input,
     // MemoryLimitError past the memory limit.
-    Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates);
+    //
+    //
+    // reuse: an earlier tessellation's input_topology(), of the same mesh at other rates (a camera's last). It is
+    // taken where its triangles, tags and rules are this mesh's, and made anew where they are not; the result is the
+    // same either way.
+    Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates,
+                 const InputTopology& reuse = InputTopology());
     ~Tessellation();
     Tessellation(Tessellation&&) noexcept;
     Tessellation& operator=(Tessellation&&) noexcept;
@@ -112,6 +136,8 @@ public:
     void evaluate_face_varying(int layer, const float* values, int channels, float* out) const;
     // The refinement levels whose control points and limit the points are made from.
     int levels() const;
+    // What this read of its input mesh alone, for a tessellation of the same mesh at other rates.
+    InputTopology input_topology() const;
     // Bytes the memory check counted against Options::memory_limit_bytes: the result's arrays, the plans of the input
     // triangles that are no patch (Plan::estimate_bytes), and each face-varying layer's own cut.
     std::uint64_t estimated_bytes() const;

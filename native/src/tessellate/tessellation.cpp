@@ -17,6 +17,7 @@
 #endif
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -30,7 +31,10 @@
 
 namespace loopsub {
 
+struct KeptInput;
+
 struct TessellationImpl {
+    std::shared_ptr<const KeptInput> input;  // what the build read of the mesh alone (InputTopology)
     int levels = 0;
     int threads = 1;
     int num_input_vertices = 0;
@@ -158,46 +162,134 @@ int rate_in_range(int rate, Name what) {
     return rate;
 }
 
-// The input's edges, each once, as sorted keys, with their rates and the number of their first inner point; and per
-// triangle corner k, its edge to corner k + 1.
-struct Edges {
-    std::vector<std::uint64_t> keys;
-    std::vector<int> rates;
-    std::vector<std::int64_t> first_point;
-    std::vector<std::int32_t> corner_edges;
-    int find(std::int32_t a, std::int32_t b) const {
-        const auto at = std::lower_bound(keys.begin(), keys.end(), detail::edge_key(a, b));
-        return at != keys.end() && *at == detail::edge_key(a, b) ? int(at - keys.begin()) : -1;
+}  // namespace
+
+// What a build reads of the input mesh alone, whatever the rates: the limit plan of no levels (it checks the mesh and
+// the options, and classifies the input's vertices), the input triangles that are regular patches, the edges. Kept
+// (InputTopology) for one of the same mesh at other rates, which takes it where the triangles, tags and rules are the
+// same. Read only once made: tessellations on other threads may share it.
+struct KeptInput {
+    KeptInput(const MeshView& mesh, const Options& options)
+        : mesh_(copy_of(mesh)),
+          rules_(options.rules),
+          boundary_(options.boundary),
+          crease_method_(options.crease_method),
+          crease_threshold_(options.crease_threshold) {
+        Options input = options;
+        input.limit_surface = true, input.levels = 0;
+        plan = std::make_unique<Plan>(mesh, input);
+        patches = std::make_unique<LevelPatches>(*plan);
+        face_patch.assign(std::size_t(mesh.num_triangles), -1);
+        for (int f = 0; f < mesh.num_triangles; ++f) {  // every face asked now, so that nothing is ordered later
+            detail::Patch patch;
+            if (!patches->find_patch(f, patch)) continue;
+            face_patch[std::size_t(f)] = std::int32_t(patch_list.size());
+            patch_list.push_back(patch);
+        }
+        // The corners by their edges' keys: the keys once each, and every corner's edge, without a search.
+        const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
+        std::vector<std::pair<std::uint64_t, std::int32_t>> by_key(corners);
+        for (std::size_t c = 0; c < corners; ++c)
+            by_key[c] = {detail::edge_key(mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]), std::int32_t(c)};
+        std::sort(by_key.begin(), by_key.end());
+        corner_edges.resize(corners);
+        for (std::size_t i = 0; i < corners; ++i) {
+            if (i == 0 || by_key[i].first != by_key[i - 1].first) edge_keys.push_back(by_key[i].first);
+            corner_edges[std::size_t(by_key[i].second)] = std::int32_t(edge_keys.size() - 1);
+        }
     }
+
+    // Whether this was made for the same triangles, tags and rules.
+    bool made_for(const MeshView& mesh, const Options& options) const {
+        auto same = [](const auto& kept, const auto* given, int count) {
+            return kept.size() == std::size_t(count) && std::equal(kept.begin(), kept.end(), given);
+        };
+        return mesh.num_vertices == mesh_.num_vertices &&
+               same(mesh_.triangles, mesh.triangles, 3 * mesh.num_triangles) &&
+               same(mesh_.crease_edges, mesh.crease_edges, 2 * mesh.num_crease_edges) &&
+               same(mesh_.crease_sharpness, mesh.crease_sharpness, mesh.num_crease_edges) &&
+               same(mesh_.corner_vertices, mesh.corner_vertices, mesh.num_corners) &&
+               same(mesh_.corner_sharpness, mesh.corner_sharpness, mesh.num_corners) &&
+               same(mesh_.cone_vertices, mesh.cone_vertices, mesh.num_cones) && options.rules == rules_ &&
+               options.boundary == boundary_ && options.crease_method == crease_method_ &&
+               options.crease_threshold == crease_threshold_;
+    }
+
+    int find_edge(std::int32_t a, std::int32_t b) const {
+        const auto at = std::lower_bound(edge_keys.begin(), edge_keys.end(), detail::edge_key(a, b));
+        return at != edge_keys.end() && *at == detail::edge_key(a, b) ? int(at - edge_keys.begin()) : -1;
+    }
+
+    std::unique_ptr<Plan> plan;
+    std::unique_ptr<LevelPatches> patches;
+    std::vector<std::int32_t> face_patch;  // per input triangle, its patch in patch_list, or -1
+    std::vector<detail::Patch> patch_list;
+    std::vector<std::uint64_t> edge_keys;    // each edge once, sorted
+    std::vector<std::int32_t> corner_edges;  // per triangle corner k, its edge to corner k + 1
+
+private:
+    struct Kept {  // the mesh's triangles and tags
+        int num_vertices = 0;
+        std::vector<std::int32_t> triangles, crease_edges, corner_vertices, cone_vertices;
+        std::vector<float> crease_sharpness, corner_sharpness;
+    };
+    static Kept copy_of(const MeshView& mesh) {
+        Kept kept;
+        kept.num_vertices = mesh.num_vertices;
+        auto copy = [](auto& to, const auto* from, int count) {
+            if (count > 0) to.assign(from, from + count);
+        };
+        copy(kept.triangles, mesh.triangles, 3 * mesh.num_triangles);
+        copy(kept.crease_edges, mesh.crease_edges, 2 * mesh.num_crease_edges);
+        copy(kept.crease_sharpness, mesh.crease_sharpness, mesh.num_crease_edges);
+        copy(kept.corner_vertices, mesh.corner_vertices, mesh.num_corners);
+        copy(kept.corner_sharpness, mesh.corner_sharpness, mesh.num_corners);
+        copy(kept.cone_vertices, mesh.cone_vertices, mesh.num_cones);
+        return kept;
+    }
+    Kept mesh_;
+    Rules rules_;
+    Boundary boundary_;
+    CreaseMethod crease_method_;
+    float crease_threshold_;
 };
 
-Edges edges_with_rates(const MeshView& mesh, const TessellationRates& rates) {
-    Edges edges;
+struct InputTopologyParts {
+    std::shared_ptr<const KeptInput> surface;
+    std::vector<InputTopology> layers;  // each face-varying layer's cut's
+};
+
+InputTopology::InputTopology() = default;
+InputTopology::~InputTopology() = default;
+InputTopology::InputTopology(const InputTopology&) = default;
+InputTopology& InputTopology::operator=(const InputTopology&) = default;
+bool InputTopology::empty() const { return !parts_; }
+
+namespace {
+
+// The input's edges' rates (in KeptInput::edge_keys' order), and the number of each one's first inner point.
+struct EdgeRates {
+    std::vector<int> rates;
+    std::vector<std::int64_t> first_point;
+};
+
+EdgeRates edges_with_rates(const KeptInput& input, int num_vertices, const TessellationRates& rates) {
+    EdgeRates edges;
     const int uniform = rate_in_range(rates.uniform_rate, [] { return std::string("uniform_rate"); });
-    // The corners by their edges' keys: the keys once each, and every corner's edge, without a search.
-    const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
-    std::vector<std::pair<std::uint64_t, std::int32_t>> by_key(corners);
-    for (std::size_t c = 0; c < corners; ++c)
-        by_key[c] = {detail::edge_key(mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]), std::int32_t(c)};
-    std::sort(by_key.begin(), by_key.end());
-    edges.corner_edges.resize(corners);
-    for (std::size_t i = 0; i < corners; ++i) {
-        if (i == 0 || by_key[i].first != by_key[i - 1].first) edges.keys.push_back(by_key[i].first);
-        edges.corner_edges[std::size_t(by_key[i].second)] = std::int32_t(edges.keys.size() - 1);
-    }
-    edges.rates.assign(edges.keys.size(), uniform);
+    edges.rates.assign(input.edge_keys.size(), uniform);
     if (rates.num_edges < 0) fail("num_edges must not be negative");
     for (int k = 0; k < rates.num_edges; ++k) {
         const std::int32_t a = rates.edges[2 * k], b = rates.edges[2 * k + 1];
         // screen_space_rates gives the edges in this order: then the k-th is the one.
-        const int e = std::size_t(k) < edges.keys.size() && edges.keys[std::size_t(k)] == detail::edge_key(a, b)
-                          ? k
-                          : edges.find(a, b);
+        const int e =
+            std::size_t(k) < input.edge_keys.size() && input.edge_keys[std::size_t(k)] == detail::edge_key(a, b)
+                ? k
+                : input.find_edge(a, b);
         auto name = [a, b] { return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")"; };
         if (e < 0) fail("a rate for " + name() + ", which no triangle has");
         edges.rates[std::size_t(e)] = rate_in_range(rates.rates[k], [&] { return "the rate of " + name(); });
     }
-    std::int64_t next = mesh.num_vertices;
+    std::int64_t next = num_vertices;
     for (int rate : edges.rates) edges.first_point.push_back(next), next += rate - 1;
     return edges;
 }
@@ -225,14 +317,15 @@ public:
     Builder(TessellationImpl& d, const MeshView& mesh, const Options& options)
         : d_(d), mesh_(mesh), options_(options) {}
 
-    void build(const TessellationRates& rates) {
-        // The limit plan of no levels checks the mesh and the options before anything reads them, and classifies the
-        // input's vertices.
+    // kept: an earlier build's input, taken where it was made for the same mesh.
+    void build(const TessellationRates& rates, const std::shared_ptr<const KeptInput>& kept) {
+        // The input first: its limit plan of no levels checks the mesh and the options before anything reads them (a
+        // kept one checked the same).
+        d_.input = kept && kept->made_for(mesh_, options_) ? kept : std::make_shared<const KeptInput>(mesh_, options_);
+        const KeptInput& input = *d_.input;
         options_.limit_surface = true, options_.levels = 0;
-        const Plan input(mesh_, options_);
-        const Edges edges = edges_with_rates(mesh_, rates);
+        const EdgeRates edges = edges_with_rates(input, mesh_.num_vertices, rates);
         d_.num_input_vertices = mesh_.num_vertices;
-        const LevelPatches input_patches(input);
 
         std::vector<Sides> sides(std::size_t(mesh_.num_triangles));
         std::vector<std::int64_t> face_first(std::size_t(mesh_.num_triangles));
@@ -245,7 +338,7 @@ public:
             Sides& s = sides[std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
                 const std::int32_t a = mesh_.triangles[3 * f + k], b = mesh_.triangles[3 * f + (k + 1) % 3];
-                const std::size_t e = std::size_t(edges.corner_edges[3 * std::size_t(f) + std::size_t(k)]);
+                const std::size_t e = std::size_t(input.corner_edges[3 * std::size_t(f) + std::size_t(k)]);
                 s.rates[k] = edges.rates[e], s.first_point[k] = edges.first_point[e];
                 s.along[k] = a < b;
             }
@@ -254,8 +347,8 @@ public:
             next += inner;
             num_samples += detail::first_edge_point(s.rates, 3) + inner;
             num_triangles += detail::num_pattern_triangles(s.rates, s.inner_rate());
-            Patch patch;
-            if (input_patches.find_patch(f, patch)) {
+            if (const std::int32_t found = input.face_patch[std::size_t(f)]; found >= 0) {
+                const Patch& patch = input.patch_list[std::size_t(found)];
                 d_.face_patch[std::size_t(f)] = std::int32_t(input_shapes_.size());
                 d_.input_patch_points.insert(d_.input_patch_points.end(), patch.points,
                                              patch.points + detail::kBoxSplinePoints);
@@ -283,7 +376,7 @@ public:
             std::uint64_t(num_samples) * 40 + std::uint64_t(num_triangles) * 28 + std::uint64_t(next) * 16;
         const std::uint64_t result_bytes = bytes;
         for (std::size_t b = 0; b < d_.bands.size(); ++b) {
-            make_submesh(input_patches, int(b));
+            make_submesh(*input.patches, int(b));
             const MeshView& sub = band_builders_[b].view;
             const auto sub_edges = std::int64_t(detail::sorted_edge_keys(sub.triangles, sub.num_triangles).size());
             for (int levels : {d_.bands[b].limit_levels, d_.bands[b].levels})
@@ -580,7 +673,7 @@ namespace {
 // corners, each of its edges at the rate of the mesh edge it lies on. Its face points are the surface's, one for one:
 // the same triangles in the same order, with the same rates.
 void add_face_varying_layers(TessellationImpl& d, const MeshView& mesh, const Options& options,
-                             const TessellationRates& rates) {
+                             const TessellationRates& rates, const InputTopologyParts* reuse) {
     const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
     d.face_point_parent.resize(d.samples.size());
     for (std::size_t c = 0; c < d.corner_face_points.size(); ++c)
@@ -662,8 +755,10 @@ void add_face_varying_layers(TessellationImpl& d, const MeshView& mesh, const Op
         layer_rates.num_edges = int(edge_rates.size());
         // The layer's cut spends what the surface's left of the memory limit.
         cut.memory_limit_bytes = options.memory_limit_bytes - std::min(options.memory_limit_bytes, d.estimated_bytes);
+        const InputTopology kept =
+            reuse != nullptr && std::size_t(k) < reuse->layers.size() ? reuse->layers[std::size_t(k)] : InputTopology();
         try {
-            layer.surface = std::make_unique<Tessellation>(tags.view(n), cut, layer_rates);
+            layer.surface = std::make_unique<Tessellation>(tags.view(n), cut, layer_rates, kept);
         } catch (const MemoryLimitError& error) {
             const std::uint64_t total = d.estimated_bytes + error.required_bytes;
             throw MemoryLimitError("tessellation: with face-varying layer " + std::to_string(k) +
@@ -684,7 +779,8 @@ void add_face_varying_layers(TessellationImpl& d, const MeshView& mesh, const Op
 
 }  // namespace
 
-Tessellation::Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates)
+Tessellation::Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates,
+                           const InputTopology& reuse)
     : impl_(std::make_unique<TessellationImpl>()) {
     if (mesh.num_holes > 0) fail("holes are not supported");
     if (options.boundary == Boundary::None) fail("Boundary::None is not supported (it makes holes)");
@@ -692,8 +788,9 @@ Tessellation::Tessellation(const MeshView& mesh, const Options& options, const T
     impl_->patch_kernel = detail::kernel_functions(detail::resolve_kernel(options.kernel)).patch;
     MeshView surface = mesh;
     surface.face_varying = nullptr, surface.num_face_varying = 0;
-    Builder(*impl_, surface, options).build(rates);
-    if (mesh.num_face_varying > 0) add_face_varying_layers(*impl_, mesh, options, rates);
+    const InputTopologyParts* kept = reuse.parts_.get();
+    Builder(*impl_, surface, options).build(rates, kept != nullptr ? kept->surface : nullptr);
+    if (mesh.num_face_varying > 0) add_face_varying_layers(*impl_, mesh, options, rates, kept);
 }
 
 int Tessellation::num_face_varying_layers() const { return int(impl_->layers.size()); }
@@ -742,6 +839,16 @@ Tessellation& Tessellation::operator=(Tessellation&&) noexcept = default;
 
 int Tessellation::num_points() const { return int(impl_->num_points); }
 std::uint64_t Tessellation::estimated_bytes() const { return impl_->estimated_bytes; }
+
+InputTopology Tessellation::input_topology() const {
+    auto parts = std::make_shared<InputTopologyParts>();
+    parts->surface = impl_->input;
+    for (const TessellationImpl::Layer& layer : impl_->layers)
+        parts->layers.push_back(layer.surface ? layer.surface->input_topology() : InputTopology());
+    InputTopology topology;
+    topology.parts_ = std::move(parts);
+    return topology;
+}
 int Tessellation::num_triangles() const { return int(impl_->triangles.size() / 3); }
 const std::int32_t* Tessellation::triangles() const { return impl_->triangles.data(); }
 const std::int32_t* Tessellation::parent_triangles() const { return impl_->parent_triangles.data(); }
