@@ -129,6 +129,34 @@ def edits_keep_the_cut():
     support.remove(obj)
 
 
+def camera_moves_cut_anew():
+    """The camera comes nearer: the entry cuts again (the last cut's work on the cage handed on), and the new cut
+    equals what Apply makes from that camera, points and UVs."""
+    def uvs(mesh):
+        return support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2)
+
+    top_camera(2.0)
+    bm = bmesh.new()
+    bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_grid(bm, x_segments=4, y_segments=4, size=1.0, calc_uvs=True)
+    obj = support.object_from_bmesh("Approached", bm)
+    bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=4.0, render_dicing_rate=4.0)
+    cache = addon.live.cache_of(obj)
+    builds, far = cache.plan_builds, len(shown(obj).polygons)
+    top_camera(1.2)
+    bpy.context.view_layer.update()
+    near = shown(obj)
+    near_faces, near_points, near_uvs = len(near.polygons), support.positions(near), uvs(near)
+    twin = support.copy_object(obj, "Approached twin")
+    twin.modifiers.clear()
+    support.apply_loop(twin)
+    check(cache.plan_builds == builds + 1 and near_faces > far and np.array_equal(near_uvs, uvs(twin.data))
+          and np.array_equal(near_points, support.positions(twin.data)),
+          f"a nearer camera cuts again ({far} -> {near_faces} triangles), equal to Apply's, UVs too")
+    support.remove(twin)
+    support.remove(obj)
+
+
 def uvs_follow_uv_smooth():
     """UV maps on the adaptive path are refined as levels refine them, in every UV Smooth mode: with every edge cut
     into 2 segments (Max Segments 2 from a near camera), Apply's corners are level 1's with the limit surface, each
@@ -394,6 +422,7 @@ support.clear_scene()
 defaults()
 rates_from_the_camera()
 edits_keep_the_cut()
+camera_moves_cut_anew()
 uvs_follow_uv_smooth()
 limit_surface_without_cracks()
 render_and_viewport_rates()
