@@ -79,8 +79,8 @@ bool LevelPatches::smooth_corner(int corner, std::int32_t ring[6]) const {
     if (order == Order::NotYet) {
         std::int32_t ordered[6];
         int c = corner, k = 0;
-        for (; k < 6 && c >= 0; ++k) ordered[k] = c, c = next_corner(c, true);
-        order = k == 6 && c == corner ? Order::CounterClockwise : Order::NoDisk;
+        for (; k < 6 && c >= 0 && (k == 0 || c != corner); ++k) ordered[k] = c, c = next_corner(c, true);
+        order = k == 6 && c == corner ? Order::CounterClockwise : Order::NoDisk;  // not a fan of three, twice
         if (order == Order::CounterClockwise)
             for (k = 0; k < 6; ++k)
                 corners_[std::size_t(offsets_[std::size_t(v)] + k)] = ordered[k],
