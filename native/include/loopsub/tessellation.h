@@ -93,7 +93,6 @@ public:
     // ones the rates need). A face's inner rate is the largest of its edges'. Throws InputError for bad input,
     // MemoryLimitError past the memory limit.
     //
-    //
     // reuse: an earlier tessellation's input_topology(), of the same mesh at other rates (a camera's last). It is
     // taken where its triangles, tags and rules are this mesh's, and made anew where they are not; the result is the
     // same either way.

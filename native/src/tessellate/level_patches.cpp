@@ -20,6 +20,21 @@ std::vector<std::uint64_t> sorted_edge_keys(const std::int32_t* triangles, int n
     return keys;
 }
 
+SortedEdges sorted_edges(const std::int32_t* triangles, int num_triangles) {
+    const std::size_t corners = 3 * std::size_t(num_triangles);
+    std::vector<std::pair<std::uint64_t, std::int32_t>> by_key(corners);
+    for (std::size_t c = 0; c < corners; ++c)
+        by_key[c] = {edge_key(triangles[c], triangles[c - c % 3 + (c + 1) % 3]), std::int32_t(c)};
+    std::sort(by_key.begin(), by_key.end());
+    SortedEdges edges;
+    edges.corner_edges.resize(corners);
+    for (std::size_t i = 0; i < corners; ++i) {
+        if (i == 0 || by_key[i].first != by_key[i - 1].first) edges.keys.push_back(by_key[i].first);
+        edges.corner_edges[std::size_t(by_key[i].second)] = std::int32_t(edges.keys.size() - 1);
+    }
+    return edges;
+}
+
 LevelPatches::LevelPatches(const Plan& plan)
     : triangles_(plan.output_triangles()), types_(plan.level_vertex_types(plan.levels()).data()) {
     const int num_triangles = plan.num_output_triangles(), num_vertices = plan.num_output_vertices();

@@ -32,6 +32,14 @@ inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
 // The keys of the edges of a triangle list, each once, in order.
 std::vector<std::uint64_t> sorted_edge_keys(const std::int32_t* triangles, int num_triangles);
 
+// The same keys, and each triangle corner's edge (corner k's, to corner k + 1): one sort of the corners by their edges'
+// keys, where sorted_edge_keys sorts the keys alone (cheaper where the corners' edges are not wanted).
+struct SortedEdges {
+    std::vector<std::uint64_t> keys;
+    std::vector<std::int32_t> corner_edges;  // 3 per triangle, indices into keys
+};
+SortedEdges sorted_edges(const std::int32_t* triangles, int num_triangles);
+
 // A regular patch of a level's triangle: its 12 points in box_spline.h's order, P3, P6, P7 being the triangle's corners
 // `rotation`, `rotation` + 1 and `rotation` + 2. Phantoms hold -1: beside a crease edge (P6-P7), P9, P10 and P11; at a
 // crease vertex (P3, its crease P2-P3-P4), P0 and P1.

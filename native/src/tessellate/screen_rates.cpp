@@ -37,14 +37,12 @@ Clip to_clip(const float m[16], const float* p) {
 class FirstSplit {
 public:
     FirstSplit() = default;
-    FirstSplit(const MeshView& mesh, const float* positions, const std::vector<std::uint64_t>& keys)
-        : positions_(positions), opposite_(2 * keys.size(), -1), corner_edges_(3 * std::size_t(mesh.num_triangles)) {
-        for (std::size_t c = 0; c < corner_edges_.size(); ++c) {
+    FirstSplit(const MeshView& mesh, const float* positions, const detail::SortedEdges& edges)
+        : positions_(positions), opposite_(2 * edges.keys.size(), -1), corner_edges_(&edges.corner_edges) {
+        const std::vector<std::uint64_t>& keys = edges.keys;
+        for (std::size_t c = 0; c < edges.corner_edges.size(); ++c) {
             const std::size_t face = c - c % 3;
-            const std::uint64_t key = detail::edge_key(mesh.triangles[c], mesh.triangles[face + (c + 1) % 3]);
-            const std::size_t e = std::size_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
-            corner_edges_[c] = e;
-            std::int32_t* slot = &opposite_[2 * e];
+            std::int32_t* slot = &opposite_[2 * std::size_t(edges.corner_edges[c])];
             slot[slot[0] < 0 ? 0 : 1] = mesh.triangles[face + (c + 2) % 3];
         }
         // Each vertex's neighbours summed, all of them and those along the boundary.
@@ -98,19 +96,20 @@ public:
     // would stray by the twist, several times what the lattice does (docs/benchmark.md).
     void raise_to_triangles(std::vector<std::int32_t>& rates) const {
         std::vector<std::int32_t> raised = rates;
-        for (std::size_t c = 0; c < corner_edges_.size(); c += 3) {
-            const std::size_t* e = &corner_edges_[c];
+        for (std::size_t c = 0; c < corner_edges_->size(); c += 3) {
+            const std::size_t e[3] = {std::size_t((*corner_edges_)[c]), std::size_t((*corner_edges_)[c + 1]),
+                                      std::size_t((*corner_edges_)[c + 2])};
             const std::int32_t most = std::max({rates[e[0]], rates[e[1]], rates[e[2]]});
-            for (int k = 0; k < 3; ++k) raised[e[k]] = std::max(raised[e[k]], most);
+            for (std::size_t k : e) raised[k] = std::max(raised[k], most);
         }
         rates = std::move(raised);
     }
 
 private:
     const float* positions_ = nullptr;
-    std::vector<std::int32_t> opposite_;     // the third corners of each edge's first two faces (-1: none)
-    std::vector<std::size_t> corner_edges_;  // per triangle corner k, the edge from it to corner k + 1
-    std::vector<double> split_vertices_;     // 3 per vertex
+    std::vector<std::int32_t> opposite_;  // the third corners of each edge's first two faces (-1: none)
+    const std::vector<std::int32_t>* corner_edges_ = nullptr;  // SortedEdges::corner_edges, the caller's
+    std::vector<double> split_vertices_;                       // 3 per vertex
 };
 
 // Whether the edge from p to q, midpoint mid, is in view: the box around its ends on screen overlaps the view (its
@@ -190,9 +189,12 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
             fail("the position of vertex " + std::to_string(mesh.triangles[c]) + " is not finite");
     }
-    const std::vector<std::uint64_t> keys = detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles);
-
-    const FirstSplit split = by_deviation ? FirstSplit(mesh, positions, keys) : FirstSplit();
+    // By deviation each corner's edge is wanted too.
+    const detail::SortedEdges edges =
+        by_deviation ? detail::sorted_edges(mesh.triangles, mesh.num_triangles)
+                     : detail::SortedEdges{detail::sorted_edge_keys(mesh.triangles, mesh.num_triangles), {}};
+    const std::vector<std::uint64_t>& keys = edges.keys;
+    const FirstSplit split = by_deviation ? FirstSplit(mesh, positions, edges) : FirstSplit();
 
     ScreenRates out;
     out.edges.reserve(2 * keys.size()), out.rates.reserve(keys.size());

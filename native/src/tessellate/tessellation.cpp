@@ -186,17 +186,7 @@ struct KeptInput {
             face_patch[std::size_t(f)] = std::int32_t(patch_list.size());
             patch_list.push_back(patch);
         }
-        // The corners by their edges' keys: the keys once each, and every corner's edge, without a search.
-        const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
-        std::vector<std::pair<std::uint64_t, std::int32_t>> by_key(corners);
-        for (std::size_t c = 0; c < corners; ++c)
-            by_key[c] = {detail::edge_key(mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]), std::int32_t(c)};
-        std::sort(by_key.begin(), by_key.end());
-        corner_edges.resize(corners);
-        for (std::size_t i = 0; i < corners; ++i) {
-            if (i == 0 || by_key[i].first != by_key[i - 1].first) edge_keys.push_back(by_key[i].first);
-            corner_edges[std::size_t(by_key[i].second)] = std::int32_t(edge_keys.size() - 1);
-        }
+        edges = detail::sorted_edges(mesh.triangles, mesh.num_triangles);
     }
 
     // Whether this was made for the same triangles, tags and rules.
@@ -216,16 +206,15 @@ struct KeptInput {
     }
 
     int find_edge(std::int32_t a, std::int32_t b) const {
-        const auto at = std::lower_bound(edge_keys.begin(), edge_keys.end(), detail::edge_key(a, b));
-        return at != edge_keys.end() && *at == detail::edge_key(a, b) ? int(at - edge_keys.begin()) : -1;
+        const auto at = std::lower_bound(edges.keys.begin(), edges.keys.end(), detail::edge_key(a, b));
+        return at != edges.keys.end() && *at == detail::edge_key(a, b) ? int(at - edges.keys.begin()) : -1;
     }
 
     std::unique_ptr<Plan> plan;
     std::unique_ptr<LevelPatches> patches;
     std::vector<std::int32_t> face_patch;  // per input triangle, its patch in patch_list, or -1
     std::vector<detail::Patch> patch_list;
-    std::vector<std::uint64_t> edge_keys;    // each edge once, sorted
-    std::vector<std::int32_t> corner_edges;  // per triangle corner k, its edge to corner k + 1
+    detail::SortedEdges edges;
 
 private:
     struct Kept {  // the mesh's triangles and tags
@@ -267,7 +256,7 @@ bool InputTopology::empty() const { return !parts_; }
 
 namespace {
 
-// The input's edges' rates (in KeptInput::edge_keys' order), and the number of each one's first inner point.
+// The input's edges' rates (in KeptInput::edges' order), and the number of each one's first inner point.
 struct EdgeRates {
     std::vector<int> rates;
     std::vector<std::int64_t> first_point;
@@ -276,13 +265,13 @@ struct EdgeRates {
 EdgeRates edges_with_rates(const KeptInput& input, int num_vertices, const TessellationRates& rates) {
     EdgeRates edges;
     const int uniform = rate_in_range(rates.uniform_rate, [] { return std::string("uniform_rate"); });
-    edges.rates.assign(input.edge_keys.size(), uniform);
+    edges.rates.assign(input.edges.keys.size(), uniform);
     if (rates.num_edges < 0) fail("num_edges must not be negative");
     for (int k = 0; k < rates.num_edges; ++k) {
         const std::int32_t a = rates.edges[2 * k], b = rates.edges[2 * k + 1];
         // screen_space_rates gives the edges in this order: then the k-th is the one.
         const int e =
-            std::size_t(k) < input.edge_keys.size() && input.edge_keys[std::size_t(k)] == detail::edge_key(a, b)
+            std::size_t(k) < input.edges.keys.size() && input.edges.keys[std::size_t(k)] == detail::edge_key(a, b)
                 ? k
                 : input.find_edge(a, b);
         auto name = [a, b] { return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")"; };
@@ -338,7 +327,7 @@ public:
             Sides& s = sides[std::size_t(f)];
             for (int k = 0; k < 3; ++k) {
                 const std::int32_t a = mesh_.triangles[3 * f + k], b = mesh_.triangles[3 * f + (k + 1) % 3];
-                const std::size_t e = std::size_t(input.corner_edges[3 * std::size_t(f) + std::size_t(k)]);
+                const std::size_t e = std::size_t(input.edges.corner_edges[3 * std::size_t(f) + std::size_t(k)]);
                 s.rates[k] = edges.rates[e], s.first_point[k] = edges.first_point[e];
                 s.along[k] = a < b;
             }
