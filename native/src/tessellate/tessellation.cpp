@@ -312,7 +312,7 @@ public:
         // kept one checked the same).
         d_.input = kept && kept->made_for(mesh_, options_) ? kept : std::make_shared<const KeptInput>(mesh_, options_);
         const KeptInput& input = *d_.input;
-        options_.limit_surface = true, options_.levels = 0;
+        options_.limit_surface = true;  // the bands' limit plans (their levels set each)
         const EdgeRates edges = edges_with_rates(input, mesh_.num_vertices, rates);
         d_.num_input_vertices = mesh_.num_vertices;
 
