@@ -204,6 +204,66 @@ TEST(Topology, SplitsFollowTheirNumbering) {
     }
 }
 
+// A split known only near some parent faces (and a loose vertex) holds, at every child element descending from them,
+// their edges or their vertices, what the whole split holds: faces' corners and edges, edges' ends and faces, vertices'
+// edges, and the counts (offsets) of each; a limit plan reads the level before the last through it near the tags.
+TEST(Topology, SplitNearSomeFacesIsTheWholeSplitThere) {
+    using namespace loopsub::testing;
+    using loopsub::detail::Refined;
+    TestMesh with_loose_vertex = grid(4, 3);
+    with_loose_vertex.positions.insert(with_loose_vertex.positions.end(), {9.0f, 9.0f, 9.0f});
+    for (const TestMesh& mesh : {icosphere(2), with_loose_vertex, open_fan(7), fin_on_grid(), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        const Topology p =
+            loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        const Topology whole = loopsub::detail::refine_topology(p, Refined::Connectivity, 1);
+        const Index loose = p.num_vertices - 1;
+        const bool has_loose = p.vertex_edge_offsets[loose] == p.vertex_edge_offsets[loose + 1];
+        for (int stride : {0, 1, 3, 7}) {  // 0: no face, the loose vertex alone
+            SCOPED_TRACE("every " + std::to_string(stride) + " faces");
+            std::vector<Index> faces, also;
+            for (Index f = stride / 2; stride > 0 && f < p.num_faces(); f += stride) faces.push_back(f);
+            if (has_loose) also.push_back(loose);
+            const Topology near = loopsub::detail::refine_topology_near(p, faces, also);
+            std::vector<Index> edges, vertices = also;
+            for (const Index f : faces)
+                for (int k = 0; k < 3; ++k)
+                    edges.push_back(p.face_edges[3 * f + k]), vertices.push_back(p.face_vertices[3 * f + k]);
+            auto range = [](const loopsub::detail::LargeVector<Index>& offsets, const auto& values, Index x) {
+                return std::vector<Index>(values.begin() + offsets[x], values.begin() + offsets[x + 1]);
+            };
+            auto expect_vertex = [&](Index v) {
+                ASSERT_EQ(near.vertex_edge_offsets[v], whole.vertex_edge_offsets[v]) << "vertex " << v;
+                ASSERT_EQ(near.vertex_edge_offsets[v + 1], whole.vertex_edge_offsets[v + 1]) << "vertex " << v;
+                EXPECT_EQ(range(near.vertex_edge_offsets, near.vertex_edges, v),
+                          range(whole.vertex_edge_offsets, whole.vertex_edges, v))
+                    << "vertex " << v;
+            };
+            auto expect_edge = [&](Index e) {
+                EXPECT_EQ(near.edge_vertices[2 * e], whole.edge_vertices[2 * e]) << "edge " << e;
+                EXPECT_EQ(near.edge_vertices[2 * e + 1], whole.edge_vertices[2 * e + 1]) << "edge " << e;
+                ASSERT_EQ(near.edge_face_offsets[e], whole.edge_face_offsets[e]) << "edge " << e;
+                ASSERT_EQ(near.edge_face_offsets[e + 1], whole.edge_face_offsets[e + 1]) << "edge " << e;
+                EXPECT_EQ(range(near.edge_face_offsets, near.edge_faces, e),
+                          range(whole.edge_face_offsets, whole.edge_faces, e))
+                    << "edge " << e;
+            };
+            for (const Index f : faces) {
+                for (Index c = 12 * f; c < 12 * f + 12; ++c) {
+                    EXPECT_EQ(near.face_vertices[c], whole.face_vertices[c]) << "child corner " << c;
+                    EXPECT_EQ(near.face_edges[c], whole.face_edges[c]) << "child corner " << c;
+                }
+                for (int k = 0; k < 3; ++k) expect_edge(2 * p.num_edges() + 3 * f + k);
+            }
+            for (const Index e : edges) {
+                expect_edge(2 * e), expect_edge(2 * e + 1);
+                expect_vertex(p.num_vertices + e);
+            }
+            for (const Index v : vertices) expect_vertex(v);
+        }
+    }
+}
+
 // The child's rings ordered from the numbering: around every vertex left a disk, each child triangle (v, a, b) has b
 // right after a (cyclically); a vertex on a boundary or a non-manifold edge or vertex is set apart.
 TEST(Topology, ChildRingsOrderedCounterClockwise) {

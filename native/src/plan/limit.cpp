@@ -25,6 +25,9 @@
 namespace loopsub {
 
 using detail::Index;
+using detail::LevelState;
+using detail::Topology;
+using detail::VertexNeighbourhood;
 
 namespace {
 
@@ -58,7 +61,114 @@ std::vector<Index> set_bytes(const std::uint8_t* bytes, Index count) {
     return set;
 }
 
+// The last-level vertex v's ancestors among the grandparent's vertices: itself, or the ends of the grandparent edge, or
+// the corners of the grandparent face, it descends from (the split's numbering, topology.h, twice).
+template <typename Visit>
+void grandparent_vertices_of(const Topology& g, Index v, Visit visit) {
+    const Index nv = g.num_vertices, ne = g.num_edges(), parent_vertices = nv + ne;
+    if (v < nv) return visit(v);
+    Index edge = v - nv;  // v is the parent's midpoint of grandparent edge `edge`
+    if (v >= parent_vertices) {
+        const Index parent_edge = v - parent_vertices;
+        if (parent_edge >= 2 * ne) {  // inside grandparent face f
+            const Index f = (parent_edge - 2 * ne) / 3;
+            for (int k = 0; k < 3; ++k) visit(g.face_vertices[3 * std::size_t(f) + k]);
+            return;
+        }
+        edge = parent_edge / 2;  // a half of grandparent edge `edge`
+    }
+    visit(g.edge_vertices[2 * std::size_t(edge)]);
+    visit(g.edge_vertices[2 * std::size_t(edge) + 1]);
+}
+
+// The grandparent's elements below which plan_limit reads the level before the last (refine_topology_near): the
+// ancestors of the last level's feature vertices (the ends of feature edges, feature vertices, cones) and the faces
+// at them. Its reads stay within a feature vertex's fan and its neighbours' (all below the faces at its ancestors);
+// Debug builds check that they agree with the whole level's (reads_alike_near_features).
+struct NearFeatures {
+    std::vector<Index> faces;
+    std::vector<Index> vertices;  // the ancestors: a vertex in no face has only itself below it
+};
+NearFeatures grandparent_near_features(const Topology& g, const LevelState& last, const std::vector<Index>& cones) {
+    NearFeatures out;
+    std::vector<std::uint8_t> vertex_met(std::size_t(g.num_vertices), 0), face_met(std::size_t(g.num_faces()), 0);
+    auto add = [&](Index v) {
+        grandparent_vertices_of(g, v, [&](Index a) {
+            if (vertex_met[a]) return;
+            vertex_met[a] = 1;
+            out.vertices.push_back(a);
+            for (Index k = g.vertex_edge_offsets[a]; k < g.vertex_edge_offsets[a + 1]; ++k) {
+                const Index e = g.vertex_edges[k];
+                for (Index i = g.edge_face_offsets[e]; i < g.edge_face_offsets[e + 1]; ++i)
+                    if (!face_met[g.edge_faces[i]]) face_met[g.edge_faces[i]] = 1, out.faces.push_back(g.edge_faces[i]);
+            }
+        });
+    };
+    for (const detail::Feature& edge : last.edges) add(edge.ends[0]), add(edge.ends[1]);
+    for (const detail::Feature& vertex : last.vertices) add(vertex.index);
+    for (const Index v : cones)
+        if (v < last.topology.num_vertices) add(v);
+    return out;
+}
+
+#ifndef NDEBUG
+// Whether plan_limit's reads around every feature vertex of the last level and its neighbours (their edges, corners,
+// faces' edges, edges' ends, wings and face counts, and the faces between two edges) are the same through the level
+// before the last known near the features as through the whole of it.
+bool reads_alike_near_features(const Topology& last_level, const Topology& grandparent, const Topology& near,
+                               const LevelState& last, const std::vector<Index>& cones) {
+    const Topology whole = refine_topology(grandparent, detail::Refined::Connectivity);
+    const VertexNeighbourhood through_near(last_level, &near), through_whole(last_level, &whole);
+    std::vector<Index> a, b, edges;
+    auto alike_at = [&](Index v) {
+        through_near.edges(v, a), through_whole.edges(v, b);
+        if (a != b) return false;
+        edges = a;
+        for (const Index e : edges) {
+            Index ends[2][2], wings[2][2];
+            through_near.edge_ends(e, ends[0]), through_whole.edge_ends(e, ends[1]);
+            through_near.wings(e, wings[0][0], wings[0][1]), through_whole.wings(e, wings[1][0], wings[1][1]);
+            if (!std::equal(ends[0], ends[0] + 2, ends[1]) || !std::equal(wings[0], wings[0] + 2, wings[1]) ||
+                through_near.edge_face_count(e) != through_whole.edge_face_count(e))
+                return false;
+            for (const Index to : edges)
+                if (to != e && through_whole.edge_face_count(e) == 2 && through_whole.edge_face_count(to) == 2 &&
+                    through_near.faces_between(v, e, to) != through_whole.faces_between(v, e, to))
+                    return false;
+        }
+        through_near.corners(v, a), through_whole.corners(v, b);
+        if (a != b) return false;
+        for (const Index c : b) {
+            Index face_edges[2][3];
+            through_near.face_edges(c / 3, face_edges[0]), through_whole.face_edges(c / 3, face_edges[1]);
+            if (!std::equal(face_edges[0], face_edges[0] + 3, face_edges[1])) return false;
+        }
+        return true;
+    };
+    auto alike_around = [&](Index v) {
+        if (!alike_at(v)) return false;
+        const std::vector<Index> around = edges;
+        return std::all_of(around.begin(), around.end(),
+                           [&](Index e) { return alike_at(through_whole.other_end(e, v)); });
+    };
+    for (const detail::Feature& edge : last.edges)
+        if (!alike_around(edge.ends[0]) || !alike_around(edge.ends[1])) return false;
+    for (const detail::Feature& vertex : last.vertices)
+        if (!alike_around(vertex.index)) return false;
+    return std::all_of(cones.begin(), cones.end(),
+                       [&](Index v) { return v >= last_level.num_vertices || alike_around(v); });
+}
+#endif
+
 }  // namespace
+
+// The level before the last, near the last level's features (limit_from_grandparent_ with tags or boundaries).
+Topology detail::PlanBuilder::limit_parent_near_features(const Topology& grandparent, const LevelState& last) const {
+    const NearFeatures around = grandparent_near_features(grandparent, last, cones_);
+    Topology near = refine_topology_near(grandparent, around.faces, around.vertices);
+    assert(reads_alike_near_features(last.topology, grandparent, near, last, cones_));
+    return near;
+}
 
 // A closed surface without features (limit_from_grandparent_), while the level before the last is planned: the rings
 // of the last level's old vertices of its grandparent are that grandparent's edges in counter-clockwise order, each
@@ -141,8 +251,12 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         SdcRule rule;
         int valence;
         Index crease[2];
+        float crease_sharpness[2];
     };
     std::vector<Classified> classified;
+    // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
+    // than searched among the level's features corner by corner.
+    std::vector<std::pair<Index, Index>> infinite_at;
     std::vector<Spent> spent;  // by vertex
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
@@ -153,6 +267,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::vector<float> far_sharpness;
     for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
         const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
+        for (std::size_t k = 0; k < vertex.edges.size(); ++k)
+            if (is_infinite(vertex.sharpness[k])) infinite_at.push_back({vertex.vertex, vertex.edges[k]});
         types[vertex.vertex] = classify_vertex(rule, vertex, around);
         // A vertex in no triangle has no ring to refine: it stays where it is, whatever its sharpness.
         const bool outlasting = is_semi_sharp(vertex.own_sharpness()) ||
@@ -162,7 +278,15 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             lt.by_side[vertex.vertex] = normal_per_side(spent.back().ring.rule);
             return;
         }
-        classified.push_back({vertex.vertex, rule, int(vertex.edges.size()), {vertex.crease[0], vertex.crease[1]}});
+        auto sharpness_of = [&vertex](Index e) {
+            const auto at = std::find(vertex.edges.begin(), vertex.edges.end(), e);
+            return at == vertex.edges.end() ? 0.0f : vertex.sharpness[std::size_t(at - vertex.edges.begin())];
+        };
+        classified.push_back({vertex.vertex,
+                              rule,
+                              int(vertex.edges.size()),
+                              {vertex.crease[0], vertex.crease[1]},
+                              {sharpness_of(vertex.crease[0]), sharpness_of(vertex.crease[1])}});
         lt.by_side[vertex.vertex] = normal_per_side(rule);
     });
     std::vector<std::pair<Index, Index>> darts;  // OpenSubdiv's, with the far end of their sharp edge
@@ -178,7 +302,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             const Index other = v_first ? edge_ends[1] : edge_ends[0];
             ends[k] = other;
             const EdgeMask edge =
-                rules_->edge_mask({level.edge_sharpness(e), v_first ? types[v] : types[other],
+                rules_->edge_mask({c.crease_sharpness[k], v_first ? types[v] : types[other],
                                    v_first ? types[other] : types[v], around.edge_face_count(e), true});
             vertex_weight[k] = crease_end_weight(edge, v_first);
             if (c.rule == SdcRule::Dart && edge.wings == 0.0) darts.push_back({v, other});
@@ -276,17 +400,22 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     }
     std::vector<int> next, previous;
     std::vector<std::uint8_t> placed;
+    auto infinite = infinite_at.begin();
     for (std::size_t begin = 0; begin < at_sides.size();) {
         std::size_t end = begin;
         while (end < at_sides.size() && at_sides[end].vertex == at_sides[begin].vertex) ++end;
         const int n = int(end - begin);
         const Corner* fan = &at_sides[begin];
+        while (infinite != infinite_at.end() && infinite->first < fan->vertex) ++infinite;
+        auto infinite_end = infinite;
+        while (infinite_end != infinite_at.end() && infinite_end->first == fan->vertex) ++infinite_end;
         next.assign(n, -1);
         previous.assign(n, -1);
         for (int i = 0; i < n; ++i) {
             // Semi-sharp edges are smooth at the limit (their vertices were spent): only infinitely sharp ones part
             // sides.
-            if (is_infinite(level.edge_sharpness(fan[i].edge_b))) continue;
+            const Index edge = fan[i].edge_b;
+            if (std::any_of(infinite, infinite_end, [edge](const auto& at) { return at.second == edge; })) continue;
             for (int j = 0; j < n; ++j) {
                 if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
                     next[i] = j, previous[j] = i;

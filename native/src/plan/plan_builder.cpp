@@ -131,9 +131,9 @@ void PlanBuilder::run() {
         if (limit_from_grandparent_ && last) {
             plan_limit_rings(parent);
             // The last level's vertices next to tags are classified, and their sides found, through the level before
-            // the last: its connectivity, built for them alone (no tables are read from it).
+            // the last: its connectivity around them, built for them alone (no tables are read from it).
             if (!child.edges.empty() || !child.vertices.empty() || !cones_.empty())
-                limit_parent_ = refine_topology(parent, Refined::Connectivity, options_.threads);
+                limit_parent_ = limit_parent_near_features(parent, child);
         }
         retire_parent(parent, l);
         parent = std::move(level.topology);

@@ -75,6 +75,7 @@ private:
     };
     void plan_limit(LevelState& last, const Topology& parent);
     void plan_limit_rings(Topology& grandparent);
+    Topology limit_parent_near_features(const Topology& grandparent, const LevelState& last) const;
     Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
                 std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
     void plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const;
@@ -102,7 +103,7 @@ private:
     // A manifold surface planned with the limit surface over two levels or more (no holes): the
     // level before the last is skipped as without the limit, and the limit pass's rings come from the last level's
     // grandparent (LimitTables::from_grandparent). With tags or boundaries, limit_parent_ is the level before the
-    // last's connectivity, through which plan_limit reads the last level's vertices next to them.
+    // last's connectivity near them, through which plan_limit reads the last level's vertices next to them.
     bool limit_from_grandparent_ = false;
     Topology limit_parent_;
 };

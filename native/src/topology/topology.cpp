@@ -503,6 +503,47 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     return c;
 }
 
+Topology refine_topology_near(const Topology& p, const std::vector<Index>& faces, const std::vector<Index>& also) {
+    const ChildRelations has = relations_of(Refined::Connectivity);
+    Topology c = sized_child(p, has);
+#ifndef NDEBUG
+    for (LargeVector<Index>* array : {&c.face_vertices, &c.face_edges, &c.edge_vertices, &c.vertex_edge_offsets,
+                                      &c.vertex_edges, &c.edge_face_offsets, &c.edge_faces})
+        std::fill(array->begin(), array->end() - (array == &c.vertex_edge_offsets || array == &c.edge_face_offsets),
+                  Index(-1));  // all but the offsets' totals
+#endif
+    // The faces' edges and vertices, each once: marked as met, not sorted (the faces near a boundary are many).
+    std::vector<std::uint8_t> edge_met(std::size_t(p.num_edges()), 0), vertex_met(std::size_t(p.num_vertices), 0);
+    std::vector<Index> edges, vertices;
+    auto meet = [](std::vector<std::uint8_t>& met, std::vector<Index>& list, Index x) {
+        if (!met[x]) met[x] = 1, list.push_back(x);
+    };
+    for (const Index v : also) meet(vertex_met, vertices, v);
+    for (const Index f : faces)
+        for (int k = 0; k < 3; ++k) {
+            meet(edge_met, edges, p.face_edges[3 * std::size_t(f) + k]);
+            meet(vertex_met, vertices, p.face_vertices[3 * std::size_t(f) + k]);
+        }
+    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
+    const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
+    for (const Index f : faces) {
+        populate_child_faces(p, c, has, f, f + 1);
+        populate_interior_edges(p, c, has, f, f + 1);
+        c.edge_face_offsets[interior_base + 3 * f + 3] = faces_of_halves + 2 * (3 * f + 3);
+    }
+    for (const Index e : edges) {
+        populate_halves(p, c, has, e, e + 1, 0, 0);
+        populate_midpoints(p, c, has, e, e + 1);
+        c.edge_face_offsets[2 * e + 2] = 2 * p.edge_face_offsets[e + 1];
+        c.vertex_edge_offsets[nv + e + 1] = child_ring_offset(p, nv + e + 1);
+    }
+    for (const Index v : vertices) {
+        populate_old_vertices(p, c, has, v, v + 1);
+        c.vertex_edge_offsets[v + 1] = child_ring_offset(p, v + 1);
+    }
+    return c;
+}
+
 bool follows_split_numbering(const Topology& p, const Topology& c) {
     const Index nv = p.num_vertices, ne = p.num_edges(), nf = p.num_faces();
     if (c.num_vertices != nv + ne || c.num_faces() != 4 * nf) return false;

@@ -74,6 +74,13 @@ enum class Refined {
 };
 // `threads` share the work (each writes its own slice of every array).
 Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
+// refine_topology(parent, Refined::Connectivity) only where the child descends from parent faces `faces` (without
+// repeats), from their edges and vertices, and from parent vertices `vertices` (a vertex in no face has only
+// itself): there every array holds what the whole split holds, and the offsets just past each such element too (so
+// that counts read right); elsewhere the arrays are sized but not written (-1 in Debug builds). The limit of a surface
+// with few tags reads the level before the last only around them.
+Topology refine_topology_near(const Topology& parent, const std::vector<Index>& faces,
+                              const std::vector<Index>& vertices);
 // Whether `child`, a split of `parent` in any Refined form, holds the numbering above in every array it has, exactly as
 // the derivations from the parent give it. Walks the whole level: Debug builds (the sanitizer run) assert it after
 // each split. The parent must hold its edge faces and vertex edges unless the child has faces only.
