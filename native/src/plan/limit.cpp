@@ -86,7 +86,7 @@ void grandparent_vertices_of(const Topology& g, Index v, Visit visit) {
 // at them. Its reads stay within a feature vertex's fan and its neighbours' (all below the faces at its ancestors);
 // Debug builds check that they agree with the whole level's (reads_alike_near_features).
 struct NearFeatures {
-    std::vector<Index> faces;
+    std::vector<Index> faces;     // in order: the writes below them go through memory once
     std::vector<Index> vertices;  // the ancestors: a vertex in no face has only itself below it
 };
 NearFeatures grandparent_near_features(const Topology& g, const LevelState& last, const std::vector<Index>& cones) {
@@ -108,6 +108,7 @@ NearFeatures grandparent_near_features(const Topology& g, const LevelState& last
     for (const detail::Feature& vertex : last.vertices) add(vertex.index);
     for (const Index v : cones)
         if (v < last.topology.num_vertices) add(v);
+    std::sort(out.faces.begin(), out.faces.end());
     return out;
 }
 
@@ -475,15 +476,19 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     if (lt.from_grandparent) {
         // The vertices past the grandparent's that the SIMD kernels' regular pass does not finish: those with masks,
         // tangents or sides of their own.
-        std::vector<Index>& redone = lt.from_grandparent->redone;
+        // Marked rather than sorted: along a boundary they are thousands, several times over.
         const Index first = lt.from_grandparent->grandparent.num_vertices;
-        for (const SpecialVertex& special : s.special_vertices) redone.push_back(special.vertex);
-        for (const RingWeightedVertex& weighted : s.ring_weighted_vertices) redone.push_back(weighted.vertex);
-        for (const auto& [v, weights] : lt.own_vertex_tangents) redone.push_back(v);
-        redone.insert(redone.end(), by_side.begin(), by_side.end());
-        std::sort(redone.begin(), redone.end());
-        redone.erase(std::unique(redone.begin(), redone.end()), redone.end());
-        redone.erase(redone.begin(), std::lower_bound(redone.begin(), redone.end(), first));
+        std::vector<std::uint8_t> redo(std::size_t(nv - first), 0);
+        auto mark = [&](Index v) {
+            if (v >= first) redo[std::size_t(v - first)] = 1;
+        };
+        for (const SpecialVertex& special : s.special_vertices) mark(special.vertex);
+        for (const RingWeightedVertex& weighted : s.ring_weighted_vertices) mark(weighted.vertex);
+        for (const auto& [v, weights] : lt.own_vertex_tangents) mark(v);
+        for (const Index v : by_side) mark(v);
+        std::vector<Index>& redone = lt.from_grandparent->redone;
+        redone = set_bytes(redo.data(), nv - first);
+        for (Index& v : redone) v += first;
     }
 }
 
