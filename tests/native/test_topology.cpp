@@ -437,6 +437,31 @@ TEST(Topology, FacesBetweenHalvesOfAVertexsEdgeWithoutAWalk) {
     }
 }
 
+// A level known through its parent gives each face's corners and edges as the level itself holds them (the limit plan
+// reads the faces at its vertices next to tags so, not from the level's own far-apart arrays).
+TEST(Topology, DerivedFacesAreTheLevels) {
+    using namespace loopsub::testing;
+    for (const TestMesh& mesh : {icosphere(1), grid(4, 3), fin_on_grid(), open_cylinder(5, 2), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        for_each_split(
+            mesh, false,
+            [](int level, const std::vector<Topology>& levels, const std::vector<int>&,
+               const loopsub::detail::VertexNeighbourhood& built, const loopsub::detail::VertexNeighbourhood& derived) {
+                const Topology& t = levels.back();
+                for (Index f = 0; f < t.num_faces(); ++f) {
+                    Index corners[2][3], edges[2][3];
+                    built.face_vertices(f, corners[0]), derived.face_vertices(f, corners[1]);
+                    built.face_edges(f, edges[0]), derived.face_edges(f, edges[1]);
+                    for (int k = 0; k < 3; ++k) {
+                        ASSERT_EQ(corners[0][k], t.face_vertices[3 * f + k]) << "level " << level;
+                        ASSERT_EQ(corners[1][k], t.face_vertices[3 * f + k]) << "level " << level;
+                        ASSERT_EQ(edges[1][k], edges[0][k]) << "level " << level;
+                    }
+                }
+            });
+    }
+}
+
 // A base vertex keeps its fan through every split: VertexNeighbourhood, given the base, counts the faces between two of
 // its edges on the base, and must agree with the walk around the vertex on the level itself, built or derived.
 TEST(Topology, FacesBetweenAtABaseVertexAreTheBases) {

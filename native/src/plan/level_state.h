@@ -11,6 +11,7 @@
 #include "base/large_allocator.h"
 #include "loopsub/loopsub.h"
 #include "base/parallel.h"
+#include "base/radix_sort.h"
 #include "rules/rules.h"
 #include "topology/topology.h"
 
@@ -95,16 +96,8 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
         if (v < level.topology.num_vertices) *next++ = {v, -1};
     touches.resize(std::size_t(next - touches.data()));
     if (touches.empty()) return;
-    // By vertex, a byte of the index at a time (stable, which the runs do not need), not by comparisons
-    // (docs/benchmark.md, "Measurements behind the code").
-    LargeVector<Touch> sorted(touches.size());
-    for (int shift = 0; shift < 32 && (std::uint32_t(level.topology.num_vertices) - 1) >> shift; shift += 8) {
-        std::size_t count[257] = {};
-        for (const Touch& t : touches) ++count[(std::uint32_t(t.vertex) >> shift & 0xff) + 1];
-        for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
-        for (const Touch& t : touches) sorted[count[std::uint32_t(t.vertex) >> shift & 0xff]++] = t;
-        touches.swap(sorted);
-    }
+    // By vertex, a byte of the index at a time (stable, which the runs do not need), not by comparisons.
+    radix_sort(touches, std::uint32_t(level.topology.num_vertices) - 1, [](const Touch& t) { return t.vertex; });
 
     run_levels(parts, 1, [&](int, int part, int part_count) {
         // A part starts where a vertex's run starts.

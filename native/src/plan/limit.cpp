@@ -15,10 +15,12 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <utility>
 
 #include "plan/level_state.h"
 #include "base/parallel.h"
+#include "base/radix_sort.h"
 #include "plan/plan_builder.h"
 #include "topology/triangle_corners.h"
 
@@ -140,9 +142,12 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
         through_near.corners(v, a), through_whole.corners(v, b);
         if (a != b) return false;
         for (const Index c : b) {
-            Index face_edges[2][3];
+            Index face_edges[2][3], face_vertices[2][3];
             through_near.face_edges(c / 3, face_edges[0]), through_whole.face_edges(c / 3, face_edges[1]);
-            if (!std::equal(face_edges[0], face_edges[0] + 3, face_edges[1])) return false;
+            through_near.face_vertices(c / 3, face_vertices[0]), through_whole.face_vertices(c / 3, face_vertices[1]);
+            if (!std::equal(face_edges[0], face_edges[0] + 3, face_edges[1]) ||
+                !std::equal(face_vertices[0], face_vertices[0] + 3, face_vertices[1]))
+                return false;
         }
         return true;
     };
@@ -166,7 +171,7 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
 // The level before the last, near the last level's features (limit_from_grandparent_ with tags or boundaries).
 Topology detail::PlanBuilder::limit_parent_near_features(const Topology& grandparent, const LevelState& last) const {
     const NearFeatures around = grandparent_near_features(grandparent, last, cones_);
-    Topology near = refine_topology_near(grandparent, around.faces, around.vertices);
+    Topology near = refine_topology_near(grandparent, around.faces, around.vertices, options_.threads);
     assert(reads_alike_near_features(last.topology, grandparent, near, last, cones_));
     return near;
 }
@@ -254,42 +259,57 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         Index crease[2];
         float crease_sharpness[2];
     };
-    std::vector<Classified> classified;
     // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
     // than searched among the level's features corner by corner.
-    std::vector<std::pair<Index, Index>> infinite_at;
-    std::vector<Spent> spent;  // by vertex
+    struct Visited {
+        std::vector<Classified> classified;
+        std::vector<std::pair<Index, Index>> infinite_at;
+        std::vector<Spent> spent;  // by vertex
+        std::vector<Index> far_edges;
+        std::vector<float> far_sharpness;
+    };
+    const int parts = std::max(1, options_.threads);
+    std::vector<Visited> visited(static_cast<std::size_t>(parts));
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
     // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
     const bool through_parent = lt.from_grandparent || !level.own_neighbourhood;
     const VertexNeighbourhood around(t, through_parent ? &parent : nullptr, &plan_.level_num_vertices, base_for_walks_);
-    std::vector<Index> far_edges;
-    std::vector<float> far_sharpness;
-    for_each_feature_vertex(level, cones_, around, [&](const FeatureVertex& vertex, int) {
+    auto visit = [&](const FeatureVertex& vertex, int part) {
+        Visited& out = visited[std::size_t(part)];
         const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
         for (std::size_t k = 0; k < vertex.edges.size(); ++k)
-            if (is_infinite(vertex.sharpness[k])) infinite_at.push_back({vertex.vertex, vertex.edges[k]});
+            if (is_infinite(vertex.sharpness[k])) out.infinite_at.push_back({vertex.vertex, vertex.edges[k]});
         types[vertex.vertex] = classify_vertex(rule, vertex, around);
         // A vertex in no triangle has no ring to refine: it stays where it is, whatever its sharpness.
         const bool outlasting = is_semi_sharp(vertex.own_sharpness()) ||
                                 std::any_of(vertex.sharpness.begin(), vertex.sharpness.end(), is_semi_sharp);
         if (outlasting && !vertex.edges.empty()) {
-            spent.push_back(spend(level, around, vertex, far_edges, far_sharpness));
-            lt.by_side[vertex.vertex] = normal_per_side(spent.back().ring.rule);
+            out.spent.push_back(spend(level, around, vertex, out.far_edges, out.far_sharpness));
+            lt.by_side[vertex.vertex] = normal_per_side(out.spent.back().ring.rule);
             return;
         }
         auto sharpness_of = [&vertex](Index e) {
             const auto at = std::find(vertex.edges.begin(), vertex.edges.end(), e);
             return at == vertex.edges.end() ? 0.0f : vertex.sharpness[std::size_t(at - vertex.edges.begin())];
         };
-        classified.push_back({vertex.vertex,
-                              rule,
-                              int(vertex.edges.size()),
-                              {vertex.crease[0], vertex.crease[1]},
-                              {sharpness_of(vertex.crease[0]), sharpness_of(vertex.crease[1])}});
+        out.classified.push_back({vertex.vertex,
+                                  rule,
+                                  int(vertex.edges.size()),
+                                  {vertex.crease[0], vertex.crease[1]},
+                                  {sharpness_of(vertex.crease[0]), sharpness_of(vertex.crease[1])}});
         lt.by_side[vertex.vertex] = normal_per_side(rule);
-    });
+    };
+    // On the plan's threads, each part in vertex order, joined in part order.
+    for_each_feature_vertex(level, cones_, around, visit, parts);
+    std::vector<Classified> classified;
+    std::vector<std::pair<Index, Index>> infinite_at;
+    std::vector<Spent> spent;  // by vertex
+    for (Visited& part : visited) {
+        classified.insert(classified.end(), part.classified.begin(), part.classified.end());
+        infinite_at.insert(infinite_at.end(), part.infinite_at.begin(), part.infinite_at.end());
+        std::move(part.spent.begin(), part.spent.end(), std::back_inserter(spent));
+    }
     std::vector<std::pair<Index, Index>> darts;  // OpenSubdiv's, with the far end of their sharp edge
     for (const Classified& c : classified) {
         const Index v = c.vertex;
@@ -344,9 +364,10 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         auto end_of = [&t](Index e, Index v) {
             return 2 * std::size_t(e) + std::size_t(t.edge_vertices[2 * std::size_t(e) + 1] == v);
         };
+        std::vector<Index> edges;
         for (Index v = 0, slot = 0; v < nv; ++v) {
-            around.edges(v, far_edges);
-            for (const Index e : far_edges) slot_at[end_of(e, v)] = slot++;
+            around.edges(v, edges);
+            for (const Index e : edges) slot_at[end_of(e, v)] = slot++;
         }
         s.ring_offsets = t.vertex_edge_offsets;  // a copy: the sides below find their corners through the level
         s.ring = std::move(t.vertex_vertices);
@@ -379,26 +400,33 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             else lt.by_side[v] = 1;
         }
     }
-    const LargeVector<Index>& tri = t.face_vertices;
-
     // Sides: the corners at each such vertex, chained across the smooth edges they share.
     struct Corner {
         Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
     };
-    std::vector<Corner> at_sides;  // in vertex order, each vertex's corners in order
-    std::vector<Index> corners_at;
     const std::vector<Index> by_side = set_bytes(lt.by_side.data(), nv);
-    for (const Index v : by_side) {
-        around.corners(v, corners_at);
-        for (const Index c : corners_at) {
-            const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
-            const int k = int(c % 3);
-            Index edges[3];
-            around.face_edges(Index(face / 3), edges);
-            at_sides.push_back(
-                {v, c, tri[face + next_corner(k)], tri[face + prev_corner(k)], edges[k], edges[prev_corner(k)]});
+    std::vector<std::vector<Corner>> corners_by_part(static_cast<std::size_t>(parts));
+    run_levels(parts, 1, [&](int, int part, int count) {
+        std::vector<Corner>& out = corners_by_part[std::size_t(part)];
+        std::vector<Index> corners_at;
+        const auto [first, last] = part_of(by_side.size(), part, count);
+        for (std::size_t i = first; i < last; ++i) {
+            const Index v = by_side[i];
+            around.corners(v, corners_at);
+            for (const Index c : corners_at) {
+                const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
+                const int k = int(c % 3);
+                // The face through `around`: the level's own triangles are far apart in memory.
+                Index edges[3], corners[3];
+                around.face_edges(Index(face / 3), edges);
+                around.face_vertices(Index(face / 3), corners);
+                out.push_back(
+                    {v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
+            }
         }
-    }
+    });
+    std::vector<Corner> at_sides;  // in vertex order, each vertex's corners in order
+    for (const std::vector<Corner>& part : corners_by_part) at_sides.insert(at_sides.end(), part.begin(), part.end());
     std::vector<int> next, previous;
     std::vector<std::uint8_t> placed;
     auto infinite = infinite_at.begin();
@@ -458,7 +486,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         }
         begin = end;
     }
-    std::sort(lt.corner_sides.begin(), lt.corner_sides.end());
+    // By corner (each corner is on one side).
+    radix_sort(lt.corner_sides, std::uint32_t(t.face_vertices.size()),
+               [](const std::pair<Index, Index>& at) { return at.first; });
     int max_side_faces = 0;
     for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
     lt.side_t1.resize(max_side_faces + 1);
@@ -476,19 +506,22 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     if (lt.from_grandparent) {
         // The vertices past the grandparent's that the SIMD kernels' regular pass does not finish: those with masks,
         // tangents or sides of their own.
-        // Marked rather than sorted: along a boundary they are thousands, several times over.
-        const Index first = lt.from_grandparent->grandparent.num_vertices;
-        std::vector<std::uint8_t> redo(std::size_t(nv - first), 0);
-        auto mark = [&](Index v) {
-            if (v >= first) redo[std::size_t(v - first)] = 1;
-        };
-        for (const SpecialVertex& special : s.special_vertices) mark(special.vertex);
-        for (const RingWeightedVertex& weighted : s.ring_weighted_vertices) mark(weighted.vertex);
-        for (const auto& [v, weights] : lt.own_vertex_tangents) mark(v);
-        for (const Index v : by_side) mark(v);
+        // Each list is in vertex order (the special masks but for spent vertices'): merged, not sorted.
+        std::vector<Index> specials, weighted, tangents;
+        for (const SpecialVertex& special : s.special_vertices) specials.push_back(special.vertex);
+        if (!std::is_sorted(specials.begin(), specials.end())) std::sort(specials.begin(), specials.end());
+        for (const RingWeightedVertex& vertex : s.ring_weighted_vertices) weighted.push_back(vertex.vertex);
+        for (const auto& [v, weights] : lt.own_vertex_tangents) tangents.push_back(v);
         std::vector<Index>& redone = lt.from_grandparent->redone;
-        redone = set_bytes(redo.data(), nv - first);
-        for (Index& v : redone) v += first;
+        const std::vector<Index>* lists[] = {&specials, &weighted, &tangents, &by_side};
+        for (const std::vector<Index>* list : lists) {
+            const std::size_t middle = redone.size();
+            redone.insert(redone.end(), list->begin(), list->end());
+            std::inplace_merge(redone.begin(), redone.begin() + std::ptrdiff_t(middle), redone.end());
+        }
+        redone.erase(std::unique(redone.begin(), redone.end()), redone.end());
+        redone.erase(redone.begin(),
+                     std::lower_bound(redone.begin(), redone.end(), lt.from_grandparent->grandparent.num_vertices));
     }
 }
 

@@ -503,7 +503,8 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     return c;
 }
 
-Topology refine_topology_near(const Topology& p, const std::vector<Index>& faces, const std::vector<Index>& also) {
+Topology refine_topology_near(const Topology& p, const std::vector<Index>& faces, const std::vector<Index>& also,
+                              int threads) {
     const ChildRelations has = relations_of(Refined::Connectivity);
     Topology c = sized_child(p, has);
 #ifndef NDEBUG
@@ -524,23 +525,30 @@ Topology refine_topology_near(const Topology& p, const std::vector<Index>& faces
             meet(edge_met, edges, p.face_edges[3 * std::size_t(f) + k]);
             meet(vertex_met, vertices, p.face_vertices[3 * std::size_t(f) + k]);
         }
+    // Each part fills its share of the lists, each element its own slots (as refine_topology's parts); then the
+    // offsets just past each element, which the next element's fill may also have written, the same value.
+    run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
+        const auto [f0, f1] = part_of(faces.size(), part, parts);
+        for (std::size_t i = f0; i < f1; ++i) {
+            populate_child_faces(p, c, has, faces[i], faces[i] + 1);
+            populate_interior_edges(p, c, has, faces[i], faces[i] + 1);
+        }
+        const auto [e0, e1] = part_of(edges.size(), part, parts);
+        for (std::size_t i = e0; i < e1; ++i) {
+            populate_halves(p, c, has, edges[i], edges[i] + 1, 0, 0);
+            populate_midpoints(p, c, has, edges[i], edges[i] + 1);
+        }
+        const auto [v0, v1] = part_of(vertices.size(), part, parts);
+        for (std::size_t i = v0; i < v1; ++i) populate_old_vertices(p, c, has, vertices[i], vertices[i] + 1);
+    });
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
     const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
-    for (const Index f : faces) {
-        populate_child_faces(p, c, has, f, f + 1);
-        populate_interior_edges(p, c, has, f, f + 1);
-        c.edge_face_offsets[interior_base + 3 * f + 3] = faces_of_halves + 2 * (3 * f + 3);
-    }
+    for (const Index f : faces) c.edge_face_offsets[interior_base + 3 * f + 3] = faces_of_halves + 2 * (3 * f + 3);
     for (const Index e : edges) {
-        populate_halves(p, c, has, e, e + 1, 0, 0);
-        populate_midpoints(p, c, has, e, e + 1);
         c.edge_face_offsets[2 * e + 2] = 2 * p.edge_face_offsets[e + 1];
         c.vertex_edge_offsets[nv + e + 1] = child_ring_offset(p, nv + e + 1);
     }
-    for (const Index v : vertices) {
-        populate_old_vertices(p, c, has, v, v + 1);
-        c.vertex_edge_offsets[v + 1] = child_ring_offset(p, v + 1);
-    }
+    for (const Index v : vertices) c.vertex_edge_offsets[v + 1] = child_ring_offset(p, v + 1);
     return c;
 }
 
@@ -1130,6 +1138,23 @@ void VertexNeighbourhood::face_edges(Index f, Index edges[3]) const {
         return;
     }
     child_face_edges(*parent_, f, edges);
+}
+
+void VertexNeighbourhood::face_vertices(Index f, Index vertices[3]) const {
+    if (!parent_) {
+        std::copy_n(&level_.face_vertices[3 * std::size_t(f)], 3, vertices);
+        return;
+    }
+    // Child face 4q + j of parent face q: the corner child (v_j, m_j, m_j-1), or the middle child (m_0, m_1, m_2).
+    const Index q = f / 4, nv = parent_->num_vertices;
+    const int j = int(f % 4);
+    const Index* v = &parent_->face_vertices[3 * std::size_t(q)];
+    const Index* e = &parent_->face_edges[3 * std::size_t(q)];
+    if (j == 3) {
+        vertices[0] = nv + e[0], vertices[1] = nv + e[1], vertices[2] = nv + e[2];
+        return;
+    }
+    vertices[0] = v[j], vertices[1] = nv + e[j], vertices[2] = nv + e[prev_corner(j)];
 }
 
 void VertexNeighbourhood::corners(Index v, std::vector<Index>& out) const {

@@ -78,9 +78,9 @@ Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
 // repeats), from their edges and vertices, and from parent vertices `vertices` (a vertex in no face has only
 // itself): there every array holds what the whole split holds, and the offsets just past each such element too (so
 // that counts read right); elsewhere the arrays are sized but not written (-1 in Debug builds). The limit of a surface
-// with few tags reads the level before the last only around them.
+// with few tags reads the level before the last only around them. `threads` share the work.
 Topology refine_topology_near(const Topology& parent, const std::vector<Index>& faces,
-                              const std::vector<Index>& vertices);
+                              const std::vector<Index>& vertices, int threads = 1);
 // Whether `child`, a split of `parent` in any Refined form, holds the numbering above in every array it has, exactly as
 // the derivations from the parent give it. Walks the whole level: Debug builds (the sanitizer run) assert it after
 // each split. The parent must hold its edge faces and vertex edges unless the child has faces only.
@@ -132,6 +132,8 @@ public:
     void wings(Index e, Index& c, Index& d) const;
     // The edges of face f, as Topology::face_edges.
     void face_edges(Index f, Index edges[3]) const;
+    // The corners of face f, as Topology::face_vertices: derived, without a read of the level's own (large) array.
+    void face_vertices(Index f, Index vertices[3]) const;
     // The corners at vertex v (3 f + k where corner k of face f is v), in increasing order. The level, or its
     // parent, must hold its edge faces and vertex edges.
     void corners(Index v, std::vector<Index>& out) const;
