@@ -710,6 +710,25 @@ int lattice_rate(const ScreenRates& rates, int a, int b) {
 // 8/3 times 3/2): the chord between them at 1/2 + 1/4, so the bulge is 1/4, (h^2 / 8) t'Ht. At the midpoint's depth
 // 3.5, 0.25 * 50 / 3.5 = 3.57 pixels: sqrt(3.57 / 0.2) = 4.2 -> 5 segments. The midpoint's distance from the old ends'
 // midpoint, (c + d - a - b) / 8, is 0 there: blind to the curve along the edge.
+// An edge whose ends' coordinates sum past the float range (each end finite, the edge itself short) is measured at
+// its midpoint all the same: a rate between 1 and the cap, by length and by deviation, not a NaN made an integer (the
+// fuzzer's find: the midpoint was half of an overflowed sum).
+TEST(ScreenRates, AnEdgeFarOutIsMeasuredAtAFiniteMidpoint) {
+    const float far_out = 3.0e38f;
+    MeshData mesh;
+    mesh.positions = {far_out, 0, -2, far_out, 1, -2, far_out, 0, -3};
+    mesh.triangles = {0, 1, 2};
+    for (DicingMeasure measure : {DicingMeasure::Length, DicingMeasure::Deviation}) {
+        const ScreenRates rates =
+            screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 1.0f, 64, measure);
+        ASSERT_EQ(rates.rates.size(), 3u);
+        for (int rate : rates.rates) {
+            EXPECT_GE(rate, 1);
+            EXPECT_LE(rate, 64);
+        }
+    }
+}
+
 TEST(ScreenRates, ByDeviationAnEdgeIsHeldToItsCurveAlongIt) {
     const MeshData curved = lattice([](double x, double y) { return x * x + y * y / 3.0; });
     const int a = 3 * 9 + 4, b = a + 1;

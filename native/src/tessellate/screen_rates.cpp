@@ -207,13 +207,15 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         const std::int32_t a = std::int32_t(keys[e] >> 32), b = std::int32_t(keys[e] & 0xffffffffu);
         const float* pa = positions + 3 * std::size_t(a);
         const float* pb = positions + 3 * std::size_t(b);
-        float middle[3], offset[3];  // the edge's midpoint, and what is measured there: the edge or its bulge
-        for (int k = 0; k < 3; ++k) middle[k] = 0.5f * (pa[k] + pb[k]), offset[k] = pb[k] - pa[k];
+        // The edge's midpoint (halves added: the sum of two finite ends may pass the float range), and what is
+        // measured there: the edge or its bulge.
+        float middle[3], offset[3];
+        for (int k = 0; k < 3; ++k) middle[k] = 0.5f * pa[k] + 0.5f * pb[k], offset[k] = pb[k] - pa[k];
         if (by_deviation) split.bulge(e, a, b, offset);
         const Clip p = to_clip(m, pa), q = to_clip(m, pb), mid = to_clip(m, middle);
         const double length =
             std::sqrt(double(offset[0]) * offset[0] + double(offset[1]) * offset[1] + double(offset[2]) * offset[2]);
-        if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + length))
+        if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + mid.w + length))
             fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is too large to measure");
         int rate = 1;
         if (p.w > 0.0 || q.w > 0.0) {  // else both ends are behind the camera: unseen, one segment
