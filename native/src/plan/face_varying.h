@@ -65,7 +65,7 @@ private:
         std::vector<float> parent_edges, child_edges;
     };
     // A part's share of a level's special masks, joined in part order (the order of one part).
-    struct PartOutput {
+    struct alignas(64) PartOutput {  // a cache line apart: each part pushes to its own
         std::vector<SpecialVertex> vertices;
         std::vector<SpecialEdge> edges;
         std::vector<RingWeightedVertex> ring_weighted;  // the limit's: `first` counts in the part's own ring_weights

@@ -261,7 +261,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
     // than searched among the level's features corner by corner.
-    struct Visited {
+    struct alignas(64) Visited {  // a cache line apart: each part pushes to its own
         std::vector<Classified> classified;
         std::vector<std::pair<Index, Index>> infinite_at;
         std::vector<Spent> spent;  // by vertex
@@ -407,7 +407,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     const std::vector<Index> by_side = set_bytes(lt.by_side.data(), nv);
     std::vector<std::vector<Corner>> corners_by_part(static_cast<std::size_t>(parts));
     run_levels(parts, 1, [&](int, int part, int count) {
-        std::vector<Corner>& out = corners_by_part[std::size_t(part)];
+        std::vector<Corner> out;  // handed over at the end: parts that pushed to neighbouring vectors shared a line
         std::vector<Index> corners_at;
         const auto [first, last] = part_of(by_side.size(), part, count);
         for (std::size_t i = first; i < last; ++i) {
@@ -424,67 +424,100 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
                     {v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
             }
         }
+        corners_by_part[std::size_t(part)] = std::move(out);
     });
     std::vector<Corner> at_sides;  // in vertex order, each vertex's corners in order
     for (const std::vector<Corner>& part : corners_by_part) at_sides.insert(at_sides.end(), part.begin(), part.end());
-    std::vector<int> next, previous;
-    std::vector<std::uint8_t> placed;
-    auto infinite = infinite_at.begin();
-    for (std::size_t begin = 0; begin < at_sides.size();) {
-        std::size_t end = begin;
-        while (end < at_sides.size() && at_sides[end].vertex == at_sides[begin].vertex) ++end;
-        const int n = int(end - begin);
-        const Corner* fan = &at_sides[begin];
-        while (infinite != infinite_at.end() && infinite->first < fan->vertex) ++infinite;
-        auto infinite_end = infinite;
-        while (infinite_end != infinite_at.end() && infinite_end->first == fan->vertex) ++infinite_end;
-        next.assign(n, -1);
-        previous.assign(n, -1);
-        for (int i = 0; i < n; ++i) {
-            // Semi-sharp edges are smooth at the limit (their vertices were spent): only infinitely sharp ones part
-            // sides.
-            const Index edge = fan[i].edge_b;
-            if (std::any_of(infinite, infinite_end, [edge](const auto& at) { return at.second == edge; })) continue;
-            for (int j = 0; j < n; ++j) {
-                if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
-                    next[i] = j, previous[j] = i;
-                    break;
+    // Each vertex's sides on their own: the vertices in parts on the plan's threads, each part's rows counted from
+    // its own first, then joined in vertex order with its rows and points placed after the earlier parts'.
+    struct SidesPart {
+        std::vector<LimitTables::Side> sides;
+        std::vector<Index> side_points;
+        std::vector<std::pair<Index, Index>> corner_sides;
+        int rows = 0;
+    };
+    std::vector<SidesPart> sides_by_part(static_cast<std::size_t>(parts));
+    run_levels(parts, 1, [&](int, int part, int count) {
+        SidesPart out;                                 // handed over at the end, as the corners
+        auto run_start = [&at_sides](std::size_t i) {  // a part starts where a vertex's corners start
+            while (i > 0 && i < at_sides.size() && at_sides[i].vertex == at_sides[i - 1].vertex) ++i;
+            return i;
+        };
+        const auto [part_begin, part_end] = part_of(at_sides.size(), part, count);
+        const std::size_t first = run_start(part_begin), last = run_start(part_end);
+        if (first >= last) return;
+        auto infinite = std::lower_bound(infinite_at.begin(), infinite_at.end(), at_sides[first].vertex,
+                                         [](const std::pair<Index, Index>& at, Index v) { return at.first < v; });
+        std::vector<int> next, previous;
+        std::vector<std::uint8_t> placed;
+        for (std::size_t begin = first; begin < last;) {
+            std::size_t end = begin;
+            while (end < last && at_sides[end].vertex == at_sides[begin].vertex) ++end;
+            const int n = int(end - begin);
+            const Corner* fan = &at_sides[begin];
+            while (infinite != infinite_at.end() && infinite->first < fan->vertex) ++infinite;
+            auto infinite_end = infinite;
+            while (infinite_end != infinite_at.end() && infinite_end->first == fan->vertex) ++infinite_end;
+            next.assign(n, -1);
+            previous.assign(n, -1);
+            for (int i = 0; i < n; ++i) {
+                // Semi-sharp edges are smooth at the limit (their vertices were spent): only infinitely sharp ones
+                // part sides.
+                const Index edge = fan[i].edge_b;
+                if (std::any_of(infinite, infinite_end, [edge](const auto& at) { return at.second == edge; })) continue;
+                for (int j = 0; j < n; ++j) {
+                    if (j != i && previous[j] < 0 && fan[j].edge_a == fan[i].edge_b && fan[j].a == fan[i].b) {
+                        next[i] = j, previous[j] = i;
+                        break;
+                    }
                 }
             }
+            placed.assign(n, 0);
+            const std::size_t first_side = out.sides.size(), first_corner = out.corner_sides.size();
+            auto add_side = [&](int start, bool closed) {
+                const Index row = nv + out.rows++;
+                LimitTables::Side& entry = out.sides.emplace_back();
+                entry.vertex = fan[start].vertex;
+                entry.first = Index(out.side_points.size());
+                entry.closed = closed;
+                entry.corner = types[fan[start].vertex] == VertexType::Corner;
+                entry.own = -1;
+                entry.row = row;
+                int faces = 0, i = start, end_face = start;
+                do {
+                    placed[i] = 1;
+                    out.side_points.push_back(fan[i].a);
+                    out.corner_sides.push_back({fan[i].corner, row});
+                    ++faces;
+                    end_face = i;
+                    i = next[i];
+                } while (i >= 0 && i != start);
+                if (!closed) out.side_points.push_back(fan[end_face].b);
+                entry.faces = faces;
+            };
+            for (int i = 0; i < n; ++i)
+                if (previous[i] < 0) add_side(i, false);
+            for (int i = 0; i < n; ++i)
+                if (!placed[i]) add_side(i, true);
+            if (out.sides.size() == first_side + 1) {  // the vertex's only side: its normal is the vertex's own
+                out.sides.back().row = out.sides.back().vertex;
+                --out.rows;
+                out.corner_sides.resize(first_corner);
+            }
+            begin = end;
         }
-        placed.assign(n, 0);
-        const std::size_t first_side = lt.sides.size(), first_corner = lt.corner_sides.size();
-        auto add_side = [&](int start, bool closed) {
-            const Index row = nv + lt.num_side_rows++;
-            LimitTables::Side& entry = lt.sides.emplace_back();
-            entry.vertex = fan[start].vertex;
-            entry.first = Index(lt.side_points.size());
-            entry.closed = closed;
-            entry.corner = types[fan[start].vertex] == VertexType::Corner;
-            entry.own = -1;
-            entry.row = row;
-            int faces = 0, i = start, last = start;
-            do {
-                placed[i] = 1;
-                lt.side_points.push_back(fan[i].a);
-                lt.corner_sides.push_back({fan[i].corner, row});
-                ++faces;
-                last = i;
-                i = next[i];
-            } while (i >= 0 && i != start);
-            if (!closed) lt.side_points.push_back(fan[last].b);
-            entry.faces = faces;
-        };
-        for (int i = 0; i < n; ++i)
-            if (previous[i] < 0) add_side(i, false);
-        for (int i = 0; i < n; ++i)
-            if (!placed[i]) add_side(i, true);
-        if (lt.sides.size() == first_side + 1) {  // the vertex's only side: its normal is the vertex's own
-            lt.sides.back().row = lt.sides.back().vertex;
-            --lt.num_side_rows;
-            lt.corner_sides.resize(first_corner);
+        sides_by_part[std::size_t(part)] = std::move(out);
+    });
+    for (const SidesPart& part : sides_by_part) {
+        const Index rows_before = lt.num_side_rows, points_before = Index(lt.side_points.size());
+        for (LimitTables::Side side : part.sides) {
+            side.first += points_before;
+            if (side.row >= nv) side.row += rows_before;
+            lt.sides.push_back(side);
         }
-        begin = end;
+        lt.side_points.insert(lt.side_points.end(), part.side_points.begin(), part.side_points.end());
+        for (const auto& [corner, row] : part.corner_sides) lt.corner_sides.push_back({corner, row + rows_before});
+        lt.num_side_rows += part.rows;
     }
     // By corner (each corner is on one side).
     radix_sort(lt.corner_sides, std::uint32_t(t.face_vertices.size()),

@@ -69,8 +69,8 @@ struct PlanBuilder::Step {
 };
 
 // Each thread's share of plan_feature_vertices, joined in vertex order after.
-struct PlanBuilder::PartOutput {
-    std::vector<Feature> edges, vertices;  // child features
+struct alignas(64) PlanBuilder::PartOutput {  // a cache line apart: each part pushes to its own
+    std::vector<Feature> edges, vertices;     // child features
     std::vector<SpecialVertex> specials;
     std::vector<std::pair<Index, VertexType>> last_types;
     std::vector<float> child_sharpness;  // scratch of decay_into_child
