@@ -37,19 +37,19 @@ class Cage(Topology):
 
     def __init__(self, mesh):
         num_vertices = len(mesh.vertices)
-        self.positions = read_array(mesh.vertices, "co", num_vertices, 3, np.float32)
-        mesh.calc_loop_triangles()
-        num_triangles = len(mesh.loop_triangles)
-        self.triangle_loops = read_array(mesh.loop_triangles, "loops", num_triangles, 3, np.int32)
-        self.triangle_polygons = read_array(mesh.loop_triangles, "polygon_index", num_triangles, 1, np.int32)
+        self.positions = compat.read_positions(mesh)
         self.num_polygons = len(mesh.polygons)
         self.num_loops = len(mesh.loops)
-        loop_totals = read_array(mesh.polygons, "loop_total", self.num_polygons, 1, np.int32)
-        self.num_triangulated = int(np.count_nonzero(loop_totals != 3))
-        loop_edges = read_array(mesh.loops, "edge_index", self.num_loops, 1, np.int32)
+        loop_vertices, loop_edges = compat.read_corners(mesh)
+        self.triangle_loops, self.triangle_polygons, triangles = compat.read_loop_triangles(mesh, loop_vertices)
+        # Every face has three corners or more: as many corners as three per face, and none is triangulated.
+        self.num_triangulated = 0
+        if self.num_loops != 3 * self.num_polygons:
+            loop_totals = read_array(mesh.polygons, "loop_total", self.num_polygons, 1, np.int32)
+            self.num_triangulated = int(np.count_nonzero(loop_totals != 3))
         super().__init__(num_vertices,
-                         read_array(mesh.loop_triangles, "vertices", num_triangles, 3, np.int32),
-                         read_array(mesh.edges, "vertices", len(mesh.edges), 2, np.int32),
+                         triangles,
+                         compat.read_edge_vertices(mesh),
                          geometry.edge_face_counts(loop_edges, len(mesh.edges)),
                          compat.read_edge_creases(mesh),
                          compat.read_vertex_creases(mesh))
@@ -260,8 +260,7 @@ class Source:
         self.vertex.add("groups", self.group_weights)
 
         # Edge data passes to the child edges on each cage edge: seam and sharp marks, edge attributes.
-        self.edge_flags = {prop: read_array(mesh.edges, prop, len(mesh.edges), 1, np.bool_)
-                           for prop in ("use_seam", "use_edge_sharp")}
+        self.edge_flags = compat.read_edge_flags(mesh)
         self.edge_values = [read_attribute(mesh.attributes[name], len(mesh.edges)) for name, _, _ in self.edge]
 
         # UV maps: face-varying layers with their own topology (a seam splits the value, not the vertex), refined as
@@ -286,8 +285,7 @@ class Source:
         self.limit_normals = options.use_limit_surface and not self.custom_normals
         self.blender_corners = None  # result corners that keep Blender's own normal (build_mesh sets it)
 
-        self.materials = read_array(mesh.polygons, "material_index", cage.num_polygons, 1, np.int32)
-        self.smooth = read_array(mesh.polygons, "use_smooth", cage.num_polygons, 1, np.bool_)
+        self.materials, self.smooth = compat.read_face_materials_and_smooth(mesh)
         self.face_values = [read_attribute(mesh.attributes[name], cage.num_polygons) for name, _, _ in self.face]
         if not known:
             self.messages += _normal_notes(obj.name, mesh, self)
