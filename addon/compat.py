@@ -183,18 +183,20 @@ def read_loop_triangles(mesh, corner_vertices):
     """Blender's triangulation of the faces: each triangle's corners (loops), face and vertices, (T, 3), (T,), (T, 3)
     int32. A mesh of triangles alone is its own: from 4.0 face i's corners are 3i, 3i + 1 and 3i + 2, and Blender's
     triangle of a triangle takes them in order, so nothing is computed or read (it was 15 ms of a 80,000-triangle
-    cage's reading in 4.5)."""
+    cage's reading in 4.5). Other meshes read their triangles' corners and faces, and take the vertices from the
+    corners'."""
     num_faces = len(mesh.polygons)
     if READS_ATTRIBUTES and len(mesh.loops) == 3 * num_faces:  # every face has three corners or more
         loops = np.arange(3 * num_faces, dtype=np.int32).reshape(num_faces, 3)
         return loops, np.arange(num_faces, dtype=np.int32), corner_vertices.reshape(num_faces, 3)
     mesh.calc_loop_triangles()
     count = len(mesh.loop_triangles)
-    loops, faces, vertices = (np.empty(n * count, dtype=np.int32) for n in (3, 1, 3))
+    loops, faces = np.empty(3 * count, dtype=np.int32), np.empty(count, dtype=np.int32)
     mesh.loop_triangles.foreach_get("loops", loops)
     mesh.loop_triangles.foreach_get("polygon_index", faces)
-    mesh.loop_triangles.foreach_get("vertices", vertices)
-    return loops.reshape(count, 3), faces, vertices.reshape(count, 3)
+    loops = loops.reshape(count, 3)
+    # A triangle's vertices are its corners' (what MeshLoopTriangle.vertices reads, element by element).
+    return loops, faces, corner_vertices[loops]
 
 
 def _read_flags(mesh, name, default, legacy, legacy_prop, count):
