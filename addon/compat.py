@@ -17,13 +17,16 @@ import math
 import bpy
 import numpy as np
 
+from .mesh_data import read_array
+
 USES_CREASE_ATTRIBUTES = bpy.app.version >= (4, 0, 0)
 EDGE_CREASE_ATTRIBUTE = "crease_edge"
 VERTEX_CREASE_ATTRIBUTE = "crease_vert"
 
 
-def _read_attribute(mesh, name, domain_size):
-    values = np.zeros(domain_size, dtype=np.float32)
+def _read_attribute(mesh, name, domain_size, dtype=np.float32):
+    """The generic attribute `name`'s values, zero (False) where the mesh has none."""
+    values = np.zeros(domain_size, dtype=dtype)
     attribute = mesh.attributes.get(name)
     if attribute is not None:
         attribute.data.foreach_get("value", values)
@@ -145,94 +148,6 @@ def _write_array(mesh, name, prop, legacy, legacy_prop, values):
         legacy.foreach_set(legacy_prop, values)
 
 
-# Reading the cage the same way (4.0 and later: face offsets are offsets, so the faces' corners follow one another):
-# foreach_get on the attribute copies the array in one block, where the legacy collections go element by element,
-# 0.01 ms against 1-8 ms each for a 40,000-quad grid's vertices, corners and edges in 4.5 (docs/benchmark.md). Every
-# live update reads the cage anew.
-READS_ATTRIBUTES = bpy.app.version >= (4, 0, 0)
-
-
-def _read_array(mesh, name, prop, legacy, legacy_prop, count, width, dtype):
-    values = np.empty(count * width, dtype=dtype)
-    attribute = mesh.attributes.get(name) if READS_ATTRIBUTES else None
-    if attribute is not None:
-        attribute.data.foreach_get(prop, values)
-    else:
-        legacy.foreach_get(legacy_prop, values)
-    return values.reshape(count, width) if width > 1 else values
-
-
-def read_positions(mesh):
-    """The vertices' positions, (V, 3) float32."""
-    return _read_array(mesh, "position", "vector", mesh.vertices, "co", len(mesh.vertices), 3, np.float32)
-
-
-def read_edge_vertices(mesh):
-    """The edges' vertex pairs, (E, 2) int32."""
-    return _read_array(mesh, ".edge_verts", "value", mesh.edges, "vertices", len(mesh.edges), 2, np.int32)
-
-
-def read_corners(mesh):
-    """Each face corner's (loop's) vertex and edge, (L,) int32 each."""
-    count = len(mesh.loops)
-    return (_read_array(mesh, ".corner_vert", "value", mesh.loops, "vertex_index", count, 1, np.int32),
-            _read_array(mesh, ".corner_edge", "value", mesh.loops, "edge_index", count, 1, np.int32))
-
-
-def read_loop_triangles(mesh, corner_vertices):
-    """Blender's triangulation of the faces: each triangle's corners (loops), face and vertices, (T, 3), (T,), (T, 3)
-    int32. A mesh of triangles alone is its own: from 4.0 face i's corners are 3i, 3i + 1 and 3i + 2, and Blender's
-    triangle of a triangle takes them in order, so nothing is computed or read (it was 15 ms of a 80,000-triangle
-    cage's reading in 4.5). Other meshes read their triangles' corners and faces, and take the vertices from the
-    corners'."""
-    num_faces = len(mesh.polygons)
-    if READS_ATTRIBUTES and len(mesh.loops) == 3 * num_faces:  # every face has three corners or more
-        loops = np.arange(3 * num_faces, dtype=np.int32).reshape(num_faces, 3)
-        return loops, np.arange(num_faces, dtype=np.int32), corner_vertices.reshape(num_faces, 3)
-    mesh.calc_loop_triangles()
-    count = len(mesh.loop_triangles)
-    loops, faces = np.empty(3 * count, dtype=np.int32), np.empty(count, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("loops", loops)
-    mesh.loop_triangles.foreach_get("polygon_index", faces)
-    loops = loops.reshape(count, 3)
-    # A triangle's vertices are its corners' (what MeshLoopTriangle.vertices reads, element by element).
-    return loops, faces, corner_vertices[loops]
-
-
-def _read_flags(mesh, name, default, legacy, legacy_prop, count):
-    """A boolean attribute (4.0+: absent while every element has the default) or, before 4.0, the legacy flag."""
-    values = np.full(count, default, dtype=bool)
-    if READS_ATTRIBUTES:
-        attribute = mesh.attributes.get(name)
-        if attribute is not None:
-            attribute.data.foreach_get("value", values)
-    else:
-        legacy.foreach_get(legacy_prop, values)
-    return values
-
-
-def read_edge_flags(mesh):
-    """The edges' seam and sharp marks, as {"use_seam": (E,) bool, "use_edge_sharp": (E,) bool}."""
-    seam = SEAM_ATTRIBUTE if NAMES_SEAMS_AND_NORMALS else "." + SEAM_ATTRIBUTE
-    count = len(mesh.edges)
-    return {"use_seam": _read_flags(mesh, seam, False, mesh.edges, "use_seam", count),
-            "use_edge_sharp": _read_flags(mesh, "sharp_edge", False, mesh.edges, "use_edge_sharp", count)}
-
-
-def read_face_materials_and_smooth(mesh):
-    """Each face's material index, (F,) int32, and smooth shading, (F,) bool."""
-    count = len(mesh.polygons)
-    materials = np.zeros(count, dtype=np.int32)
-    attribute = mesh.attributes.get("material_index") if READS_ATTRIBUTES else None
-    if attribute is not None:
-        attribute.data.foreach_get("value", materials)
-    elif not READS_ATTRIBUTES:
-        mesh.polygons.foreach_get("material_index", materials)
-    if READS_ATTRIBUTES:
-        return materials, ~_read_flags(mesh, "sharp_face", False, None, None, count)
-    return materials, _read_flags(mesh, None, True, mesh.polygons, "use_smooth", count)
-
-
 def write_positions(mesh, positions):
     """The vertices' positions, (V, 3)."""
     values = np.ascontiguousarray(positions, dtype=np.float32).ravel()
@@ -274,6 +189,77 @@ def write_smooth(mesh, smooth):
         mesh.polygons.foreach_set("use_smooth", smooth)
     elif not smooth.all():
         mesh.attributes.new("sharp_face", 'BOOLEAN', 'FACE').data.foreach_set("value", ~smooth)
+
+
+# Reading the cage the same way (4.0 and later: face offsets are offsets, so the faces' corners follow one another):
+# foreach_get on the attribute copies the array in one block, where the legacy collections go element by element,
+# 0.01 ms against 1-8 ms each for a 40,000-quad grid's vertices, corners and edges in 4.5 (docs/benchmark.md). Every
+# live update reads the cage anew.
+READS_ATTRIBUTES = bpy.app.version >= (4, 0, 0)
+
+
+def _read_array(mesh, name, prop, legacy, legacy_prop, count, width, dtype):
+    """The attribute `name` (its `prop`) where the mesh keeps one, else the legacy collection's legacy_prop."""
+    attribute = mesh.attributes.get(name) if READS_ATTRIBUTES else None
+    if attribute is not None:
+        return read_array(attribute.data, prop, count, width, dtype)
+    return read_array(legacy, legacy_prop, count, width, dtype)
+
+
+def read_positions(mesh):
+    """The vertices' positions, (V, 3) float32."""
+    return _read_array(mesh, "position", "vector", mesh.vertices, "co", len(mesh.vertices), 3, np.float32)
+
+
+def read_edge_vertices(mesh):
+    """The edges' vertex pairs, (E, 2) int32."""
+    return _read_array(mesh, ".edge_verts", "value", mesh.edges, "vertices", len(mesh.edges), 2, np.int32)
+
+
+def read_corners(mesh):
+    """Each face corner's (loop's) vertex and edge, (L,) int32 each."""
+    count = len(mesh.loops)
+    return (_read_array(mesh, ".corner_vert", "value", mesh.loops, "vertex_index", count, 1, np.int32),
+            _read_array(mesh, ".corner_edge", "value", mesh.loops, "edge_index", count, 1, np.int32))
+
+
+def read_loop_triangles(mesh, corner_vertices):
+    """Blender's triangulation of the faces: each triangle's corners (loops), face and vertices, (T, 3), (T,), (T, 3)
+    int32. A mesh of triangles alone is its own: from 4.0 face i's corners are 3i, 3i + 1 and 3i + 2, and Blender's
+    triangle of a triangle takes them in order, so nothing is computed or read (it was 15 ms of a 80,000-triangle
+    cage's reading in 4.5). Other meshes read their triangles' corners and faces, and take the vertices from the
+    corners'."""
+    num_faces = len(mesh.polygons)
+    if READS_ATTRIBUTES and len(mesh.loops) == 3 * num_faces:  # every face has three corners or more
+        loops = np.arange(3 * num_faces, dtype=np.int32).reshape(num_faces, 3)
+        return loops, np.arange(num_faces, dtype=np.int32), corner_vertices.reshape(num_faces, 3)
+    mesh.calc_loop_triangles()
+    count = len(mesh.loop_triangles)
+    loops = read_array(mesh.loop_triangles, "loops", count, 3, np.int32)
+    # A triangle's vertices are its corners' (what MeshLoopTriangle.vertices reads, element by element).
+    return loops, read_array(mesh.loop_triangles, "polygon_index", count, 1, np.int32), corner_vertices[loops]
+
+
+def read_edge_flags(mesh):
+    """The edges' seam and sharp marks, as {"use_seam": (E,) bool, "use_edge_sharp": (E,) bool}; from 4.0 boolean
+    attributes, absent while no edge has the mark."""
+    count = len(mesh.edges)
+    if not READS_ATTRIBUTES:
+        return {prop: read_array(mesh.edges, prop, count, 1, np.bool_) for prop in ("use_seam", "use_edge_sharp")}
+    seam = SEAM_ATTRIBUTE if NAMES_SEAMS_AND_NORMALS else "." + SEAM_ATTRIBUTE
+    return {"use_seam": _read_attribute(mesh, seam, count, np.bool_),
+            "use_edge_sharp": _read_attribute(mesh, "sharp_edge", count, np.bool_)}
+
+
+def read_face_materials_and_smooth(mesh):
+    """Each face's material index, (F,) int32, and smooth shading, (F,) bool; from 4.0 attributes, absent while every
+    face has material 0 or is smooth."""
+    count = len(mesh.polygons)
+    if not READS_ATTRIBUTES:
+        return (read_array(mesh.polygons, "material_index", count, 1, np.int32),
+                read_array(mesh.polygons, "use_smooth", count, 1, np.bool_))
+    smooth = ~_read_attribute(mesh, "sharp_face", count, np.bool_)
+    return _read_attribute(mesh, "material_index", count, np.int32), smooth
 
 
 def set_polygon_loops(mesh, loop_start, loop_total):
