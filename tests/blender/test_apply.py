@@ -92,6 +92,7 @@ def faces_and_shading():
     cage_polygons = parent_polygons(mesh)
     cage_materials = polygon_values(mesh, "material_index", np.int32)
     cage_smooth = polygon_values(mesh, "use_smooth", bool)
+    cage_normals = support.read_array(mesh.polygons, "normal", 3)
     name = mesh.name
     support.select_only(obj)
     # The result keeps per-face shading with the limit surface on too (test_limit.flat_faces).
@@ -106,6 +107,9 @@ def faces_and_shading():
           "every face keeps its parent face's material index")
     check(np.array_equal(polygon_values(mesh, "use_smooth", bool), cage_smooth[parents]),
           "every face keeps its parent face's flat/smooth shading")
+    facing = np.einsum("ij,ij->i", support.read_array(mesh.polygons, "normal", 3), cage_normals[parents])
+    check((facing > 0.5).all(), "every face faces the way its quad does: Blender's triangles of the quads are taken "
+          f"with their corners in order (least cosine {facing.min():.2f})")
     check(len(mesh.materials) == 3, "the material slots are kept")
     check(mesh.name == name and bpy.data.meshes.get(name) == mesh, "the mesh keeps its name; the old data is gone")
     check(not obj.modifiers, "applying removes the Loop Subdivision modifier")
