@@ -138,7 +138,16 @@ void expect_same_results_bit_for_bit(Plan& a, Plan& b, const TestMesh& mesh, con
 }
 
 // What the plans report besides the output: each level's edges and vertex classes, the output's tags.
+// The output's edges, then each output triangle's (Plan::output_edges).
+std::vector<std::int32_t> output_edges(const Plan& plan) {
+    const std::size_t ends = 2 * std::size_t(plan.num_output_edges());
+    std::vector<std::int32_t> edges(ends + 3 * std::size_t(plan.num_output_triangles()));
+    plan.output_edges(edges.data(), edges.data() + ends);
+    return edges;
+}
+
 void expect_same_levels_and_tags(const Plan& a, const Plan& b) {
+    EXPECT_EQ(output_edges(a), output_edges(b));
     for (int level = 0; level < a.levels(); ++level) EXPECT_EQ(a.level_edges(level), b.level_edges(level));
     for (int level = 0; level <= a.levels(); ++level)
         EXPECT_EQ(a.level_vertex_types(level), b.level_vertex_types(level)) << "level " << level;
@@ -315,6 +324,7 @@ TEST(PathsAgreeLarge, MoreThreadsEqualOneOnIcosphere5120) {
             ASSERT_EQ(one.num_output_triangles(), more.num_output_triangles());
             EXPECT_TRUE(std::equal(one.output_triangles(), one.output_triangles() + 3 * one.num_output_triangles(),
                                    more.output_triangles()));
+            EXPECT_EQ(output_edges(one), output_edges(more));
         }
     }
 }
