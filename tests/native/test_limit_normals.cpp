@@ -129,13 +129,13 @@ TEST(CompactLimitNormals, LeaveTheLimitPointsAsTheyAreInEveryKernel) {
         }
 }
 
-// A closed surface plans its limit from the last level's grandparent (LimitTables::from_grandparent: no level before
-// the last, no rings stored for most vertices, the SIMD kernels by kind, their LimitFn again for the vertices next to
+// A surface plans its limit from the last level's grandparent (LimitTables::from_grandparent: no level before the
+// last, no rings stored for most vertices, the SIMD kernels by kind, their LimitFn again for the vertices next to
 // tags) unless its tables are to be stored: the same bits either way. Positions alone and beside other channels,
 // compact and per-corner normals, a UV layer's values, in every kernel, on one thread and three, two levels and three
 // (the grandparent the input and a split level), on surfaces with vertices of valence 3 to 9, with a UV layer and
-// without; and with sharp and semi-sharp creases and corners, darts and Hoppe 94's cones (without a UV layer: with one
-// and tags the level before the last is built).
+// without; with boundaries, with sharp and semi-sharp creases and corners, darts and Hoppe 94's cones (without a UV
+// layer: with one and tags the level before the last is built); and at non-manifold places, which are sharp.
 TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
     TestMesh sphere = icosphere(1);
     jitter(sphere, 11, 0.05f);
@@ -158,7 +158,25 @@ TEST(CompactLimitNormals, FromTheGrandparentAreThoseFromStoredRings) {
     cones.cone_vertices = {0, 5, 17};
     TestMesh dart = icosahedron();
     dart.add_crease(0, dart.triangles[1]);  // one sharp edge: a dart at each end
-    for (TestMesh mesh : {grid(5, 4), open_cylinder(7, 2), hemisphere(1)})
+    // Not manifold at a few places, as meshes from elsewhere often are: an edge of three faces, a vertex where two fans
+    // meet, a face the other way round from its neighbours, two spheres sharing a vertex.
+    TestMesh flipped = grid(5, 4);
+    flipped.name = "grid_with_a_flipped_face";
+    std::swap(flipped.triangles[7], flipped.triangles[8]);
+    TestMesh touching = icosahedron();  // and a copy moved out by twice its vertex 0, whose antipode meets it there
+    touching.name = "two_icosahedra_at_a_vertex";
+    const std::vector<float> at = touching.positions;
+    const std::vector<int> faces = touching.triangles;
+    std::vector<int> placed;  // each vertex's number in the copy
+    for (std::size_t v = 0; v < at.size() / 3; ++v) {
+        const bool antipode = at[3 * v] == -at[0] && at[3 * v + 1] == -at[1] && at[3 * v + 2] == -at[2];
+        placed.push_back(antipode ? 0 : touching.num_vertices());
+        if (!antipode)
+            for (int k = 0; k < 3; ++k)
+                touching.positions.push_back(at[3 * v + std::size_t(k)] + 2.0f * at[std::size_t(k)]);
+    }
+    for (int corner : faces) touching.triangles.push_back(placed[std::size_t(corner)]);
+    for (TestMesh mesh : {grid(5, 4), open_cylinder(7, 2), hemisphere(1), fin_on_grid(), bowtie(4), flipped, touching})
         for (Rules rules : {Rules::OpenSubdiv, Rules::Hoppe94}) meshes.push_back({mesh, rules});
     meshes.push_back({creased, Rules::OpenSubdiv});
     meshes.push_back({creased, Rules::Hoppe94});

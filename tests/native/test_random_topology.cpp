@@ -98,4 +98,47 @@ TEST(RandomTopology, RefinesOrRefusesCleanly) {
     EXPECT_GT(refused, 20);
 }
 
+// The limit surface over two levels or three takes the last level's rings from its grandparent wherever the soup
+// allows (fins, bowties and flipped faces are sharp features, whose neighbourhoods are built): the same bits as from
+// rings built and stored for the whole last level, positions and normals alike, or the same refusal.
+TEST(RandomTopology, LimitFromTheGrandparentIsTheStoredRingsBitForBit) {
+    std::mt19937 rng(20261127);
+    int compared = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const MeshData mesh = random_soup(rng);
+        loopsub::Options options;
+        options.rules = trial % 2 ? loopsub::Rules::OpenSubdiv : loopsub::Rules::Hoppe94;
+        options.levels = 2 + trial % 2;
+        options.boundary = trial % 3 ? loopsub::Boundary::EdgesOnly : loopsub::Boundary::EdgesAndCorners;
+        options.crease_method = trial % 5 ? loopsub::CreaseMethod::Uniform : loopsub::CreaseMethod::Chaikin;
+        options.limit_surface = true;
+        options.threads = 1 + trial % 2;
+        loopsub::Options stored_options = options;
+        stored_options.level_tables = loopsub::LevelTables::Stored;
+        SCOPED_TRACE("trial " + std::to_string(trial));
+        std::string refusals[2];
+        std::vector<float> positions[2], normals[2], corner_normals[2];
+        for (int k = 0; k < 2; ++k) {
+            try {
+                loopsub::Plan plan(mesh.view(), k == 0 ? options : stored_options);
+                positions[k].resize(3 * std::size_t(plan.num_output_vertices()));
+                normals[k].resize(3 * std::size_t(plan.num_limit_normals()));
+                corner_normals[k].resize(9 * std::size_t(plan.num_output_triangles()));
+                const auto in = loopsub::interleaved(mesh.positions.data(), 3);
+                plan.evaluate(in, loopsub::interleaved(positions[k].data(), 3),
+                              loopsub::Plan::LimitNormals{normals[k].data()});
+                plan.evaluate(in, loopsub::interleaved(positions[k].data(), 3), corner_normals[k].data());
+            } catch (const loopsub::InputError& error) { refusals[k] = error.what(); }
+        }
+        ASSERT_EQ(refusals[0], refusals[1]);
+        if (!refusals[0].empty()) continue;
+        ++compared;
+        // memcmp-like equality: NaN never appears (a refinement's points are finite), so == on floats is exact here.
+        EXPECT_EQ(positions[0], positions[1]);
+        EXPECT_EQ(normals[0], normals[1]);
+        EXPECT_EQ(corner_normals[0], corner_normals[1]);
+    }
+    EXPECT_GT(compared, 100);
+}
+
 }  // namespace

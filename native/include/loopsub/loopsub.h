@@ -74,10 +74,9 @@ enum class Kernel { Auto, Scalar, SSE41, AVX2 };
 // chunk by chunk: a plan then builds faster and holds less besides its output, and each evaluation takes longer
 // (the measured ratios are in that section). Derived applies only where nothing but vertex values is refined (no limit
 // surface, no face-varying layers) over two levels or more; elsewhere the tables are stored. The limit surface's
-// rings are the exception: on a manifold surface (every edge in one or two faces, two running along it opposite ways;
-// every fan one fan; no hole) over two levels or more, Auto and Derived work them out from
-// the level two before the last as an evaluation runs, which builds faster and evaluates faster too
-// (docs/architecture.md, "Level tables"); Stored stores them.
+// rings are the exception: over two levels or more (without holes), Auto and Derived work them out from the level two
+// before the last as an evaluation runs, which builds faster and evaluates faster too (docs/architecture.md, "Level
+// tables"); Stored stores them.
 enum class LevelTables {
     Auto,    // derived past 128 MiB of tables of the level before the last (a level-6 result of 20 M triangles)
     Stored,  // for a plan evaluated again and again (playback)

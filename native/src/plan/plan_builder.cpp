@@ -185,10 +185,6 @@ LevelState PlanBuilder::base_level() {
     // (docs/benchmark.md, "Measurements behind the code").
     const std::vector<std::uint8_t> non_manifold_edge = non_manifold_edges(t);
     const std::vector<std::uint8_t> non_manifold_vertex = non_manifold_vertices(t, non_manifold_edge, options_.threads);
-    auto manifold = [](std::uint8_t flag) { return flag == 0; };
-    manifold_surface_ = t.num_faces() > 0 && t.max_edge_face_count <= 2 &&
-                        std::all_of(non_manifold_edge.begin(), non_manifold_edge.end(), manifold) &&
-                        std::all_of(non_manifold_vertex.begin(), non_manifold_vertex.end(), manifold);
     std::vector<std::uint8_t> leaves_surface;  // per vertex, where a boundary edge takes its faces out (Boundary::None)
     for (int e = 0; e < t.num_edges(); ++e) {
         const float tag = edge_tag[e];
@@ -248,12 +244,13 @@ std::uint64_t PlanBuilder::check_memory(const Topology& base) const {
 
 void PlanBuilder::choose_table_forms(const LevelState& base_level, bool face_varying_layers) {
     const Topology& base = base_level.topology;
-    // A manifold surface stays one: every vertex a split makes off its boundary has six neighbours in one disk, and
-    // the last level's rings follow from its grandparent through the numbering. Stored tables store them. Its
-    // vertices next to tags and boundaries are classified through the level before the last's connectivity
-    // (plan_limit).
+    // Every vertex a split makes off a boundary or a sharp edge has six neighbours in one disk, and the last level's
+    // rings follow from its grandparent through the numbering. Stored tables store them. Its vertices next to tags
+    // and boundaries are classified through the level before the last's connectivity (plan_limit); so are those next
+    // to a non-manifold place (an edge of three faces or more, or whose faces wind against each other; a vertex of
+    // several fans), which the rules make sharp, the only vertices whose rings the grandparent's faces do not give.
     limit_from_grandparent_ = options_.limit_surface && options_.levels >= 2 &&
-                              options_.level_tables != LevelTables::Stored && manifold_surface_ && plan_.holes.empty();
+                              options_.level_tables != LevelTables::Stored && plan_.holes.empty();
     // Without a limit surface to plan over two levels or more, or with one from the grandparent, the level before the
     // last is never built.
     skip_level_before_last_ = options_.levels >= 2 && (!options_.limit_surface || limit_from_grandparent_);

@@ -97,13 +97,11 @@ private:
     // the tables of levels 1 .. levels - 1 are derived as an evaluation runs.
     bool skip_level_before_last_ = false;
     bool derive_tables_ = false;
-    // The input is a manifold surface: every edge in one or two faces (two running along it opposite ways), every fan
-    // one fan (a disk, or open at a boundary).
-    bool manifold_surface_ = false;
-    // A manifold surface planned with the limit surface over two levels or more (no holes): the
-    // level before the last is skipped as without the limit, and the limit pass's rings come from the last level's
-    // grandparent (LimitTables::from_grandparent). With tags or boundaries, limit_parent_ is the level before the
-    // last's connectivity near them, through which plan_limit reads the last level's vertices next to them.
+    // A plan with the limit surface over two levels or more (no holes): the level before the last is skipped as
+    // without the limit, and the limit pass's rings come from the last level's grandparent
+    // (LimitTables::from_grandparent). With tags, boundaries or non-manifold places (features all), limit_parent_ is
+    // the level before the last's connectivity near them, through which plan_limit reads the last level's vertices
+    // next to them.
     bool limit_from_grandparent_ = false;
     Topology limit_parent_;
 };
