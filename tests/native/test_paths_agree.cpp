@@ -137,7 +137,6 @@ void expect_same_results_bit_for_bit(Plan& a, Plan& b, const TestMesh& mesh, con
         std::equal(a.output_triangles(), a.output_triangles() + 3 * a.num_output_triangles(), b.output_triangles()));
 }
 
-// What the plans report besides the output: each level's edges and vertex classes, the output's tags.
 // The output's edges, then each output triangle's (Plan::output_edges).
 std::vector<std::int32_t> output_edges(const Plan& plan) {
     const std::size_t ends = 2 * std::size_t(plan.num_output_edges());
@@ -146,6 +145,8 @@ std::vector<std::int32_t> output_edges(const Plan& plan) {
     return edges;
 }
 
+// What the plans report besides the output's points: its edges, each level's edges and vertex classes, the output's
+// tags.
 void expect_same_levels_and_tags(const Plan& a, const Plan& b) {
     EXPECT_EQ(output_edges(a), output_edges(b));
     for (int level = 0; level < a.levels(); ++level) EXPECT_EQ(a.level_edges(level), b.level_edges(level));
