@@ -42,11 +42,10 @@ class Cage(Topology):
         self.num_loops = len(mesh.loops)
         loop_vertices, loop_edges = compat.read_corners(mesh)
         self.triangle_loops, self.triangle_polygons, triangles = compat.read_loop_triangles(mesh, loop_vertices)
-        # Every face has three corners or more: as many corners as three per face, and none is triangulated.
-        self.num_triangulated = 0
-        if self.num_loops != 3 * self.num_polygons:
-            loop_totals = read_array(mesh.polygons, "loop_total", self.num_polygons, 1, np.int32)
-            self.num_triangulated = int(np.count_nonzero(loop_totals != 3))
+        # A face of n corners is n - 2 of Blender's triangles: those not of three corners are those not of one
+        # triangle, found without reading MeshPolygon.loop_total a face at a time.
+        self.num_triangulated = int(np.count_nonzero(
+            np.bincount(self.triangle_polygons, minlength=self.num_polygons) != 1))
         super().__init__(num_vertices,
                          triangles,
                          compat.read_edge_vertices(mesh),

@@ -103,13 +103,12 @@ def duplicate_triangles(triangles):
     keys = np.sort(triangles, axis=1).astype(np.int64)
     n = int(keys.max(initial=0)) + 1
     if n ** 3 < 2 ** 63:
-        keys = (keys[:, 0] * n + keys[:, 1]) * n + keys[:, 2]
-        order = np.argsort(keys, kind="stable")  # equal triangles in the order of their indices
+        keys = ((keys[:, 0] * n + keys[:, 1]) * n + keys[:, 2])[:, None]  # one column: the three as one integer
+        order = np.argsort(keys[:, 0], kind="stable")  # equal triangles in the order of their indices
     else:
         order = np.lexsort(keys.T[::-1])
     ordered = keys[order]
-    equal = ordered[1:] == ordered[:-1]
-    later = np.flatnonzero(equal if equal.ndim == 1 else equal.all(axis=1)) + 1  # places equal to the one before
+    later = np.flatnonzero((ordered[1:] == ordered[:-1]).all(axis=1)) + 1  # places equal to the one before
     starts = np.ones(len(order), dtype=bool)
     starts[later] = False
     first = order[np.maximum.accumulate(np.where(starts, np.arange(len(order)), 0))]  # each run's first triangle
