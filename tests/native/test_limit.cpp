@@ -206,6 +206,30 @@ TEST(LimitSurface, HugeButAcceptedCoordinatesGiveUnitNormals) {
         }
 }
 
+// The normals' arithmetic is float's: a mesh far smaller or larger than a unit, whose tangents' products leave the
+// float range, takes the normals it has at unit scale, bit for bit (a power of two changes no bits of them).
+TEST(LimitSurface, NormalsDoNotDependOnAPowerOfTwoScale) {
+    TestMesh base = icosphere(2);
+    jitter(base, 3, 0.01f);
+    add_random_creases(base, 3, 0.1, true);
+    for (Kernel kernel : {Kernel::Scalar, Kernel::SSE41, Kernel::AVX2}) {
+        auto normals_at = [&](int exponent) {
+            TestMesh mesh = base;
+            for (float& x : mesh.positions) x = std::ldexp(x, exponent);
+            Options options;
+            options.rules = Rules::OpenSubdiv;
+            options.levels = 3;
+            options.limit_surface = true;
+            options.kernel = kernel;
+            Plan plan(mesh.view(), options);
+            return evaluate_limit(plan, mesh).normals;
+        };
+        const std::vector<float> unit_scale = normals_at(0);
+        for (int exponent : {-100, -60, 60, 100})
+            EXPECT_EQ(normals_at(exponent), unit_scale) << "kernel " << int(kernel) << ", scale 2^" << exponent;
+    }
+}
+
 // Two threads split the normals pass, never its arithmetic; the scalar kernel's limit gives the same normals to
 // float rounding.
 TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {

@@ -116,26 +116,76 @@ constexpr auto smooth_edge = [](__m128 a, __m128 b, __m128 c, __m128 d) {
 // A step of a tangent's sum (kernels_limit.h).
 constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_fmadd_ps(w, d, sum); };
 
-// The unit normals t1 x t2 of four tangent pairs (x, y, z in a quad's first lanes), in double four at a time: the
-// reference's arithmetic (limit_normals.cpp), zero where the tangents do not span a plane.
-constexpr auto unit_normals = [](const __m128 t1[4], const __m128 t2[4], __m128 normal[4]) {
-    __m128 a0 = t1[0], a1 = t1[1], a2 = t1[2], a3 = t1[3], b0 = t2[0], b1 = t2[1], b2 = t2[2], b3 = t2[3];
-    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0: the four x, a1: y, a2: z
-    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
-    const __m256d ax = _mm256_cvtps_pd(a0), ay = _mm256_cvtps_pd(a1), az = _mm256_cvtps_pd(a2);
-    const __m256d bx = _mm256_cvtps_pd(b0), by = _mm256_cvtps_pd(b1), bz = _mm256_cvtps_pd(b2);
-    const __m256d x = _mm256_sub_pd(_mm256_mul_pd(ay, bz), _mm256_mul_pd(az, by));
-    const __m256d y = _mm256_sub_pd(_mm256_mul_pd(az, bx), _mm256_mul_pd(ax, bz));
-    const __m256d z = _mm256_sub_pd(_mm256_mul_pd(ax, by), _mm256_mul_pd(ay, bx));
-    const __m256d length =
-        _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z)));
-    const __m256d positive = _mm256_cmp_pd(length, _mm256_setzero_pd(), _CMP_GT_OQ);
-    const __m256d inverse = _mm256_and_pd(positive, _mm256_div_pd(_mm256_set1_pd(1.0), length));
-    __m128 nx = _mm256_cvtpd_ps(_mm256_mul_pd(x, inverse)), ny = _mm256_cvtpd_ps(_mm256_mul_pd(y, inverse)),
-           nz = _mm256_cvtpd_ps(_mm256_mul_pd(z, inverse)), unused = _mm_setzero_ps();
-    _MM_TRANSPOSE4_PS(nx, ny, nz, unused);
-    normal[0] = nx, normal[1] = ny, normal[2] = nz, normal[3] = unused;
+// The unit normals t1 x t2 of eight tangent pairs (x, y, z in a quad's first lanes), as eight rows of three at `rows`:
+// the tangents turned into x, y and z registers of eight lanes, the arithmetic in float (kernels_limit.h, "the
+// normals in float"), zero where the tangents do not span a plane.
+struct UnitNormals {
+    static constexpr int kWidth = 8;
+
+    // x, y, z of tangents t[0 .. 7] in the lanes of vertices 0, 2, 4, 6, 1, 3, 5, 7: two neighbours per 32-byte load,
+    // and no lane crossing.
+    static void across(const __m128* t, __m256& x, __m256& y, __m256& z) {
+        const float* p = reinterpret_cast<const float*>(t);
+        const __m256 t01 = _mm256_loadu_ps(p), t23 = _mm256_loadu_ps(p + 8);
+        const __m256 t45 = _mm256_loadu_ps(p + 16), t67 = _mm256_loadu_ps(p + 24);
+        const __m256 xy_0246 = _mm256_unpacklo_ps(t01, t23), z_0246 = _mm256_unpackhi_ps(t01, t23);  // x0 x2 y0 y2
+        const __m256 xy_4657 = _mm256_unpacklo_ps(t45, t67), z_4657 = _mm256_unpackhi_ps(t45, t67);  // x4 x6 y4 y6
+        x = _mm256_shuffle_ps(xy_0246, xy_4657, _MM_SHUFFLE(1, 0, 1, 0));
+        y = _mm256_shuffle_ps(xy_0246, xy_4657, _MM_SHUFFLE(3, 2, 3, 2));
+        z = _mm256_shuffle_ps(z_0246, z_4657, _MM_SHUFFLE(1, 0, 1, 0));
+    }
+
+    // Eight rows x0 y0 z0 x1 ... z7 from across()'s lanes: each coordinate permuted so that its lanes are where the
+    // three 32-byte stores want them (x at 0, 3, 6 of the first, 1, 4, 7 of the second, 2, 5 of the third), then
+    // blended.
+    static void store_rows(float* rows, __m256 x, __m256 y, __m256 z) {
+        const __m256 px = _mm256_permutevar8x32_ps(x, _mm256_setr_epi32(0, 5, 3, 4, 2, 7, 1, 6));
+        const __m256 py = _mm256_permutevar8x32_ps(y, _mm256_setr_epi32(6, 0, 5, 3, 4, 2, 7, 1));
+        const __m256 pz = _mm256_permutevar8x32_ps(z, _mm256_setr_epi32(1, 6, 0, 5, 3, 4, 2, 7));
+        constexpr int k147 = 0x92, k25 = 0x24;  // lanes 1, 4, 7 and lanes 2, 5
+        _mm256_storeu_ps(rows, _mm256_blend_ps(_mm256_blend_ps(px, py, k147), pz, k25));
+        _mm256_storeu_ps(rows + 8, _mm256_blend_ps(_mm256_blend_ps(pz, px, k147), py, k25));
+        _mm256_storeu_ps(rows + 16, _mm256_blend_ps(_mm256_blend_ps(py, pz, k147), px, k25));
+    }
+
+    // The cross product of tangents a and b, and its squared length.
+    static __m256 cross(const __m256 a[3], const __m256 b[3], __m256 n[3]) {
+        n[0] = _mm256_fmsub_ps(a[1], b[2], _mm256_mul_ps(a[2], b[1]));
+        n[1] = _mm256_fmsub_ps(a[2], b[0], _mm256_mul_ps(a[0], b[2]));
+        n[2] = _mm256_fmsub_ps(a[0], b[1], _mm256_mul_ps(a[1], b[0]));
+        return _mm256_fmadd_ps(n[0], n[0], _mm256_fmadd_ps(n[1], n[1], _mm256_mul_ps(n[2], n[2])));
+    }
+
+    // t scaled by a power of two to a largest coordinate near one (limit_normals.cpp, scale_to_unit).
+    static void scale_to_unit(__m256 t[3]) {
+        const __m256 sign = _mm256_set1_ps(-0.0f);
+        const __m256 largest = _mm256_max_ps(_mm256_andnot_ps(sign, t[0]),
+                                             _mm256_max_ps(_mm256_andnot_ps(sign, t[1]), _mm256_andnot_ps(sign, t[2])));
+        const __m256i exponent =
+            _mm256_min_epi32(_mm256_and_si256(_mm256_castps_si256(largest), _mm256_set1_epi32(0x7f800000)),
+                             _mm256_set1_epi32(252 << 23));
+        const __m256 scale = _mm256_castsi256_ps(_mm256_sub_epi32(_mm256_set1_epi32(253 << 23), exponent));
+        for (int c = 0; c < 3; ++c) t[c] = _mm256_mul_ps(t[c], scale);
+    }
+
+    void operator()(const __m128* t1, const __m128* t2, float* rows) const {
+        __m256 a[3], b[3], n[3];
+        across(t1, a[0], a[1], a[2]);
+        across(t2, b[0], b[1], b[2]);
+        __m256 squared = cross(a, b, n);
+        const __m256 in_range = _mm256_and_ps(_mm256_cmp_ps(squared, _mm256_set1_ps(kLeastSquaredLength), _CMP_GE_OQ),
+                                              _mm256_cmp_ps(squared, _mm256_set1_ps(kMostSquaredLength), _CMP_LE_OQ));
+        if (_mm256_movemask_ps(in_range) != 0xff) {  // rare; no bits change in the lanes in range
+            scale_to_unit(a);
+            scale_to_unit(b);
+            squared = cross(a, b, n);
+        }
+        const __m256 positive = _mm256_cmp_ps(squared, _mm256_setzero_ps(), _CMP_GT_OQ);
+        const __m256 inverse = _mm256_and_ps(positive, _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(squared)));
+        store_rows(rows, _mm256_mul_ps(n[0], inverse), _mm256_mul_ps(n[1], inverse), _mm256_mul_ps(n[2], inverse));
+    }
 };
+constexpr UnitNormals unit_normals;
 
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
 // of three (the last level's positions) go four points at a time (PackedRows3::store_four).

@@ -5,7 +5,7 @@
 // vertex): computing them in one pass halves the loads of a pass each. The limit point is the kernels' smooth vertex
 // mask as their table passes weigh it (the ring summed from zero in ring order), so a frame's positions are the same
 // bits with the normals as without; the tangents are the reference's sums (limit_normals.cpp) per lane, and the
-// normals its arithmetic in double, four at a time.
+// normals its arithmetic in float, four or eight at a time across lanes.
 //
 // Internal linkage, as in kernels_quads.h: each instruction set's translation unit keeps its own copy.
 #pragma once
@@ -55,40 +55,31 @@ struct RegularLimit {
 };
 
 // Stores `count` consecutive vertices' limit points from `first` on and, where `normals` is set, their unit normals
-// (unit_normals, four at a time; zero where by_side, if given, says the vertex's normals are its sides'). Two tight
-// loops of independent steps (the points, then this), where one loop of both kept the square roots' latency in every
-// step. A last group of fewer than four repeats its last vertex: every vertex's bits are those of its lane alone,
-// wherever a part of a range begins.
+// (unit_normals, UnitNormals::kWidth at a time; zero where by_side, if given, says the vertex's normals are its
+// sides'). Two tight loops of independent steps (the points, then the normals), where one loop of both kept the square
+// roots' latency in every step. A last group of fewer than kWidth repeats its last vertex: every vertex's bits are
+// those of its lane alone, wherever a part of a range begins.
 template <typename Out, typename UnitNormals>
 void store_limit_chunk(const Out out, float* normals, const std::uint8_t* by_side, int first, int count,
                        __m128* position, __m128* t1, __m128* t2, UnitNormals unit_normals) {
-    const PackedRows3 normal_rows{normals};
-    for (int i = count; i % 4 != 0; ++i) t1[i] = t1[count - 1], t2[i] = t2[count - 1];
-    for (int i = 0; i < count; i += 4) {
-        const int v = first + i;
-        if (normals == nullptr) {
-            for (int k = 0; k < 4 && i + k < count; ++k) out.store(std::size_t(v + k), position[i + k]);
-            continue;
-        }
-        __m128 normal[4];
-        unit_normals(t1 + i, t2 + i, normal);
-        std::uint32_t sides = by_side != nullptr;  // four vertices' by_side bytes at once: nearly always none
-        if (by_side != nullptr && i + 4 <= count) std::memcpy(&sides, by_side + v, sizeof sides);
-        if (sides != 0)
-            for (int k = 0; k < 4 && i + k < count; ++k)
-                if (by_side[v + k]) normal[k] = _mm_setzero_ps();
-        if constexpr (std::is_same_v<Out, PackedRows3>) {
-            if (i + 4 <= count) {
-                out.store_four(std::size_t(v), position[i], position[i + 1], position[i + 2], position[i + 3]);
-                normal_rows.store_four(std::size_t(v), normal[0], normal[1], normal[2], normal[3]);
-                continue;
-            }
-        }
-        for (int k = 0; k < 4 && i + k < count; ++k) {
-            out.store(std::size_t(v + k), position[i + k]);
-            normal_rows.store(std::size_t(v + k), normal[k]);
-        }
+    int i = 0;
+    if constexpr (std::is_same_v<Out, PackedRows3>)
+        for (; i + 4 <= count; i += 4)
+            out.store_four(std::size_t(first + i), position[i], position[i + 1], position[i + 2], position[i + 3]);
+    for (; i < count; ++i) out.store(std::size_t(first + i), position[i]);
+    if (normals == nullptr) return;
+    constexpr int kWidth = UnitNormals::kWidth;
+    for (int k = count; k % kWidth != 0; ++k) t1[k] = t1[count - 1], t2[k] = t2[count - 1];
+    float* rows = normals + 3 * std::size_t(first);
+    for (i = 0; i + kWidth <= count; i += kWidth) unit_normals(t1 + i, t2 + i, rows + 3 * i);
+    if (i < count) {
+        float last[3 * kWidth];
+        unit_normals(t1 + i, t2 + i, last);
+        std::memcpy(rows + 3 * i, last, sizeof(float) * 3 * std::size_t(count - i));
     }
+    if (by_side == nullptr) return;
+    for (i = 0; i < count; ++i)
+        if (by_side[first + i]) std::memset(rows + 3 * i, 0, 3 * sizeof(float));
 }
 
 // The positions quad (the first) of vertices [vertices.begin, vertices.end) with their normals, rows of three at

@@ -63,37 +63,57 @@ inline void next_edge_points(const Tables& t, const QuadSource<Step>& in, int e,
     second = point(1);
 }
 
-// One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
-// of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 // A step of a tangent's sum (kernels_limit.h): the reference's multiply, then add.
 constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_add_ps(sum, _mm_mul_ps(w, d)); };
 
-// The unit normals t1 x t2 of four tangent pairs (x, y, z in a quad's first lanes), in double two at a time: the
-// reference's arithmetic (limit_normals.cpp), zero where the tangents do not span a plane.
-constexpr auto unit_normals = [](const __m128 t1[4], const __m128 t2[4], __m128 normal[4]) {
-    __m128 a0 = t1[0], a1 = t1[1], a2 = t1[2], a3 = t1[3], b0 = t2[0], b1 = t2[1], b2 = t2[2], b3 = t2[3];
-    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0: the four x, a1: y, a2: z
-    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
-    __m128 n[3];
-    for (int half = 0; half < 2; ++half) {  // vertices 0 and 1, then 2 and 3
-        auto wide = [half](__m128 v) { return _mm_cvtps_pd(half == 0 ? v : _mm_movehl_ps(v, v)); };
-        const __m128d ax = wide(a0), ay = wide(a1), az = wide(a2), bx = wide(b0), by = wide(b1), bz = wide(b2);
-        const __m128d x = _mm_sub_pd(_mm_mul_pd(ay, bz), _mm_mul_pd(az, by));
-        const __m128d y = _mm_sub_pd(_mm_mul_pd(az, bx), _mm_mul_pd(ax, bz));
-        const __m128d z = _mm_sub_pd(_mm_mul_pd(ax, by), _mm_mul_pd(ay, bx));
-        const __m128d length =
-            _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y)), _mm_mul_pd(z, z)));
-        const __m128d inverse =
-            _mm_and_pd(_mm_cmpgt_pd(length, _mm_setzero_pd()), _mm_div_pd(_mm_set1_pd(1.0), length));
-        const __m128 part[3] = {_mm_cvtpd_ps(_mm_mul_pd(x, inverse)), _mm_cvtpd_ps(_mm_mul_pd(y, inverse)),
-                                _mm_cvtpd_ps(_mm_mul_pd(z, inverse))};
-        for (int c = 0; c < 3; ++c) n[c] = half == 0 ? part[c] : _mm_movelh_ps(n[c], part[c]);
-    }
-    __m128 unused = _mm_setzero_ps();
-    _MM_TRANSPOSE4_PS(n[0], n[1], n[2], unused);
-    normal[0] = n[0], normal[1] = n[1], normal[2] = n[2], normal[3] = unused;
-};
+// The unit normals t1 x t2 of four tangent pairs (x, y, z in a quad's first lanes), as four rows of three at `rows`:
+// the reference's float arithmetic per lane (limit_normals.cpp), zero where the tangents do not span a plane.
+struct UnitNormals {
+    static constexpr int kWidth = 4;
 
+    // The cross product of tangents a and b, and its squared length.
+    static __m128 cross(const __m128 a[3], const __m128 b[3], __m128 n[3]) {
+        n[0] = _mm_sub_ps(_mm_mul_ps(a[1], b[2]), _mm_mul_ps(a[2], b[1]));
+        n[1] = _mm_sub_ps(_mm_mul_ps(a[2], b[0]), _mm_mul_ps(a[0], b[2]));
+        n[2] = _mm_sub_ps(_mm_mul_ps(a[0], b[1]), _mm_mul_ps(a[1], b[0]));
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(n[0], n[0]), _mm_mul_ps(n[1], n[1])), _mm_mul_ps(n[2], n[2]));
+    }
+
+    // t scaled by a power of two to a largest coordinate near one (limit_normals.cpp, scale_to_unit).
+    static void scale_to_unit(__m128 t[3]) {
+        const __m128 sign = _mm_set1_ps(-0.0f);
+        const __m128 largest =
+            _mm_max_ps(_mm_andnot_ps(sign, t[0]), _mm_max_ps(_mm_andnot_ps(sign, t[1]), _mm_andnot_ps(sign, t[2])));
+        const __m128i exponent = _mm_min_epi32(_mm_and_si128(_mm_castps_si128(largest), _mm_set1_epi32(0x7f800000)),
+                                               _mm_set1_epi32(252 << 23));
+        const __m128 scale = _mm_castsi128_ps(_mm_sub_epi32(_mm_set1_epi32(253 << 23), exponent));
+        for (int c = 0; c < 3; ++c) t[c] = _mm_mul_ps(t[c], scale);
+    }
+
+    void operator()(const __m128* t1, const __m128* t2, float* rows) const {
+        __m128 a[4] = {t1[0], t1[1], t1[2], t1[3]}, b[4] = {t2[0], t2[1], t2[2], t2[3]}, n[3];
+        _MM_TRANSPOSE4_PS(a[0], a[1], a[2], a[3]);
+        _MM_TRANSPOSE4_PS(b[0], b[1], b[2], b[3]);
+        __m128 squared = cross(a, b, n);
+        const __m128 in_range = _mm_and_ps(_mm_cmpge_ps(squared, _mm_set1_ps(kLeastSquaredLength)),
+                                           _mm_cmple_ps(squared, _mm_set1_ps(kMostSquaredLength)));
+        if (_mm_movemask_ps(in_range) != 0xf) {  // rare; no bits change in the lanes in range
+            scale_to_unit(a);
+            scale_to_unit(b);
+            squared = cross(a, b, n);
+        }
+        const __m128 positive = _mm_cmpgt_ps(squared, _mm_setzero_ps());
+        const __m128 inverse = _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(squared)));
+        __m128 x = _mm_mul_ps(n[0], inverse), y = _mm_mul_ps(n[1], inverse), z = _mm_mul_ps(n[2], inverse);
+        __m128 unused = _mm_setzero_ps();
+        _MM_TRANSPOSE4_PS(x, y, z, unused);
+        PackedRows3{rows}.store_four(0, x, y, z, unused);
+    }
+};
+constexpr UnitNormals unit_normals;
+
+// One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
+// of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 template <std::size_t Step, typename Out>
 void smooth_quad(const Tables& t, const QuadSource<Step> in, const Out out, Range vertices, Range edges) {
     int i = vertices.begin, e = edges.begin;

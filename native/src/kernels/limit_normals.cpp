@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <utility>
 
 namespace loopsub::detail {
@@ -61,30 +63,49 @@ Tangents corner_tangents(ChannelsView<const float> in, Index corner, const Index
 }
 
 // The unit normals of a batch of tangent pairs, zero where the tangents do not span a plane. Over arrays and without
-// branches, the compiler takes two or four square roots and divisions at once, which one at a time cost more than the
-// tangents themselves.
+// branches, the compiler takes four square roots and divisions at once, which one at a time cost more than the
+// tangents themselves. Float arithmetic, as the SIMD kernels' (limit_normals.h).
 struct NormalBatch {
     static constexpr int kSize = 64;
-    double x[kSize], y[kSize], z[kSize];
+    float x[kSize], y[kSize], z[kSize];
 
-    void put(int i, const Tangents& t) {
-        x[i] = double(t.t1[1]) * t.t2[2] - double(t.t1[2]) * t.t2[1];
-        y[i] = double(t.t1[2]) * t.t2[0] - double(t.t1[0]) * t.t2[2];
-        z[i] = double(t.t1[0]) * t.t2[1] - double(t.t1[1]) * t.t2[0];
+    void put(int i, Tangents t) {
+        if (in_range(cross(i, t))) return;
+        scale_to_unit(t.t1);
+        scale_to_unit(t.t2);
+        cross(i, t);
+    }
+    // Cross product i from t, and its squared length.
+    float cross(int i, const Tangents& t) {
+        x[i] = t.t1[1] * t.t2[2] - t.t1[2] * t.t2[1];
+        y[i] = t.t1[2] * t.t2[0] - t.t1[0] * t.t2[2];
+        z[i] = t.t1[0] * t.t2[1] - t.t1[1] * t.t2[0];
+        return x[i] * x[i] + y[i] * y[i] + z[i] * z[i];
+    }
+    static bool in_range(float squared) { return squared >= kLeastSquaredLength && squared <= kMostSquaredLength; }
+    // t scaled by the power of two that brings its largest coordinate into [0.5, 1) (into [0.5, 4) near the largest
+    // floats, whose reciprocal powers of two are denormal): the scale's exponent bits are 253 minus the largest's.
+    static void scale_to_unit(float t[3]) {
+        const float largest = std::max({std::abs(t[0]), std::abs(t[1]), std::abs(t[2])});
+        std::uint32_t bits;
+        std::memcpy(&bits, &largest, sizeof bits);
+        const std::uint32_t scale_bits = (253u << 23) - std::min(bits & 0x7f800000u, 252u << 23);
+        float scale;
+        std::memcpy(&scale, &scale_bits, sizeof scale);
+        for (int c = 0; c < 3; ++c) t[c] *= scale;
     }
     // Normal i to normals + 3 * row_of(i).
     template <typename RowOf>
     void store(int count, float* normals, RowOf row_of) {
         for (int i = 0; i < count; ++i) {
-            const double length = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
-            // The tangents are finite (their weights sum to at most one in magnitude: plan/limit.cpp), so is their
-            // cross product in double: where the length is zero, so are x, y and z.
-            const double reciprocal = 1.0 / length;
-            const double inverse = length > 0.0 ? reciprocal : 0.0;
+            const float squared = x[i] * x[i] + y[i] * y[i] + z[i] * z[i];
+            // Where `squared` is zero, so are x, y and z (put scaled the tangents of any smaller product).
+            const float reciprocal = 1.0f / std::sqrt(squared);
+            const float inverse = squared > 0.0f ? reciprocal : 0.0f;
             float* to = normals + 3 * std::size_t(row_of(i));
-            to[0] = float(x[i] * inverse);
-            to[1] = float(y[i] * inverse);
-            to[2] = float(z[i] * inverse);
+            to[0] = x[i] * inverse;
+            to[1] = y[i] * inverse;
+            to[2] = z[i] * inverse;
         }
     }
 };
