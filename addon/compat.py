@@ -155,18 +155,36 @@ def write_positions(mesh, positions):
     _write_array(mesh, "position", "vector", mesh.vertices, "co", values)
 
 
-def write_edges(mesh, edge_vertices):
-    """The edges' vertex pairs, (E, 2)."""
-    values = np.ascontiguousarray(edge_vertices, dtype=np.int32).ravel()
-    _write_array(mesh, ".edge_verts", "value", mesh.edges, "vertices", values)
+def write_edges(mesh, edge_vertices, corner_edges):
+    """The edges' vertex pairs, (E, 2), and each face corner's (loop's) edge, (L,)."""
+    _write_array(mesh, ".edge_verts", "value", mesh.edges, "vertices",
+                 np.ascontiguousarray(edge_vertices, dtype=np.int32).ravel())
+    _write_array(mesh, ".corner_edge", "value", mesh.loops, "edge_index",
+                 np.ascontiguousarray(corner_edges, dtype=np.int32).ravel())
 
 
-def write_corners(mesh, corner_vertices, corner_edges):
-    """Each face corner's (loop's) vertex and edge, (L,) each."""
-    for name, legacy_prop, values in ((".corner_vert", "vertex_index", corner_vertices),
-                                      (".corner_edge", "edge_index", corner_edges)):
-        values = np.ascontiguousarray(values, dtype=np.int32).ravel()
-        _write_array(mesh, name, "value", mesh.loops, legacy_prop, values)
+def write_corner_vertices(mesh, corner_vertices):
+    """Each face corner's (loop's) vertex, (L,)."""
+    _write_array(mesh, ".corner_vert", "value", mesh.loops, "vertex_index",
+                 np.ascontiguousarray(corner_vertices, dtype=np.int32).ravel())
+
+
+def edge_arrays(mesh):
+    """Blender's own arrays of a mesh's edges' vertex pairs and of its corners' edges, as writable (E, 2) and (L,)
+    int32 views of its memory, for the core to write in place (write_edges' values without a copy), or None. From 4.0
+    they are the attributes .edge_verts and .corner_edge, whose items point at their elements; a new mesh's arrays,
+    just added, are its own (no other mesh shares them). New numpy arrays of their size cost page faults of their own
+    inside Blender, which reuses little of its freed memory, on top of the mesh's (docs/benchmark.md)."""
+    if not READS_ATTRIBUTES:
+        return None
+    edges, corners = mesh.attributes.get(".edge_verts"), mesh.attributes.get(".corner_edge")
+    if edges is None or corners is None:
+        return None
+    edge_block = _block_at(edges.data, len(mesh.edges), 2)
+    corner_block = _block_at(corners.data, len(mesh.loops), 1)
+    if edge_block is None or corner_block is None:
+        return None
+    return edge_block, corner_block.reshape(-1)
 
 
 def write_uvs(mesh, name, uvs):

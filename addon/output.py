@@ -5,7 +5,7 @@ refined values of a Source.
 """
 import numpy as np
 
-from . import geometry, native, tags
+from . import compat, geometry, native, tags
 from .cage import Refined
 
 
@@ -19,9 +19,20 @@ class PlanOutput:
         self.parent_triangles = plan.parent_triangles
         self.num_vertices = plan.num_output_vertices
 
-    def edges(self):
-        """(edge_vertices (E, 2), triangle_edges (T, 3)): edge k of a triangle joins its corners k and k + 1."""
-        return native.run(self.plan.output_edges)
+    def num_edges(self):
+        return native.run(lambda: self.plan.num_output_edges)
+
+    def write_edges(self, mesh):
+        """The result's edges (E, 2) and each triangle's (edge k joins its corners k and k + 1) into mesh, whose edges
+        and corners are added: by the core into Blender's arrays where the version lets it (compat.edge_arrays), else
+        copied. Returns the edges."""
+        arrays = compat.edge_arrays(mesh)
+        if arrays is None:
+            edges, triangle_edges = native.run(self.plan.output_edges)
+            compat.write_edges(mesh, edges, triangle_edges)
+            return edges
+        edges, _ = native.run(self.plan.output_edges, arrays[0], arrays[1].reshape(-1, 3))
+        return edges
 
     def edge_parents(self, edges, cage):
         """The cage edge each edge lies on, -1 inside a cage face."""
@@ -71,21 +82,31 @@ class TessellationOutput:
         self.face_point_parent[corner_face_points] = np.repeat(self.parent_triangles, 3)
         self.point_face_point = np.empty(self.num_vertices, dtype=np.int32)
         self.point_face_point[self.triangles.ravel()] = corner_face_points
-        self._triangle_edges = self._edge_parents = None
+        self._edges = self._edge_parents = None
 
-    def edges(self):
-        edges, self._triangle_edges = native.run(self.tessellation.output_edges)
-        self._edge_parents = None
-        return edges, self._triangle_edges
+    def _output_edges(self):
+        """(edge_vertices (E, 2), triangle_edges (T, 3)), worked out once."""
+        if self._edges is None:
+            self._edges = native.run(self.tessellation.output_edges)
+        return self._edges
+
+    def num_edges(self):
+        return len(self._output_edges()[0])
+
+    def write_edges(self, mesh):
+        """As PlanOutput.write_edges, copied."""
+        edges, triangle_edges = self._output_edges()
+        compat.write_edges(mesh, edges, triangle_edges)
+        return edges
 
     def edge_parents(self, edges, cage):
-        """The cage edge each edge (of edges(), called first) lies on, -1 inside a cage triangle."""
+        """The cage edge each edge (of write_edges()) lies on, -1 inside a cage triangle."""
         if self._edge_parents is None:
             sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
             side_edges = geometry.lookup_edges(cage.edge_vertices, sides, cage.num_vertices).reshape(-1, 3)
             corner_parameters = self.tessellation.face_point_parameters[self.tessellation.corner_face_points]
             self._edge_parents = geometry.tessellated_edge_parents(
-                self._triangle_edges, geometry.tessellated_edge_sides(corner_parameters), self.parent_triangles,
+                self._output_edges()[1], geometry.tessellated_edge_sides(corner_parameters), self.parent_triangles,
                 side_edges, len(edges))
         return self._edge_parents
 

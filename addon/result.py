@@ -125,13 +125,12 @@ def _write_geometry(new, positions, output):
     need not find them, nor the add-on read them back. Returns the edges' vertices (E, 2)."""
     triangles = output.triangles
     num_triangles = len(triangles)
-    edges, triangle_edges = output.edges()
     new.vertices.add(len(positions))
     compat.write_positions(new, positions)
-    new.edges.add(len(edges))
-    compat.write_edges(new, edges)
+    new.edges.add(output.num_edges())
     new.loops.add(3 * num_triangles)
-    compat.write_corners(new, triangles, triangle_edges)
+    edges = output.write_edges(new)
+    compat.write_corner_vertices(new, triangles)
     new.polygons.add(num_triangles)
     compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
     new.update()

@@ -575,28 +575,47 @@ void bind_plan(py::module_& m) {
             py::arg("level"),
             "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k "
             "of level L+1.")
+        .def_property_readonly(
+            "num_output_edges",
+            [](PyPlan& p) {
+                try {
+                    return p.plan.num_output_edges();
+                } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
+            },
+            "int: the output's edges, as output_edges() gives them. ValueError for a plan of no levels or with "
+            "holes.")
         .def(
             "output_edges",
-            [](PyPlan& p) {
+            [](PyPlan& p, py::handle edge_vertices_out, py::handle triangle_edges_out) {
                 int num_edges = 0;
                 try {
                     num_edges = p.plan.num_output_edges();
                 } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
-                py::array_t<std::int32_t> edge_vertices({py::ssize_t(num_edges), py::ssize_t(2)});
-                py::array_t<std::int32_t> triangle_edges({py::ssize_t(p.plan.num_output_triangles()), py::ssize_t(3)});
-                std::int32_t* ends = edge_vertices.mutable_data();
-                std::int32_t* sides = triangle_edges.mutable_data();
+                const std::vector<Dim> edge_dims{{num_edges, "E_out"}, {2, "2"}};
+                const std::vector<Dim> triangle_dims{{p.plan.num_output_triangles(), "M_out"}, {3, "3"}};
+                auto array = [](py::handle out, const char* name, const std::vector<Dim>& dims) {
+                    if (out.is_none()) return py::array(py::array_t<std::int32_t>({dims[0].size, dims[1].size}));
+                    return require_array<std::int32_t>(out, name, dims, /*writeable=*/true);
+                };
+                py::array edge_vertices = array(edge_vertices_out, "edge_vertices", edge_dims);
+                py::array triangle_edges = array(triangle_edges_out, "triangle_edges", triangle_dims);
+                if (overlaps(edge_vertices, triangle_edges))
+                    throw py::value_error("edge_vertices and triangle_edges must not share memory");
+                auto* ends = static_cast<std::int32_t*>(edge_vertices.mutable_data());
+                auto* sides = static_cast<std::int32_t*>(triangle_edges.mutable_data());
                 {
                     py::gil_scoped_release nogil;
                     p.plan.output_edges(ends, sides);
                 }
                 return py::make_tuple(edge_vertices, triangle_edges);
             },
-            "output_edges()\n\n(edge_vertices (E_out, 2) int32, triangle_edges (M_out, 3) int32): the output's edges "
-            "as the "
-            "last split numbers them (the halves of edge e of level levels - 1 are 2e and 2e + 1, the edges inside its "
-            "face f are 2E + 3f + k), and each output triangle's edges (edge k joins corners k and k + 1): a mesh "
-            "without an edge search. New arrays. ValueError for a plan of no levels or with holes.")
+            py::arg("edge_vertices") = py::none(), py::arg("triangle_edges") = py::none(),
+            "output_edges(edge_vertices=None, triangle_edges=None)\n\n(edge_vertices (E_out, 2) int32, "
+            "triangle_edges (M_out, 3) int32): the output's edges as the last split numbers them (the halves of edge "
+            "e of level levels - 1 are 2e and 2e + 1, the edges inside its face f are 2E + 3f + k), and each output "
+            "triangle's edges (edge k joins corners k and k + 1): a mesh without an edge search. Written into the "
+            "arrays given (C-contiguous, writeable int32 of those shapes, apart in memory: a mesh's own arrays, say), "
+            "else into new ones. ValueError for a plan of no levels or with holes.")
         .def(
             "level_num_vertices",
             [](PyPlan& p, int level) {

@@ -268,9 +268,42 @@ def test_tagged_edges_are_numbered_as_output_edges(levels, rules):
     assert np.isin(plan.crease_edge_indices, plan.sharp_edge_indices).all()
 
 
+def test_output_edges_write_into_given_arrays():
+    # Into arrays the caller owns (a mesh's own edge and corner arrays, say): the same values as new arrays, the very
+    # arrays returned, num_output_edges their length; a wrong dtype, shape, layout, a read-only or overlapping
+    # array is refused before anything is written.
+    p, t = icosahedron()
+    plan = _loopsub.Plan(t, len(p), 2, threads=2)
+    edges, triangle_edges = plan.output_edges()
+    assert plan.num_output_edges == len(edges)
+    edge_out = np.full((plan.num_output_edges, 2), -7, np.int32)
+    corner_out = np.full(3 * plan.num_output_triangles, -7, np.int32)  # one per corner, as a mesh keeps them
+    returned = plan.output_edges(edge_out, corner_out.reshape(-1, 3))
+    assert returned[0] is edge_out and np.shares_memory(returned[1], corner_out)
+    np.testing.assert_array_equal(edge_out, edges)
+    np.testing.assert_array_equal(corner_out.reshape(-1, 3), triangle_edges)
+    untouched = np.full_like(edge_out, -7)
+    for bad, error, message in ((untouched.astype(np.int64), TypeError, "int32"),
+                                (untouched[:-1], ValueError, "shape"),
+                                (np.full((2, len(edges)), -7, np.int32).T, ValueError, "C-contiguous")):
+        with pytest.raises(error, match=message):
+            plan.output_edges(bad, np.empty_like(triangle_edges))
+    read_only = untouched.copy()
+    read_only.flags.writeable = False
+    with pytest.raises(ValueError, match="writeable"):
+        plan.output_edges(read_only)
+    both = np.full(2 * len(edges) + 3 * len(triangle_edges), -7, np.int32)
+    with pytest.raises(ValueError, match="share memory"):
+        plan.output_edges(both[:2 * len(edges)].reshape(-1, 2), both[len(edges):len(edges) + 3 * len(triangle_edges)]
+                          .reshape(-1, 3))
+    assert (untouched == -7).all() and (both == -7).all()
+
+
 def test_output_edges_need_a_level_and_no_holes():
     p, t = icosahedron()
     with pytest.raises(ValueError, match="no levels"):
         _loopsub.Plan(t, len(p), 0).output_edges()
+    with pytest.raises(ValueError, match="no levels"):
+        _loopsub.Plan(t, len(p), 0).num_output_edges
     with pytest.raises(ValueError, match="holes"):
         _loopsub.Plan(t, len(p), 1, hole_triangles=np.array([0], np.int32)).output_edges()
