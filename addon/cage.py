@@ -140,8 +140,10 @@ class Refined:
     """What a plan's evaluation gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
     (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the limit normals in the core's
     compact form (None without the limit surface): normals (R, 3), row v vertex v's normal and, past N_out, those of
-    the sides of vertices whose fan a crease, corner or boundary splits, and normal_indices (T_out, 3), the row of
-    each output corner (Plan.evaluate_with_limit_normals, docs/python.md); and the output triangles (the plan's). A
+    the sides of vertices whose fan a crease, corner or boundary splits, and normal_indices, a function giving the
+    row of each output corner (T_out, 3) (Plan.evaluate_with_limit_normals, docs/python.md), called only for corner
+    normals: a plan makes its indices on a first request (13 ms for 1.28 million triangles), and a result without
+    sides takes one normal per vertex; and the output triangles (the plan's). A
     UV map or the corner channels left as the result holds them (Source.refine's written) are None. vertex_rows: False
     where the normals' rows are not vertices (a tessellation's are its face points)."""
 
@@ -156,7 +158,7 @@ class Refined:
 
     def corner_normals(self):
         """The limit normals per output corner, (T_out, 3, 3): a new array."""
-        return self.normals[self.normal_indices]
+        return self.normals[self.normal_indices()]
 
     def vertex_normals(self):
         """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no crease
@@ -320,11 +322,10 @@ class Source:
         def unchanged(index, values):  # index: the place of values in Source.inputs
             return written is not None and np.array_equal(written[index], values)
 
-        normals = normal_indices = None
+        normals = None
         if self.options.use_limit_surface:
             # Positions come first among the vertex channels; the others are refined with the same limit weights.
             vertex, normals = native.run(plan.evaluate_with_limit_normals, self.vertex.packed())
-            normal_indices = plan.corner_normal_indices
         else:
             vertex = native.run(plan.evaluate, self.vertex.packed())
         uvs = [None if unchanged(2 + layer, values)
@@ -338,4 +339,4 @@ class Source:
             # vertices move, nor does any corner value when only a UV does.
             corners = (None if unchanged(1, values) and not self.custom_normals
                        else native.run(plan.evaluate_face_varying, values))
-        return Refined(vertex, uvs, corners, normals, normal_indices, plan.triangles)
+        return Refined(vertex, uvs, corners, normals, lambda: plan.corner_normal_indices, plan.triangles)

@@ -200,13 +200,14 @@ def write_uvs(mesh, name, uvs):
 
 
 def write_smooth(mesh, smooth):
-    """Each face's smooth shading, (F,) bool, on a new mesh. From 4.0 Blender keeps it as the `sharp_face` attribute,
-    absent while every face is smooth (as a new mesh's are): one block copy, where MeshPolygon.use_smooth takes 43 ms
-    per million faces in 4.5. 3.4 keeps it in the faces themselves, flat when new."""
-    smooth = np.ascontiguousarray(smooth, dtype=bool)
+    """Each face's smooth shading, (F,) bool, or None where every face is smooth, on a new mesh. From 4.0 Blender keeps
+    it as the `sharp_face` attribute, absent while every face is smooth (as a new mesh's are): one block copy, where
+    MeshPolygon.use_smooth takes 43 ms per million faces in 4.5. 3.4 keeps it in the faces themselves, flat when
+    new."""
     if bpy.app.version < (4, 0, 0):
-        mesh.polygons.foreach_set("use_smooth", smooth)
-    elif not smooth.all():
+        smooth = np.ones(len(mesh.polygons), dtype=bool) if smooth is None else smooth
+        mesh.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth, dtype=bool))
+    elif smooth is not None and not smooth.all():
         mesh.attributes.new("sharp_face", 'BOOLEAN', 'FACE').data.foreach_set("value", ~smooth)
 
 

@@ -25,7 +25,8 @@ class BlenderCorners:
 
 
 def blender_normal_corners(source, output, new_edges, sharp, parents):
-    """The result's BlenderCorners with the limit normals, None where there are none (or no limit normals)."""
+    """The result's BlenderCorners with the limit normals, None where there are none (or no limit normals). parents:
+    each triangle's cage face (result.build_mesh's, None where every cage face is smooth)."""
     if not source.limit_normals:
         return None
     on_sharp = None
@@ -33,8 +34,8 @@ def blender_normal_corners(source, output, new_edges, sharp, parents):
         vertices_on_sharp = np.zeros(output.num_vertices, dtype=bool)
         vertices_on_sharp[new_edges[sharp].ravel()] = True
         on_sharp = vertices_on_sharp[output.triangles]
-    flat = ~source.smooth[parents]
-    flat = flat if flat.any() else None
+    flat = None if source.smooth.all() else ~source.smooth[parents]
+    flat = flat if flat is not None and flat.any() else None
     return None if flat is None and on_sharp is None else BlenderCorners(flat, on_sharp)
 
 

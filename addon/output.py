@@ -163,5 +163,5 @@ class TessellationOutput:
         if source.corners.parts:
             values = source.corners.packed()
             corners = None if unchanged(1, values) and not source.custom_normals else per_corner(values)
-        return Refined(vertex, uvs, corners, normals, tessellation.corner_face_points, self.triangles,
+        return Refined(vertex, uvs, corners, normals, lambda: tessellation.corner_face_points, self.triangles,
                        vertex_rows=False)

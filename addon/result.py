@@ -67,7 +67,9 @@ def build_mesh(source, output, refined, name, holder):
         if output.has_vertex_creases() or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
         new_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], output)
-        parents = cage.triangle_polygons[output.parent_triangles]
+        # Each face's cage face, where face values differ between cage faces: a gather of a million entries or more.
+        parents = (cage.triangle_polygons[output.parent_triangles]
+                   if source.materials.any() or not source.smooth.all() or source.face else None)
         _write_face_data(new, source, parents)
         _write_creases(new, cage, output, options, new_edges)
         sharp = _write_edge_data(new, source, output, new_edges)
@@ -138,14 +140,16 @@ def _write_geometry(new, positions, output):
 
 
 def _write_face_data(new, source, parent_polygons):
-    """Per-face data comes from the parent face of the cage (through its triangle), flat/smooth shading too (with the
-    limit normals as well: they show on the smooth faces, as Subdivision Surface keeps flat faces flat). Material
-    indices go through their attribute (Blender 3.4+), many times faster than MeshPolygon.material_index; like
-    Blender, none is written when every face uses the first slot."""
-    materials = source.materials[parent_polygons]
-    if materials.any():
-        add_attribute(new, "material_index", 'FACE', 'INT', materials)
-    compat.write_smooth(new, source.smooth[parent_polygons])
+    """Per-face data comes from the parent face of the cage (through its triangle; parent_polygons None where every
+    cage face is smooth, of the first material and without face attributes), flat/smooth shading too (with the limit
+    normals as well: they show on the smooth faces, as Subdivision Surface keeps flat faces flat). Material indices go
+    through their attribute (Blender 3.4+), many times faster than MeshPolygon.material_index; like Blender, none is
+    written when every face uses the first slot."""
+    if source.materials.any():
+        materials = source.materials[parent_polygons]
+        if materials.any():
+            add_attribute(new, "material_index", 'FACE', 'INT', materials)
+    compat.write_smooth(new, None if source.smooth.all() else source.smooth[parent_polygons])
     for (name, domain, data_type), values in zip(source.face, source.face_values):
         add_attribute(new, name, domain, data_type, values[parent_polygons])
 
