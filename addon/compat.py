@@ -291,18 +291,29 @@ def read_face_materials_and_smooth(mesh):
 
 # From 4.0 a face is an offset into the corners: MeshPolygon points at the face's entry of the mesh's offsets (faces
 # + 1 ints, the last the number of corners), and loop_start's setter writes that int. foreach_set writes through RNA a
-# face at a time there (100 ms for 1.28 million faces in 4.5); _write_face_offsets does what the setters do, to the
+# face at a time there (100 ms for 1.28 million faces in 4.5); set_triangle_loops does what the setters do, to the
 # same ints, as one block.
 FACES_ARE_OFFSETS = bpy.types.MeshPolygon.bl_rna.properties["loop_total"].is_readonly
 
 
-def set_polygon_loops(mesh, loop_start, loop_total):
-    loop_start = np.ascontiguousarray(loop_start, dtype=np.int32)
-    if not FACES_ARE_OFFSETS:
-        mesh.polygons.foreach_set("loop_start", loop_start)
-        mesh.polygons.foreach_set("loop_total", np.ascontiguousarray(loop_total, dtype=np.int32))
-    elif not _write_face_offsets(mesh, loop_start):
-        mesh.polygons.foreach_set("loop_start", loop_start)
+def set_triangle_loops(mesh):
+    """Every face a triangle of the next three corners: face i's are 3i, 3i + 1 and 3i + 2."""
+    count = len(mesh.polygons)
+    block = _block_at(mesh.polygons, count, 1) if FACES_ARE_OFFSETS else None
+    if block is None:
+        mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * count, 3, dtype=np.int32))
+        if not FACES_ARE_OFFSETS:
+            mesh.polygons.foreach_set("loop_total", np.full(count, 3, dtype=np.int32))
+        return
+    # A chunk at a time: a small temporary is memory Blender's process reuses, one of the faces' size is fresh (5 MB
+    # and page faults for 1.28 million faces).
+    offsets = block.reshape(-1)
+    for start in range(0, count, _OFFSETS_CHUNK):
+        end = min(count, start + _OFFSETS_CHUNK)
+        offsets[start:end] = np.arange(3 * start, 3 * end, 3, dtype=np.int32)
+
+
+_OFFSETS_CHUNK = 1 << 16
 
 
 def _block_at(collection, count, width):
@@ -317,16 +328,6 @@ def _block_at(collection, count, width):
     if collection[1].as_pointer() != first + step or collection[count - 1].as_pointer() != first + (count - 1) * step:
         return None
     return np.ctypeslib.as_array((ctypes.c_int32 * (count * width)).from_address(first)).reshape(count, width)
-
-
-def _write_face_offsets(mesh, loop_start):
-    """The faces' offsets written as one block (the faces' lookup goes through the writable array); False, with
-    nothing written, where the faces are not such a block."""
-    block = _block_at(mesh.polygons, len(loop_start), 1) if len(loop_start) == len(mesh.polygons) else None
-    if block is None:
-        return False
-    block[:, 0] = loop_start
-    return True
 
 
 def copy_shading_settings(source, target):

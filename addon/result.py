@@ -134,7 +134,7 @@ def _write_geometry(new, positions, output):
     edges = output.write_edges(new)
     compat.write_corner_vertices(new, triangles)
     new.polygons.add(num_triangles)
-    compat.set_polygon_loops(new, np.arange(num_triangles, dtype=np.int32) * 3, np.full(num_triangles, 3, np.int32))
+    compat.set_triangle_loops(new)
     new.update()
     return edges
 
