@@ -117,8 +117,8 @@ constexpr auto smooth_edge = [](__m128 a, __m128 b, __m128 c, __m128 d) {
 constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_fmadd_ps(w, d, sum); };
 
 // The unit normals t1 x t2 of eight tangent pairs (x, y, z in a quad's first lanes), as eight rows of three at `rows`:
-// the tangents turned into x, y and z registers of eight lanes, the arithmetic in float (kernels_limit.h, "the
-// normals in float"), zero where the tangents do not span a plane.
+// the tangents turned into x, y and z registers of eight lanes, the reference's float arithmetic (limit_normals.h)
+// with fused multiply-adds, zero where the tangents do not span a plane.
 struct UnitNormals {
     static constexpr int kWidth = 8;
 
@@ -128,11 +128,12 @@ struct UnitNormals {
         const float* p = reinterpret_cast<const float*>(t);
         const __m256 t01 = _mm256_loadu_ps(p), t23 = _mm256_loadu_ps(p + 8);
         const __m256 t45 = _mm256_loadu_ps(p + 16), t67 = _mm256_loadu_ps(p + 24);
-        const __m256 xy_0246 = _mm256_unpacklo_ps(t01, t23), z_0246 = _mm256_unpackhi_ps(t01, t23);  // x0 x2 y0 y2
-        const __m256 xy_4657 = _mm256_unpacklo_ps(t45, t67), z_4657 = _mm256_unpackhi_ps(t45, t67);  // x4 x6 y4 y6
-        x = _mm256_shuffle_ps(xy_0246, xy_4657, _MM_SHUFFLE(1, 0, 1, 0));
-        y = _mm256_shuffle_ps(xy_0246, xy_4657, _MM_SHUFFLE(3, 2, 3, 2));
-        z = _mm256_shuffle_ps(z_0246, z_4657, _MM_SHUFFLE(1, 0, 1, 0));
+        // Per 128-bit lane: x0 x2 y0 y2 | x1 x3 y1 y3, and z0 z2 .. | z1 z3 ..; then the same of 4 to 7.
+        const __m256 xy_0123 = _mm256_unpacklo_ps(t01, t23), z_0123 = _mm256_unpackhi_ps(t01, t23);
+        const __m256 xy_4567 = _mm256_unpacklo_ps(t45, t67), z_4567 = _mm256_unpackhi_ps(t45, t67);
+        x = _mm256_shuffle_ps(xy_0123, xy_4567, _MM_SHUFFLE(1, 0, 1, 0));
+        y = _mm256_shuffle_ps(xy_0123, xy_4567, _MM_SHUFFLE(3, 2, 3, 2));
+        z = _mm256_shuffle_ps(z_0123, z_4567, _MM_SHUFFLE(1, 0, 1, 0));
     }
 
     // Eight rows x0 y0 z0 x1 ... z7 from across()'s lanes: each coordinate permuted so that its lanes are where the
