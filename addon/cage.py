@@ -166,6 +166,26 @@ class Refined:
         return self.normals if self.vertex_rows and len(self.normals) == len(self.vertex) else None
 
 
+class Destination:
+    """A new result's own arrays that a refinement evaluates into, each None where it cannot: its positions (N_out,
+    3) (compat.position_array) and its free normals per vertex (N_out, 3) (compat.free_vertex_normal_array). New
+    arrays of their size would cost a copy, and page faults inside Blender, which reuses little of its freed memory
+    (docs/benchmark.md)."""
+
+    def __init__(self, positions=None, vertex_normals=None):
+        self.positions = positions
+        self.vertex_normals = vertex_normals
+
+    def positions_for(self, vertex_width):
+        """Where vertex channels of this width go: the positions' array when they are positions alone."""
+        return self.positions if vertex_width == 3 else None
+
+    def normals_for(self, num_normals):
+        """Where this many limit normals go: the vertex normals' array when they are one per vertex."""
+        fits = self.vertex_normals is not None and len(self.vertex_normals) == num_normals
+        return self.vertex_normals if fits else None
+
+
 class _Channels:
     """Several arrays packed side by side along their last axis for one native call, unpacked by key afterwards."""
 
@@ -314,20 +334,25 @@ class Source:
         return (self.vertex.packed(), self.corners.packed() if self.corners.parts else None,
                 *(values for _, values in self.uv_layers))
 
-    def refine(self, plan, written=None):
+    def refine(self, plan, written=None, into=None):
         """Evaluates plan (built from this source's plan key) on the source's values: a Refined. written: the inputs
         (Source.inputs) of the result it updates in place; the UV maps and corner channels whose values are still
         those are not refined again (None in the Refined): the result holds them already, and playback moves only
-        positions."""
+        positions. into: a Destination, the new result's own arrays, which the core evaluates into where the
+        positions are the only vertex channel and the limit normals are one per vertex (the Refined then holds
+        them)."""
         def unchanged(index, values):  # index: the place of values in Source.inputs
             return written is not None and np.array_equal(written[index], values)
 
+        into = into or Destination()
+        out = into.positions_for(self.vertex.width)
         normals = None
         if self.options.use_limit_surface:
             # Positions come first among the vertex channels; the others are refined with the same limit weights.
-            vertex, normals = native.run(plan.evaluate_with_limit_normals, self.vertex.packed())
+            vertex, normals = native.run(plan.evaluate_with_limit_normals, self.vertex.packed(), out,
+                                         into.normals_for(plan.num_limit_normals))
         else:
-            vertex = native.run(plan.evaluate, self.vertex.packed())
+            vertex = native.run(plan.evaluate, self.vertex.packed(), out)
         uvs = [None if unchanged(2 + layer, values)
                else native.run(plan.evaluate_face_varying, values, layer=layer)[plan.face_varying_indices(layer)]
                for layer, (_, values) in enumerate(self.uv_layers)]

@@ -143,14 +143,14 @@ def _write_array(mesh, name, prop, legacy, legacy_prop, values):
     """values into the attribute `name` (its `prop`) where the mesh keeps one, else into the legacy collection's
     legacy_prop."""
     attribute = mesh.attributes.get(name)
-    if attribute is not None:
-        attribute.data.foreach_set(prop, values)
-    else:
+    if attribute is None:
         legacy.foreach_set(legacy_prop, values)
+    elif not _holds(attribute, values):
+        attribute.data.foreach_set(prop, values)
 
 
 def write_positions(mesh, positions):
-    """The vertices' positions, (V, 3)."""
+    """The vertices' positions, (V, 3): nothing to do where they are the mesh's own array (position_array)."""
     values = np.ascontiguousarray(positions, dtype=np.float32).ravel()
     _write_array(mesh, "position", "vector", mesh.vertices, "co", values)
 
@@ -185,6 +185,23 @@ def edge_arrays(mesh):
     if edge_block is None or corner_block is None:
         return None
     return edge_block, corner_block.reshape(-1)
+
+
+def position_array(mesh):
+    """Blender's own array of a new mesh's vertex positions, as a writable (V, 3) float32 view of its memory for the
+    core to evaluate into (as edge_arrays), or None: 3.4 keeps positions in MVert structs among other fields."""
+    attribute = mesh.attributes.get("position") if READS_ATTRIBUTES else None
+    return None if attribute is None else _block_at(attribute.data, len(mesh.vertices), 3, ctypes.c_float)
+
+
+def free_vertex_normal_array(mesh):
+    """A new mesh's free normals, one per vertex (HAS_FREE_NORMALS): its new point attribute "custom_normal", as a
+    writable (V, 3) float32 view of its memory for the core to evaluate into; set_custom_normals then finds them in
+    place. None before 4.5, or where the attribute's items are not one array."""
+    if not HAS_FREE_NORMALS:
+        return None
+    attribute = mesh.attributes.new(CUSTOM_NORMAL_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
+    return _block_at(attribute.data, len(mesh.vertices), 3, ctypes.c_float)
 
 
 def write_uvs(mesh, name, uvs):
@@ -316,18 +333,25 @@ def set_triangle_loops(mesh):
 _OFFSETS_CHUNK = 1 << 16
 
 
-def _block_at(collection, count, width):
-    """The ints behind the first `count` items of a collection of structs over one array, items of `width` ints, as
-    a (count, width) int32 view of Blender's memory; None where the items' pointers say they are not such an array.
-    An item's pointer (as_pointer) is its element's address in the array the collection's lookup goes through, so
-    the first and the last item's bound the block."""
+def _block_at(collection, count, width, ctype=ctypes.c_int32):
+    """The values behind the first `count` items of a collection of structs over one array, items of `width` values
+    of ctype, as a (count, width) view of Blender's memory; None where the items' pointers say they are not such an
+    array. An item's pointer (as_pointer) is its element's address in the array the collection's lookup goes
+    through, so the first and the last item's bound the block."""
     if count < 2:
         return None
-    step = width * ctypes.sizeof(ctypes.c_int32)
+    step = width * ctypes.sizeof(ctype)
     first = collection[0].as_pointer()
     if collection[1].as_pointer() != first + step or collection[count - 1].as_pointer() != first + (count - 1) * step:
         return None
-    return np.ctypeslib.as_array((ctypes.c_int32 * (count * width)).from_address(first)).reshape(count, width)
+    return np.ctypeslib.as_array((ctype * (count * width)).from_address(first)).reshape(count, width)
+
+
+def _holds(attribute, values):
+    """Whether values (contiguous) are the attribute's own array, written in place by the core (position_array,
+    free_vertex_normal_array): then there is nothing to copy."""
+    return (len(values) > 0 and len(attribute.data) > 0
+            and values.__array_interface__["data"][0] == attribute.data[0].as_pointer())
 
 
 def copy_shading_settings(source, target):
@@ -593,8 +617,9 @@ def set_custom_normals(mesh, normals, vertex_normals=None, free=False):
 
     free (HAS_FREE_NORMALS, 4.5+): the normals (unit vectors) go as they are into the float vector attribute
     "custom_normal", on the point domain (vertex_normals) or the corner domain: free normals, which Blender shades
-    with as they are (flat faces and marked sharp edges do not change them), and which cost a copy of the array (the
-    cage's own free normals are carried over so, and the limit normals go so where the version has them). Otherwise
+    with as they are (flat faces and marked sharp edges do not change them), and which cost a copy of the array, or
+    nothing where they are the attribute's own (free_vertex_normal_array; the cage's own free normals are carried
+    over so, and the limit normals go so where the version has them). Otherwise
     a free "custom_normal" the mesh has goes first: normals_split_custom_set leaves a mesh with free normals
     unchanged (4.5.15, 5.0.1, 5.2.3)."""
     existing = mesh.attributes.get(CUSTOM_NORMAL_ATTRIBUTE) if NAMES_SEAMS_AND_NORMALS else None
@@ -606,7 +631,9 @@ def set_custom_normals(mesh, normals, vertex_normals=None, free=False):
             existing = None
         if existing is None:
             existing = mesh.attributes.new(CUSTOM_NORMAL_ATTRIBUTE, 'FLOAT_VECTOR', domain)
-        existing.data.foreach_set("vector", np.ascontiguousarray(values, dtype=np.float32).ravel())
+        values = np.ascontiguousarray(values, dtype=np.float32).ravel()
+        if not _holds(existing, values):
+            existing.data.foreach_set("vector", values)
         return
     if existing is not None and existing.data_type == 'FLOAT_VECTOR':
         mesh.attributes.remove(existing)

@@ -147,12 +147,12 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
                     and len(helper.data.vertices) == cache.output.num_vertices)
         if in_place and _equal(cache.inputs, inputs):
             return
-        refined = cache.output.refine(source, written=cache.inputs if in_place else None)
         if in_place:
+            refined = cache.output.refine(source, written=cache.inputs)
             result.update_mesh(helper.data, source, refined, cache.blender_corners)
         else:
             old = helper.data
-            _swap(helper, old, result.build_mesh(source, cache.output, refined, helper.name, helper))
+            _swap(helper, old, result.build_mesh(source, cache.output, helper.name, helper))
             cache.result, cache.layout_key = helper.data.name, layout_key
             cache.blender_corners = source.blender_corners
         cache.inputs = inputs

@@ -39,6 +39,15 @@ def blender_normal_corners(source, output, new_edges, sharp, parents):
     return None if flat is None and on_sharp is None else BlenderCorners(flat, on_sharp)
 
 
+def vertex_normal_destination(new, source, output):
+    """The array write_limit_normals' cheapest case writes, for the core to evaluate into: where the limit normals
+    become free normals one per vertex (4.5+, no corner keeping Blender's own normal (source.blender_corners, set
+    before), no fan split), the result's new "custom_normal" (compat.free_vertex_normal_array); else None."""
+    if source.limit_normals and source.blender_corners is None and output.one_normal_per_vertex():
+        return compat.free_vertex_normal_array(new)
+    return None
+
+
 def write_normals(new, source, refined, blender_corners):
     """Custom normals: the cage's own, interpolated linearly per face (normalised), where it shades with them (free
     normals stay free, 4.5+); else, with the limit surface, the limit normals (write_limit_normals)."""

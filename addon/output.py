@@ -6,7 +6,7 @@ refined values of a Source.
 import numpy as np
 
 from . import compat, geometry, native, tags
-from .cage import Refined
+from .cage import Destination, Refined
 
 
 class PlanOutput:
@@ -57,8 +57,12 @@ class PlanOutput:
     def write_tags(self, mesh, num_edges):
         tags.write_plan_tags(mesh, self.plan, num_edges)
 
-    def refine(self, source, written=None):
-        return source.refine(self.plan, written)
+    def one_normal_per_vertex(self):
+        """Whether the limit normals are one per vertex (no crease, corner or boundary splits a fan)."""
+        return self.plan.num_limit_normals == self.num_vertices
+
+    def refine(self, source, written=None, into=None):
+        return source.refine(self.plan, written, into)
 
 
 class TessellationOutput:
@@ -133,16 +137,22 @@ class TessellationOutput:
     def write_tags(self, mesh, num_edges):
         """None: the tags say how refinement goes on, and the limit surface is where it ends."""
 
-    def refine(self, source, written=None):
+    def one_normal_per_vertex(self):
+        """False: the normals are one per face point (a point on a cage edge has one in each triangle beside it)."""
+        return False
+
+    def refine(self, source, written=None, into=None):
         """The Refined values of source on this tessellation: positions and normals on the limit surface, UV maps
-        refined by UV Smooth; the other channels linear in the cage triangles (written: as Source.refine's, the UV
-        maps and corner channels whose values are unchanged are left as the result holds them)."""
+        refined by UV Smooth; the other channels linear in the cage triangles (written, into: as Source.refine's, the
+        UV maps and corner channels whose values are unchanged are left as the result holds them; positions alone go
+        into a Destination's)."""
         def unchanged(index, values):
             return written is not None and np.array_equal(written[index], values)
 
         cage = source.cage
         tessellation = self.tessellation
-        points, normals = native.run(tessellation.evaluate, cage.positions)
+        into = into or Destination()
+        points, normals = native.run(tessellation.evaluate, cage.positions, into.positions_for(source.vertex.width))
 
         def per_face_point(corner_values):
             return geometry.interpolate_in_triangles(corner_values, self.face_point_parent,

@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 
 from . import adaptive, compat, geometry, normals
-from .cage import Source, check_object
+from .cage import Destination, Source, check_object
 from .output import PlanOutput
 from .mesh_data import add_attribute, fill_attribute
 
@@ -27,8 +27,9 @@ class Result:
         self.active_group = active_group
 
 
-# The long stages of subdivide, in order (the progress counter at the cursor counts them).
-STAGES = ("Reading the mesh", "Building the plan", "Refining", "Writing the new mesh")
+# The long stages of subdivide, in order (the progress counter at the cursor counts them). The new mesh is refined
+# into as it is built.
+STAGES = ("Reading the mesh", "Building the plan", "Building the new mesh")
 
 
 def subdivide(obj, options, progress, view=None):
@@ -44,17 +45,15 @@ def subdivide(obj, options, progress, view=None):
     else:
         output = PlanOutput(source.plan())
     progress(2)
-    refined = output.refine(source)
-    progress(3)
-    new = build_mesh(source, output, refined, obj.data.name, None)
+    new = build_mesh(source, output, obj.data.name, None)
     locks = [group.lock_weight for group in obj.vertex_groups]
     return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 
 
-def build_mesh(source, output, refined, name, holder):
+def build_mesh(source, output, name, holder):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
-    groups, tags. output: its structure (output.PlanOutput or TessellationOutput); refined: output.refine(source).
-    holder: an object whose data the new mesh may become while vertex
+    groups, tags. output: its structure (output.PlanOutput or TessellationOutput), refined straight into the new
+    mesh's arrays where it can (cage.Destination). holder: an object whose data the new mesh may become while vertex
     groups are written (None: a temporary one). Sets source.blender_corners, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
@@ -66,7 +65,7 @@ def build_mesh(source, output, refined, name, holder):
         compat.copy_shading_settings(mesh, new)
         if output.has_vertex_creases() or compat.has_vertex_creases(mesh):
             compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
-        new_edges = _write_geometry(new, refined.vertex[:, vertex.columns["position"]], output)
+        new_edges = _write_structure(new, output)
         # Each face's cage face, where face values differ between cage faces: a gather of a million entries or more.
         parents = (cage.triangle_polygons[output.parent_triangles]
                    if source.materials.any() or not source.smooth.all() or source.face else None)
@@ -74,6 +73,9 @@ def build_mesh(source, output, refined, name, holder):
         _write_creases(new, cage, output, options, new_edges)
         sharp = _write_edge_data(new, source, output, new_edges)
         source.blender_corners = normals.blender_normal_corners(source, output, new_edges, sharp, parents)
+        refined = output.refine(source, into=Destination(compat.position_array(new),
+                                                         normals.vertex_normal_destination(new, source, output)))
+        compat.write_positions(new, refined.vertex[:, vertex.columns["position"]])
         _add_value_layers(new, source)
         _write_values(new, source, refined)
         new.update()
@@ -122,13 +124,13 @@ def _write_values(new, source, refined):
         fill_attribute(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
 
-def _write_geometry(new, positions, output):
-    """Vertices, edges and triangles. The edges come from the output (a plan numbers them as it refines), so Blender
-    need not find them, nor the add-on read them back. Returns the edges' vertices (E, 2)."""
+def _write_structure(new, output):
+    """Vertices (their positions to come), edges and triangles. The edges come from the output (a plan numbers them
+    as it refines), so Blender need not find them, nor the add-on read them back. Returns the edges' vertices (E,
+    2)."""
     triangles = output.triangles
     num_triangles = len(triangles)
-    new.vertices.add(len(positions))
-    compat.write_positions(new, positions)
+    new.vertices.add(output.num_vertices)
     new.edges.add(output.num_edges())
     new.loops.add(3 * num_triangles)
     edges = output.write_edges(new)
@@ -155,11 +157,16 @@ def _write_face_data(new, source, parent_polygons):
 
 
 def _write_creases(new, cage, output, options, new_edges):
-    """The result's crease weights (output.creases); an edge crease layer where the cage or the result has one."""
+    """The result's crease weights (output.creases): an edge crease layer where the cage has one (only its creased
+    edges give creased ones), vertex creases where build_mesh added their layer. Nothing is worked out for a cage
+    without creases."""
+    edge_layer, vertex_layer = cage.edge_weights.any(), compat.has_vertex_creases(new)
+    if not edge_layer and not vertex_layer:
+        return
     edge_weights, vertex_weights = output.creases(cage, options, new_edges)
-    if edge_weights.any() or cage.edge_weights.any():
+    if edge_layer:
         compat.write_edge_creases(new, edge_weights)
-    if compat.has_vertex_creases(new):
+    if vertex_layer:
         compat.write_vertex_creases(new, vertex_weights)
 
 

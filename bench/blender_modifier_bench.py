@@ -3,13 +3,13 @@ animation playback. Prints medians; run with scripts/bench_blender.sh (or blende
 -- --addon-dir addon [--repeat N] [--only NAME]).
 
 - Apply: the add-on's operator vs Blender's modifier_apply of Subdivision Surface (Catmull-Clark of the same
-  triangles), each with its default, the limit surface on (the add-on then also writes the limit normals as custom
-  normals), and with the limit surface off (refinement only), on a 200x200 grid (80,000 triangles) at level 2
-  and a 20,480-triangle icosphere at level 3, without and with a UV map (Blender's icosphere unwrap, seams
-  included); times per output vertex too, since Catmull-Clark of triangles makes more vertices than Loop. Ratios
-  compare like with like (limit on with limit on). And the 200x200 grid left as quads, as artists model it: Subdivision
-  Surface gets the quads, the add-on triangulates them itself (Blender's tessellation; the same vertex count at level
-  2 on both sides).
+  triangles), in rounds that take turns (apply_rows), each with its default, the limit surface on (the add-on then
+  also writes the limit normals as custom normals), and with the limit surface off (refinement only), on a 200x200
+  grid (80,000 triangles) at level 2 and a 20,480-triangle icosphere at level 3, without and with a UV map
+  (Blender's icosphere unwrap, seams included); times per output vertex too, since Catmull-Clark of triangles makes
+  more vertices than Loop. Ratios compare like with like (limit on with limit on). And the 200x200 grid left as
+  quads, as artists model it: Subdivision Surface gets the quads, the add-on triangulates them itself (Blender's
+  tessellation; the same vertex count at level 2 on both sides).
 - Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
   100,352-triangle grid at level 1, limit surface on (both defaults) and off.
 - Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2 (the Wave modifier, animated
@@ -114,16 +114,24 @@ def apply_rows(name, build, levels, triangulate=True):
                 bpy.ops.object.modifier_apply(modifier=modifier.name)
         return run
 
-    rows = {}
-    for kind, apply in (("Loop", loop(True)), ("Subdivision Surface", blender(True)),
-                        ("Loop, limit off", loop(False)), ("Subdivision Surface, limit off", blender(False))):
-        samples = []
-        for _ in range(args.repeat):
+    kinds = (("Loop", loop(True)), ("Subdivision Surface", blender(True)),
+             ("Loop, limit off", loop(False)), ("Subdivision Surface, limit off", blender(False)))
+    samples = {kind: [] for kind, _ in kinds}
+    vertices = {}
+    # Rounds of one Apply of each kind, each round starting one kind further on, after a round untimed: an Apply's
+    # time depends on what the Applies before it left in Blender's allocator (memory to reuse, or fresh pages the
+    # kernel must map and clear; docs/benchmark.md), and the first in a process pays most. So every kind follows
+    # every other equally often, and a slow spell of the host falls on all of them.
+    for round_index in range(-1, args.repeat):
+        start = max(round_index, 0) % len(kinds)
+        for kind, apply in kinds[start:] + kinds[:start]:
             obj = mesh_object(name, build, triangulate)
-            samples.append(timed(lambda: apply(obj)))
-            vertices = len(obj.data.vertices)
+            seconds = timed(lambda: apply(obj))
+            if round_index >= 0:
+                samples[kind].append(seconds)
+            vertices[kind] = len(obj.data.vertices)
             clear()
-        rows[kind] = median(samples), vertices
+    rows = {kind: (median(samples[kind]), vertices[kind]) for kind, _ in kinds}
     for kind, (seconds, vertices) in rows.items():
         ratio = ""
         if not kind.startswith("Loop"):
