@@ -118,13 +118,13 @@ def apply_rows(name, build, levels, triangulate=True):
              ("Loop, limit off", loop(False)), ("Subdivision Surface, limit off", blender(False)))
     samples = {kind: [] for kind, _ in kinds}
     vertices = {}
-    # Rounds of one Apply of each kind, each round starting one kind further on, after a round untimed: an Apply's
-    # time depends on what the Applies before it left in Blender's allocator (memory to reuse, or fresh pages the
-    # kernel must map and clear; docs/benchmark.md), and the first in a process pays most. So every kind follows
-    # every other equally often, and a slow spell of the host falls on all of them.
+    # Rounds of one Apply of each kind after a round untimed, in the orders of a Williams square, so that each kind
+    # follows each other kind equally often (but for the turns between rounds): an Apply's time depends on what the
+    # Apply before it left in Blender's allocator (memory to reuse, or fresh pages the kernel must map and clear;
+    # docs/benchmark.md), and the first in a process pays most. A slow spell of the host falls on all kinds alike.
+    orders = [[(first + step) % len(kinds) for step in (0, 1, 3, 2)] for first in range(len(kinds))]
     for round_index in range(-1, args.repeat):
-        start = max(round_index, 0) % len(kinds)
-        for kind, apply in kinds[start:] + kinds[:start]:
+        for kind, apply in (kinds[k] for k in orders[max(round_index, 0) % len(orders)]):
             obj = mesh_object(name, build, triangulate)
             seconds = timed(lambda: apply(obj))
             if round_index >= 0:
