@@ -92,6 +92,14 @@ def script_call():
     difference = np.abs(written - normals).max()
     check(obj.data.has_custom_normals and difference < NORMAL_TOLERANCE,
           f"the result shades with the core's limit normals as custom split normals (within {difference:.1e})")
+    if compat.HAS_FREE_NORMALS:
+        # A smooth closed cage: one normal per vertex, which 4.5+ keeps as free normals exactly as the core gives them
+        # (the core writes them into the new mesh's attribute itself).
+        _, vertex_normals = plan.evaluate_with_limit_normals(cage)
+        stored = obj.data.attributes.get("custom_normal")
+        kept = (stored is not None and (stored.domain, stored.data_type) == ('POINT', 'FLOAT_VECTOR')
+                and np.array_equal(support.read_array(stored.data, "vector", 3), vertex_normals))
+        check(kept, "4.5+: the limit normals are the free normals of the result's vertices, bit for bit the core's")
     check(bool(support.read_array(obj.data.polygons, "use_smooth", dtype=bool).all()),
           "every face of the result is shaded smooth, as the cage's")
     if hasattr(obj.data, "use_auto_smooth"):
