@@ -1,5 +1,5 @@
-// libFuzzer target: raw bytes as a mesh with tags and options, straight into Plan, evaluate and
-// evaluate_face_varying, with no reader in between: indices out of range, NaN and huge values, negative counts
+// libFuzzer target: raw bytes as a mesh with tags and options, straight into Plan, evaluate, evaluate_face_varying
+// and output_edges, with no reader in between: indices out of range, NaN and huge values, negative counts
 // of nothing, every option. Layout (each field taken from the bytes in turn, zero when they run out):
 //   options byte (rules, boundary, crease method, kernel, 2 threads, limit surface, closed), second options byte
 //   (boundary none, face-varying mode, a face-varying layer), levels 0-3, crease threshold (float),
@@ -11,9 +11,34 @@
 //   closed surface, which random triangles hardly ever are, and whose limit comes from the last level's grandparent.
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 #include <vector>
 
 #include "fuzz_common.h"
+
+namespace {
+
+// The output's edges, as Blender's mesh takes them (Plan::output_edges): each triangle's edge k joins its corners k and
+// k + 1, and every edge is some triangle's.
+void require_output_edges(const loopsub::Plan& plan) {
+    const int num_edges = plan.num_output_edges(), num_triangles = plan.num_output_triangles();
+    std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), triangle_edges(3 * std::size_t(num_triangles));
+    plan.output_edges(ends.data(), triangle_edges.data());
+    const std::int32_t* corners = plan.output_triangles();
+    std::vector<std::uint8_t> used(std::size_t(num_edges), 0);
+    for (int c = 0; c < 3 * num_triangles; ++c) {
+        const std::int32_t e = triangle_edges[std::size_t(c)];
+        if (e < 0 || e >= num_edges) std::abort();
+        const std::int32_t a = corners[c], b = corners[c % 3 == 2 ? c - 2 : c + 1];
+        const std::int32_t x = ends[2 * std::size_t(e)], y = ends[2 * std::size_t(e) + 1];
+        if (!((x == a && y == b) || (x == b && y == a))) std::abort();
+        used[std::size_t(e)] = 1;
+    }
+    for (const std::uint8_t edge_used : used)
+        if (!edge_used) std::abort();
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace loopsub;
@@ -54,6 +79,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (with_layer) view.face_varying = &layer, view.num_face_varying = 1;
         Plan plan(view, options);
         fuzz::exercise(plan, mesh.positions, face_varying, 2, values);
+        try {
+            require_output_edges(plan);
+        } catch (const std::logic_error&) {  // refused: a plan of no levels, or with holes (tagged or Boundary::None)
+        }
     } catch (const InputError&) {
     } catch (const MemoryLimitError&) {}
     return 0;
