@@ -197,7 +197,8 @@ def position_array(mesh):
 def free_vertex_normal_array(mesh):
     """A new mesh's free normals, one per vertex (HAS_FREE_NORMALS): its new point attribute "custom_normal", as a
     writable (V, 3) float32 view of its memory for the core to evaluate into; set_custom_normals then finds them in
-    place. None before 4.5, or where the attribute's items are not one array."""
+    place. None before 4.5 (no attribute added), or where the attribute's items are not one array (the attribute
+    stays, for set_custom_normals to fill)."""
     if not HAS_FREE_NORMALS:
         return None
     attribute = mesh.attributes.new(CUSTOM_NORMAL_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
