@@ -168,7 +168,8 @@ class Refined:
 
 class Destination:
     """A new result's own arrays that a refinement evaluates into, each None where it cannot: its positions (N_out,
-    3) (compat.position_array) and its free normals per vertex (N_out, 3) (compat.free_vertex_normal_array). New
+    3) (compat.position_array) and its free normals per vertex (N_out, 3) (compat.free_vertex_normal_array, made only
+    where the limit normals are one per vertex: normals.vertex_normal_destination). New
     arrays of their size would cost a copy, and page faults inside Blender, which reuses little of its freed memory
     (docs/benchmark.md)."""
 
@@ -179,11 +180,6 @@ class Destination:
     def positions_for(self, vertex_width):
         """Where vertex channels of this width go: the positions' array when they are positions alone."""
         return self.positions if vertex_width == 3 else None
-
-    def normals_for(self, num_normals):
-        """Where this many limit normals go: the vertex normals' array when they are one per vertex."""
-        fits = self.vertex_normals is not None and len(self.vertex_normals) == num_normals
-        return self.vertex_normals if fits else None
 
 
 class _Channels:
@@ -350,7 +346,7 @@ class Source:
         if self.options.use_limit_surface:
             # Positions come first among the vertex channels; the others are refined with the same limit weights.
             vertex, normals = native.run(plan.evaluate_with_limit_normals, self.vertex.packed(), out,
-                                         into.normals_for(plan.num_limit_normals))
+                                         into.vertex_normals)
         else:
             vertex = native.run(plan.evaluate, self.vertex.packed(), out)
         uvs = [None if unchanged(2 + layer, values)

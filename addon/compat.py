@@ -175,13 +175,8 @@ def edge_arrays(mesh):
     they are the attributes .edge_verts and .corner_edge, whose items point at their elements; a new mesh's arrays,
     just added, are its own (no other mesh shares them). New numpy arrays of their size cost page faults of their own
     inside Blender, which reuses little of its freed memory, on top of the mesh's (docs/benchmark.md)."""
-    if not READS_ATTRIBUTES:
-        return None
-    edges, corners = mesh.attributes.get(".edge_verts"), mesh.attributes.get(".corner_edge")
-    if edges is None or corners is None:
-        return None
-    edge_block = _block_at(edges.data, len(mesh.edges), 2)
-    corner_block = _block_at(corners.data, len(mesh.loops), 1)
+    edge_block = _attribute_block(mesh, ".edge_verts", len(mesh.edges), 2)
+    corner_block = _attribute_block(mesh, ".corner_edge", len(mesh.loops), 1)
     if edge_block is None or corner_block is None:
         return None
     return edge_block, corner_block.reshape(-1)
@@ -190,8 +185,7 @@ def edge_arrays(mesh):
 def position_array(mesh):
     """Blender's own array of a new mesh's vertex positions, as a writable (V, 3) float32 view of its memory for the
     core to evaluate into (as edge_arrays), or None: 3.4 keeps positions in MVert structs among other fields."""
-    attribute = mesh.attributes.get("position") if READS_ATTRIBUTES else None
-    return None if attribute is None else _block_at(attribute.data, len(mesh.vertices), 3, ctypes.c_float)
+    return _attribute_block(mesh, "position", len(mesh.vertices), 3, ctypes.c_float)
 
 
 def free_vertex_normal_array(mesh):
@@ -346,6 +340,13 @@ def _block_at(collection, count, width, ctype=ctypes.c_int32):
     if collection[1].as_pointer() != first + step or collection[count - 1].as_pointer() != first + (count - 1) * step:
         return None
     return np.ctypeslib.as_array((ctype * (count * width)).from_address(first)).reshape(count, width)
+
+
+def _attribute_block(mesh, name, count, width, ctype=ctypes.c_int32):
+    """The attribute `name`'s array as _block_at's view, from 4.0 (attributes whose items point at their elements);
+    None before, or where the mesh has no such attribute or its items are not one array."""
+    attribute = mesh.attributes.get(name) if READS_ATTRIBUTES else None
+    return None if attribute is None else _block_at(attribute.data, count, width, ctype)
 
 
 def _holds(attribute, values):

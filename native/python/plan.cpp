@@ -420,6 +420,13 @@ py::tuple evaluate_with_limit_normals(py::object self, py::handle positions, py:
         });
 }
 
+// The output's edges' count, or ValueError for a plan that has none of its own (no levels, or holes).
+int num_output_edges(const PyPlan& p) {
+    try {
+        return p.plan.num_output_edges();
+    } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
+}
+
 py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out) {
     auto [in, channels] = read_vertex_values(values, "values", p.layer_values[layer]);
     std::vector<Dim> dims{{p.plan.num_output_face_varying_values(layer), "V_out"}};
@@ -576,22 +583,13 @@ void bind_plan(py::module_& m) {
             "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k "
             "of level L+1.")
         .def_property_readonly(
-            "num_output_edges",
-            [](PyPlan& p) {
-                try {
-                    return p.plan.num_output_edges();
-                } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
-            },
+            "num_output_edges", [](PyPlan& p) { return num_output_edges(p); },
             "int: the output's edges, as output_edges() gives them. ValueError for a plan of no levels or with "
             "holes.")
         .def(
             "output_edges",
             [](PyPlan& p, py::handle edge_vertices_out, py::handle triangle_edges_out) {
-                int num_edges = 0;
-                try {
-                    num_edges = p.plan.num_output_edges();
-                } catch (const std::logic_error& error) { throw py::value_error(error.what()); }
-                const std::vector<Dim> edge_dims{{num_edges, "E_out"}, {2, "2"}};
+                const std::vector<Dim> edge_dims{{num_output_edges(p), "E_out"}, {2, "2"}};
                 const std::vector<Dim> triangle_dims{{p.plan.num_output_triangles(), "M_out"}, {3, "3"}};
                 auto array = [](py::handle out, const char* name, const std::vector<Dim>& dims) {
                     if (out.is_none()) return py::array(py::array_t<std::int32_t>({dims[0].size, dims[1].size}));
