@@ -63,17 +63,17 @@ void limit_scalar(const LimitTables&, const StencilView&, ChannelsView<const flo
 void limit_sse41(const LimitTables&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
 void limit_avx2(const LimitTables&, const StencilView&, ChannelsView<const float>, ChannelsView<float>, float*, Range);
 
-// A share of the last-level vertices made by the splits after the grandparent (LimitTables::from_grandparent), by kind
-// and in the grandparent's elements: the child's midpoints of grandparent edges [child_midpoints), the midpoints of
-// both halves of grandparent edges [halves), those of the interior edges of grandparent faces [faces).
+// A share of the last-level vertices made by the splits after the grandparent (LimitTables::from_grandparent), in the
+// grandparent's elements: grandparent edges [edges) give their child's midpoints and the midpoints of both their
+// halves, grandparent faces [faces) the midpoints of their interior edges.
 struct GrandchildShare {
-    Range child_midpoints, halves, faces;
+    Range edges, faces;
 
-    // The same share as last-level vertices, a range per kind in that order.
+    // The same share as last-level vertices, a range per kind: the child's midpoints, the halves', the faces'.
     void vertices(const Grandparent& g, Range out[3]) const {
         const Index child_vertices = g.num_vertices + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
-        out[0] = {g.num_vertices + child_midpoints.begin, g.num_vertices + child_midpoints.end};
-        out[1] = {child_vertices + 2 * halves.begin, child_vertices + 2 * halves.end};
+        out[0] = {g.num_vertices + edges.begin, g.num_vertices + edges.end};
+        out[1] = {child_vertices + 2 * edges.begin, child_vertices + 2 * edges.end};
         out[2] = {halves_end + 3 * faces.begin, halves_end + 3 * faces.end};
     }
 };

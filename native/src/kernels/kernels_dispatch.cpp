@@ -83,7 +83,7 @@ void limit_part(const Kernels& kernels, const LimitTables& lt, ChannelsView<cons
         return kernels.limit(lt, stored_view(lt.positions), in, out, normals, share(lt.positions.num_vertices));
     const Grandparent& g = lt.from_grandparent->grandparent;
     kernels.limit(lt, stored_view(lt.positions), in, out, normals, share(g.num_vertices));
-    kernels.limit_grandchild(lt, in, out, normals, {share(g.num_edges), share(g.num_edges), share(g.num_faces)});
+    kernels.limit_grandchild(lt, in, out, normals, {share(g.num_edges), share(g.num_faces)});
 }
 
 void limit_over_grandchild_rings(LimitFn limit, const LimitTables& lt, ChannelsView<const float> in,

@@ -126,12 +126,20 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
     }
 }
 
+// Limit outputs of one kind, consecutive from `first`, gathered a chunk at a time for store_limit_chunk.
+struct LimitChunk {
+    static constexpr int kSize = 64;  // a multiple of 2 and 3 plus one: whole units fill it to 63 or 64
+    alignas(16) __m128 position[kSize], t1[kSize], t2[kSize];
+    Index first = 0;
+    int count = 0;
+};
+
 // The limit points, and where `normals` is set the normals, of a share of the vertices made by the splits after the
 // grandparent (LimitTables::from_grandparent; kernels.h, GrandchildShare), by kind, each ring's points loaded once for
 // the vertices that share them: the rings are write_ordered_grandchild_rings', in its order, their indices worked out
 // in registers, and the arithmetic RegularLimit's, so that the bits are those of limit_quad over those rings. A
-// grandparent edge's child midpoint reads 7 points, its halves' midpoints 13 for the two, a grandparent face's three
-// interior edges' midpoints 12 for the three (21 from rings).
+// grandparent edge's child midpoint and its halves' midpoints read 13 points for the three, a grandparent face's three
+// interior edges' midpoints 12 (21 each from rings).
 template <std::size_t Step, typename Out, typename Vertex, typename MultiplyAdd, typename UnitNormals>
 void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, const Out out, float* normals,
                            GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals) {
@@ -160,37 +168,29 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
     auto half_at_start = [=](Index f, int k) { return child_vertices + corner_halves[3 * f + k]; };
     auto half_at_end = [=](Index f, int k) { return child_vertices + (corner_halves[3 * f + k] ^ 1); };
 
-    constexpr int kChunk = 64;  // a multiple of 2 and 3 plus one: whole units fill it to 63 or 64
-    alignas(16) __m128 position[kChunk], t1[kChunk], t2[kChunk];
-    // One kind's outputs, consecutive from `first`: units of `per_unit` vertices, each written by unit(u, i) at
-    // position[i ..] and after.
-    auto run = [&](Range units, int per_unit, Index first, auto unit) {
-        int count = 0;
-        for (int u = units.begin; u < units.end; ++u) {
-            if (count + per_unit > kChunk) {
-                store_limit_chunk(out, normals, nullptr, first, count, position, t1, t2, unit_normals);
-                first += count, count = 0;
-            }
-            unit(Index(u), count);
-            count += per_unit;
-        }
-        if (count > 0) store_limit_chunk(out, normals, nullptr, first, count, position, t1, t2, unit_normals);
+    auto flush = [&](LimitChunk& c) {
+        if (c.count > 0)
+            store_limit_chunk(out, normals, nullptr, c.first, c.count, c.position, c.t1, c.t2, unit_normals);
+        c.first += c.count, c.count = 0;
     };
-    // The child's midpoint R = nv + h: its ring 2h, G's interior edges j and j - 1, 2h + 1, F's k and k - 1.
-    run(share.child_midpoints, 1, kinds[0].begin, [&](Index h, int i) {
+    // The first of `n` slots for one unit's outputs, after storing the chunk if they do not fit.
+    auto slots = [&](LimitChunk& c, int n) {
+        if (c.count + n > LimitChunk::kSize) flush(c);
+        c.count += n;
+        return c.count - n;
+    };
+    // Grandparent edge h gives its child's midpoint R = nv + h and the midpoints of its halves 2h = (a, R) and
+    // 2h + 1 = (R, b); R's ring (2h, G's interior edges j and j - 1, 2h + 1, F's k and k - 1) is among the halves'
+    // points, so one fan of loads serves the three.
+    LimitChunk midpoints, halves;
+    midpoints.first = kinds[0].begin, halves.first = kinds[1].begin;
+    for (Index h = share.edges.begin; h < share.edges.end; ++h) {
         const EdgeFaces e = faces_of(h);
-        const __m128 p[6] = {
-            load(child_vertices + 2 * h),     load(interior(e.g_face, e.j)), load(interior(e.g_face, prev_corner(e.j))),
-            load(child_vertices + 2 * h + 1), load(interior(e.f, e.k)),      load(interior(e.f, prev_corner(e.k)))};
-        regular(load(nv + h), p, position[i], t1[i], t2[i]);
-    });
-    // The midpoints of halves 2h = (a, R) and 2h + 1 = (R, b).
-    run(share.halves, 2, kinds[1].begin, [&](Index h, int i) {
-        const EdgeFaces e = faces_of(h);
-        const __m128 r = load(nv + h);
+        const __m128 r = load(nv + h), half_a = load(child_vertices + 2 * h), half_b = load(child_vertices + 2 * h + 1);
         const __m128 g_interior = load(interior(e.g_face, e.j)), f_interior = load(interior(e.f, e.k));
         const __m128 g_interior_before = load(interior(e.g_face, prev_corner(e.j)));
         const __m128 f_interior_before = load(interior(e.f, prev_corner(e.k)));
+        const __m128 at_r[6] = {half_a, g_interior, g_interior_before, half_b, f_interior, f_interior_before};
         const __m128 at_a[6] = {load(g.edge_vertices[2 * h]),
                                 load(half_at_start(e.g_face, next_corner(e.j))),
                                 g_interior,
@@ -203,26 +203,34 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
                                 load(g.edge_vertices[2 * h + 1]),
                                 load(half_at_start(e.f, next_corner(e.k))),
                                 f_interior};
-        regular(load(child_vertices + 2 * h), at_a, position[i], t1[i], t2[i]);
-        regular(load(child_vertices + 2 * h + 1), at_b, position[i + 1], t1[i + 1], t2[i + 1]);
-    });
+        const int m = slots(midpoints, 1), i = slots(halves, 2);
+        regular(r, at_r, midpoints.position[m], midpoints.t1[m], midpoints.t2[m]);
+        regular(half_a, at_a, halves.position[i], halves.t1[i], halves.t2[i]);
+        regular(half_b, at_b, halves.position[i + 1], halves.t1[i + 1], halves.t2[i + 1]);
+    }
+    flush(midpoints);
+    flush(halves);
     // The midpoints of face f's interior edges k, from m_k to m_k+1: its ring m_k, the half of edge k at its end,
     // that of edge k + 1 at its start, m_k+1, interior edges k + 1 and k - 1.
-    run(share.faces, 3, kinds[2].begin, [&](Index f, int i) {
-        const Index* halves = &corner_halves[3 * std::size_t(f)];
+    LimitChunk interiors;
+    interiors.first = kinds[2].begin;
+    for (Index f = share.faces.begin; f < share.faces.end; ++f) {
+        const Index* face_halves = &corner_halves[3 * std::size_t(f)];
         __m128 m[3], start[3], end[3], edge[3];
         for (int k = 0; k < 3; ++k) {
-            m[k] = load(nv + (halves[k] >> 1));
-            start[k] = load(child_vertices + halves[k]);
-            end[k] = load(child_vertices + (halves[k] ^ 1));
+            m[k] = load(nv + (face_halves[k] >> 1));
+            start[k] = load(child_vertices + face_halves[k]);
+            end[k] = load(child_vertices + (face_halves[k] ^ 1));
             edge[k] = load(interior(f, k));
         }
+        const int i = slots(interiors, 3);
         for (int k = 0; k < 3; ++k) {
             const int next = next_corner(k), before = prev_corner(k);
             const __m128 p[6] = {m[k], end[k], start[next], m[next], edge[next], edge[before]};
-            regular(edge[k], p, position[i + k], t1[i + k], t2[i + k]);
+            regular(edge[k], p, interiors.position[i + k], interiors.t1[i + k], interiors.t2[i + k]);
         }
-    });
+    }
+    flush(interiors);
 }
 
 // A SIMD kernel's LimitFn (kernels.h) from its arithmetic: the positions' quad with the normals (limit_quad), the other
