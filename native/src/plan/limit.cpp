@@ -190,23 +190,26 @@ void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
     const Index nv = g.num_vertices, child_vertices = nv + g.num_edges();
     s.ring_offsets = g.vertex_edge_offsets;
     s.ring.resize(std::size_t(g.vertex_edge_offsets[nv]));
-    from.edge_face_corners.assign(2 * std::size_t(g.num_edges()), -1);  // -1: a boundary edge's missing face
+    from.edge_face_corners.resize(2 * std::size_t(g.num_edges()));
     from.corner_halves.resize(g.face_edges.size());
     TransientVector<Index> next_at(2 * std::size_t(g.num_edges()));
     run_levels(std::max(1, options_.threads), 3, [&](int step, int part, int parts) {
-        if (step == 0) {  // no face follows a boundary edge's half
+        if (step == 0) {
+            // Where every edge has two faces that wind against each other, the faces write every entry; else -1
+            // stands for a boundary edge's missing face and for the half no face follows.
+            if (closed_) return;
             const auto [h0, h1] = part_of(int(next_at.size()), part, parts);
+            std::fill(from.edge_face_corners.begin() + h0, from.edge_face_corners.begin() + h1, Index(-1));
             return std::fill(next_at.begin() + h0, next_at.begin() + h1, Index(-1));
         }
         if (step == 1) {
             const auto [f0, f1] = part_of(g.num_faces(), part, parts);
-            write_grandparent_corners(g, f0, f1, from.edge_face_corners.data(), from.corner_halves.data());
-            return write_next_halves(g, f0, f1, next_at.data());
+            return write_grandparent_corners(g, f0, f1, from.edge_face_corners.data(), from.corner_halves.data(),
+                                             next_at.data());
         }
         const auto [v0, v1] = part_of(nv, part, parts);
-        Index* ring = s.ring.data() + g.vertex_edge_offsets[v0];
-        write_ordered_old_vertex_halves(g, next_at.data(), v0, v1, ring);
-        for (Index* k = ring; k != s.ring.data() + g.vertex_edge_offsets[v1]; ++k) *k += child_vertices;
+        write_ordered_old_vertex_halves(g, next_at.data(), v0, v1, child_vertices,
+                                        s.ring.data() + g.vertex_edge_offsets[v0]);
     });
     // Every edge's first face runs along it from its first end: a boundary edge's one face fills its first slot.
     assert(std::all_of(from.edge_face_corners.begin(), from.edge_face_corners.end(),

@@ -185,6 +185,8 @@ LevelState PlanBuilder::base_level() {
     // (docs/benchmark.md, "Measurements behind the code").
     const std::vector<std::uint8_t> non_manifold_edge = non_manifold_edges(t);
     const std::vector<std::uint8_t> non_manifold_vertex = non_manifold_vertices(t, non_manifold_edge, options_.threads);
+    closed_ = t.max_edge_face_count == 2 && t.edge_face_offsets[t.num_edges()] == 2 * t.num_edges() &&
+              std::none_of(non_manifold_edge.begin(), non_manifold_edge.end(), [](std::uint8_t flag) { return flag; });
     std::vector<std::uint8_t> leaves_surface;  // per vertex, where a boundary edge takes its faces out (Boundary::None)
     for (int e = 0; e < t.num_edges(); ++e) {
         const float tag = edge_tag[e];

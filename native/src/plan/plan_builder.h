@@ -104,6 +104,8 @@ private:
     // next to them.
     bool limit_from_grandparent_ = false;
     Topology limit_parent_;
+    // Every base edge in two faces that wind against each other, and so every edge of every level.
+    bool closed_ = false;
 };
 
 }  // namespace loopsub::detail

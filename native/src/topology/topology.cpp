@@ -706,38 +706,33 @@ void write_ordered_child_rings(const Topology& p, int begin, int end, std::uint8
     }
 }
 
-void write_grandparent_corners(const Topology& t, int f0, int f1, Index* edge_face_corners, Index* corner_halves) {
-    for (Index f = f0; f < f1; ++f)
+void write_grandparent_corners(const Topology& t, int f0, int f1, Index* edge_face_corners, Index* corner_halves,
+                               Index* next_at) {
+    for (Index f = f0; f < f1; ++f) {
+        Index half[3];
         for (int k = 0; k < 3; ++k) {
             const std::size_t c = 3 * std::size_t(f) + std::size_t(k);
             const Index e = t.face_edges[c], starts = t.face_edge_places[c] & 1;
             edge_face_corners[2 * std::size_t(e) + std::size_t(1 - starts)] = 4 * f + k;
-            corner_halves[c] = 2 * e + 1 - starts;
+            corner_halves[c] = half[k] = 2 * e + 1 - starts;
         }
+        // The edge that leaves corner k (edge k, its half at its start) is followed around v_k by the one that enters
+        // it (edge k - 1, its half at its end): write_ordered_child_rings' follower rule.
+        for (int k = 0; k < 3; ++k) next_at[half[k]] = half[prev_corner(k)] ^ 1;
+    }
 }
 
-void write_next_halves(const Topology& t, int f0, int f1, Index* next_at) {
-    // In face f, the edge that leaves corner k (edge k, its half at its start) is followed around v_k by the one that
-    // enters it (edge k - 1, its half at its end): write_ordered_child_rings' follower rule.
-    for (Index f = f0; f < f1; ++f)
-        for (int k = 0; k < 3; ++k) {
-            const std::size_t c = 3 * std::size_t(f) + std::size_t(k),
-                              before = c - std::size_t(k) + std::size_t(prev_corner(k));
-            next_at[2 * t.face_edges[c] + 1 - (t.face_edge_places[c] & 1)] =
-                2 * t.face_edges[before] + (t.face_edge_places[before] & 1);
-        }
-}
-
-void write_ordered_old_vertex_halves(const Topology& t, const Index* next_at, int v0, int v1, Index* ring) {
+void write_ordered_old_vertex_halves(const Topology& t, const Index* next_at, int v0, int v1, Index first_half_vertex,
+                                     Index* ring) {
     for (Index v = v0; v < v1; ++v) {
         const Index first = t.vertex_edge_offsets[v], n = t.vertex_edge_offsets[v + 1] - first;
         if (n == 0) continue;
         const Index start = child_edge_at(t, t.vertex_edges[first], v);
         Index half = start, k = 0;
-        for (; k < n && half >= 0; ++k, half = next_at[half]) ring[k] = half;
+        for (; k < n && half >= 0; ++k, half = next_at[half]) ring[k] = first_half_vertex + half;
         // Not back where it began after n steps: no disk (a boundary), whose ring keeps the order of its edges.
         if (k < n || half != start)
-            for (k = 0; k < n; ++k) ring[k] = child_edge_at(t, t.vertex_edges[first + k], v);
+            for (k = 0; k < n; ++k) ring[k] = first_half_vertex + child_edge_at(t, t.vertex_edges[first + k], v);
         ring += n;
     }
 }

@@ -182,15 +182,18 @@ struct Grandparent {
     const Index* corner_halves = nullptr;
 };
 // Grandparent::edge_face_corners and corner_halves from a level's faces [f0, f1): each writes its edges' entries and
-// its own, from its face edges and places.
-void write_grandparent_corners(const Topology& level, int f0, int f1, Index* edge_face_corners, Index* corner_halves);
+// its own, from its face edges and places; and next_at, per child edge h, the next half around the old vertex at its
+// end, as write_ordered_child_rings orders a ring (2 per edge of the level; no face writes the entry of a half that
+// none follows, as on a boundary).
+void write_grandparent_corners(const Topology& level, int f0, int f1, Index* edge_face_corners, Index* corner_halves,
+                               Index* next_at);
 // The rings of the child's old vertices [v0, v1) of a level whose fans are one fan each, as write_ordered_child_rings
 // writes them (counter-clockwise around a disk: in a child triangle (v, a, b), b follows a around v; in the order of
-// the vertex's edges around a boundary) but each entry the child edge to the neighbour (not the midpoint), from
-// ring[0]. `next_at`: per child edge h, the next half around the old vertex at its end, from each face's share
-// (write_next_halves; 2 per edge of the level, -1 where no face follows).
-void write_next_halves(const Topology& level, int f0, int f1, Index* next_at);
-void write_ordered_old_vertex_halves(const Topology& level, const Index* next_at, int v0, int v1, Index* ring);
+// the vertex's edges around a boundary) but each entry first_half_vertex plus the child edge to the neighbour (the
+// grandchild's vertex on it, where first_half_vertex is the child's vertex count), from ring[0]. `next_at`:
+// write_grandparent_corners', -1 where no face follows.
+void write_ordered_old_vertex_halves(const Topology& level, const Index* next_at, int v0, int v1,
+                                     Index first_half_vertex, Index* ring);
 // What write_ordered_child_rings writes of the child of the grandparent's child, without either: the rings of
 // grandchild vertices [begin, end), every one made by a split (begin >= the grandparent's vertex count), through the
 // numbering of both splits, counter-clockwise where a vertex's fan is a disk (six neighbours; four on a boundary, in
