@@ -264,12 +264,20 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
     // than searched among the level's features corner by corner.
+    // A corner of a vertex whose normals are its sides' (by_side): the sides chain them across the smooth edges they
+    // share.
+    struct Corner {
+        Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
+    };
     struct alignas(64) Visited {  // a cache line apart: each part pushes to its own
         std::vector<Classified> classified;
         std::vector<std::pair<Index, Index>> infinite_at;
         std::vector<Spent> spent;  // by vertex
         std::vector<Index> far_edges;
         std::vector<float> far_sharpness;
+        std::vector<Index> by_side;
+        std::vector<Corner> at_sides;
+        std::vector<Index> corners_at;
     };
     const int parts = std::max(1, options_.threads);
     std::vector<Visited> visited(static_cast<std::size_t>(parts));
@@ -278,6 +286,28 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
     const bool through_parent = lt.from_grandparent || !level.own_neighbourhood;
     const VertexNeighbourhood around(t, through_parent ? &parent : nullptr, &plan_.level_num_vertices, base_for_walks_);
+    auto corners_of = [&around](Index v, std::vector<Index>& corners_at, std::vector<Corner>& out) {
+        around.corners(v, corners_at);
+        for (const Index c : corners_at) {
+            const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
+            const int k = int(c % 3);
+            // The face through `around`: the level's own triangles are far apart in memory.
+            Index edges[3], corners[3];
+            around.face_edges(Index(face / 3), edges);
+            around.face_vertices(Index(face / 3), corners);
+            out.push_back({v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
+        }
+    };
+    // From the grandparent the rings below part no fan: every vertex by sides is a feature vertex, whose corners its
+    // visit gathers while its neighbourhood is at hand.
+    const bool sides_in_visit = lt.from_grandparent != nullptr;
+    auto set_by_side = [&](Visited& out, Index v, bool by_side) {
+        lt.by_side[v] = by_side;
+        if (by_side && sides_in_visit) {
+            out.by_side.push_back(v);
+            corners_of(v, out.corners_at, out.at_sides);
+        }
+    };
     auto visit = [&](const FeatureVertex& vertex, int part) {
         Visited& out = visited[std::size_t(part)];
         const SdcRule rule = sdc_vertex_rule(vertex.own_sharpness(), vertex.num_sharp_edges);
@@ -289,8 +319,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
                                 std::any_of(vertex.sharpness.begin(), vertex.sharpness.end(), is_semi_sharp);
         if (outlasting && !vertex.edges.empty()) {
             out.spent.push_back(spend(level, around, vertex, out.far_edges, out.far_sharpness));
-            lt.by_side[vertex.vertex] = normal_per_side(out.spent.back().ring.rule);
-            return;
+            return set_by_side(out, vertex.vertex, normal_per_side(out.spent.back().ring.rule));
         }
         auto sharpness_of = [&vertex](Index e) {
             const auto at = std::find(vertex.edges.begin(), vertex.edges.end(), e);
@@ -301,7 +330,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
                                   int(vertex.edges.size()),
                                   {vertex.crease[0], vertex.crease[1]},
                                   {sharpness_of(vertex.crease[0]), sharpness_of(vertex.crease[1])}});
-        lt.by_side[vertex.vertex] = normal_per_side(rule);
+        set_by_side(out, vertex.vertex, normal_per_side(rule));
     };
     // On the plan's threads, each part in vertex order, joined in part order.
     for_each_feature_vertex(level, cones_, around, visit, parts);
@@ -403,34 +432,27 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             else lt.by_side[v] = 1;
         }
     }
-    // Sides: the corners at each such vertex, chained across the smooth edges they share.
-    struct Corner {
-        Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
-    };
-    const std::vector<Index> by_side = set_bytes(lt.by_side.data(), nv);
-    std::vector<std::vector<Corner>> corners_by_part(static_cast<std::size_t>(parts));
-    run_levels(parts, 1, [&](int, int part, int count) {
-        std::vector<Corner> out;  // handed over at the end: parts that pushed to neighbouring vectors shared a line
-        std::vector<Index> corners_at;
-        const auto [first, last] = part_of(by_side.size(), part, count);
-        for (std::size_t i = first; i < last; ++i) {
-            const Index v = by_side[i];
-            around.corners(v, corners_at);
-            for (const Index c : corners_at) {
-                const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
-                const int k = int(c % 3);
-                // The face through `around`: the level's own triangles are far apart in memory.
-                Index edges[3], corners[3];
-                around.face_edges(Index(face / 3), edges);
-                around.face_vertices(Index(face / 3), corners);
-                out.push_back(
-                    {v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
-            }
+    // Sides: the corners at each such vertex, in vertex order, each vertex's corners in order.
+    std::vector<Index> by_side;
+    std::vector<Corner> at_sides;
+    if (sides_in_visit) {
+        for (const Visited& part : visited) {
+            by_side.insert(by_side.end(), part.by_side.begin(), part.by_side.end());
+            at_sides.insert(at_sides.end(), part.at_sides.begin(), part.at_sides.end());
         }
-        corners_by_part[std::size_t(part)] = std::move(out);
-    });
-    std::vector<Corner> at_sides;  // in vertex order, each vertex's corners in order
-    for (const std::vector<Corner>& part : corners_by_part) at_sides.insert(at_sides.end(), part.begin(), part.end());
+    } else {
+        by_side = set_bytes(lt.by_side.data(), nv);
+        std::vector<std::vector<Corner>> corners_by_part(static_cast<std::size_t>(parts));
+        run_levels(parts, 1, [&](int, int part, int count) {
+            std::vector<Corner> out;  // handed over at the end: parts that pushed to neighbouring vectors shared a line
+            std::vector<Index> corners_at;
+            const auto [first, last] = part_of(by_side.size(), part, count);
+            for (std::size_t i = first; i < last; ++i) corners_of(by_side[i], corners_at, out);
+            corners_by_part[std::size_t(part)] = std::move(out);
+        });
+        for (const std::vector<Corner>& part : corners_by_part)
+            at_sides.insert(at_sides.end(), part.begin(), part.end());
+    }
     // Each vertex's sides on their own: the vertices in parts on the plan's threads, each part's rows counted from
     // its own first, then joined in vertex order with its rows and points placed after the earlier parts'.
     struct SidesPart {
