@@ -105,10 +105,11 @@ void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in
     for (const Range& kind : kinds) limit_over_grandchild_rings(limit_scalar, lt, in, out, normals, kind);
 }
 
-// A forced kernel the CPU cannot run steps down to the next narrower one rather than crash.
+// A forced kernel the CPU cannot run steps down to the next narrower one rather than crash. The CPU is asked once:
+// in a virtual machine each cpuid leaves for the hypervisor (about 40 us of every plan here, docs/benchmark.md).
 Kernel resolve_kernel(Kernel requested) {
-    const bool avx2 = cpu_runs_avx2_fma();
-    const bool sse41 = cpu_runs_sse41();
+    static const bool avx2 = cpu_runs_avx2_fma();
+    static const bool sse41 = cpu_runs_sse41();
     switch (requested) {
         case Kernel::Scalar: return Kernel::Scalar;
         case Kernel::SSE41: return sse41 ? Kernel::SSE41 : Kernel::Scalar;

@@ -281,6 +281,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     const int parts = std::max(1, options_.threads);
     std::vector<Visited> visited(static_cast<std::size_t>(parts));
+    // About six corners per vertex by sides, and about one such vertex per sharp edge along a crease: reserved, as
+    // vectors of this size that grow are copied into fresh pages each time.
+    for (Visited& part : visited) part.at_sides.reserve(6 * level.edges.size() / std::size_t(parts) + 64);
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
     // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
@@ -436,9 +439,11 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     std::vector<Index> by_side;
     std::vector<Corner> at_sides;
     if (sides_in_visit) {
-        for (const Visited& part : visited) {
-            by_side.insert(by_side.end(), part.by_side.begin(), part.by_side.end());
-            at_sides.insert(at_sides.end(), part.at_sides.begin(), part.at_sides.end());
+        by_side = std::move(visited[0].by_side);
+        at_sides = std::move(visited[0].at_sides);
+        for (std::size_t part = 1; part < visited.size(); ++part) {
+            by_side.insert(by_side.end(), visited[part].by_side.begin(), visited[part].by_side.end());
+            at_sides.insert(at_sides.end(), visited[part].at_sides.begin(), visited[part].at_sides.end());
         }
     } else {
         by_side = set_bytes(lt.by_side.data(), nv);
