@@ -262,13 +262,13 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         Index crease[2];
         float crease_sharpness[2];
     };
-    // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
-    // than searched among the level's features corner by corner.
     // A corner of a vertex whose normals are its sides' (by_side): the sides chain them across the smooth edges they
     // share.
     struct Corner {
         Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
     };
+    // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
+    // than searched among the level's features corner by corner.
     struct alignas(64) Visited {  // a cache line apart: each part pushes to its own
         std::vector<Classified> classified;
         std::vector<std::pair<Index, Index>> infinite_at;
@@ -281,14 +281,17 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     const int parts = std::max(1, options_.threads);
     std::vector<Visited> visited(static_cast<std::size_t>(parts));
-    // About six corners per vertex by sides, and about one such vertex per sharp edge along a crease: reserved, as
-    // vectors of this size that grow are copied into fresh pages each time.
-    for (Visited& part : visited) part.at_sides.reserve(6 * level.edges.size() / std::size_t(parts) + 64);
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
     // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
     const bool through_parent = lt.from_grandparent || !level.own_neighbourhood;
     const VertexNeighbourhood around(t, through_parent ? &parent : nullptr, &plan_.level_num_vertices, base_for_walks_);
+    // From the grandparent the rings below part no fan: every vertex by sides is a feature vertex, whose corners its
+    // visit gathers while its neighbourhood is at hand. About six corners per such vertex, and about one such vertex
+    // per sharp edge along a crease: reserved, as vectors of this size that grow are copied into fresh pages each time.
+    const bool sides_in_visit = lt.from_grandparent != nullptr;
+    if (sides_in_visit)
+        for (Visited& part : visited) part.at_sides.reserve(6 * level.edges.size() / std::size_t(parts) + 64);
     auto corners_of = [&around](Index v, std::vector<Index>& corners_at, std::vector<Corner>& out) {
         around.corners(v, corners_at);
         for (const Index c : corners_at) {
@@ -301,9 +304,6 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             out.push_back({v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
         }
     };
-    // From the grandparent the rings below part no fan: every vertex by sides is a feature vertex, whose corners its
-    // visit gathers while its neighbourhood is at hand.
-    const bool sides_in_visit = lt.from_grandparent != nullptr;
     auto set_by_side = [&](Visited& out, Index v, bool by_side) {
         lt.by_side[v] = by_side;
         if (by_side && sides_in_visit) {
