@@ -169,9 +169,8 @@ class Refined:
 class Destination:
     """A new result's own arrays that a refinement evaluates into, each None where it cannot: its positions (N_out,
     3) (compat.position_array) and its free normals per vertex (N_out, 3) (compat.free_vertex_normal_array, made only
-    where the limit normals are one per vertex: normals.vertex_normal_destination). New
-    arrays of their size would cost a copy, and page faults inside Blender, which reuses little of its freed memory
-    (docs/benchmark.md)."""
+    where the limit normals are one per vertex: normals.vertex_normal_destination). New arrays of their size would
+    cost a copy, and page faults inside Blender, which reuses little of its freed memory (docs/benchmark.md)."""
 
     def __init__(self, positions=None, vertex_normals=None):
         self.positions = positions
