@@ -347,13 +347,16 @@ TEST(Topology, GrandchildRingsAreTheChildsOrderedRings) {
             std::vector<Index> expected(std::size_t(loopsub::detail::child_ring_offset(parent, count)));
             loopsub::detail::write_ordered_child_rings(parent, 0, count, apart.data(), expected.data());
             ASSERT_LE(grandparent.max_edge_face_count, 2);
-            std::vector<Index> corners(2 * std::size_t(grandparent.num_edges()), -1),
+            std::vector<Index> sides(2 * loopsub::detail::kEdgeSideSize * std::size_t(grandparent.num_edges()), -1),
                 halves(grandparent.face_edges.size()), next_at(2 * std::size_t(grandparent.num_edges()), -1);
-            loopsub::detail::write_grandparent_corners(grandparent, 0, grandparent.num_faces(), corners.data(),
-                                                       halves.data(), next_at.data());
-            const loopsub::detail::Grandparent g{grandparent.num_vertices, grandparent.num_edges(),
-                                                 grandparent.num_faces(),  grandparent.edge_vertices.data(),
-                                                 corners.data(),           halves.data()};
+            loopsub::detail::write_grandparent_sides(grandparent, 0, grandparent.num_faces(), sides.data(),
+                                                     halves.data(), next_at.data());
+            const loopsub::detail::Grandparent g{grandparent.num_vertices,
+                                                 grandparent.num_edges(),
+                                                 grandparent.num_faces(),
+                                                 grandparent.edge_vertices.data(),
+                                                 sides.data(),
+                                                 halves.data()};
             const Index begin = grandparent.num_vertices, end = count;
             const Index first = loopsub::detail::child_ring_offset(parent, begin);
             // In chunks, as a frame writes them, which begin and end inside a pair of halves or a face's three.

@@ -188,6 +188,37 @@ struct UnitNormals {
 };
 constexpr UnitNormals unit_normals;
 
+// RegularLimit (kernels_limit.h) for two vertices at once, a register half each, into consecutive slots of a chunk:
+// its arithmetic per half, so the same bits (smooth_vertex's weighting, multiply_add's steps).
+template <typename Regular>
+struct BothInOne {
+    __m256 a, b, c, w_self, w_ring;
+
+    explicit BothInOne(const Regular& r)
+        : a(_mm256_set_m128(r.a, r.a)),
+          b(_mm256_set_m128(r.b, r.b)),
+          c(_mm256_set_m128(r.c, r.c)),
+          w_self(_mm256_set1_ps(r.w_self)),
+          w_ring(_mm256_set1_ps(r.w_ring)) {}
+
+    void operator()(__m128 centre_a, const __m128 ring_a[6], __m128 centre_b, const __m128 ring_b[6], LimitChunk& chunk,
+                    int slot) const {
+        __m256 p[6];
+        for (int k = 0; k < 6; ++k) p[k] = _mm256_set_m128(ring_b[k], ring_a[k]);
+        __m256 ring_sum = _mm256_setzero_ps();
+        for (int k = 0; k < 6; ++k) ring_sum = _mm256_add_ps(ring_sum, p[k]);
+        __m256 t1 = _mm256_mul_ps(a, _mm256_sub_ps(p[0], p[3]));
+        t1 = _mm256_fmadd_ps(b, _mm256_sub_ps(p[1], p[2]), t1);
+        t1 = _mm256_fmadd_ps(b, _mm256_sub_ps(p[5], p[4]), t1);
+        const __m256 t2 = _mm256_fmadd_ps(c, _mm256_sub_ps(p[2], p[5]), _mm256_mul_ps(c, _mm256_sub_ps(p[1], p[4])));
+        const __m256 position =
+            _mm256_fmadd_ps(w_ring, ring_sum, _mm256_mul_ps(w_self, _mm256_set_m128(centre_b, centre_a)));
+        _mm256_storeu_ps(reinterpret_cast<float*>(chunk.position + slot), position);
+        _mm256_storeu_ps(reinterpret_cast<float*>(chunk.t1 + slot), t1);
+        _mm256_storeu_ps(reinterpret_cast<float*>(chunk.t2 + slot), t2);
+    }
+};
+
 // One quad of every smooth vertex and edge point of the ranges; Out is PackedQuads, PackedRows3 or QuadTarget. Rows
 // of three (the last level's positions) go four points at a time (PackedRows3::store_four).
 template <std::size_t Step, typename Out>
@@ -245,7 +276,8 @@ void limit_avx2(const LimitTables& lt, const StencilView& view, ChannelsView<con
 
 void limit_grandchild_avx2(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
                            GrandchildShare share) {
-    grandchild_limit_pass(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals, limit_avx2);
+    grandchild_limit_pass<BothInOne>(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals,
+                                     limit_avx2);
 }
 
 void refine_interior_avx2(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

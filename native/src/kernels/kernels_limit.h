@@ -129,44 +129,45 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
 // Limit outputs of one kind, consecutive from `first`, gathered a chunk at a time for store_limit_chunk.
 struct LimitChunk {
     static constexpr int kSize = 64;  // a multiple of 2 and 3 plus one: whole units fill it to 63 or 64
-    alignas(16) __m128 position[kSize], t1[kSize], t2[kSize];
+    alignas(32) __m128 position[kSize], t1[kSize], t2[kSize];
     Index first = 0;
     int count = 0;
+};
+
+// RegularLimit for two vertices, into consecutive slots of a chunk: here one after the other; the AVX2 kernel has
+// its own that works on both at once, a register half each (the same bits).
+template <typename Regular>
+struct OneAfterOther {
+    Regular regular;
+
+    void operator()(__m128 centre_a, const __m128 ring_a[6], __m128 centre_b, const __m128 ring_b[6], LimitChunk& c,
+                    int slot) const {
+        regular(centre_a, ring_a, c.position[slot], c.t1[slot], c.t2[slot]);
+        regular(centre_b, ring_b, c.position[slot + 1], c.t1[slot + 1], c.t2[slot + 1]);
+    }
 };
 
 // The limit points, and where `normals` is set the normals, of a share of the vertices made by the splits after the
 // grandparent (LimitTables::from_grandparent; kernels.h, GrandchildShare), by kind, each ring's points loaded once for
 // the vertices that share them: the rings are write_ordered_grandchild_rings', in its order, their indices worked out
-// in registers, and the arithmetic RegularLimit's, so that the bits are those of limit_quad over those rings. A
-// grandparent edge's child midpoint and its halves' midpoints read 13 points for the three, a grandparent face's three
-// interior edges' midpoints 12 (21 each from rings).
-template <std::size_t Step, typename Out, typename Vertex, typename MultiplyAdd, typename UnitNormals>
+// in registers, and the arithmetic RegularLimit's (two vertices at a time by Two<RegularLimit>), so that the bits are
+// those of limit_quad over those rings. A grandparent edge's child midpoint and its halves' midpoints read 13 points
+// for the three, a grandparent face's three interior edges' midpoints 12 (21 each from rings).
+template <template <typename> class Two, std::size_t Step, typename Out, typename Vertex, typename MultiplyAdd,
+          typename UnitNormals>
 void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, const Out out, float* normals,
                            GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals) {
     const Grandparent& g = lt.from_grandparent->grandparent;
-    const RegularLimit<Vertex, MultiplyAdd> regular(lt, vertex, multiply_add);
+    using Regular = RegularLimit<Vertex, MultiplyAdd>;
+    const Regular regular(lt, vertex, multiply_add);
+    const Two<Regular> two{regular};
     const Index nv = g.num_vertices, child_vertices = nv + g.num_edges, halves_end = child_vertices + 2 * g.num_edges;
     Range kinds[3];  // the share's outputs, a range of last-level vertices per kind
     share.vertices(g, kinds);
-    const Index* corners = g.edge_face_corners;
     const Index* corner_halves = g.corner_halves;
     auto load = [&](Index v) { return _mm_loadu_ps(in.at(std::size_t(v))); };
-    // The two faces of grandparent edge h: f runs along it from its first end (h its edge k), g_face the other way.
-    struct EdgeFaces {
-        Index f, g_face;
-        int k, j;
-    };
-    // A boundary edge has F only: its vertices are by sides, and their limits are LimitFn's (`redone`), so G stands
-    // in for F there, only to keep the loads in place.
-    auto faces_of = [corners](Index h) {
-        const Index g_corner = corners[2 * h + 1] < 0 ? corners[2 * h] : corners[2 * h + 1];
-        return EdgeFaces{corners[2 * h] >> 2, g_corner >> 2, int(corners[2 * h] & 3), int(g_corner & 3)};
-    };
-    auto interior = [halves_end](Index f, int k) { return halves_end + 3 * f + k; };
     auto next_corner = [](int k) { return k == 2 ? 0 : k + 1; };  // a triangle's corners, counter-clockwise
     auto prev_corner = [](int k) { return k == 0 ? 2 : k - 1; };
-    auto half_at_start = [=](Index f, int k) { return child_vertices + corner_halves[3 * f + k]; };
-    auto half_at_end = [=](Index f, int k) { return child_vertices + (corner_halves[3 * f + k] ^ 1); };
 
     auto flush = [&](LimitChunk& c) {
         if (c.count > 0)
@@ -181,32 +182,31 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
     };
     // Grandparent edge h gives its child's midpoint R = nv + h and the midpoints of its halves 2h = (a, R) and
     // 2h + 1 = (R, b); R's ring (2h, G's interior edges j and j - 1, 2h + 1, F's k and k - 1) is among the halves'
-    // points, so one fan of loads serves the three.
+    // points, so one fan of loads serves the three. F runs along h from its first end (h its edge k), G the other way
+    // (h its edge j): h's sides (Grandparent::edge_sides). A boundary edge has F only: its vertices are by sides, and
+    // their limits are LimitFn's (`redone`), so F stands in for G there, only to keep the loads in place.
     LimitChunk midpoints, halves;
     midpoints.first = kinds[0].begin, halves.first = kinds[1].begin;
     for (Index h = share.edges.begin; h < share.edges.end; ++h) {
-        const EdgeFaces e = faces_of(h);
+        const Index* f_side = g.edge_sides + 2 * kEdgeSideSize * std::size_t(h);
+        const Index* g_side = f_side[kEdgeSideSize] < 0 ? f_side : f_side + kEdgeSideSize;
         const __m128 r = load(nv + h), half_a = load(child_vertices + 2 * h), half_b = load(child_vertices + 2 * h + 1);
-        const __m128 g_interior = load(interior(e.g_face, e.j)), f_interior = load(interior(e.f, e.k));
-        const __m128 g_interior_before = load(interior(e.g_face, prev_corner(e.j)));
-        const __m128 f_interior_before = load(interior(e.f, prev_corner(e.k)));
+        const __m128 g_interior = load(g_side[kInterior]), f_interior = load(f_side[kInterior]);
+        const __m128 g_interior_before = load(g_side[kInteriorBefore]);
+        const __m128 f_interior_before = load(f_side[kInteriorBefore]);
         const __m128 at_r[6] = {half_a, g_interior, g_interior_before, half_b, f_interior, f_interior_before};
-        const __m128 at_a[6] = {load(g.edge_vertices[2 * h]),
-                                load(half_at_start(e.g_face, next_corner(e.j))),
-                                g_interior,
-                                r,
-                                f_interior_before,
-                                load(half_at_end(e.f, prev_corner(e.k)))};
+        const __m128 at_a[6] = {
+            load(g.edge_vertices[2 * h]), load(g_side[kHalfAfter]), g_interior, r, f_interior_before,
+            load(f_side[kHalfBefore])};
         const __m128 at_b[6] = {r,
                                 g_interior_before,
-                                load(half_at_end(e.g_face, prev_corner(e.j))),
+                                load(g_side[kHalfBefore]),
                                 load(g.edge_vertices[2 * h + 1]),
-                                load(half_at_start(e.f, next_corner(e.k))),
+                                load(f_side[kHalfAfter]),
                                 f_interior};
-        const int m = slots(midpoints, 1), i = slots(halves, 2);
+        const int m = slots(midpoints, 1);
         regular(r, at_r, midpoints.position[m], midpoints.t1[m], midpoints.t2[m]);
-        regular(half_a, at_a, halves.position[i], halves.t1[i], halves.t2[i]);
-        regular(half_b, at_b, halves.position[i + 1], halves.t1[i + 1], halves.t2[i + 1]);
+        two(half_a, at_a, half_b, at_b, halves, slots(halves, 2));
     }
     flush(midpoints);
     flush(halves);
@@ -221,14 +221,17 @@ void grandchild_limit_quad(const LimitTables& lt, const QuadSource<Step> in, con
             m[k] = load(nv + (face_halves[k] >> 1));
             start[k] = load(child_vertices + face_halves[k]);
             end[k] = load(child_vertices + (face_halves[k] ^ 1));
-            edge[k] = load(interior(f, k));
+            edge[k] = load(halves_end + 3 * f + k);
         }
-        const int i = slots(interiors, 3);
+        __m128 p[3][6];
         for (int k = 0; k < 3; ++k) {
             const int next = next_corner(k), before = prev_corner(k);
-            const __m128 p[6] = {m[k], end[k], start[next], m[next], edge[next], edge[before]};
-            regular(edge[k], p, interiors.position[i + k], interiors.t1[i + k], interiors.t2[i + k]);
+            const __m128 ring[6] = {m[k], end[k], start[next], m[next], edge[next], edge[before]};
+            std::copy(ring, ring + 6, p[k]);
         }
+        const int i = slots(interiors, 3);
+        two(edge[0], p[0], edge[1], p[1], interiors, i);
+        regular(edge[2], p[2], interiors.position[i + 2], interiors.t1[i + 2], interiors.t2[i + 2]);
     }
     flush(interiors);
 }
@@ -254,15 +257,15 @@ void limit_pass(const LimitTables& lt, const StencilView& view, ChannelsView<con
 // A SIMD kernel's GrandchildLimitFn (kernels.h) from its arithmetic: every quad by grandchild_limit_quad, the
 // positions' with the normals; then the vertices next to tags (LimitTables::FromGrandparent::redone) again by its
 // LimitFn, `limit`, over their rings, runs of consecutive ones at a time; other layouts run the scalar reference.
-template <typename Vertex, typename MultiplyAdd, typename UnitNormals>
+template <template <typename> class Two, typename Vertex, typename MultiplyAdd, typename UnitNormals>
 void grandchild_limit_pass(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out, float* normals,
                            GrandchildShare share, Vertex vertex, MultiplyAdd multiply_add, UnitNormals unit_normals,
                            LimitFn limit) {
     if (!reads_as_quads(in)) return limit_grandchild_scalar(lt, in, out, normals, share);
     const LevelStencils& s = lt.positions;
     for_each_quad(s, stored_view(s), in, out, [&](const Tables&, auto source, auto target) {
-        grandchild_limit_quad(lt, source, target, source.in == in.data ? normals : nullptr, share, vertex, multiply_add,
-                              unit_normals);
+        grandchild_limit_quad<Two>(lt, source, target, source.in == in.data ? normals : nullptr, share, vertex,
+                                   multiply_add, unit_normals);
     });
     const std::vector<Index>& redone = lt.from_grandparent->redone;
     if (redone.empty()) return;

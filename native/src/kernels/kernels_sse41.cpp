@@ -169,7 +169,8 @@ void limit_sse41(const LimitTables& lt, const StencilView& view, ChannelsView<co
 
 void limit_grandchild_sse41(const LimitTables& lt, ChannelsView<const float> in, ChannelsView<float> out,
                             float* normals, GrandchildShare share) {
-    grandchild_limit_pass(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals, limit_sse41);
+    grandchild_limit_pass<OneAfterOther>(lt, in, out, normals, share, smooth_vertex, multiply_add, unit_normals,
+                                         limit_sse41);
 }
 
 void refine_interior_sse41(const LevelStencils& s, ChannelsView<const float> in, ChannelsView<float> out, Range faces) {

@@ -179,7 +179,7 @@ Topology detail::PlanBuilder::limit_parent_near_features(const Topology& grandpa
 // A closed surface without features (limit_from_grandparent_), while the level before the last is planned: the rings
 // of the last level's old vertices of its grandparent are that grandparent's edges in counter-clockwise order, each
 // for its half at the vertex; the rest is left to the frames (write_ordered_grandchild_rings), which read the
-// grandparent's faces at each edge (edge_face_corners) and places from here.
+// grandparent's sides of each edge (edge_sides) and halves at each corner from here.
 void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
     const Topology& g = grandparent;
     plan_.limit = std::make_unique<LimitTables>();
@@ -190,7 +190,7 @@ void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
     const Index nv = g.num_vertices, child_vertices = nv + g.num_edges();
     s.ring_offsets = g.vertex_edge_offsets;
     s.ring.resize(std::size_t(g.vertex_edge_offsets[nv]));
-    from.edge_face_corners.resize(2 * std::size_t(g.num_edges()));
+    from.edge_sides.resize(2 * kEdgeSideSize * std::size_t(g.num_edges()));
     from.corner_halves.resize(g.face_edges.size());
     TransientVector<Index> next_at(2 * std::size_t(g.num_edges()));
     run_levels(std::max(1, options_.threads), 3, [&](int step, int part, int parts) {
@@ -199,25 +199,28 @@ void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
             // stands for a boundary edge's missing face and for the half no face follows.
             if (closed_) return;
             const auto [h0, h1] = part_of(int(next_at.size()), part, parts);
-            std::fill(from.edge_face_corners.begin() + h0, from.edge_face_corners.begin() + h1, Index(-1));
+            for (int side = h0 | 1; side < h1; side += 2) from.edge_sides[kEdgeSideSize * std::size_t(side)] = -1;
             return std::fill(next_at.begin() + h0, next_at.begin() + h1, Index(-1));
         }
         if (step == 1) {
             const auto [f0, f1] = part_of(g.num_faces(), part, parts);
-            return write_grandparent_corners(g, f0, f1, from.edge_face_corners.data(), from.corner_halves.data(),
-                                             next_at.data());
+            return write_grandparent_sides(g, f0, f1, from.edge_sides.data(), from.corner_halves.data(),
+                                           next_at.data());
         }
         const auto [v0, v1] = part_of(nv, part, parts);
         write_ordered_old_vertex_halves(g, next_at.data(), v0, v1, child_vertices,
                                         s.ring.data() + g.vertex_edge_offsets[v0]);
     });
-    // Every edge's first face runs along it from its first end: a boundary edge's one face fills its first slot.
-    assert(std::all_of(from.edge_face_corners.begin(), from.edge_face_corners.end(),
-                       [k = 0](Index c) mutable { return (k++ % 2 == 1) || c >= 0; }));
+    // Every edge's first face runs along it from its first end: a boundary edge's one face writes its first side.
+    assert([&] {
+        for (std::size_t side = 0; side < from.edge_sides.size(); side += 2 * kEdgeSideSize)
+            if (from.edge_sides[side] < 0) return false;
+        return true;
+    }());
     from.grandparent.num_vertices = nv;
     from.grandparent.num_edges = g.num_edges();
     from.grandparent.num_faces = g.num_faces();
-    from.grandparent.edge_face_corners = from.edge_face_corners.data();
+    from.grandparent.edge_sides = from.edge_sides.data();
     from.grandparent.corner_halves = from.corner_halves.data();
     from.max_valence = std::max(g.max_valence, 6);
 }

@@ -55,11 +55,11 @@ struct LimitTables {
     // A closed surface without features (PlanBuilder::plan_limit_rings): the last level's rings come from the level
     // two before it, `grandparent`. positions.ring and ring_offsets hold those of its vertices only (the last level's
     // first ones); the others' are written a chunk at a time as the limit pass runs (limit_part,
-    // write_ordered_grandchild_rings), the same rings as stored ones, from the grandparent's faces at each edge and
+    // write_ordered_grandchild_rings), the same rings as stored ones, from the grandparent's sides of each edge and
     // halves at each corner (kept here) and its edge ends (its own tables'). Null: every ring is stored.
     struct FromGrandparent {
         Grandparent grandparent;
-        LargeVector<Index> edge_face_corners, corner_halves;
+        LargeVector<Index> edge_sides, corner_halves;
         int max_valence = 0;  // the last level's
         // Past the grandparent's vertices, sorted: those next to tags, whose masks, tangents or sides are their own
         // (what the SIMD kernels' pass by kind leaves to their LimitFn).

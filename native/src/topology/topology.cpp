@@ -706,19 +706,25 @@ void write_ordered_child_rings(const Topology& p, int begin, int end, std::uint8
     }
 }
 
-void write_grandparent_corners(const Topology& t, int f0, int f1, Index* edge_face_corners, Index* corner_halves,
-                               Index* next_at) {
+void write_grandparent_sides(const Topology& t, int f0, int f1, Index* edge_sides, Index* corner_halves,
+                             Index* next_at) {
+    const Index child_vertices = t.num_vertices + t.num_edges(), halves_end = child_vertices + 2 * t.num_edges();
     for (Index f = f0; f < f1; ++f) {
-        Index half[3];
+        Index half[3];  // a face's side of its edge k is numbered as its half at corner k
         for (int k = 0; k < 3; ++k) {
             const std::size_t c = 3 * std::size_t(f) + std::size_t(k);
-            const Index e = t.face_edges[c], starts = t.face_edge_places[c] & 1;
-            edge_face_corners[2 * std::size_t(e) + std::size_t(1 - starts)] = 4 * f + k;
-            corner_halves[c] = half[k] = 2 * e + 1 - starts;
+            corner_halves[c] = half[k] = 2 * t.face_edges[c] + 1 - (t.face_edge_places[c] & 1);
         }
-        // The edge that leaves corner k (edge k, its half at its start) is followed around v_k by the one that enters
-        // it (edge k - 1, its half at its end): write_ordered_child_rings' follower rule.
-        for (int k = 0; k < 3; ++k) next_at[half[k]] = half[prev_corner(k)] ^ 1;
+        for (int k = 0; k < 3; ++k) {
+            Index* side = edge_sides + kEdgeSideSize * std::size_t(half[k]);
+            side[kInterior] = halves_end + 3 * f + k;
+            side[kInteriorBefore] = halves_end + 3 * f + prev_corner(k);
+            side[kHalfBefore] = child_vertices + (half[prev_corner(k)] ^ 1);
+            side[kHalfAfter] = child_vertices + half[next_corner(k)];
+            // The edge that leaves corner k (edge k, its half at its start) is followed around v_k by the one that
+            // enters it (edge k - 1, its half at its end): write_ordered_child_rings' follower rule.
+            next_at[half[k]] = half[prev_corner(k)] ^ 1;
+        }
     }
 }
 
@@ -748,65 +754,55 @@ void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, In
     // grandchild vertex made by a split is the child's vertex count plus its child edge. A boundary edge has F only
     // (an edge's first face runs along it from its first end): R and its halves' midpoints are no disks, and their
     // rings keep write_child_rings' order (R's edges 2h, 2h + 1, then F's interior edges k - 1 and k; a half's ends,
-    // then its wings in F). Each kind in a loop of its own: the child's midpoints, the halves' midpoints a pair at a
-    // time, the interior edges' a face at a time.
+    // then its wings in F). F's and G's vertices there are h's sides (Grandparent::edge_sides). Each kind in a loop
+    // of its own: the child's midpoints, the halves' midpoints a pair at a time, the interior edges' a face at a time.
     const Index nv = g.num_vertices, ne = g.num_edges, child_vertices = nv + ne;
     const Index halves_end = child_vertices + 2 * ne;  // the first grandchild vertex on an interior edge
     assert(begin >= nv);
     const Index* corner_halves = g.corner_halves;
-    // The grandchild vertex on the child edge of face f's edge k at its corner k (where the edge starts in f) or at
-    // its corner k + 1; on interior edge k of face f.
-    auto half_at_start = [=](Index f, int k) {
-        return child_vertices + corner_halves[3 * std::size_t(f) + std::size_t(k)];
-    };
-    auto half_at_end = [=](Index f, int k) {
-        return child_vertices + (corner_halves[3 * std::size_t(f) + std::size_t(k)] ^ 1);
-    };
-    auto interior_edge = [=](Index f, int k) { return halves_end + 3 * f + k; };
+    auto interior_edge = [=](Index f, int k) { return halves_end + 3 * f + k; };  // the grandchild vertex on it
     const Index* const start = ring;
     *offsets++ = 0;
     auto close = [&](Index* next) { ring = next, *offsets++ = Index(ring - start); };
     Index v = begin;
     for (; v < std::min(end, child_vertices); ++v) {  // the child's midpoint R of h
-        const Index h = v - nv, f = g.edge_face_corners[2 * h] >> 2;
-        const int k = g.edge_face_corners[2 * h] & 3;
+        const Index h = v - nv;
+        const Index* f_side = g.edge_sides + 2 * kEdgeSideSize * std::size_t(h);
+        const Index* g_side = f_side + kEdgeSideSize;
         ring[0] = child_vertices + 2 * h;
-        if (g.edge_face_corners[2 * h + 1] < 0) {  // a boundary edge
+        if (g_side[kInterior] < 0) {  // a boundary edge
             ring[1] = child_vertices + 2 * h + 1;
-            ring[2] = interior_edge(f, prev_corner(k));
-            ring[3] = interior_edge(f, k);
+            ring[2] = f_side[kInteriorBefore];
+            ring[3] = f_side[kInterior];
             close(ring + 4);
             continue;
         }
-        const Index g_face = g.edge_face_corners[2 * h + 1] >> 2;
-        const int j = g.edge_face_corners[2 * h + 1] & 3;
-        ring[1] = interior_edge(g_face, j);
-        ring[2] = interior_edge(g_face, prev_corner(j));
+        ring[1] = g_side[kInterior];
+        ring[2] = g_side[kInteriorBefore];
         ring[3] = child_vertices + 2 * h + 1;
-        ring[4] = interior_edge(f, k);
-        ring[5] = interior_edge(f, prev_corner(k));
+        ring[4] = f_side[kInterior];
+        ring[5] = f_side[kInteriorBefore];
         close(ring + 6);
     }
     const Index halves_stop = std::min(end, halves_end);
     while (v < halves_stop) {  // the midpoints of halves 2h = (a, R) and 2h + 1 = (R, b)
-        const Index h = (v - child_vertices) / 2, f = g.edge_face_corners[2 * h] >> 2;
-        const int k = g.edge_face_corners[2 * h] & 3;
-        const bool boundary = g.edge_face_corners[2 * h + 1] < 0;
-        const Index g_face = boundary ? f : g.edge_face_corners[2 * h + 1] >> 2;
-        const int j = boundary ? k : g.edge_face_corners[2 * h + 1] & 3;
+        const Index h = (v - child_vertices) / 2;
+        const Index* f_side = g.edge_sides + 2 * kEdgeSideSize * std::size_t(h);
+        const Index* g_side = f_side + kEdgeSideSize;
+        const bool boundary = g_side[kInterior] < 0;
         if ((v - child_vertices) % 2 == 0) {
             ring[0] = g.edge_vertices[2 * std::size_t(h)];
             if (boundary) {
                 ring[1] = nv + h;
-                ring[2] = half_at_end(f, prev_corner(k));
-                ring[3] = interior_edge(f, prev_corner(k));
+                ring[2] = f_side[kHalfBefore];
+                ring[3] = f_side[kInteriorBefore];
                 close(ring + 4);
             } else {
-                ring[1] = half_at_start(g_face, next_corner(j));
-                ring[2] = interior_edge(g_face, j);
+                ring[1] = g_side[kHalfAfter];
+                ring[2] = g_side[kInterior];
                 ring[3] = nv + h;
-                ring[4] = interior_edge(f, prev_corner(k));
-                ring[5] = half_at_end(f, prev_corner(k));
+                ring[4] = f_side[kInteriorBefore];
+                ring[5] = f_side[kHalfBefore];
                 close(ring + 6);
             }
             if (++v == halves_stop) break;
@@ -814,15 +810,15 @@ void write_ordered_grandchild_rings(const Grandparent& g, int begin, int end, In
         ring[0] = nv + h;
         if (boundary) {
             ring[1] = g.edge_vertices[2 * std::size_t(h) + 1];
-            ring[2] = interior_edge(f, k);
-            ring[3] = half_at_start(f, next_corner(k));
+            ring[2] = f_side[kInterior];
+            ring[3] = f_side[kHalfAfter];
             close(ring + 4);
         } else {
-            ring[1] = interior_edge(g_face, prev_corner(j));
-            ring[2] = half_at_end(g_face, prev_corner(j));
+            ring[1] = g_side[kInteriorBefore];
+            ring[2] = g_side[kHalfBefore];
             ring[3] = g.edge_vertices[2 * std::size_t(h) + 1];
-            ring[4] = half_at_start(f, next_corner(k));
-            ring[5] = interior_edge(f, k);
+            ring[4] = f_side[kHalfAfter];
+            ring[5] = f_side[kInterior];
             close(ring + 6);
         }
         ++v;

@@ -174,24 +174,29 @@ void write_ordered_child_rings(const Topology& parent, int begin, int end, std::
 struct Grandparent {
     Index num_vertices = 0, num_edges = 0, num_faces = 0;
     const Index* edge_vertices = nullptr;  // 2 per edge
-    // 2 per edge: 4 f + k for the face f that runs along it from its first end (the edge its edge k), then for the
-    // other (-1 for a boundary edge).
-    const Index* edge_face_corners = nullptr;
+    // 8 per edge, 4 per side: first of the face that runs along the edge from its first end (the edge its edge k),
+    // then of the other (its first entry -1 for a boundary edge, whose other three are not written): the grandchild
+    // vertices that face gives the rings about the edge (EdgeSide).
+    const Index* edge_sides = nullptr;
     // 3 per face: the child edge of face edge k at corner k, where the edge starts in the face (the other half, at
     // corner k + 1, is this one xor 1).
     const Index* corner_halves = nullptr;
 };
-// Grandparent::edge_face_corners and corner_halves from a level's faces [f0, f1): each writes its edges' entries and
-// its own, from its face edges and places; and next_at, per child edge h, the next half around the old vertex at its
-// end, as write_ordered_child_rings orders a ring (2 per edge of the level; no face writes the entry of a half that
-// none follows, as on a boundary).
-void write_grandparent_corners(const Topology& level, int f0, int f1, Index* edge_face_corners, Index* corner_halves,
-                               Index* next_at);
+// The entries of a side of an edge in Grandparent::edge_sides, for the face and the edge its edge k: the grandchild
+// vertices on the face's interior edges k and k - 1, on the half of its edge k - 1 at that edge's end, and on the half
+// of its edge k + 1 at that edge's start.
+enum EdgeSide { kInterior, kInteriorBefore, kHalfBefore, kHalfAfter, kEdgeSideSize };
+// Grandparent::edge_sides and corner_halves from a level's faces [f0, f1): each writes its sides of its edges and its
+// own halves, from its face edges and places; and next_at, per child edge h, the next half around the old vertex at
+// its end, as write_ordered_child_rings orders a ring (2 per edge of the level; no face writes the entry of a half
+// that none follows, as on a boundary).
+void write_grandparent_sides(const Topology& level, int f0, int f1, Index* edge_sides, Index* corner_halves,
+                             Index* next_at);
 // The rings of the child's old vertices [v0, v1) of a level whose fans are one fan each, as write_ordered_child_rings
 // writes them (counter-clockwise around a disk: in a child triangle (v, a, b), b follows a around v; in the order of
 // the vertex's edges around a boundary) but each entry first_half_vertex plus the child edge to the neighbour (the
 // grandchild's vertex on it, where first_half_vertex is the child's vertex count), from ring[0]. `next_at`:
-// write_grandparent_corners', -1 where no face follows.
+// write_grandparent_sides', -1 where no face follows.
 void write_ordered_old_vertex_halves(const Topology& level, const Index* next_at, int v0, int v1,
                                      Index first_half_vertex, Index* ring);
 // What write_ordered_child_rings writes of the child of the grandparent's child, without either: the rings of
