@@ -231,11 +231,10 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
             const float* n = &normals[3 * std::size_t(p.output_triangles[c])];
             corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
         }
-        const auto first =
-            std::lower_bound(corner_sides.begin(), corner_sides.end(), std::pair<Index, Index>(Index(begin), -1));
-        for (auto it = first; it != corner_sides.end() && std::size_t(it->first) < end; ++it) {
-            const float* n = &normals[3 * std::size_t(it->second)];
-            const std::size_t c = std::size_t(it->first);
+        for (const auto& [corner, row] : corner_sides) {  // a few per sharp edge, in vertex order: each part reads all
+            const std::size_t c = std::size_t(corner);
+            if (c < begin || c >= end) continue;
+            const float* n = &normals[3 * std::size_t(row)];
             corner_normals[3 * c] = n[0], corner_normals[3 * c + 1] = n[1], corner_normals[3 * c + 2] = n[2];
         }
     });

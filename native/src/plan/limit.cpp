@@ -20,7 +20,6 @@
 
 #include "plan/level_state.h"
 #include "base/parallel.h"
-#include "base/radix_sort.h"
 #include "plan/plan_builder.h"
 #include "topology/triangle_corners.h"
 
@@ -541,20 +540,34 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         }
         sides_by_part[std::size_t(part)] = std::move(out);
     });
-    for (const SidesPart& part : sides_by_part) {
-        const Index rows_before = lt.num_side_rows, points_before = Index(lt.side_points.size());
-        for (LimitTables::Side side : part.sides) {
-            side.first += points_before;
-            if (side.row >= nv) side.row += rows_before;
-            lt.sides.push_back(side);
-        }
-        lt.side_points.insert(lt.side_points.end(), part.side_points.begin(), part.side_points.end());
-        for (const auto& [corner, row] : part.corner_sides) lt.corner_sides.push_back({corner, row + rows_before});
-        lt.num_side_rows += part.rows;
+    // Joined in parts too: each part's entries placed after the earlier parts', its rows and points counted on.
+    struct Placed {
+        std::size_t sides = 0, side_points = 0, corner_sides = 0;
+        Index rows = 0;
+    };
+    std::vector<Placed> placed(sides_by_part.size() + 1);
+    for (std::size_t part = 0; part < sides_by_part.size(); ++part) {
+        const SidesPart& from = sides_by_part[part];
+        const Placed& before = placed[part];
+        placed[part + 1] = {before.sides + from.sides.size(), before.side_points + from.side_points.size(),
+                            before.corner_sides + from.corner_sides.size(), before.rows + from.rows};
     }
-    // By corner (each corner is on one side).
-    radix_sort(lt.corner_sides, std::uint32_t(t.face_vertices.size()),
-               [](const std::pair<Index, Index>& at) { return at.first; });
+    lt.sides.resize(placed.back().sides);
+    lt.side_points.resize(placed.back().side_points);
+    lt.corner_sides.resize(placed.back().corner_sides);
+    lt.num_side_rows = int(placed.back().rows);
+    run_levels(parts, 1, [&](int, int part, int) {
+        const SidesPart& from = sides_by_part[std::size_t(part)];
+        const Placed& at = placed[std::size_t(part)];
+        for (std::size_t i = 0; i < from.sides.size(); ++i) {
+            LimitTables::Side& side = lt.sides[at.sides + i] = from.sides[i];
+            side.first += Index(at.side_points);
+            if (side.row >= nv) side.row += at.rows;
+        }
+        std::copy(from.side_points.begin(), from.side_points.end(), lt.side_points.begin() + at.side_points);
+        for (std::size_t i = 0; i < from.corner_sides.size(); ++i)
+            lt.corner_sides[at.corner_sides + i] = {from.corner_sides[i].first, from.corner_sides[i].second + at.rows};
+    });
     int max_side_faces = 0;
     for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
     lt.side_t1.resize(max_side_faces + 1);

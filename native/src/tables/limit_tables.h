@@ -36,9 +36,9 @@ struct LimitTables {
     std::vector<Side> sides;
     std::vector<Index> side_points;
     int num_side_rows = 0;  // the sides with rows of their own
-    // The corners that take a side's row of its own: (output corner 3 t + k, row), sorted by corner. The others take
-    // their vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a first
-    // request).
+    // The corners that take a side's row of its own: (output corner 3 t + k, row), in the order of their vertices. The
+    // others take their vertex's, so the plan keeps no index per corner (Plan::corner_normal_indices makes them on a
+    // first request).
     std::vector<std::pair<Index, Index>> corner_sides;
     // Tangent weights: smooth by valence (p_0 .. p_{n-1}), sides by face count (vertex, p_0 .. p_faces).
     std::vector<std::vector<float>> smooth_t1, smooth_t2, side_t1, side_t2;
