@@ -129,6 +129,7 @@ void limit_quad(const LimitTables& lt, const Tables& t, const QuadSource<Step> i
 // Limit outputs of one kind, consecutive from `first`, gathered a chunk at a time for store_limit_chunk.
 struct LimitChunk {
     static constexpr int kSize = 64;  // a multiple of 2 and 3 plus one: whole units fill it to 63 or 64
+    // 32: the AVX2 kernel stores a pair of halves (from an even slot) 32 bytes at a time, within one cache line.
     alignas(32) __m128 position[kSize], t1[kSize], t2[kSize];
     Index first = 0;
     int count = 0;
