@@ -72,12 +72,17 @@ struct FeatureVertex {
     float own_tag() const { return own ? own->tag : 0.0f; }
 };
 
+// How many parts for_each_feature_vertex cuts its vertices into on `threads` threads: several per thread, taken in
+// turn, as the vertices' work differs by far (one whose semi-sharp edges outlast the last level refines its ring on)
+// and so may the parts' shares of such vertices.
+inline int feature_vertex_parts(int threads) { return threads < 2 ? 1 : 4 * threads; }
+
 // Visits every vertex that touches a sharp or tagged edge, is tagged itself, or is a cone: visit(vertex, part), in
-// vertex order within each of `parts` parts, which run at once on threads and take consecutive ranges of vertices
-// (a caller that collects per part and joins the parts in order keeps vertex order).
+// vertex order within each of feature_vertex_parts(threads) parts, which run on `threads` threads and take
+// consecutive ranges of vertices (a caller that collects per part and joins the parts in order keeps vertex order).
 template <typename Visit>
 void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& cones,
-                             const VertexNeighbourhood& around, Visit visit, int parts = 1) {
+                             const VertexNeighbourhood& around, Visit visit, int threads = 1) {
     // Each vertex meets its feature edges as a short run of (vertex, feature) pairs, so that gathering them needs
     // no search per incident edge. A pair is two indices, written in place: structs of pointers pushed one at a time
     // cost more and sorted three times as many bytes (docs/benchmark.md, "Measurements behind the code").
@@ -99,7 +104,7 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
     // By vertex, a byte of the index at a time (stable, which the runs do not need), not by comparisons.
     radix_sort(touches, std::uint32_t(level.topology.num_vertices) - 1, [](const Touch& t) { return t.vertex; });
 
-    run_levels(parts, 1, [&](int, int part, int part_count) {
+    auto visit_part = [&](int, int part, int part_count) {
         // A part starts where a vertex's run starts.
         auto run_start = [&touches](std::size_t i) {
             while (i > 0 && i < touches.size() && touches[i].vertex == touches[i - 1].vertex) ++i;
@@ -144,7 +149,9 @@ void for_each_feature_vertex(const LevelState& level, const std::vector<Index>& 
                                 &edge_features},
                   part);
         }
-    });
+    };
+    const int parts = feature_vertex_parts(threads);
+    run_levels(threads, 1, visit_part, parts / std::max(1, threads));
 }
 
 // Hoppe 94's class of a vertex (hoppe94_vertex_type; docs/rules.md, "Vertex classes") from OpenSubdiv's rule and the

@@ -282,7 +282,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         std::vector<Index> corners_at;
     };
     const int parts = std::max(1, options_.threads);
-    std::vector<Visited> visited(static_cast<std::size_t>(parts));
+    std::vector<Visited> visited(static_cast<std::size_t>(feature_vertex_parts(parts)));
     LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
     lt.by_side.assign(nv, 0);
     // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
@@ -293,7 +293,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     // per sharp edge along a crease: reserved, as vectors of this size that grow are copied into fresh pages each time.
     const bool sides_in_visit = lt.from_grandparent != nullptr;
     if (sides_in_visit)
-        for (Visited& part : visited) part.at_sides.reserve(6 * level.edges.size() / std::size_t(parts) + 64);
+        for (Visited& part : visited) part.at_sides.reserve(6 * level.edges.size() / visited.size() + 64);
     auto corners_of = [&around](Index v, std::vector<Index>& corners_at, std::vector<Corner>& out) {
         around.corners(v, corners_at);
         for (const Index c : corners_at) {

@@ -313,7 +313,7 @@ LevelStencils& PlanBuilder::start_tables(const VertexNeighbourhood& around, int 
 
 // Only vertices next to a feature (or cones) can differ from the smooth pass; they alone are visited, on threads.
 void PlanBuilder::plan_feature_vertices(Step& step, HalvesOfFeatures& halves) const {
-    std::vector<PartOutput> parts(std::max(1, options_.threads));
+    std::vector<PartOutput> parts(feature_vertex_parts(options_.threads));
     for_each_feature_vertex(
         step.level, cones_, step.around,
         [&](const FeatureVertex& vertex, int part) {
@@ -334,7 +334,7 @@ void PlanBuilder::plan_feature_vertices(Step& step, HalvesOfFeatures& halves) co
             }
             add_vertex_mask(step, vertex, rule, child, out.specials);
         },
-        int(parts.size()));
+        options_.threads);
     join_parts(step, parts, halves);
 }
 
