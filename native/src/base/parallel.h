@@ -221,6 +221,10 @@ private:
     static inline thread_local Team* current_ = nullptr;
 };
 
+// Pieces per thread for a step of a plan whose parts keep no state of their own: four, so that a thread held up by
+// the system (or a part with more work) delays the step by a quarter of its share.
+constexpr int kPiecesPerThread = 4;
+
 // Runs work(level, part, parts) for every level in order and every part of a level at once, on the team of this
 // thread's TeamScope (or a scope of its own): the caller is part 0, and the parts meet between levels. With
 // pieces_per_thread > 1 a level is cut into that many parts per thread, taken in turn (Team::run): for work whose

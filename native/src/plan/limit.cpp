@@ -192,24 +192,27 @@ void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
     from.edge_sides.resize(2 * kEdgeSideSize * std::size_t(g.num_edges()));
     from.corner_halves.resize(g.face_edges.size());
     TransientVector<Index> next_at(2 * std::size_t(g.num_edges()));
-    run_levels(std::max(1, options_.threads), 3, [&](int step, int part, int parts) {
-        if (step == 0) {
-            // Where every edge has two faces that wind against each other, the faces write every entry; else -1
-            // stands for a boundary edge's missing face and for the half no face follows.
-            if (closed_) return;
-            const auto [h0, h1] = part_of(int(next_at.size()), part, parts);
-            for (int side = h0 | 1; side < h1; side += 2) from.edge_sides[kEdgeSideSize * std::size_t(side)] = -1;
-            return std::fill(next_at.begin() + h0, next_at.begin() + h1, Index(-1));
-        }
-        if (step == 1) {
-            const auto [f0, f1] = part_of(g.num_faces(), part, parts);
-            return write_grandparent_sides(g, f0, f1, from.edge_sides.data(), from.corner_halves.data(),
-                                           next_at.data());
-        }
-        const auto [v0, v1] = part_of(nv, part, parts);
-        write_ordered_old_vertex_halves(g, next_at.data(), v0, v1, child_vertices,
-                                        s.ring.data() + g.vertex_edge_offsets[v0]);
-    });
+    run_levels(
+        std::max(1, options_.threads), 3,
+        [&](int step, int part, int parts) {
+            if (step == 0) {
+                // Where every edge has two faces that wind against each other, the faces write every entry; else -1
+                // stands for a boundary edge's missing face and for the half no face follows.
+                if (closed_) return;
+                const auto [h0, h1] = part_of(int(next_at.size()), part, parts);
+                for (int side = h0 | 1; side < h1; side += 2) from.edge_sides[kEdgeSideSize * std::size_t(side)] = -1;
+                return std::fill(next_at.begin() + h0, next_at.begin() + h1, Index(-1));
+            }
+            if (step == 1) {
+                const auto [f0, f1] = part_of(g.num_faces(), part, parts);
+                return write_grandparent_sides(g, f0, f1, from.edge_sides.data(), from.corner_halves.data(),
+                                               next_at.data());
+            }
+            const auto [v0, v1] = part_of(nv, part, parts);
+            write_ordered_old_vertex_halves(g, next_at.data(), v0, v1, child_vertices,
+                                            s.ring.data() + g.vertex_edge_offsets[v0]);
+        },
+        kPiecesPerThread);
     // Every edge's first face runs along it from its first end: a boundary edge's one face writes its first side.
     assert([&] {
         for (std::size_t side = 0; side < from.edge_sides.size(); side += 2 * kEdgeSideSize)
@@ -283,8 +286,14 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     const int parts = std::max(1, options_.threads);
     std::vector<Visited> visited(static_cast<std::size_t>(feature_vertex_parts(parts)));
-    LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back(nv, VertexType::Smooth);
-    lt.by_side.assign(nv, 0);
+    LargeVector<VertexType>& types = plan_.level_vertex_types.emplace_back();
+    types.resize(std::size_t(nv));
+    lt.by_side.resize(std::size_t(nv));
+    run_levels(parts, 1, [&](int, int part, int count) {  // a megabyte or two, in parts too
+        const auto [v0, v1] = part_of(nv, part, count);
+        std::fill(types.begin() + v0, types.begin() + v1, VertexType::Smooth);
+        std::fill(lt.by_side.begin() + v0, lt.by_side.begin() + v1, std::uint8_t(0));
+    });
     // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
     const bool through_parent = lt.from_grandparent || !level.own_neighbourhood;
     const VertexNeighbourhood around(t, through_parent ? &parent : nullptr, &plan_.level_num_vertices, base_for_walks_);
@@ -339,39 +348,51 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     // On the plan's threads, each part in vertex order, joined in part order.
     for_each_feature_vertex(level, cones_, around, visit, parts);
-    std::vector<Classified> classified;
     std::vector<std::pair<Index, Index>> infinite_at;
     std::vector<Spent> spent;  // by vertex
     for (Visited& part : visited) {
-        classified.insert(classified.end(), part.classified.begin(), part.classified.end());
         infinite_at.insert(infinite_at.end(), part.infinite_at.begin(), part.infinite_at.end());
         std::move(part.spent.begin(), part.spent.end(), std::back_inserter(spent));
     }
-    std::vector<std::pair<Index, Index>> darts;  // OpenSubdiv's, with the far end of their sharp edge
-    for (const Classified& c : classified) {
-        const Index v = c.vertex;
-        double vertex_weight[2] = {0.5, 0.5};
-        Index ends[2] = {v, v};
-        for (int k = 0; k < 2 && c.crease[k] >= 0; ++k) {
-            const Index e = c.crease[k];
-            Index edge_ends[2];
-            around.edge_ends(e, edge_ends);
-            const bool v_first = edge_ends[0] == v;
-            const Index other = v_first ? edge_ends[1] : edge_ends[0];
-            ends[k] = other;
-            const EdgeMask edge =
-                rules_->edge_mask({c.crease_sharpness[k], v_first ? types[v] : types[other],
-                                   v_first ? types[other] : types[v], around.edge_face_count(e), true});
-            vertex_weight[k] = crease_end_weight(edge, v_first);
-            if (c.rule == SdcRule::Dart && edge.wings == 0.0) darts.push_back({v, other});
+    // The masks, now that every class is known, in the visit's parts, joined in their order.
+    struct Masks {
+        std::vector<SpecialVertex> specials;
+        std::vector<std::pair<Index, Index>> darts;  // OpenSubdiv's, with the far end of their sharp edge
+    };
+    std::vector<Masks> masks(visited.size());
+    auto masks_of = [&](int, int part, int) {
+        Masks& out = masks[std::size_t(part)];
+        for (const Classified& c : visited[std::size_t(part)].classified) {
+            const Index v = c.vertex;
+            double vertex_weight[2] = {0.5, 0.5};
+            Index ends[2] = {v, v};
+            for (int k = 0; k < 2 && c.crease[k] >= 0; ++k) {
+                const Index e = c.crease[k];
+                Index edge_ends[2];
+                around.edge_ends(e, edge_ends);
+                const bool v_first = edge_ends[0] == v;
+                const Index other = v_first ? edge_ends[1] : edge_ends[0];
+                ends[k] = other;
+                const EdgeMask edge =
+                    rules_->edge_mask({c.crease_sharpness[k], v_first ? types[v] : types[other],
+                                       v_first ? types[other] : types[v], around.edge_face_count(e), true});
+                vertex_weight[k] = crease_end_weight(edge, v_first);
+                if (c.rule == SdcRule::Dart && edge.wings == 0.0) out.darts.push_back({v, other});
+            }
+            const VertexSituation situation{
+                types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0, {c.crease[0], c.crease[1]}, {-1, -1}};
+            const LimitMask mask = rules_->limit_mask(situation, vertex_weight[0], vertex_weight[1]);
+            const LimitMask smooth = smooth_limit_mask(c.valence);
+            if (mask.self != smooth.self || mask.ring != smooth.ring || mask.end_a != 0.0 || mask.end_b != 0.0)
+                out.specials.push_back(
+                    {v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
         }
-        const VertexSituation situation{
-            types[v], c.rule, c.valence, 0.0f, 0.0f, nullptr, nullptr, 0, {c.crease[0], c.crease[1]}, {-1, -1}};
-        const LimitMask mask = rules_->limit_mask(situation, vertex_weight[0], vertex_weight[1]);
-        const LimitMask smooth = smooth_limit_mask(c.valence);
-        if (mask.self != smooth.self || mask.ring != smooth.ring || mask.end_a != 0.0 || mask.end_b != 0.0)
-            s.special_vertices.push_back(
-                {v, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.end_a), float(mask.end_b)});
+    };
+    run_levels(parts, 1, masks_of, int(visited.size()) / parts);
+    std::vector<std::pair<Index, Index>> darts;
+    for (const Masks& part : masks) {
+        s.special_vertices.insert(s.special_vertices.end(), part.specials.begin(), part.specials.end());
+        darts.insert(darts.end(), part.darts.begin(), part.darts.end());
     }
 
     // Counter-clockwise rings for the smooth normals: in a triangle (v, a, b), b follows a around v. A level known

@@ -29,7 +29,7 @@ void fill_tables_from_parent(const Topology& parent, LevelStencils& s, Index* la
     // level's faces are written in the first step too (write_grandchild_faces), the step's pieces taking tables and
     // faces in turn: the faces' stores (16 MB for 1.3M triangles) wait on memory, the tables' passes on the cores, so
     // side by side they take less than one after the other (docs/benchmark.md, "Measurements behind the code").
-    constexpr int pieces_per_thread = 4;
+    constexpr int pieces_per_thread = 8;
     run_levels(
         std::max(1, threads), 2,
         [&](int step, int piece, int pieces) {

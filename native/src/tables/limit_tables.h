@@ -18,7 +18,7 @@ struct LimitTables {
     LevelStencils positions;
     // Vertices whose normals are their sides' (crease and corner rules, boundaries, or a fan that is not a disk): 1
     // per such vertex.
-    std::vector<std::uint8_t> by_side;
+    LargeVector<std::uint8_t> by_side;
     // A side: `faces` faces counter-clockwise around `vertex`, through points side_points[first ..]: faces + 1 of
     // them from the leading to the trailing sharp edge, or `faces` of them for a closed fan. Its normal goes to row
     // `row` of the compact normals (Plan::LimitNormals): its vertex's own where it is the vertex's only side (an open

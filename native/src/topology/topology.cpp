@@ -488,17 +488,20 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
     Topology c = sized_child(p, has);
     // Each part fills its share of the parent's faces, edges and vertices: every child slot is written by exactly one
     // parent element, and every offset has a closed form in the parent's, so the parts need no synchronisation.
-    run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
-        const auto [f0, f1] = part_of(p.num_faces(), part, parts);
-        const auto [e0, e1] = part_of(p.num_edges(), part, parts);
-        const auto [v0, v1] = part_of(p.num_vertices, part, parts);
-        populate_child_faces(p, c, has, f0, f1);
-        if (!has.edges) return;
-        populate_interior_edges(p, c, has, f0, f1);
-        populate_halves(p, c, has, e0, e1, f0, f1);
-        populate_old_vertices(p, c, has, v0, v1);
-        populate_midpoints(p, c, has, e0, e1);
-    });
+    run_levels(
+        std::max(1, threads), 1,
+        [&](int, int part, int parts) {
+            const auto [f0, f1] = part_of(p.num_faces(), part, parts);
+            const auto [e0, e1] = part_of(p.num_edges(), part, parts);
+            const auto [v0, v1] = part_of(p.num_vertices, part, parts);
+            populate_child_faces(p, c, has, f0, f1);
+            if (!has.edges) return;
+            populate_interior_edges(p, c, has, f0, f1);
+            populate_halves(p, c, has, e0, e1, f0, f1);
+            populate_old_vertices(p, c, has, v0, v1);
+            populate_midpoints(p, c, has, e0, e1);
+        },
+        kPiecesPerThread);
     assert(follows_split_numbering(p, c));
     return c;
 }
@@ -527,20 +530,23 @@ Topology refine_topology_near(const Topology& p, const std::vector<Index>& faces
         }
     // Each part fills its share of the lists, each element its own slots (as refine_topology's parts); then the
     // offsets just past each element, which the next element's fill may also have written, the same value.
-    run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
-        const auto [f0, f1] = part_of(faces.size(), part, parts);
-        for (std::size_t i = f0; i < f1; ++i) {
-            populate_child_faces(p, c, has, faces[i], faces[i] + 1);
-            populate_interior_edges(p, c, has, faces[i], faces[i] + 1);
-        }
-        const auto [e0, e1] = part_of(edges.size(), part, parts);
-        for (std::size_t i = e0; i < e1; ++i) {
-            populate_halves(p, c, has, edges[i], edges[i] + 1, 0, 0);
-            populate_midpoints(p, c, has, edges[i], edges[i] + 1);
-        }
-        const auto [v0, v1] = part_of(vertices.size(), part, parts);
-        for (std::size_t i = v0; i < v1; ++i) populate_old_vertices(p, c, has, vertices[i], vertices[i] + 1);
-    });
+    run_levels(
+        std::max(1, threads), 1,
+        [&](int, int part, int parts) {
+            const auto [f0, f1] = part_of(faces.size(), part, parts);
+            for (std::size_t i = f0; i < f1; ++i) {
+                populate_child_faces(p, c, has, faces[i], faces[i] + 1);
+                populate_interior_edges(p, c, has, faces[i], faces[i] + 1);
+            }
+            const auto [e0, e1] = part_of(edges.size(), part, parts);
+            for (std::size_t i = e0; i < e1; ++i) {
+                populate_halves(p, c, has, edges[i], edges[i] + 1, 0, 0);
+                populate_midpoints(p, c, has, edges[i], edges[i] + 1);
+            }
+            const auto [v0, v1] = part_of(vertices.size(), part, parts);
+            for (std::size_t i = v0; i < v1; ++i) populate_old_vertices(p, c, has, vertices[i], vertices[i] + 1);
+        },
+        kPiecesPerThread);
     const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
     const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
     for (const Index f : faces) c.edge_face_offsets[interior_base + 3 * f + 3] = faces_of_halves + 2 * (3 * f + 3);
