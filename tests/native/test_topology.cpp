@@ -204,62 +204,89 @@ TEST(Topology, SplitsFollowTheirNumbering) {
     }
 }
 
-// A split known only near some parent faces (and a loose vertex) holds, at every child element descending from them,
-// their edges or their vertices, what the whole split holds: faces' corners and edges, edges' ends and faces, vertices'
-// edges, and the counts (offsets) of each; a limit plan reads the level before the last through it near the tags.
-TEST(Topology, SplitNearSomeFacesIsTheWholeSplitThere) {
+// The mesh split three times (Refined::Full), and the levels' vertex counts, the base's first.
+std::pair<std::vector<Topology>, std::vector<int>> split_three_times(const TestMesh& mesh) {
+    std::vector<Topology> levels{
+        loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
+    std::vector<int> history{levels[0].num_vertices};
+    for (int level = 1; level <= 3; ++level) {
+        levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
+        history.push_back(levels.back().num_vertices);
+    }
+    return {std::move(levels), std::move(history)};
+}
+
+// A level known through a parent that is itself known through its own (the last level of a limit plan read through its
+// grandparent) reads as the level itself: every face's corners and edges, every edge's ends, wings, faces and face
+// count, every vertex's edges and corners, and the faces between a midpoint's halves and between edges at a base
+// vertex. On closed, open and non-manifold meshes (a fin, a bowtie) and a loose vertex, three splits deep.
+TEST(Topology, ALevelThroughItsGrandparentIsTheLevel) {
     using namespace loopsub::testing;
-    using loopsub::detail::Refined;
+    using loopsub::detail::VertexNeighbourhood;
     TestMesh with_loose_vertex = grid(4, 3);
     with_loose_vertex.positions.insert(with_loose_vertex.positions.end(), {9.0f, 9.0f, 9.0f});
-    for (const TestMesh& mesh : {icosphere(2), with_loose_vertex, open_fan(7), fin_on_grid(), bowtie(5)}) {
+    for (const TestMesh& mesh : {icosphere(1), with_loose_vertex, open_fan(7), fin_on_grid(), bowtie(5)}) {
         SCOPED_TRACE(mesh.name);
-        const Topology p =
-            loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
-        const Topology whole = loopsub::detail::refine_topology(p, Refined::Connectivity, 1);
-        const Index loose = p.num_vertices - 1;
-        const bool has_loose = p.vertex_edge_offsets[loose] == p.vertex_edge_offsets[loose + 1];
-        for (int stride : {0, 1, 3, 7}) {  // 0: no face, the loose vertex alone
-            SCOPED_TRACE("every " + std::to_string(stride) + " faces");
-            std::vector<Index> faces, also;
-            for (Index f = stride / 2; stride > 0 && f < p.num_faces(); f += stride) faces.push_back(f);
-            if (has_loose) also.push_back(loose);
-            const Topology near = loopsub::detail::refine_topology_near(p, faces, also);
-            std::vector<Index> edges, vertices = also;
-            for (const Index f : faces)
-                for (int k = 0; k < 3; ++k)
-                    edges.push_back(p.face_edges[3 * f + k]), vertices.push_back(p.face_vertices[3 * f + k]);
-            auto range = [](const loopsub::detail::LargeVector<Index>& offsets, const auto& values, Index x) {
-                return std::vector<Index>(values.begin() + offsets[x], values.begin() + offsets[x + 1]);
-            };
-            auto expect_vertex = [&](Index v) {
-                ASSERT_EQ(near.vertex_edge_offsets[v], whole.vertex_edge_offsets[v]) << "vertex " << v;
-                ASSERT_EQ(near.vertex_edge_offsets[v + 1], whole.vertex_edge_offsets[v + 1]) << "vertex " << v;
-                EXPECT_EQ(range(near.vertex_edge_offsets, near.vertex_edges, v),
-                          range(whole.vertex_edge_offsets, whole.vertex_edges, v))
-                    << "vertex " << v;
-            };
-            auto expect_edge = [&](Index e) {
-                EXPECT_EQ(near.edge_vertices[2 * e], whole.edge_vertices[2 * e]) << "edge " << e;
-                EXPECT_EQ(near.edge_vertices[2 * e + 1], whole.edge_vertices[2 * e + 1]) << "edge " << e;
-                ASSERT_EQ(near.edge_face_offsets[e], whole.edge_face_offsets[e]) << "edge " << e;
-                ASSERT_EQ(near.edge_face_offsets[e + 1], whole.edge_face_offsets[e + 1]) << "edge " << e;
-                EXPECT_EQ(range(near.edge_face_offsets, near.edge_faces, e),
-                          range(whole.edge_face_offsets, whole.edge_faces, e))
-                    << "edge " << e;
-            };
-            for (const Index f : faces) {
-                for (Index c = 12 * f; c < 12 * f + 12; ++c) {
-                    EXPECT_EQ(near.face_vertices[c], whole.face_vertices[c]) << "child corner " << c;
-                    EXPECT_EQ(near.face_edges[c], whole.face_edges[c]) << "child corner " << c;
+        const auto [levels, history] = split_three_times(mesh);
+        for (int level = 2; level <= 3; ++level) {
+            SCOPED_TRACE("level " + std::to_string(level));
+            const Topology& t = levels[std::size_t(level)];
+            const std::vector<int> to_level(history.begin(), history.begin() + level + 1);
+            const std::vector<int> to_parent(history.begin(), history.begin() + level);
+            const VertexNeighbourhood parent(levels[std::size_t(level) - 1].num_vertices,
+                                             levels[std::size_t(level) - 2], &to_parent, &levels[0]);
+            const VertexNeighbourhood derived(t.num_vertices, parent, &to_level, &levels[0]);
+            ASSERT_EQ(derived.num_edges(), t.num_edges());
+            ASSERT_EQ(derived.num_faces(), t.num_faces());
+            EXPECT_EQ(derived.max_valence(), t.max_valence);
+            EXPECT_EQ(derived.max_edge_face_count(), t.max_edge_face_count);
+            for (Index f = 0; f < t.num_faces(); ++f) {
+                Index corners[3], edges[3], alone[2][3];
+                derived.face(f, corners, edges);
+                derived.face_vertices(f, alone[0]), derived.face_edges(f, alone[1]);
+                for (int k = 0; k < 3; ++k) {
+                    ASSERT_EQ(corners[k], t.face_vertices[3 * f + k]) << "face " << f;
+                    ASSERT_EQ(edges[k], t.face_edges[3 * f + k]) << "face " << f;
+                    ASSERT_EQ(alone[0][k], corners[k]) << "face " << f;
+                    ASSERT_EQ(alone[1][k], edges[k]) << "face " << f;
                 }
-                for (int k = 0; k < 3; ++k) expect_edge(2 * p.num_edges() + 3 * f + k);
             }
-            for (const Index e : edges) {
-                expect_edge(2 * e), expect_edge(2 * e + 1);
-                expect_vertex(p.num_vertices + e);
+            for (Index e = 0; e < t.num_edges(); ++e) {
+                Index ends[2], c, d;
+                derived.edge_ends(e, ends);
+                derived.wings(e, c, d);
+                ASSERT_EQ(ends[0], t.edge_vertices[2 * e]) << "edge " << e;
+                ASSERT_EQ(ends[1], t.edge_vertices[2 * e + 1]) << "edge " << e;
+                ASSERT_EQ(c, t.edge_wing_c[e]) << "edge " << e;
+                ASSERT_EQ(d, t.edge_wing_d[e]) << "edge " << e;
+                ASSERT_EQ(derived.edge_face_count(e), t.edge_face_count(e)) << "edge " << e;
+                std::vector<Index> faces;
+                derived.for_each_edge_face(e, [&faces](Index f) { faces.push_back(f); });
+                EXPECT_EQ(faces, std::vector<Index>(t.edge_faces.begin() + t.edge_face_offsets[e],
+                                                    t.edge_faces.begin() + t.edge_face_offsets[e + 1]))
+                    << "edge " << e;
             }
-            for (const Index v : vertices) expect_vertex(v);
+            const VertexNeighbourhood built(t, nullptr, &to_level, &levels[0]);
+            std::vector<Index> a, b;
+            for (Index v = 0; v < t.num_vertices; ++v) {
+                derived.edges(v, a), built.edges(v, b);
+                ASSERT_EQ(a, b) << "vertex " << v;
+                derived.corners(v, a), built.corners(v, b);
+                ASSERT_EQ(a, b) << "vertex " << v;
+                // The pairs a plan asks about: a midpoint's two halves, and any two edges of two faces at a base
+                // vertex.
+                const Index first = t.vertex_edge_offsets[v], count = t.valence(v);
+                for (Index j = 0; j < count; ++j)
+                    for (Index k = 0; k < count; ++k) {
+                        const Index from = t.vertex_edges[first + j], to = t.vertex_edges[first + k];
+                        const bool halves = v >= history[0] && j < 2 && k < 2;
+                        if (from == to || (!halves && v >= history[0]) || t.edge_face_count(from) != 2 ||
+                            t.edge_face_count(to) != 2)
+                            continue;
+                        ASSERT_EQ(derived.faces_between(v, from, to), loopsub::detail::faces_between(t, v, from, to))
+                            << "vertex " << v << ", edges " << from << " and " << to;
+                    }
+            }
         }
     }
 }
@@ -389,17 +416,13 @@ TEST(Topology, GrandchildRingsAreTheChildsOrderedRings) {
 // level for the walks around its vertices where `with_base`.
 template <typename Check>
 void for_each_split(const loopsub::testing::TestMesh& mesh, bool with_base, const Check& check) {
-    std::vector<Topology> levels{
-        loopsub::detail::build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices())};
-    std::vector<int> history{levels[0].num_vertices};
+    const auto [all_levels, all_history] = split_three_times(mesh);
     for (int level = 1; level <= 3; ++level) {
-        levels.push_back(loopsub::detail::refine_topology(levels.back(), loopsub::detail::Refined::Full, 1));
-        history.push_back(levels.back().num_vertices);
-        Topology derived_stub;
-        derived_stub.num_vertices = levels.back().num_vertices;
+        const std::vector<Topology> levels(all_levels.begin(), all_levels.begin() + level + 1);
+        const std::vector<int> history(all_history.begin(), all_history.begin() + level + 1);
         const Topology* base = with_base ? &levels[0] : nullptr;
         const loopsub::detail::VertexNeighbourhood built(levels.back(), nullptr, &history, base);
-        const loopsub::detail::VertexNeighbourhood derived(derived_stub, &levels[level - 1], &history, base);
+        const loopsub::detail::VertexNeighbourhood derived(history.back(), levels[level - 1], &history, base);
         check(level, levels, history, built, derived);
     }
 }

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstring>
 #include <iterator>
+#include <optional>
 #include <utility>
 
 #include "plan/level_state.h"
@@ -62,88 +63,40 @@ std::vector<Index> set_bytes(const std::uint8_t* bytes, Index count) {
     return set;
 }
 
-// The last-level vertex v's ancestors among the grandparent's vertices: itself, or the ends of the grandparent edge, or
-// the corners of the grandparent face, it descends from (the split's numbering, topology.h, twice).
-template <typename Visit>
-void grandparent_vertices_of(const Topology& g, Index v, Visit visit) {
-    const Index nv = g.num_vertices, ne = g.num_edges(), parent_vertices = nv + ne;
-    if (v < nv) return visit(v);
-    Index edge = v - nv;  // v is the parent's midpoint of grandparent edge `edge`
-    if (v >= parent_vertices) {
-        const Index parent_edge = v - parent_vertices;
-        if (parent_edge >= 2 * ne) {  // inside grandparent face f
-            const Index f = (parent_edge - 2 * ne) / 3;
-            for (int k = 0; k < 3; ++k) visit(g.face_vertices[3 * std::size_t(f) + k]);
-            return;
-        }
-        edge = parent_edge / 2;  // a half of grandparent edge `edge`
-    }
-    visit(g.edge_vertices[2 * std::size_t(edge)]);
-    visit(g.edge_vertices[2 * std::size_t(edge) + 1]);
-}
-
-// The grandparent's elements below which plan_limit reads the level before the last (refine_topology_near): the
-// ancestors of the last level's feature vertices (the ends of feature edges, feature vertices, cones) and the faces
-// at them. Its reads stay within a feature vertex's fan and its neighbours' (all below the faces at its ancestors);
-// Debug builds check that they agree with the whole level's (reads_alike_near_features).
-struct NearFeatures {
-    std::vector<Index> faces;     // in order: the writes below them go through memory once
-    std::vector<Index> vertices;  // the ancestors: a vertex in no face has only itself below it
-};
-NearFeatures grandparent_near_features(const Topology& g, const LevelState& last, const std::vector<Index>& cones) {
-    NearFeatures out;
-    std::vector<std::uint8_t> vertex_met(std::size_t(g.num_vertices), 0), face_met(std::size_t(g.num_faces()), 0);
-    auto add = [&](Index v) {
-        grandparent_vertices_of(g, v, [&](Index a) {
-            if (vertex_met[a]) return;
-            vertex_met[a] = 1;
-            out.vertices.push_back(a);
-            for (Index k = g.vertex_edge_offsets[a]; k < g.vertex_edge_offsets[a + 1]; ++k) {
-                const Index e = g.vertex_edges[k];
-                for (Index i = g.edge_face_offsets[e]; i < g.edge_face_offsets[e + 1]; ++i)
-                    face_met[g.edge_faces[i]] = 1;
-            }
-        });
-    };
-    for (const detail::Feature& edge : last.edges) add(edge.ends[0]), add(edge.ends[1]);
-    for (const detail::Feature& vertex : last.vertices) add(vertex.index);
-    for (const Index v : cones)
-        if (v < last.topology.num_vertices) add(v);
-    out.faces = set_bytes(face_met.data(), g.num_faces());  // in order, without a sort
-    return out;
-}
-
 #ifndef NDEBUG
 // Whether plan_limit's reads around every feature vertex of the last level and its neighbours (their edges, corners,
-// faces' edges, edges' ends, wings and face counts, and the faces between two edges) are the same through the level
-// before the last known near the features as through the whole of it.
-bool reads_alike_near_features(const Topology& last_level, const Topology& grandparent, const Topology& near,
-                               const LevelState& last, const std::vector<Index>& cones) {
+// faces' edges, edges' ends, wings and face counts, and the faces between two feature edges) are the same through
+// `around` as through the level before the last, built whole from the grandparent.
+bool reads_alike_near_features(const Topology& last_level, const Topology& grandparent,
+                               const VertexNeighbourhood& around, const LevelState& last,
+                               const std::vector<Index>& cones) {
     const Topology whole = refine_topology(grandparent, detail::Refined::Connectivity);
-    const VertexNeighbourhood through_near(last_level, &near), through_whole(last_level, &whole);
+    const VertexNeighbourhood through_whole(last_level, &whole);
     std::vector<Index> a, b, edges;
     auto alike_at = [&](Index v) {
-        through_near.edges(v, a), through_whole.edges(v, b);
+        around.edges(v, a), through_whole.edges(v, b);
         if (a != b) return false;
         edges = a;
         for (const Index e : edges) {
             Index ends[2][2], wings[2][2];
-            through_near.edge_ends(e, ends[0]), through_whole.edge_ends(e, ends[1]);
-            through_near.wings(e, wings[0][0], wings[0][1]), through_whole.wings(e, wings[1][0], wings[1][1]);
+            around.edge_ends(e, ends[0]), through_whole.edge_ends(e, ends[1]);
+            around.wings(e, wings[0][0], wings[0][1]), through_whole.wings(e, wings[1][0], wings[1][1]);
             if (!std::equal(ends[0], ends[0] + 2, ends[1]) || !std::equal(wings[0], wings[0] + 2, wings[1]) ||
-                through_near.edge_face_count(e) != through_whole.edge_face_count(e))
+                around.edge_face_count(e) != through_whole.edge_face_count(e))
                 return false;
+            // Only feature edges are asked for the faces between them (classify_vertex).
             for (const Index to : edges)
-                if (to != e && through_whole.edge_face_count(e) == 2 && through_whole.edge_face_count(to) == 2 &&
-                    through_near.faces_between(v, e, to) != through_whole.faces_between(v, e, to))
+                if (to != e && find_feature(last.edges, e) && find_feature(last.edges, to) &&
+                    through_whole.edge_face_count(e) == 2 && through_whole.edge_face_count(to) == 2 &&
+                    around.faces_between(v, e, to) != through_whole.faces_between(v, e, to))
                     return false;
         }
-        through_near.corners(v, a), through_whole.corners(v, b);
+        around.corners(v, a), through_whole.corners(v, b);
         if (a != b) return false;
         for (const Index c : b) {
             Index face_edges[2][3], face_vertices[2][3];
-            through_near.face_edges(c / 3, face_edges[0]), through_whole.face_edges(c / 3, face_edges[1]);
-            through_near.face_vertices(c / 3, face_vertices[0]), through_whole.face_vertices(c / 3, face_vertices[1]);
+            around.face_edges(c / 3, face_edges[0]), through_whole.face_edges(c / 3, face_edges[1]);
+            around.face_vertices(c / 3, face_vertices[0]), through_whole.face_vertices(c / 3, face_vertices[1]);
             if (!std::equal(face_edges[0], face_edges[0] + 3, face_edges[1]) ||
                 !std::equal(face_vertices[0], face_vertices[0] + 3, face_vertices[1]))
                 return false;
@@ -152,8 +105,8 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
     };
     auto alike_around = [&](Index v) {
         if (!alike_at(v)) return false;
-        const std::vector<Index> around = edges;
-        return std::all_of(around.begin(), around.end(),
+        const std::vector<Index> around_v = edges;
+        return std::all_of(around_v.begin(), around_v.end(),
                            [&](Index e) { return alike_at(through_whole.other_end(e, v)); });
     };
     for (const detail::Feature& edge : last.edges)
@@ -166,14 +119,6 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
 #endif
 
 }  // namespace
-
-// The level before the last, near the last level's features (limit_from_grandparent_ with tags or boundaries).
-Topology detail::PlanBuilder::limit_parent_near_features(const Topology& grandparent, const LevelState& last) const {
-    const NearFeatures around = grandparent_near_features(grandparent, last, cones_);
-    Topology near = refine_topology_near(grandparent, around.faces, around.vertices, options_.threads);
-    assert(reads_alike_near_features(last.topology, grandparent, near, last, cones_));
-    return near;
-}
 
 // A closed surface without features (limit_from_grandparent_), while the level before the last is planned: the rings
 // of the last level's old vertices of its grandparent are that grandparent's edges in counter-clockwise order, each
@@ -220,6 +165,7 @@ void detail::PlanBuilder::plan_limit_rings(Topology& grandparent) {
         return true;
     }());
     from.grandparent.num_vertices = nv;
+    from.grandparent.edge_vertices = g.edge_vertices.data();  // the same array once it is its tables' (retire_parent)
     from.grandparent.num_edges = g.num_edges();
     from.grandparent.num_faces = g.num_faces();
     from.grandparent.edge_sides = from.edge_sides.data();
@@ -250,13 +196,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         assert(t2[0] == 0.0f && t2[3] == 0.0f && t2[2] == t2[1] && t2[4] == -t2[1] && t2[5] == -t2[1]);
         lt.regular_tangents[0] = t1[0], lt.regular_tangents[1] = t1[1], lt.regular_tangents[2] = t2[1];
     }
-    if (lt.from_grandparent) {
-        // The grandparent's edge ends are its own tables' now.
-        lt.from_grandparent->grandparent.edge_vertices = plan_.stencils[plan_.stencils.size() - 2].edge_ends.data();
-        if (level.edges.empty() && level.vertices.empty() && cones_.empty()) {  // every vertex smooth, in one disk
-            lt.by_side.assign(std::size_t(nv), 0);
-            return;
-        }
+    if (lt.from_grandparent && level.edges.empty() && level.vertices.empty() && cones_.empty()) {
+        lt.by_side.assign(std::size_t(nv), 0);  // every vertex smooth, in one disk
+        return;
     }
 
     // Classify first: a Hoppe94 crease vertex's limit depends on its crease neighbours' classes.
@@ -294,9 +236,19 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         std::fill(types.begin() + v0, types.begin() + v1, VertexType::Smooth);
         std::fill(lt.by_side.begin() + v0, lt.by_side.begin() + v1, std::uint8_t(0));
     });
-    // From the grandparent, the last level is read through the level before the last's connectivity (limit_parent_).
-    const bool through_parent = lt.from_grandparent || !level.own_neighbourhood;
-    const VertexNeighbourhood around(t, through_parent ? &parent : nullptr, &plan_.level_num_vertices, base_for_walks_);
+    // From the grandparent (`parent` then), the last level is read through the level before the last, itself read
+    // through the grandparent: neither is stored.
+    const std::vector<int>& history = plan_.level_num_vertices;
+    std::vector<int> history_before_last;
+    std::optional<VertexNeighbourhood> before_last;
+    if (lt.from_grandparent) {
+        history_before_last.assign(history.begin(), history.end() - 1);
+        before_last.emplace(history_before_last.back(), parent, &history_before_last, base_for_walks_);
+    }
+    const VertexNeighbourhood around =
+        before_last ? VertexNeighbourhood(nv, *before_last, &history, base_for_walks_)
+                    : VertexNeighbourhood(t, level.own_neighbourhood ? nullptr : &parent, &history, base_for_walks_);
+    assert(!lt.from_grandparent || reads_alike_near_features(t, parent, around, level, cones_));
     // From the grandparent the rings below part no fan: every vertex by sides is a feature vertex, whose corners its
     // visit gathers while its neighbourhood is at hand. About six corners per such vertex, and about one such vertex
     // per sharp edge along a crease: reserved, as vectors of this size that grow are copied into fresh pages each time.
@@ -310,8 +262,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             const int k = int(c % 3);
             // The face through `around`: the level's own triangles are far apart in memory.
             Index edges[3], corners[3];
-            around.face_edges(Index(face / 3), edges);
-            around.face_vertices(Index(face / 3), corners);
+            around.face(Index(face / 3), corners, edges);
             out.push_back({v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
         }
     };

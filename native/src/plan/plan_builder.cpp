@@ -131,15 +131,16 @@ void PlanBuilder::run() {
         if (limit_from_grandparent_ && last) {
             plan_limit_rings(parent);
             // The last level's vertices next to tags are classified, and their sides found, through the level before
-            // the last: its connectivity around them, built for them alone (no tables are read from it).
-            if (!child.edges.empty() || !child.vertices.empty() || !cones_.empty())
-                limit_parent_ = limit_parent_near_features(parent, child);
+            // the last, itself read through the grandparent (`parent` here), before its arrays go to the tables.
+            plan_limit(child, parent);
         }
         retire_parent(parent, l);
         parent = std::move(level.topology);
         level = std::move(child);
     }
-    if (options_.limit_surface) plan_limit(level, limit_from_grandparent_ ? limit_parent_ : parent);
+    if (options_.limit_surface && !limit_from_grandparent_) plan_limit(level, parent);
+    assert(!limit_from_grandparent_ || plan_.limit->from_grandparent->grandparent.edge_vertices ==
+                                           plan_.stencils[plan_.stencils.size() - 2].edge_ends.data());
     for (FaceVaryingBuilder& layer : layers) {
         if (options_.limit_surface) layer.plan_limit(*plan_.limit, level, *rules_);
         plan_.face_varying.push_back(layer.finish());

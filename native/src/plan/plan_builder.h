@@ -73,9 +73,10 @@ private:
             return found == neighbours.end() ? -1 : int(found - neighbours.begin()) + 1;
         }
     };
+    // `parent`: the last level's, or its grandparent where the limit's rings come from it
+    // (LimitTables::from_grandparent).
     void plan_limit(LevelState& last, const Topology& parent);
     void plan_limit_rings(Topology& grandparent);
-    Topology limit_parent_near_features(const Topology& grandparent, const LevelState& last) const;
     Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
                 std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
     void plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const;
@@ -99,11 +100,9 @@ private:
     bool derive_tables_ = false;
     // A plan with the limit surface over two levels or more (no holes): the level before the last is skipped as
     // without the limit, and the limit pass's rings come from the last level's grandparent
-    // (LimitTables::from_grandparent). With tags, boundaries or non-manifold places (features all), limit_parent_ is
-    // the level before the last's connectivity near them, through which plan_limit reads the last level's vertices
-    // next to them.
+    // (LimitTables::from_grandparent). With tags, boundaries or non-manifold places (features all), plan_limit reads
+    // the last level's vertices next to them through the level before the last, itself read through the grandparent.
     bool limit_from_grandparent_ = false;
-    Topology limit_parent_;
     // Every base edge in two faces that wind against each other, and so every edge of every level.
     bool closed_ = false;
 };

@@ -49,6 +49,220 @@ inline void midpoint_face_edges(Index interior_base, Index f, int local, bool a_
     edges[1] = interior_base + 3 * f + (a_first ? local : prev_corner(local));
 }
 
+// A stored level read through the calls the derivations below make of a parent, which a VertexNeighbourhood answers
+// for a level known through its own parent.
+struct StoredLevel {
+    const Topology& t;
+    int num_vertices() const { return t.num_vertices; }
+    int num_edges() const { return t.num_edges(); }
+    int num_faces() const { return t.num_faces(); }
+    int max_valence() const { return t.max_valence; }
+    int max_edge_face_count() const { return t.max_edge_face_count; }
+    void edge_ends(Index e, Index ends[2]) const {
+        ends[0] = t.edge_vertices[2 * std::size_t(e)], ends[1] = t.edge_vertices[2 * std::size_t(e) + 1];
+    }
+    void face_vertices(Index f, Index out[3]) const { std::copy_n(&t.face_vertices[3 * std::size_t(f)], 3, out); }
+    void face_edges(Index f, Index out[3]) const { std::copy_n(&t.face_edges[3 * std::size_t(f)], 3, out); }
+    void face(Index f, Index vertices[3], Index edges[3]) const { face_vertices(f, vertices), face_edges(f, edges); }
+    int edge_face_count(Index e) const { return t.edge_face_count(e); }
+    template <typename Visit>
+    void for_each_edge_face(Index e, const Visit& visit) const {
+        for (Index k = t.edge_face_offsets[e]; k < t.edge_face_offsets[e + 1]; ++k) visit(t.edge_faces[k]);
+    }
+    void edges(Index v, std::vector<Index>& out) const {
+        out.assign(t.vertex_edges.begin() + t.vertex_edge_offsets[v],
+                   t.vertex_edges.begin() + t.vertex_edge_offsets[v + 1]);
+    }
+    int faces_between(Index v, Index from, Index to) const { return detail::faces_between(t, v, from, to); }
+    void corners(Index v, std::vector<Index>& out) const;
+};
+
+// The child's connectivity around single elements, from any parent level P (StoredLevel or VertexNeighbourhood) through
+// the split's numbering (topology.h), as refine_topology writes it.
+
+template <typename P>
+Index child_edge_at_of(const P& p, Index e, Index v) {
+    Index ends[2];
+    p.edge_ends(e, ends);
+    assert(ends[0] == v || ends[1] == v);
+    return 2 * e + (ends[0] == v ? 0 : 1);
+}
+
+// The corners of child face c (4f + j of parent face f: the corner child (v_j, m_j, m_j-1), or the middle child (m_0,
+// m_1, m_2)) and, where asked, its edges (the corner child's half of edge j, the interior edge across, its half of
+// edge j - 1; the middle child's three interior edges).
+template <typename P>
+void child_face_of(const P& p, Index c, Index vertices[3], Index* edges) {
+    const Index f = c / 4, nv = p.num_vertices(), interior = 2 * p.num_edges() + 3 * f;
+    const int j = int(c % 4);
+    Index v[3], e[3];
+    p.face(f, v, e);
+    if (j == 3) {
+        for (int k = 0; k < 3; ++k) vertices[k] = nv + e[k];
+        if (edges) edges[0] = interior, edges[1] = interior + 1, edges[2] = interior + 2;
+        return;
+    }
+    vertices[0] = v[j], vertices[1] = nv + e[j], vertices[2] = nv + e[prev_corner(j)];
+    if (!edges) return;
+    edges[0] = child_edge_at_of(p, e[j], v[j]);
+    edges[1] = interior + prev_corner(j);
+    edges[2] = child_edge_at_of(p, e[prev_corner(j)], v[j]);
+}
+
+// child_edge_ends, below, from any parent.
+template <typename P>
+void child_edge_ends_of(const P& p, Index e, Index ends[2]) {
+    const Index nv = p.num_vertices(), halves = 2 * p.num_edges();
+    if (e < halves) {  // half 2h = (a, m), 2h + 1 = (m, b)
+        Index parent_ends[2];
+        p.edge_ends(e / 2, parent_ends);
+        ends[0] = e % 2 == 0 ? parent_ends[0] : nv + e / 2;
+        ends[1] = e % 2 == 0 ? nv + e / 2 : parent_ends[1];
+        return;
+    }
+    const Index f = (e - halves) / 3;
+    const int k = (e - halves) % 3;
+    Index fe[3];
+    p.face_edges(f, fe);
+    ends[0] = nv + fe[k];
+    ends[1] = nv + fe[next_corner(k)];
+}
+
+// Where parent edge e sits in parent face f, and whether the face's corner there is the edge's first vertex `a`.
+template <typename P>
+void edge_in_face(const P& p, Index f, Index e, Index a, Index fe[3], int& local, bool& a_first) {
+    Index fv[3];
+    p.face(f, fv, fe);
+    local = local_edge(fe, e);
+    a_first = fv[local] == a;
+}
+
+// The faces of child edge e, in refine_topology's order: per face of a half's parent edge the corner child at the
+// half's end; inside a parent face the corner child, then the middle child.
+template <typename P, typename Visit>
+void for_each_child_edge_face(const P& p, Index e, const Visit& visit) {
+    const Index halves = 2 * p.num_edges();
+    if (e >= halves) {
+        const Index f = (e - halves) / 3;
+        visit(4 * f + next_corner(int((e - halves) % 3)));
+        visit(4 * f + 3);
+        return;
+    }
+    const Index h = e / 2;
+    Index ends[2], fe[3];
+    p.edge_ends(h, ends);
+    p.for_each_edge_face(h, [&](Index f) {
+        int local;
+        bool a_first;
+        edge_in_face(p, f, h, ends[0], fe, local, a_first);
+        visit(4 * f + ((e % 2 == 0) == a_first ? local : next_corner(local)));
+    });
+}
+
+// The wings of child edge e (VertexNeighbourhood::wings), from any parent.
+template <typename P>
+void child_wings_of(const P& p, Index e, Index& c, Index& d) {
+    const Index nv = p.num_vertices(), halves = 2 * p.num_edges();
+    Index fe[3];
+    if (e >= halves) {
+        const Index f = (e - halves) / 3;
+        Index fv[3], abcd[4];
+        p.face(f, fv, fe);
+        face_interior_edge(nv, fv, fe, int((e - halves) % 3), abcd);
+        c = abcd[2], d = abcd[3];
+        return;
+    }
+    // As half_edge_wings: a missing face repeats the half's ends.
+    const Index h = e / 2, m = nv + h;
+    Index ends[2];
+    p.edge_ends(h, ends);
+    Index at_a[2] = {ends[0], m}, at_b[2] = {m, ends[1]};
+    int face = 0;
+    p.for_each_edge_face(h, [&](Index f) {
+        if (face == 2) return;
+        int local;
+        bool a_first;
+        edge_in_face(p, f, h, ends[0], fe, local, a_first);
+        face_wings(nv, fe, local, a_first, at_a[face], at_b[face]);
+        ++face;
+    });
+    c = e % 2 == 0 ? at_a[0] : at_b[0];
+    d = e % 2 == 0 ? at_a[1] : at_b[1];
+}
+
+// The edges of child vertex v in refine_topology's vertex_edges order: an old vertex's halves of its parent edges; a
+// midpoint's two halves, then per face of its edge the two interior edges that meet it (midpoint_face_edges).
+template <typename P>
+void child_vertex_edges_of(const P& p, Index v, std::vector<Index>& out) {
+    const Index nv = p.num_vertices(), interior_base = 2 * p.num_edges();
+    if (v < nv) {
+        p.edges(v, out);
+        for (Index& e : out) e = child_edge_at_of(p, e, v);
+        return;
+    }
+    const Index e = v - nv;
+    Index ends[2], fe[3];
+    p.edge_ends(e, ends);
+    out.resize(2 + 2 * std::size_t(p.edge_face_count(e)));
+    out[0] = 2 * e, out[1] = 2 * e + 1;
+    Index* next = &out[2];
+    p.for_each_edge_face(e, [&](Index f) {
+        int local;
+        bool a_first;
+        edge_in_face(p, f, e, ends[0], fe, local, a_first);
+        midpoint_face_edges(interior_base, f, local, a_first, next);
+        next += 2;
+    });
+}
+
+// The corners at vertex v of a level (3 f + k where corner k of face f is v), unsorted: each face at v starts exactly
+// one of its edges there, found through that edge, once.
+template <typename P>
+void corners_of(const P& p, Index v, std::vector<Index>& out, std::vector<Index>& edges) {
+    Index fe[3], fv[3];
+    p.edges(v, edges);
+    for (const Index e : edges)
+        p.for_each_edge_face(e, [&](Index f) {
+            p.face(f, fv, fe);
+            const int j = local_edge(fe, e);
+            if (fv[j] == v) out.push_back(3 * f + j);
+        });
+}
+
+void StoredLevel::corners(Index v, std::vector<Index>& out) const {
+    std::vector<Index> edges;
+    out.clear();
+    corners_of(*this, v, out, edges);
+}
+
+// The corners at child vertex v, unsorted: an old vertex is corner 0 of corner child j of each parent face whose
+// corner j it is; the midpoint of edge e, in each face of e (its edge j), corner 1 of corner child j, corner 2 of
+// corner child j + 1 and corner j of the middle child.
+template <typename P>
+void child_corners_of(const P& p, Index v, std::vector<Index>& out) {
+    if (v < p.num_vertices()) {
+        p.corners(v, out);
+        for (Index& c : out) c = 3 * (4 * (c / 3) + c % 3);
+        return;
+    }
+    const Index e = v - p.num_vertices();
+    Index fe[3];
+    p.for_each_edge_face(e, [&](Index f) {
+        p.face_edges(f, fe);
+        const int j = local_edge(fe, e);
+        out.insert(out.end(), {3 * (4 * f + j) + 1, 3 * (4 * f + next_corner(j)) + 2, 3 * (4 * f + 3) + j});
+    });
+}
+
+template <typename P>
+int child_max_valence_of(const P& p) {
+    return p.num_edges() > 0 ? std::max(p.max_valence(), 2 + 2 * p.max_edge_face_count()) : p.max_valence();
+}
+template <typename P>
+int child_max_edge_face_count_of(const P& p) {
+    return p.num_faces() > 0 ? std::max(p.max_edge_face_count(), 2) : p.max_edge_face_count();
+}
+
 // The vertices opposite the two halves of parent edge e in their first two faces: (C, D) of half 2e, then of half
 // 2e + 1; where a face is missing, C / D repeat the half's ends.
 inline void half_edge_wings(const Topology& p, Index e, Index wings[4]) {
@@ -283,17 +497,8 @@ namespace {
 // The edges of child face c (corner child k = c % 4 of parent face f = c / 4: its half of edge k, the interior edge
 // across, its half of edge k - 1; the middle child: the three interior edges).
 void child_face_edges(const Topology& p, Index c, Index edges[3]) {
-    const Index f = c / 4, interior = 2 * p.num_edges() + 3 * f;
-    const int k = int(c % 4);
-    if (k == 3) {
-        edges[0] = interior, edges[1] = interior + 1, edges[2] = interior + 2;
-        return;
-    }
-    const Index* v = &p.face_vertices[3 * std::size_t(f)];
-    const Index* fe = &p.face_edges[3 * std::size_t(f)];
-    edges[0] = child_edge_at(p, fe[k], v[k]);
-    edges[1] = interior + prev_corner(k);
-    edges[2] = child_edge_at(p, fe[prev_corner(k)], v[k]);
+    Index vertices[3];
+    child_face_of(StoredLevel{p}, c, vertices, edges);
 }
 
 void write_child_face_edges(const Topology& p, int f0, int f1, Index* edges, std::uint8_t* places) {
@@ -503,58 +708,6 @@ Topology refine_topology(const Topology& p, Refined what, int threads) {
         },
         kPiecesPerThread);
     assert(follows_split_numbering(p, c));
-    return c;
-}
-
-Topology refine_topology_near(const Topology& p, const std::vector<Index>& faces, const std::vector<Index>& also,
-                              int threads) {
-    const ChildRelations has = relations_of(Refined::Connectivity);
-    Topology c = sized_child(p, has);
-#ifndef NDEBUG
-    for (LargeVector<Index>* array : {&c.face_vertices, &c.face_edges, &c.edge_vertices, &c.vertex_edge_offsets,
-                                      &c.vertex_edges, &c.edge_face_offsets, &c.edge_faces})
-        std::fill(array->begin(), array->end() - (array == &c.vertex_edge_offsets || array == &c.edge_face_offsets),
-                  Index(-1));  // all but the offsets' totals
-#endif
-    // The faces' edges and vertices, each once: marked as met, not sorted (the faces near a boundary are many).
-    std::vector<std::uint8_t> edge_met(std::size_t(p.num_edges()), 0), vertex_met(std::size_t(p.num_vertices), 0);
-    std::vector<Index> edges, vertices;
-    auto meet = [](std::vector<std::uint8_t>& met, std::vector<Index>& list, Index x) {
-        if (!met[x]) met[x] = 1, list.push_back(x);
-    };
-    for (const Index v : also) meet(vertex_met, vertices, v);
-    for (const Index f : faces)
-        for (int k = 0; k < 3; ++k) {
-            meet(edge_met, edges, p.face_edges[3 * std::size_t(f) + k]);
-            meet(vertex_met, vertices, p.face_vertices[3 * std::size_t(f) + k]);
-        }
-    // Each part fills its share of the lists, each element its own slots (as refine_topology's parts); then the
-    // offsets just past each element, which the next element's fill may also have written, the same value.
-    run_levels(
-        std::max(1, threads), 1,
-        [&](int, int part, int parts) {
-            const auto [f0, f1] = part_of(faces.size(), part, parts);
-            for (std::size_t i = f0; i < f1; ++i) {
-                populate_child_faces(p, c, has, faces[i], faces[i] + 1);
-                populate_interior_edges(p, c, has, faces[i], faces[i] + 1);
-            }
-            const auto [e0, e1] = part_of(edges.size(), part, parts);
-            for (std::size_t i = e0; i < e1; ++i) {
-                populate_halves(p, c, has, edges[i], edges[i] + 1, 0, 0);
-                populate_midpoints(p, c, has, edges[i], edges[i] + 1);
-            }
-            const auto [v0, v1] = part_of(vertices.size(), part, parts);
-            for (std::size_t i = v0; i < v1; ++i) populate_old_vertices(p, c, has, vertices[i], vertices[i] + 1);
-        },
-        kPiecesPerThread);
-    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
-    const Index faces_of_halves = 2 * p.edge_face_offsets[p.num_edges()];
-    for (const Index f : faces) c.edge_face_offsets[interior_base + 3 * f + 3] = faces_of_halves + 2 * (3 * f + 3);
-    for (const Index e : edges) {
-        c.edge_face_offsets[2 * e + 2] = 2 * p.edge_face_offsets[e + 1];
-        c.vertex_edge_offsets[nv + e + 1] = child_ring_offset(p, nv + e + 1);
-    }
-    for (const Index v : vertices) c.vertex_edge_offsets[v + 1] = child_ring_offset(p, v + 1);
     return c;
 }
 
@@ -918,18 +1071,7 @@ void write_half_wings(const Topology& p, int f0, int f1, int e0, int e1, Index* 
     }
 }
 
-void child_edge_ends(const Topology& p, Index e, Index ends[2]) {
-    const Index nv = p.num_vertices, halves = 2 * p.num_edges();
-    if (e < halves) {  // half 2h = (a, m), 2h + 1 = (m, b)
-        ends[0] = e % 2 == 0 ? p.edge_vertices[e] : nv + e / 2;
-        ends[1] = e % 2 == 0 ? nv + e / 2 : p.edge_vertices[e];
-        return;
-    }
-    const Index f = (e - halves) / 3;
-    const int k = (e - halves) % 3;
-    ends[0] = nv + p.face_edges[3 * f + k];
-    ends[1] = nv + p.face_edges[3 * f + next_corner(k)];
-}
+void child_edge_ends(const Topology& p, Index e, Index ends[2]) { child_edge_ends_of(StoredLevel{p}, e, ends); }
 
 namespace {
 
@@ -1109,107 +1251,104 @@ int faces_between(const Topology& t, Index v, Index from, Index to) {
 
 namespace loopsub::detail {
 
-VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived,
+VertexNeighbourhood::VertexNeighbourhood(const Topology* level, const Topology* parent,
+                                         const VertexNeighbourhood* derived_parent, int num_vertices,
                                          const std::vector<int>* history, const Topology* base)
     : level_(level),
-      parent_(parent_if_derived),
-      history_(history && !history->empty() && history->back() == level.num_vertices ? history : nullptr),
+      parent_(parent),
+      derived_parent_(derived_parent),
+      num_vertices_(num_vertices),
+      history_(history && !history->empty() && history->back() == num_vertices ? history : nullptr),
       base_(history_ && base && base->num_vertices == history_->front() ? base : nullptr) {}
 
+VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived,
+                                         const std::vector<int>* history, const Topology* base)
+    : VertexNeighbourhood(parent_if_derived ? nullptr : &level, parent_if_derived, nullptr, level.num_vertices, history,
+                          base) {}
+
+VertexNeighbourhood::VertexNeighbourhood(int num_vertices, const Topology& parent, const std::vector<int>* history,
+                                         const Topology* base)
+    : VertexNeighbourhood(nullptr, &parent, nullptr, num_vertices, history, base) {}
+
+VertexNeighbourhood::VertexNeighbourhood(int num_vertices, const VertexNeighbourhood& parent,
+                                         const std::vector<int>* history, const Topology* base)
+    : VertexNeighbourhood(nullptr, nullptr, &parent, num_vertices, history, base) {}
+
+template <typename Derive>
+decltype(auto) VertexNeighbourhood::through_parent(const Derive& derive) const {
+    if (parent_) return derive(StoredLevel{*parent_});
+    return derive(*derived_parent_);
+}
+
 int VertexNeighbourhood::num_edges() const {
-    return parent_ ? 2 * parent_->num_edges() + 3 * parent_->num_faces() : level_.num_edges();
+    if (level_) return level_->num_edges();
+    return through_parent([](const auto& p) { return 2 * p.num_edges() + 3 * p.num_faces(); });
+}
+
+int VertexNeighbourhood::num_faces() const {
+    if (level_) return level_->num_faces();
+    return through_parent([](const auto& p) { return 4 * p.num_faces(); });
+}
+
+int VertexNeighbourhood::max_valence() const {
+    if (level_) return level_->max_valence;
+    return through_parent([](const auto& p) { return child_max_valence_of(p); });
+}
+
+int VertexNeighbourhood::max_edge_face_count() const {
+    if (level_) return level_->max_edge_face_count;
+    return through_parent([](const auto& p) { return child_max_edge_face_count_of(p); });
+}
+
+int child_max_valence(const Topology& parent) { return child_max_valence_of(StoredLevel{parent}); }
+
+int child_max_edge_face_count(const Topology& parent) { return child_max_edge_face_count_of(StoredLevel{parent}); }
+
+void VertexNeighbourhood::derived_edge_ends(Index e, Index ends[2]) const {
+    through_parent([&](const auto& p) { child_edge_ends_of(p, e, ends); });
+}
+
+void VertexNeighbourhood::visit_edge_faces(Index e, void (*visit)(const void* context, Index f),
+                                           const void* context) const {
+    auto each = [visit, context](Index f) { visit(context, f); };
+    if (level_) return StoredLevel{*level_}.for_each_edge_face(e, each);
+    through_parent([&](const auto& p) { for_each_child_edge_face(p, e, each); });
 }
 
 void VertexNeighbourhood::wings(Index e, Index& c, Index& d) const {
-    if (!parent_) {
-        c = level_.edge_wing_c[e], d = level_.edge_wing_d[e];
+    if (level_) {
+        c = level_->edge_wing_c[e], d = level_->edge_wing_d[e];
         return;
     }
-    Index ends[2];
-    child_edges(*parent_, e, e + 1, ends, &c, &d);
+    through_parent([&](const auto& p) { child_wings_of(p, e, c, d); });
+}
+
+void VertexNeighbourhood::face(Index f, Index vertices[3], Index edges[3]) const {
+    if (level_) return StoredLevel{*level_}.face(f, vertices, edges);
+    through_parent([&](const auto& p) { child_face_of(p, f, vertices, edges); });
 }
 
 void VertexNeighbourhood::face_edges(Index f, Index edges[3]) const {
-    if (!parent_) {
-        std::copy_n(&level_.face_edges[3 * std::size_t(f)], 3, edges);
-        return;
-    }
-    child_face_edges(*parent_, f, edges);
+    Index vertices[3];
+    face(f, vertices, edges);
 }
 
 void VertexNeighbourhood::face_vertices(Index f, Index vertices[3]) const {
-    if (!parent_) {
-        std::copy_n(&level_.face_vertices[3 * std::size_t(f)], 3, vertices);
-        return;
-    }
-    // Child face 4q + j of parent face q: the corner child (v_j, m_j, m_j-1), or the middle child (m_0, m_1, m_2).
-    const Index q = f / 4, nv = parent_->num_vertices;
-    const int j = int(f % 4);
-    const Index* v = &parent_->face_vertices[3 * std::size_t(q)];
-    const Index* e = &parent_->face_edges[3 * std::size_t(q)];
-    if (j == 3) {
-        vertices[0] = nv + e[0], vertices[1] = nv + e[1], vertices[2] = nv + e[2];
-        return;
-    }
-    vertices[0] = v[j], vertices[1] = nv + e[j], vertices[2] = nv + e[prev_corner(j)];
+    if (level_) return StoredLevel{*level_}.face_vertices(f, vertices);
+    through_parent([&](const auto& p) { child_face_of(p, f, vertices, nullptr); });
 }
 
 void VertexNeighbourhood::corners(Index v, std::vector<Index>& out) const {
     out.clear();
-    // Each face at a vertex of `t` starts exactly one of its edges there: found through that edge, once.
-    auto faces_at = [](const Topology& t, Index vertex, auto corner_of) {
-        for (Index k = t.vertex_edge_offsets[vertex]; k < t.vertex_edge_offsets[vertex + 1]; ++k) {
-            const Index e = t.vertex_edges[k];
-            for (Index i = t.edge_face_offsets[e]; i < t.edge_face_offsets[e + 1]; ++i) {
-                const Index f = t.edge_faces[i];
-                const int j = local_edge(&t.face_edges[3 * std::size_t(f)], e);
-                if (t.face_vertices[3 * std::size_t(f) + j] == vertex) corner_of(f, j);
-            }
-        }
-    };
-    if (!parent_) {
-        faces_at(level_, v, [&out](Index f, int j) { out.push_back(3 * f + j); });
-    } else if (v < parent_->num_vertices) {  // an old vertex: corner 0 of corner child j of each parent face at it
-        faces_at(*parent_, v, [&out](Index f, int j) { out.push_back(3 * (4 * f + j)); });
-    } else {  // the midpoint of edge e: in each face of e (its edge j), corner 1 of corner child j, corner 2 of
-              // corner child j + 1, corner j of the middle child
-        const Topology& p = *parent_;
-        const Index e = v - p.num_vertices;
-        for (Index i = p.edge_face_offsets[e]; i < p.edge_face_offsets[e + 1]; ++i) {
-            const Index f = p.edge_faces[i];
-            const int j = local_edge(&p.face_edges[3 * std::size_t(f)], e);
-            out.insert(out.end(), {3 * (4 * f + j) + 1, 3 * (4 * f + next_corner(j)) + 2, 3 * (4 * f + 3) + j});
-        }
-    }
+    if (level_) StoredLevel{*level_}.corners(v, out);
+    else through_parent([&](const auto& p) { child_corners_of(p, v, out); });
     std::sort(out.begin(), out.end());
 }
 
-int VertexNeighbourhood::max_valence() const { return parent_ ? child_max_valence(*parent_) : level_.max_valence; }
-
 void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {
-    if (!parent_) {
-        out.assign(level_.vertex_edges.begin() + level_.vertex_edge_offsets[v],
-                   level_.vertex_edges.begin() + level_.vertex_edge_offsets[v + 1]);
-        return;
-    }
+    if (level_) return StoredLevel{*level_}.edges(v, out);
     // Sized once and written in place: the vertices next to creases ask for theirs one by one.
-    const Topology& p = *parent_;
-    const Index nv = p.num_vertices, interior_base = 2 * p.num_edges();
-    if (v < nv) {
-        const Index first = p.vertex_edge_offsets[v];
-        out.resize(std::size_t(p.vertex_edge_offsets[v + 1] - first));
-        for (std::size_t k = 0; k < out.size(); ++k)
-            out[k] = detail::child_edge_at(p, p.vertex_edges[first + Index(k)], v);
-        return;
-    }
-    const Index e = v - nv, first_face = p.edge_face_offsets[e];
-    out.resize(2 + 2 * std::size_t(p.edge_face_offsets[e + 1] - first_face));
-    out[0] = 2 * e, out[1] = 2 * e + 1;
-    for (std::size_t k = 2; k < out.size(); k += 2) {
-        const Index f = p.edge_faces[first_face + Index(k / 2 - 1)];
-        const int local = local_edge(&p.face_edges[3 * f], e);
-        midpoint_face_edges(interior_base, f, local, p.face_vertices[3 * f + local] == p.edge_vertices[2 * e], &out[k]);
-    }
+    through_parent([&](const auto& p) { child_vertex_edges_of(p, v, out); });
 }
 
 int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
@@ -1223,7 +1362,7 @@ int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
         const Index e = v - (*history_)[made - 1];
         const Index a = from >> (level - made), b = to >> (level - made);
         if ((a ^ b) == 1 && a >> 1 == e) {
-            assert(parent_ || detail::faces_between(level_, v, from, to) == 3);
+            assert(!level_ || detail::faces_between(*level_, v, from, to) == 3);
             return 3;
         }
     }
@@ -1233,15 +1372,17 @@ int VertexNeighbourhood::faces_between(Index v, Index from, Index to) const {
     if (base_ && v < history_->front()) {
         const int splits = int(history_->size()) - 1;
         const int faces = detail::faces_between(*base_, v, from >> splits, to >> splits);
-        assert(parent_ || detail::faces_between(level_, v, from, to) == faces);
+        assert(!level_ || detail::faces_between(*level_, v, from, to) == faces);
         return faces;
     }
-    if (!parent_) return detail::faces_between(level_, v, from, to);
+    if (level_) return detail::faces_between(*level_, v, from, to);
     // An old vertex's fan is its parent's, a child face per parent face; a midpoint sees three child faces of
     // each parent face between its two halves.
-    if (v < parent_->num_vertices) return detail::faces_between(*parent_, v, from / 2, to / 2);
-    const Index e = v - parent_->num_vertices;
-    return (from == 2 * e && to == 2 * e + 1) || (from == 2 * e + 1 && to == 2 * e) ? 3 : -1;
+    return through_parent([&](const auto& p) {
+        if (v < p.num_vertices()) return p.faces_between(v, from / 2, to / 2);
+        const Index e = v - p.num_vertices();
+        return (from == 2 * e && to == 2 * e + 1) || (from == 2 * e + 1 && to == 2 * e) ? 3 : -1;
+    });
 }
 
 }  // namespace loopsub::detail

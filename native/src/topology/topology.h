@@ -74,13 +74,6 @@ enum class Refined {
 };
 // `threads` share the work (each writes its own slice of every array).
 Topology refine_topology(const Topology& parent, Refined what, int threads = 1);
-// refine_topology(parent, Refined::Connectivity) only where the child descends from parent faces `faces` (without
-// repeats), from their edges and vertices, and from parent vertices `vertices` (a vertex in no face has only
-// itself): there every array holds what the whole split holds, and the offsets just past each such element too (so
-// that counts read right); elsewhere the arrays are sized but not written (-1 in Debug builds). The limit of a surface
-// with few tags reads the level before the last only around them. `threads` share the work.
-Topology refine_topology_near(const Topology& parent, const std::vector<Index>& faces,
-                              const std::vector<Index>& vertices, int threads = 1);
 // Whether `child`, a split of `parent` in any Refined form, holds the numbering above in every array it has, exactly as
 // the derivations from the parent give it. Walks the whole level: Debug builds (the sanitizer run) assert it after
 // each split. The parent must hold its edge faces and vertex edges unless the child has faces only.
@@ -90,8 +83,10 @@ bool follows_split_numbering(const Topology& parent, const Topology& child);
 void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 
 // The connectivity around single vertices and edges of a level, whether the level holds it (Refined::Full and the
-// base) or not (faces only, or not stored at all): then it is derived from the parent level through the
-// numbering, as refine_topology would have written it. Classifying the few vertices next to a crease needs no more.
+// base) or not (faces only, or not stored at all): then it is derived from the parent level through the numbering, as
+// refine_topology would have written it, and the parent may itself be known so, through its own parent (the last level
+// of a limit plan read through its grandparent, the level between never built). Classifying the few vertices next to
+// a crease needs no more.
 class VertexNeighbourhood {
 public:
     // `history`: where known, the vertex counts of the levels up to this one, the base's first (a plan's
@@ -99,15 +94,24 @@ public:
     // with `base` (the base level's faces and edge faces) too, a base vertex's walk is the base's.
     VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived,
                         const std::vector<int>* history = nullptr, const Topology* base = nullptr);
+    // A level of `num_vertices` vertices known through `parent`: a stored level, or one itself known through its
+    // parent.
+    VertexNeighbourhood(int num_vertices, const Topology& parent, const std::vector<int>* history = nullptr,
+                        const Topology* base = nullptr);
+    VertexNeighbourhood(int num_vertices, const VertexNeighbourhood& parent, const std::vector<int>* history = nullptr,
+                        const Topology* base = nullptr);
+    int num_vertices() const { return num_vertices_; }
     int num_edges() const;
+    int num_faces() const;
     int max_valence() const;
-    // Inline, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
+    int max_edge_face_count() const;
+    // Inline where stored, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
     void edge_ends(Index e, Index ends[2]) const {
-        if (!parent_) {
-            ends[0] = level_.edge_vertices[2 * e], ends[1] = level_.edge_vertices[2 * e + 1];
+        if (level_) {
+            ends[0] = level_->edge_vertices[2 * e], ends[1] = level_->edge_vertices[2 * e + 1];
             return;
         }
-        child_edge_ends(*parent_, e, ends);
+        derived_edge_ends(e, ends);
     }
     Index other_end(Index e, Index v) const {
         Index ends[2];
@@ -124,8 +128,17 @@ public:
     // The edges of v, in the order of its vertex_vertices.
     void edges(Index v, std::vector<Index>& out) const;
     int edge_face_count(Index e) const {
-        if (!parent_) return level_.edge_face_count(e);
-        return e < 2 * parent_->num_edges() ? parent_->edge_face_count(e / 2) : 2;
+        if (level_) return level_->edge_face_count(e);
+        if (parent_) return e < 2 * parent_->num_edges() ? parent_->edge_face_count(e / 2) : 2;
+        return e < 2 * derived_parent_->num_edges() ? derived_parent_->edge_face_count(e / 2) : 2;
+    }
+    // visit(f) for each face f of edge e, in the order of Topology::edge_faces.
+    template <typename Visit>
+    void for_each_edge_face(Index e, const Visit& visit) const {
+        // Through a plain function: a level derived from a derived one visits through its parent's visit, which
+        // would otherwise make a new type of visitor for every level below.
+        visit_edge_faces(
+            e, [](const void* context, Index f) { (*static_cast<const Visit*>(context))(f); }, &visit);
     }
     // The vertices opposite edge e in its first two faces (each end repeated where a face is missing), as
     // Topology::edge_wing_c / _d.
@@ -134,6 +147,8 @@ public:
     void face_edges(Index f, Index edges[3]) const;
     // The corners of face f, as Topology::face_vertices: derived, without a read of the level's own (large) array.
     void face_vertices(Index f, Index vertices[3]) const;
+    // The corners and edges of face f at once: derived, they share their reads of the parent.
+    void face(Index f, Index vertices[3], Index edges[3]) const;
     // The corners at vertex v (3 f + k where corner k of face f is v), in increasing order. The level, or its
     // parent, must hold its edge faces and vertex edges.
     void corners(Index v, std::vector<Index>& out) const;
@@ -142,8 +157,18 @@ public:
     int faces_between(Index v, Index from, Index to) const;
 
 private:
-    const Topology& level_;
-    const Topology* parent_;
+    VertexNeighbourhood(const Topology* level, const Topology* parent, const VertexNeighbourhood* derived_parent,
+                        int num_vertices, const std::vector<int>* history, const Topology* base);
+    void derived_edge_ends(Index e, Index ends[2]) const;
+    void visit_edge_faces(Index e, void (*visit)(const void* context, Index f), const void* context) const;
+    // Runs derive(parent) on the parent level as the derivations read it, stored or itself derived.
+    template <typename Derive>
+    decltype(auto) through_parent(const Derive& derive) const;
+
+    const Topology* level_;                      // where stored, else null
+    const Topology* parent_;                     // where derived from a stored parent
+    const VertexNeighbourhood* derived_parent_;  // where derived from a parent known through its own
+    int num_vertices_;
     const std::vector<int>* history_;
     const Topology* base_;
 };
@@ -231,13 +256,8 @@ inline void face_interior_edge(Index nv, const Index* face_vertices, const Index
 void write_grandchild_faces(const Topology& parent, int f0, int f1, Index* out);
 
 // A child level's Topology::max_valence and max_edge_face_count, from its parent's.
-inline int child_max_valence(const Topology& parent) {
-    return parent.num_edges() > 0 ? std::max(parent.max_valence, 2 + 2 * parent.max_edge_face_count)
-                                  : parent.max_valence;
-}
-inline int child_max_edge_face_count(const Topology& parent) {
-    return parent.num_faces() > 0 ? std::max(parent.max_edge_face_count, 2) : parent.max_edge_face_count;
-}
+int child_max_valence(const Topology& parent);
+int child_max_edge_face_count(const Topology& parent);
 // Child edge of parent edge e at its end vertex v.
 inline Index child_edge_at(const Topology& parent, Index e, Index v) {
     assert(parent.edge_vertices[2 * e] == v || parent.edge_vertices[2 * e + 1] == v);
