@@ -1251,6 +1251,12 @@ int faces_between(const Topology& t, Index v, Index from, Index to) {
 
 namespace loopsub::detail {
 
+template <typename Derive>
+decltype(auto) VertexNeighbourhood::through_parent(const Derive& derive) const {
+    if (parent_) return derive(StoredLevel{*parent_});
+    return derive(*derived_parent_);
+}
+
 VertexNeighbourhood::VertexNeighbourhood(const Topology* level, const Topology* parent,
                                          const VertexNeighbourhood* derived_parent, int num_vertices,
                                          const std::vector<int>* history, const Topology* base)
@@ -1259,7 +1265,12 @@ VertexNeighbourhood::VertexNeighbourhood(const Topology* level, const Topology* 
       derived_parent_(derived_parent),
       num_vertices_(num_vertices),
       history_(history && !history->empty() && history->back() == num_vertices ? history : nullptr),
-      base_(history_ && base && base->num_vertices == history_->front() ? base : nullptr) {}
+      base_(history_ && base && base->num_vertices == history_->front() ? base : nullptr) {
+    // Counted once: the derivations ask for the parent's counts at every step.
+    num_edges_ = level_ ? level_->num_edges()
+                        : through_parent([](const auto& p) { return 2 * p.num_edges() + 3 * p.num_faces(); });
+    num_faces_ = level_ ? level_->num_faces() : through_parent([](const auto& p) { return 4 * p.num_faces(); });
+}
 
 VertexNeighbourhood::VertexNeighbourhood(const Topology& level, const Topology* parent_if_derived,
                                          const std::vector<int>* history, const Topology* base)
@@ -1273,22 +1284,6 @@ VertexNeighbourhood::VertexNeighbourhood(int num_vertices, const Topology& paren
 VertexNeighbourhood::VertexNeighbourhood(int num_vertices, const VertexNeighbourhood& parent,
                                          const std::vector<int>* history, const Topology* base)
     : VertexNeighbourhood(nullptr, nullptr, &parent, num_vertices, history, base) {}
-
-template <typename Derive>
-decltype(auto) VertexNeighbourhood::through_parent(const Derive& derive) const {
-    if (parent_) return derive(StoredLevel{*parent_});
-    return derive(*derived_parent_);
-}
-
-int VertexNeighbourhood::num_edges() const {
-    if (level_) return level_->num_edges();
-    return through_parent([](const auto& p) { return 2 * p.num_edges() + 3 * p.num_faces(); });
-}
-
-int VertexNeighbourhood::num_faces() const {
-    if (level_) return level_->num_faces();
-    return through_parent([](const auto& p) { return 4 * p.num_faces(); });
-}
 
 int VertexNeighbourhood::max_valence() const {
     if (level_) return level_->max_valence;

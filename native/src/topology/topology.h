@@ -101,8 +101,8 @@ public:
     VertexNeighbourhood(int num_vertices, const VertexNeighbourhood& parent, const std::vector<int>* history = nullptr,
                         const Topology* base = nullptr);
     int num_vertices() const { return num_vertices_; }
-    int num_edges() const;
-    int num_faces() const;
+    int num_edges() const { return num_edges_; }
+    int num_faces() const { return num_faces_; }
     int max_valence() const;
     int max_edge_face_count() const;
     // Inline where stored, as edge_face_count: classifying the vertices next to a crease asks for them edge by edge.
@@ -168,7 +168,7 @@ private:
     const Topology* level_;                      // where stored, else null
     const Topology* parent_;                     // where derived from a stored parent
     const VertexNeighbourhood* derived_parent_;  // where derived from a parent known through its own
-    int num_vertices_;
+    int num_vertices_, num_edges_ = 0, num_faces_ = 0;
     const std::vector<int>* history_;
     const Topology* base_;
 };
