@@ -73,7 +73,10 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
     const Topology whole = refine_topology(grandparent, detail::Refined::Connectivity);
     const VertexNeighbourhood through_whole(last_level, &whole);
     std::vector<Index> a, b, edges;
+    std::vector<std::uint8_t> checked(std::size_t(last_level.num_vertices), 0);  // each vertex once
     auto alike_at = [&](Index v) {
+        if (checked[std::size_t(v)]) return true;
+        checked[std::size_t(v)] = 1;
         around.edges(v, a), through_whole.edges(v, b);
         if (a != b) return false;
         edges = a;
@@ -105,7 +108,8 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
     };
     auto alike_around = [&](Index v) {
         if (!alike_at(v)) return false;
-        const std::vector<Index> around_v = edges;
+        std::vector<Index> around_v;
+        through_whole.edges(v, around_v);
         return std::all_of(around_v.begin(), around_v.end(),
                            [&](Index e) { return alike_at(through_whole.other_end(e, v)); });
     };
