@@ -73,9 +73,10 @@ struct FeatureVertex {
 };
 
 // How many parts for_each_feature_vertex cuts its vertices into on `threads` threads: several per thread, taken in
-// turn, as the vertices' work differs by far (one whose semi-sharp edges outlast the last level refines its ring on)
-// and so may the parts' shares of such vertices.
-inline int feature_vertex_parts(int threads) { return threads < 2 ? 1 : 4 * threads; }
+// turn, as the vertices' work differs (a vertex on a crease gathers its sides' corners, one whose semi-sharp edges
+// outlast the last level refines its ring on), and so does that of equal shares of them: threefold on the creased
+// icosphere.
+inline int feature_vertex_parts(int threads) { return threads < 2 ? 1 : kPiecesPerThread * threads; }
 
 // Visits every vertex that touches a sharp or tagged edge, is tagged itself, or is a cone: visit(vertex, part), in
 // vertex order within each of feature_vertex_parts(threads) parts, which run on `threads` threads and take
