@@ -215,24 +215,17 @@ void child_vertex_edges_of(const P& p, Index v, std::vector<Index>& out) {
     });
 }
 
-// The corners at vertex v of a level (3 f + k where corner k of face f is v), unsorted: each face at v starts exactly
-// one of its edges there, found through that edge, once.
-template <typename P>
-void corners_of(const P& p, Index v, std::vector<Index>& out, std::vector<Index>& edges) {
-    Index fe[3], fv[3];
-    p.edges(v, edges);
-    for (const Index e : edges)
-        p.for_each_edge_face(e, [&](Index f) {
-            p.face(f, fv, fe);
-            const int j = local_edge(fe, e);
-            if (fv[j] == v) out.push_back(3 * f + j);
-        });
-}
-
+// The corners at v (3 f + k where corner k of face f is v), unsorted: each face at v starts exactly one of its edges
+// there, found through that edge, once.
 void StoredLevel::corners(Index v, std::vector<Index>& out) const {
-    std::vector<Index> edges;
     out.clear();
-    corners_of(*this, v, out, edges);
+    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+        const Index e = t.vertex_edges[k];
+        for_each_edge_face(e, [&](Index f) {
+            const int j = local_edge(&t.face_edges[3 * std::size_t(f)], e);
+            if (t.face_vertices[3 * std::size_t(f) + j] == v) out.push_back(3 * f + j);
+        });
+    }
 }
 
 // The corners at child vertex v, unsorted: an old vertex is corner 0 of corner child j of each parent face whose
