@@ -16,6 +16,7 @@
 
 namespace {
 
+using loopsub::detail::FanCorner;
 using loopsub::detail::Index;
 using loopsub::detail::Topology;
 using loopsub::testing::TestMesh;
@@ -218,7 +219,7 @@ std::pair<std::vector<Topology>, std::vector<int>> split_three_times(const TestM
 
 // A level known through a parent that is itself known through its own (the last level of a limit plan read through its
 // grandparent) reads as the level itself: every face's corners and edges, every edge's ends, wings, faces and face
-// count, every vertex's edges and corners, and the faces between a midpoint's halves and between edges at a base
+// count, every vertex's edges and fan, and the faces between a midpoint's halves and between edges at a base
 // vertex. On closed, open and non-manifold meshes (a fin, a bowtie) and a loose vertex, three splits deep.
 TEST(Topology, ALevelThroughItsGrandparentIsTheLevel) {
     using namespace loopsub::testing;
@@ -268,11 +269,28 @@ TEST(Topology, ALevelThroughItsGrandparentIsTheLevel) {
             }
             const VertexNeighbourhood built(t, nullptr, &to_level, &levels[0]);
             std::vector<Index> a, b;
+            std::vector<FanCorner> fan, built_fan;
             for (Index v = 0; v < t.num_vertices; ++v) {
                 derived.edges(v, a), built.edges(v, b);
                 ASSERT_EQ(a, b) << "vertex " << v;
-                derived.corners(v, a), built.corners(v, b);
-                ASSERT_EQ(a, b) << "vertex " << v;
+                derived.fan(v, fan), built.fan(v, built_fan);
+                ASSERT_EQ(fan, built_fan) << "vertex " << v;
+                // The stored level's fan is its arrays': every corner at v once, in order, with its face.
+                std::vector<Index> corners;
+                for (Index c = 0; c < 3 * t.num_faces(); ++c)
+                    if (t.face_vertices[c] == v) corners.push_back(c);
+                ASSERT_EQ(built_fan.size(), corners.size()) << "vertex " << v;
+                for (std::size_t i = 0; i < corners.size(); ++i) {
+                    const Index c = corners[i], face = c - c % 3, k = c % 3, before = face + (k + 2) % 3;
+                    const FanCorner expected{c,
+                                             t.face_vertices[face + (k + 1) % 3],
+                                             t.face_vertices[before],
+                                             t.face_edges[c],
+                                             t.face_edges[before],
+                                             t.edge_vertices[2 * t.face_edges[c]] == v,
+                                             t.edge_vertices[2 * t.face_edges[before]] == v};
+                    ASSERT_EQ(built_fan[i], expected) << "vertex " << v << ", corner " << c;
+                }
                 // The pairs a plan asks about: a midpoint's two halves, and any two edges of two faces at a base
                 // vertex.
                 const Index first = t.vertex_edge_offsets[v], count = t.valence(v);

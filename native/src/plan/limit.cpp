@@ -64,7 +64,7 @@ std::vector<Index> set_bytes(const std::uint8_t* bytes, Index count) {
 }
 
 #ifndef NDEBUG
-// Whether plan_limit's reads around every feature vertex of the last level and its neighbours (their edges, corners,
+// Whether plan_limit's reads around every feature vertex of the last level and its neighbours (their edges, fans,
 // faces' edges, edges' ends, wings and face counts, and the faces between two feature edges) are the same through
 // `around` as through the level before the last, built whole from the grandparent.
 bool reads_alike_near_features(const Topology& last_level, const Topology& grandparent,
@@ -73,6 +73,7 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
     const Topology whole = refine_topology(grandparent, detail::Refined::Connectivity);
     const VertexNeighbourhood through_whole(last_level, &whole);
     std::vector<Index> a, b, edges;
+    std::vector<detail::FanCorner> fans[2];
     std::vector<std::uint8_t> checked(std::size_t(last_level.num_vertices), 0);  // each vertex once
     auto alike_at = [&](Index v) {
         if (checked[std::size_t(v)]) return true;
@@ -94,12 +95,13 @@ bool reads_alike_near_features(const Topology& last_level, const Topology& grand
                     around.faces_between(v, e, to) != through_whole.faces_between(v, e, to))
                     return false;
         }
-        around.corners(v, a), through_whole.corners(v, b);
-        if (a != b) return false;
-        for (const Index c : b) {
+        around.fan(v, fans[0]), through_whole.fan(v, fans[1]);
+        if (fans[0] != fans[1]) return false;
+        for (const detail::FanCorner& corner : fans[1]) {
             Index face_edges[2][3], face_vertices[2][3];
-            around.face_edges(c / 3, face_edges[0]), through_whole.face_edges(c / 3, face_edges[1]);
-            around.face_vertices(c / 3, face_vertices[0]), through_whole.face_vertices(c / 3, face_vertices[1]);
+            const Index face = corner.corner / 3;
+            around.face_edges(face, face_edges[0]), through_whole.face_edges(face, face_edges[1]);
+            around.face_vertices(face, face_vertices[0]), through_whole.face_vertices(face, face_vertices[1]);
             if (!std::equal(face_edges[0], face_edges[0] + 3, face_edges[1]) ||
                 !std::equal(face_vertices[0], face_vertices[0] + 3, face_vertices[1]))
                 return false;
@@ -215,8 +217,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     };
     // A corner of a vertex whose normals are its sides' (by_side): the sides chain them across the smooth edges they
     // share.
-    struct Corner {
-        Index vertex, corner, a, b, edge_a, edge_b;  // the triangle (vertex, a, b); edge_a joins vertex and a
+    struct Corner : detail::FanCorner {
+        Index vertex;
     };
     // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather
     // than searched among the level's features corner by corner.
@@ -228,7 +230,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         std::vector<float> far_sharpness;
         std::vector<Index> by_side;
         std::vector<Corner> at_sides;
-        std::vector<Index> corners_at;
+        std::vector<detail::FanCorner> fan;
     };
     const int parts = std::max(1, options_.threads);
     std::vector<Visited> visited(static_cast<std::size_t>(feature_vertex_parts(parts)));
@@ -259,22 +261,16 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     const bool sides_in_visit = lt.from_grandparent != nullptr;
     if (sides_in_visit)
         for (Visited& part : visited) part.at_sides.reserve(6 * level.edges.size() / visited.size() + 64);
-    auto corners_of = [&around](Index v, std::vector<Index>& corners_at, std::vector<Corner>& out) {
-        around.corners(v, corners_at);
-        for (const Index c : corners_at) {
-            const std::size_t face = std::size_t(c) - std::size_t(c) % 3;
-            const int k = int(c % 3);
-            // The face through `around`: the level's own triangles are far apart in memory.
-            Index edges[3], corners[3];
-            around.face(Index(face / 3), corners, edges);
-            out.push_back({v, c, corners[next_corner(k)], corners[prev_corner(k)], edges[k], edges[prev_corner(k)]});
-        }
+    // The fan through `around`: the level's own triangles are far apart in memory.
+    auto corners_of = [&around](Index v, std::vector<detail::FanCorner>& fan, std::vector<Corner>& out) {
+        around.fan(v, fan);
+        for (const detail::FanCorner& c : fan) out.push_back({c, v});
     };
     auto set_by_side = [&](Visited& out, Index v, bool by_side) {
         lt.by_side[v] = by_side;
         if (by_side && sides_in_visit) {
             out.by_side.push_back(v);
-            corners_of(v, out.corners_at, out.at_sides);
+            corners_of(v, out.fan, out.at_sides);
         }
     };
     auto visit = [&](const FeatureVertex& vertex, int part) {
@@ -428,9 +424,9 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         std::vector<std::vector<Corner>> corners_by_part(static_cast<std::size_t>(parts));
         run_levels(parts, 1, [&](int, int part, int count) {
             std::vector<Corner> out;  // handed over at the end: parts that pushed to neighbouring vectors shared a line
-            std::vector<Index> corners_at;
+            std::vector<detail::FanCorner> fan;
             const auto [first, last] = part_of(by_side.size(), part, count);
-            for (std::size_t i = first; i < last; ++i) corners_of(by_side[i], corners_at, out);
+            for (std::size_t i = first; i < last; ++i) corners_of(by_side[i], fan, out);
             corners_by_part[std::size_t(part)] = std::move(out);
         });
         for (const std::vector<Corner>& part : corners_by_part)

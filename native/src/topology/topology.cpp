@@ -74,7 +74,7 @@ struct StoredLevel {
                    t.vertex_edges.begin() + t.vertex_edge_offsets[v + 1]);
     }
     int faces_between(Index v, Index from, Index to) const { return detail::faces_between(t, v, from, to); }
-    void corners(Index v, std::vector<Index>& out) const;
+    void fan(Index v, std::vector<FanCorner>& out) const;
 };
 
 // The child's connectivity around single elements, from any parent level P (StoredLevel or VertexNeighbourhood) through
@@ -215,35 +215,56 @@ void child_vertex_edges_of(const P& p, Index v, std::vector<Index>& out) {
     });
 }
 
-// The corners at v (3 f + k where corner k of face f is v), unsorted: each face at v starts exactly one of its edges
-// there, found through that edge, once.
-void StoredLevel::corners(Index v, std::vector<Index>& out) const {
+// The fan of v, unsorted: each face at v starts exactly one of its edges there, found through that edge, once.
+void StoredLevel::fan(Index v, std::vector<FanCorner>& out) const {
     out.clear();
-    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
-        const Index e = t.vertex_edges[k];
+    for (Index i = t.vertex_edge_offsets[v]; i < t.vertex_edge_offsets[v + 1]; ++i) {
+        const Index e = t.vertex_edges[i];
         for_each_edge_face(e, [&](Index f) {
-            const int j = local_edge(&t.face_edges[3 * std::size_t(f)], e);
-            if (t.face_vertices[3 * std::size_t(f) + j] == v) out.push_back(3 * f + j);
+            const Index* fv = &t.face_vertices[3 * std::size_t(f)];
+            const Index* fe = &t.face_edges[3 * std::size_t(f)];
+            const int k = local_edge(fe, e), before = prev_corner(k);
+            if (fv[k] != v) return;
+            const Index edge_a = fe[k], edge_b = fe[before];
+            out.push_back({3 * f + k, fv[next_corner(k)], fv[before], edge_a, edge_b,
+                           t.edge_vertices[2 * std::size_t(edge_a)] == v,
+                           t.edge_vertices[2 * std::size_t(edge_b)] == v});
         });
     }
 }
 
-// The corners at child vertex v, unsorted: an old vertex is corner 0 of corner child j of each parent face whose
-// corner j it is; the midpoint of edge e, in each face of e (its edge j), corner 1 of corner child j, corner 2 of
-// corner child j + 1 and corner j of the middle child.
+// The fan of child vertex v, in the parent's order for an old vertex (corner 0 of corner child k of each parent face
+// whose corner k it is, between the midpoints of the face's edges at it); per face of its edge (edge j there) for the
+// midpoint of edge e: corner 1 of corner child j, corner 2 of corner child j + 1, corner j of the middle child.
 template <typename P>
-void child_corners_of(const P& p, Index v, std::vector<Index>& out) {
-    if (v < p.num_vertices()) {
-        p.corners(v, out);
-        for (Index& c : out) c = 3 * (4 * (c / 3) + c % 3);
+void child_fan_of(const P& p, Index v, std::vector<FanCorner>& out) {
+    const Index nv = p.num_vertices();
+    if (v < nv) {
+        p.fan(v, out);
+        for (FanCorner& c : out) {
+            const Index f = c.corner / 3, k = c.corner % 3;
+            c.corner = 3 * (4 * f + k);
+            c.a = nv + c.edge_a, c.b = nv + c.edge_b;  // the midpoints of the edges, which the halves at v join
+            c.edge_a = 2 * c.edge_a + !c.v_first_a, c.edge_b = 2 * c.edge_b + !c.v_first_b;
+        }
         return;
     }
-    const Index e = v - p.num_vertices();
-    Index fe[3];
+    out.clear();
+    const Index e = v - nv, halves = 2 * p.num_edges();
+    Index ends[2];
+    p.edge_ends(e, ends);
     p.for_each_edge_face(e, [&](Index f) {
-        p.face_edges(f, fe);
+        Index fv[3], fe[3];
+        p.face(f, fv, fe);
         const int j = local_edge(fe, e);
-        out.insert(out.end(), {3 * (4 * f + j) + 1, 3 * (4 * f + next_corner(j)) + 2, 3 * (4 * f + 3) + j});
+        const bool a_first = fv[j] == ends[0];
+        const int next = next_corner(j), before = prev_corner(j);
+        // The halves of e at v_j and at v_j+1; v is the first end of half 2e + 1 and of interior edge j.
+        const Index half_at_j = 2 * e + !a_first, half_at_next = 2 * e + a_first, interior = halves + 3 * f;
+        out.push_back({3 * (4 * f + j) + 1, nv + fe[before], fv[j], interior + before, half_at_j, false, !a_first});
+        out.push_back({3 * (4 * f + next) + 2, fv[next], nv + fe[next], half_at_next, interior + j, a_first, true});
+        out.push_back(
+            {3 * (4 * f + 3) + j, nv + fe[next], nv + fe[before], interior + j, interior + before, true, false});
     });
 }
 
@@ -1326,11 +1347,10 @@ void VertexNeighbourhood::face_vertices(Index f, Index vertices[3]) const {
     through_parent([&](const auto& p) { child_face_of(p, f, vertices, nullptr); });
 }
 
-void VertexNeighbourhood::corners(Index v, std::vector<Index>& out) const {
-    out.clear();
-    if (level_) StoredLevel{*level_}.corners(v, out);
-    else through_parent([&](const auto& p) { child_corners_of(p, v, out); });
-    std::sort(out.begin(), out.end());
+void VertexNeighbourhood::fan(Index v, std::vector<FanCorner>& out) const {
+    if (level_) StoredLevel{*level_}.fan(v, out);
+    else through_parent([&](const auto& p) { child_fan_of(p, v, out); });
+    std::sort(out.begin(), out.end(), [](const FanCorner& x, const FanCorner& y) { return x.corner < y.corner; });
 }
 
 void VertexNeighbourhood::edges(Index v, std::vector<Index>& out) const {

@@ -87,6 +87,18 @@ void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 // refine_topology would have written it, and the parent may itself be known so, through its own parent (the last level
 // of a limit plan read through its grandparent, the level between never built). Classifying the few vertices next to
 // a crease needs no more.
+// Corner 3 f + k of face f, at a vertex v: the face's next corner a and previous corner b, its edges from v to a (edge
+// k) and from b to v (edge k - 1), and whether v is each of the two edges' first end (which a split's numbering of
+// their halves at v follows).
+struct FanCorner {
+    Index corner, a, b, edge_a, edge_b;
+    bool v_first_a, v_first_b;
+};
+inline bool operator==(const FanCorner& x, const FanCorner& y) {
+    return x.corner == y.corner && x.a == y.a && x.b == y.b && x.edge_a == y.edge_a && x.edge_b == y.edge_b &&
+           x.v_first_a == y.v_first_a && x.v_first_b == y.v_first_b;
+}
+
 class VertexNeighbourhood {
 public:
     // `history`: where known, the vertex counts of the levels up to this one, the base's first (a plan's
@@ -149,9 +161,9 @@ public:
     void face_vertices(Index f, Index vertices[3]) const;
     // The corners and edges of face f at once: derived, they share their reads of the parent.
     void face(Index f, Index vertices[3], Index edges[3]) const;
-    // The corners at vertex v (3 f + k where corner k of face f is v), in increasing order. The level, or its
-    // parent, must hold its edge faces and vertex edges.
-    void corners(Index v, std::vector<Index>& out) const;
+    // The corners at vertex v with their faces (FanCorner), in increasing corner order. The level, or its parent, must
+    // hold its edge faces and vertex edges.
+    void fan(Index v, std::vector<FanCorner>& out) const;
     // faces_between (below) on this level. Derived: for a midpoint, only between its two halves (the only edges
     // at a midpoint that can be sharp); -1 otherwise.
     int faces_between(Index v, Index from, Index to) const;
