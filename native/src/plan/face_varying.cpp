@@ -63,18 +63,6 @@ void group_by_vertex(const Index* vertex_of, std::size_t items, int num_vertices
     });
 }
 
-// Each target's special mask among `specials` (sorted by target), or null, as a table: one pass over the list, then a
-// load per value or edge, not a binary search per value and per edge (docs/benchmark.md, "Measurements behind the
-// code"). Targets [t0, t1), for the part of a level that fills them: its specials are a run of the list, found by a
-// binary search.
-template <typename Special, typename Key>
-void specials_by_target(const std::vector<Special>& specials, Index t0, Index t1, Key key, const Special** table) {
-    std::fill(table + t0, table + t1, nullptr);
-    auto special = std::lower_bound(specials.begin(), specials.end(), t0,
-                                    [&key](const Special& s, Index t) { return key(s) < t; });
-    for (; special != specials.end() && key(*special) < t1; ++special) table[key(*special)] = &*special;
-}
-
 // A copy of `from`, in parts.
 LargeVector<Index> copy_in_parts(const LargeVector<Index>& from, int parts) {
     LargeVector<Index> to(from.size());
@@ -431,8 +419,10 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     const int parts = parts_for(std::size_t(nx) + std::size_t(ne));
     TransientVector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex, parts);
-    TransientVector<const SpecialVertex*> special_vertex(std::size_t(vertex_stencils.num_vertices));
-    TransientVector<const SpecialEdge*> special_edge(std::size_t(vertex_stencils.num_edges));
+    SpecialsByTarget<SpecialVertex> special_vertex(vertex_stencils.special_vertices, vertex_stencils.num_vertices,
+                                                   [](const SpecialVertex& sv) { return sv.vertex; });
+    SpecialsByTarget<SpecialEdge> special_edge(vertex_stencils.special_edges, vertex_stencils.num_edges,
+                                               [](const SpecialEdge& se) { return se.edge; });
 
     // Three steps, each in parts of the values, vertices and edges: every part writes its own values' and edges'
     // tags and masks, and the masks are joined in part order, so that any number of parts plans the same level.
@@ -444,13 +434,9 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
         if (step == 0) {
             std::copy(tags_.begin() + x0, tags_.begin() + x1, child_tags.begin() + x0);
             const auto [v0, v1] = part_of(vertex_stencils.num_vertices, part, parts);
-            specials_by_target(
-                vertex_stencils.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; },
-                special_vertex.data());
+            special_vertex.mark(v0, v1);
             const auto [edge0, edge1] = part_of(vertex_stencils.num_edges, part, parts);
-            specials_by_target(
-                vertex_stencils.special_edges, edge0, edge1, [](const SpecialEdge& se) { return se.edge; },
-                special_edge.data());
+            special_edge.mark(edge0, edge1);
         } else if (step == 1) {
             const auto [v0, v1] = part_of(t.num_vertices, part, parts);
             release_values(level, child, vertex_level, offsets, at_vertex, v0, v1, child_tags, walk);
@@ -537,7 +523,7 @@ void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelS
                                            const VertexNeighbourhood& vertex_level,
                                            const TransientVector<Index>& offsets,
                                            const TransientVector<Index>& at_vertex,
-                                           const TransientVector<const SpecialVertex*>& special_vertex,
+                                           const SpecialsByTarget<SpecialVertex>& special_vertex,
                                            const TransientVector<Tag>& child_tags, Index x0, Index x1,
                                            std::vector<SpecialVertex>& out, Walk& walk) const {
     auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
@@ -582,7 +568,7 @@ void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelS
 // Edge points of layer edges [e0, e1): midpoints along seams, the edge's own mask elsewhere. Their children on a seam
 // follow it (smooth modes) or stay (linear boundaries); the rest match.
 void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_level,
-                                          const TransientVector<const SpecialEdge*>& special_edge, bool planned_further,
+                                          const SpecialsByTarget<SpecialEdge>& special_edge, bool planned_further,
                                           Index e0, Index e1, TransientVector<Tag>& child_tags,
                                           std::vector<SpecialEdge>& out) const {
     const Mode mode = options_.face_varying;
@@ -733,20 +719,18 @@ void FaceVaryingBuilder::plan_limit(const LimitTables& limit, const LevelState& 
     // Values held by semi-sharp features that outlast the last level (plan_held_limits) first.
     plan_held_limits(last, rules, s);
     const std::size_t held = s.special_vertices.size();
-    TransientVector<const SpecialVertex*> special_vertex(std::size_t(vertex_limit.num_vertices));
-    TransientVector<const RingWeightedVertex*> ring_weighted(std::size_t(vertex_limit.num_vertices));
+    SpecialsByTarget<SpecialVertex> special_vertex(vertex_limit.special_vertices, vertex_limit.num_vertices,
+                                                   [](const SpecialVertex& sv) { return sv.vertex; });
+    SpecialsByTarget<RingWeightedVertex> ring_weighted(vertex_limit.ring_weighted_vertices, vertex_limit.num_vertices,
+                                                       [](const RingWeightedVertex& rv) { return rv.vertex; });
     // In parts of the values, as plan_level: the vertex plan's masks as tables, then each part's values.
     const int parts = parts_for(std::size_t(nx));
     std::vector<PartOutput> outputs(static_cast<std::size_t>(parts));
     run_levels(parts, 2, [&](int step, int part, int) {
         if (step == 0) {
             const auto [v0, v1] = part_of(vertex_limit.num_vertices, part, parts);
-            specials_by_target(
-                vertex_limit.special_vertices, v0, v1, [](const SpecialVertex& sv) { return sv.vertex; },
-                special_vertex.data());
-            specials_by_target(
-                vertex_limit.ring_weighted_vertices, v0, v1, [](const RingWeightedVertex& rv) { return rv.vertex; },
-                ring_weighted.data());
+            special_vertex.mark(v0, v1);
+            ring_weighted.mark(v0, v1);
             return;
         }
         const auto [x0, x1] = part_of(nx, part, parts);
@@ -781,8 +765,8 @@ void FaceVaryingBuilder::plan_limit(const LimitTables& limit, const LevelState& 
 }
 
 void FaceVaryingBuilder::plan_limit_points(const LimitTables& limit,
-                                           const TransientVector<const SpecialVertex*>& special_vertex,
-                                           const TransientVector<const RingWeightedVertex*>& ring_weighted,
+                                           const SpecialsByTarget<SpecialVertex>& special_vertex,
+                                           const SpecialsByTarget<RingWeightedVertex>& ring_weighted,
                                            const SpecialVertex* held, std::size_t num_held, Index x0, Index x1,
                                            PartOutput& out) const {
     const Mode mode = options_.face_varying;

@@ -14,6 +14,8 @@
 // values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying.
 #pragma once
 
+#include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +34,40 @@ struct FaceVaryingPlan {
     std::vector<LevelStencils> passes;        // one per level, then the limit
     std::vector<int> counts;                  // values before each pass, and after the last
     LargeVector<Index> output_corner_values;  // 3 per output triangle
+};
+
+// The vertex plan's special masks of one kind (`specials`, sorted by target: vertex or edge), looked up by target: a
+// byte per target says whether it has one, which a binary search of the list then finds (few targets have one). A
+// pointer per target made a table eight times the size, zeroed and read for every value and edge of a level
+// (docs/benchmark.md). Marked in parts: each part of a level's targets marks its own.
+template <typename Special>
+class SpecialsByTarget {
+public:
+    using Key = Index (*)(const Special&);
+    SpecialsByTarget(const std::vector<Special>& specials, Index num_targets, Key key)
+        : specials_(specials), has_(std::size_t(num_targets)), key_(key) {
+        assert(std::is_sorted(specials.begin(), specials.end(),
+                              [key](const Special& a, const Special& b) { return key(a) < key(b); }));
+    }
+    // Marks targets [t0, t1): their specials are a run of the list.
+    void mark(Index t0, Index t1) {
+        std::fill(has_.begin() + t0, has_.begin() + t1, std::uint8_t(0));
+        for (auto special = first_at_or_after(t0); special != specials_.end() && key_(*special) < t1; ++special)
+            has_[std::size_t(key_(*special))] = 1;
+    }
+    const Special* operator[](Index target) const {
+        return has_[std::size_t(target)] ? &*first_at_or_after(target) : nullptr;
+    }
+
+private:
+    typename std::vector<Special>::const_iterator first_at_or_after(Index target) const {
+        return std::lower_bound(specials_.begin(), specials_.end(), target,
+                                [this](const Special& s, Index t) { return key_(s) < t; });
+    }
+
+    const std::vector<Special>& specials_;
+    TransientVector<std::uint8_t> has_;
+    Key key_;
 };
 
 class FaceVaryingBuilder {
@@ -100,12 +136,12 @@ private:
                         Index v1, TransientVector<Tag>& child_tags, Walk& walk) const;
     void plan_value_points(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
                            const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex,
-                           const TransientVector<const SpecialVertex*>& special_vertex,
+                           const SpecialsByTarget<SpecialVertex>& special_vertex,
                            const TransientVector<Tag>& child_tags, Index x0, Index x1, std::vector<SpecialVertex>& out,
                            Walk& walk) const;
-    void plan_edge_points(const VertexNeighbourhood& vertex_level,
-                          const TransientVector<const SpecialEdge*>& special_edge, bool planned_further, Index e0,
-                          Index e1, TransientVector<Tag>& child_tags, std::vector<SpecialEdge>& out) const;
+    void plan_edge_points(const VertexNeighbourhood& vertex_level, const SpecialsByTarget<SpecialEdge>& special_edge,
+                          bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
+                          std::vector<SpecialEdge>& out) const;
     // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and
     // whose own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the
     // features inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
@@ -113,8 +149,8 @@ private:
     static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges,
                                     InnerSemi inner_semi);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
-    void plan_limit_points(const LimitTables& limit, const TransientVector<const SpecialVertex*>& special_vertex,
-                           const TransientVector<const RingWeightedVertex*>& ring_weighted, const SpecialVertex* held,
+    void plan_limit_points(const LimitTables& limit, const SpecialsByTarget<SpecialVertex>& special_vertex,
+                           const SpecialsByTarget<RingWeightedVertex>& ring_weighted, const SpecialVertex* held,
                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
     // Where a value held on the last level goes: held until its features are spent, then along its seam.
     void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
