@@ -230,26 +230,44 @@ TEST(LimitSurface, NormalsDoNotDependOnAPowerOfTwoScale) {
     }
 }
 
-// Two threads split the normals pass, never its arithmetic; the scalar kernel's limit gives the same normals to
-// float rounding.
+// Threads split the limit plan's steps and the normals pass, never their arithmetic or their order: any number gives
+// one thread's per-corner normals, and its compact normals in the same rows (the sides' too); the scalar kernel's limit
+// gives the same normals to float rounding.
 TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {
     TestMesh mesh = icosphere(3);
     jitter(mesh, 7, 0.01f);
     add_random_creases(mesh, 7, 0.1, true);
-    auto normals_for = [&](int threads, Kernel kernel) {
+    auto plan_for = [&](int threads, Kernel kernel) {
         Options options;
         options.rules = Rules::OpenSubdiv;
         options.levels = 2;
         options.limit_surface = true;
         options.threads = threads;
         options.kernel = kernel;
-        Plan plan(mesh.view(), options);
-        return evaluate_limit(plan, mesh).normals;
+        return Plan(mesh.view(), options);
     };
-    const std::vector<float> one = normals_for(1, Kernel::Auto);
-    EXPECT_EQ(one, normals_for(2, Kernel::Auto));
-    const std::vector<float> scalar = normals_for(1, Kernel::Scalar);
-    for (std::size_t i = 0; i < one.size(); ++i) ASSERT_NEAR(one[i], scalar[i], 1e-5) << "component " << i;
+    auto compact_normals = [&](Plan& plan) {
+        std::vector<float> out(3 * std::size_t(plan.num_output_vertices()));
+        std::vector<float> normals(3 * std::size_t(plan.num_limit_normals()));
+        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
+                      Plan::LimitNormals{normals.data()});
+        const std::int32_t* rows = plan.corner_normal_indices();
+        return std::make_pair(normals, std::vector<std::int32_t>(rows, rows + 3 * plan.num_output_triangles()));
+    };
+    Plan one = plan_for(1, Kernel::Auto);
+    ASSERT_GT(one.num_limit_normals(), one.num_output_vertices());  // infinitely sharp creases part some fans
+    const std::vector<float> corner_normals = evaluate_limit(one, mesh).normals;
+    const auto compact = compact_normals(one);
+    for (int threads : {2, 3, 8}) {
+        SCOPED_TRACE("threads " + std::to_string(threads));
+        Plan more = plan_for(threads, Kernel::Auto);
+        EXPECT_EQ(corner_normals, evaluate_limit(more, mesh).normals);
+        EXPECT_EQ(compact, compact_normals(more));
+    }
+    Plan scalar_plan = plan_for(1, Kernel::Scalar);
+    const std::vector<float> scalar = evaluate_limit(scalar_plan, mesh).normals;
+    for (std::size_t i = 0; i < corner_normals.size(); ++i)
+        ASSERT_NEAR(corner_normals[i], scalar[i], 1e-5) << "component " << i;
 }
 
 // Every level up to the last has classes, the last one an entry per output vertex; with neither levels nor the limit

@@ -409,28 +409,28 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             else lt.by_side[v] = 1;
         }
     }
-    // Sides: the corners at each such vertex, in vertex order, each vertex's corners in order.
+    // Sides: the corners at each such vertex, in vertex order, each vertex's corners in order, in pieces of whole
+    // vertices taken in turn (a vertex's sides cost what its fan makes them, and a second thread starts late): from the
+    // grandparent the visit's parts as they are, not joined.
+    const int side_pieces = feature_vertex_parts(parts);
     std::vector<Index> by_side;
-    std::vector<Corner> at_sides;
+    std::vector<std::vector<Corner>> corner_pieces(static_cast<std::size_t>(side_pieces));
     if (sides_in_visit) {
-        by_side = std::move(visited[0].by_side);
-        at_sides = std::move(visited[0].at_sides);
-        for (std::size_t part = 1; part < visited.size(); ++part) {
+        assert(visited.size() == corner_pieces.size());
+        for (std::size_t part = 0; part < visited.size(); ++part) {
             by_side.insert(by_side.end(), visited[part].by_side.begin(), visited[part].by_side.end());
-            at_sides.insert(at_sides.end(), visited[part].at_sides.begin(), visited[part].at_sides.end());
+            corner_pieces[part] = std::move(visited[part].at_sides);
         }
     } else {
         by_side = set_bytes(lt.by_side.data(), nv);
-        std::vector<std::vector<Corner>> corners_by_part(static_cast<std::size_t>(parts));
-        run_levels(parts, 1, [&](int, int part, int count) {
+        auto corners_of_part = [&](int, int part, int count) {
             std::vector<Corner> out;  // handed over at the end: parts that pushed to neighbouring vectors shared a line
             std::vector<detail::FanCorner> fan;
             const auto [first, last] = part_of(by_side.size(), part, count);
             for (std::size_t i = first; i < last; ++i) corners_of(by_side[i], fan, out);
-            corners_by_part[std::size_t(part)] = std::move(out);
-        });
-        for (const std::vector<Corner>& part : corners_by_part)
-            at_sides.insert(at_sides.end(), part.begin(), part.end());
+            corner_pieces[std::size_t(part)] = std::move(out);
+        };
+        run_levels(parts, 1, corners_of_part, side_pieces / parts);
     }
     // Each vertex's sides on their own: the vertices in parts on the plan's threads, each part's rows counted from
     // its own first, then joined in vertex order with its rows and points placed after the earlier parts'.
@@ -440,21 +440,17 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         std::vector<std::pair<Index, Index>> corner_sides;
         int rows = 0;
     };
-    std::vector<SidesPart> sides_by_part(static_cast<std::size_t>(parts));
-    run_levels(parts, 1, [&](int, int part, int count) {
-        SidesPart out;                                 // handed over at the end, as the corners
-        auto run_start = [&at_sides](std::size_t i) {  // a part starts where a vertex's corners start
-            while (i > 0 && i < at_sides.size() && at_sides[i].vertex == at_sides[i - 1].vertex) ++i;
-            return i;
-        };
-        const auto [part_begin, part_end] = part_of(at_sides.size(), part, count);
-        const std::size_t first = run_start(part_begin), last = run_start(part_end);
-        if (first >= last) return;
-        auto infinite = std::lower_bound(infinite_at.begin(), infinite_at.end(), at_sides[first].vertex,
+    std::vector<SidesPart> sides_by_part(static_cast<std::size_t>(side_pieces));
+    auto sides_of_part = [&](int, int part, int) {
+        const std::vector<Corner>& at_sides = corner_pieces[std::size_t(part)];
+        if (at_sides.empty()) return;
+        SidesPart out;  // handed over at the end, as the corners
+        const std::size_t last = at_sides.size();
+        auto infinite = std::lower_bound(infinite_at.begin(), infinite_at.end(), at_sides.front().vertex,
                                          [](const std::pair<Index, Index>& at, Index v) { return at.first < v; });
         std::vector<int> next, previous;
         std::vector<std::uint8_t> placed;
-        for (std::size_t begin = first; begin < last;) {
+        for (std::size_t begin = 0; begin < last;) {
             std::size_t end = begin;
             while (end < last && at_sides[end].vertex == at_sides[begin].vertex) ++end;
             const int n = int(end - begin);
@@ -511,7 +507,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
             begin = end;
         }
         sides_by_part[std::size_t(part)] = std::move(out);
-    });
+    };
+    run_levels(parts, 1, sides_of_part, side_pieces / parts);
     // Joined in parts too: each part's entries placed after the earlier parts', its rows and points counted on.
     struct Placed {
         std::size_t sides = 0, side_points = 0, corner_sides = 0;
@@ -528,7 +525,7 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     lt.side_points.resize(placed.back().side_points);
     lt.corner_sides.resize(placed.back().corner_sides);
     lt.num_side_rows = int(placed.back().rows);
-    run_levels(parts, 1, [&](int, int part, int) {
+    auto place_part = [&](int, int part, int) {
         const SidesPart& from = sides_by_part[std::size_t(part)];
         const Placed& at = placed[std::size_t(part)];
         for (std::size_t i = 0; i < from.sides.size(); ++i) {
@@ -539,7 +536,8 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
         std::copy(from.side_points.begin(), from.side_points.end(), lt.side_points.begin() + at.side_points);
         for (std::size_t i = 0; i < from.corner_sides.size(); ++i)
             lt.corner_sides[at.corner_sides + i] = {from.corner_sides[i].first, from.corner_sides[i].second + at.rows};
-    });
+    };
+    run_levels(parts, 1, place_part, side_pieces / parts);
     int max_side_faces = 0;
     for (const auto& side : lt.sides) max_side_faces = std::max(max_side_faces, side.faces);
     lt.side_t1.resize(max_side_faces + 1);

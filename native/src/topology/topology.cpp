@@ -1211,7 +1211,7 @@ std::vector<std::uint8_t> non_manifold_edges(const Topology& t) {
 std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::vector<std::uint8_t>& non_manifold_edge,
                                                 int threads) {
     std::vector<std::uint8_t> flags(t.num_vertices, 0);
-    run_levels(std::max(1, threads), 1, [&](int, int part, int parts) {
+    auto flag_part = [&](int, int part, int parts) {
         const auto [v0, v1] = part_of(t.num_vertices, part, parts);
         for (int v = v0; v < v1; ++v) {
             const Index first = t.vertex_edge_offsets[v], last = t.vertex_edge_offsets[v + 1];
@@ -1244,7 +1244,8 @@ std::vector<std::uint8_t> non_manifold_vertices(const Topology& t, const std::ve
             }
             flags[v] = reached != num_faces;
         }
-    });
+    };
+    run_levels(std::max(1, threads), 1, flag_part, kPiecesPerThread);  // taken in turn: a second thread starts late
     return flags;
 }
 
