@@ -573,12 +573,16 @@ void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_leve
                                           std::vector<SpecialEdge>& out) const {
     const Mode mode = options_.face_varying;
     const VertexNeighbourhood layer = this->layer();
-    const std::size_t nx = std::size_t(values_.num_vertices);
+    // Through local pointers: a tag's bytes may alias anything, and the arrays' places would be loaded again after
+    // each store.
+    const Index* edge_of = edge_of_.data();
+    const std::uint8_t* seam = split_.data();
+    Tag* edge_child_tags = child_tags.data() + values_.num_vertices;
+    const Tag on_seam{true, !linear_boundaries(mode), false, false};
     for (Index e = e0; e < e1; ++e) {
-        const Index edge = edge_of_[e];
-        const bool split = split_[edge] || mode == Mode::All;
-        if (planned_further)
-            child_tags[nx + std::size_t(e)] = split ? Tag{true, !linear_boundaries(mode), false, false} : Tag{};
+        const Index edge = edge_of[e];
+        const bool split = seam[edge] || mode == Mode::All;
+        if (planned_further) edge_child_tags[e] = split ? on_seam : Tag{};
         if (split) {
             const EdgeMask mask = crease_edge_mask();  // the midpoint
             out.push_back({e, float(mask.a), float(mask.b), float(mask.wings)});
