@@ -784,10 +784,14 @@ bool follows_split_numbering(const Topology& p, const Topology& c) {
 void write_child_rings(const Topology& p, int begin, int end, Index* ring) {
     const Index nv = p.num_vertices;
     const int split = std::clamp(int(nv), begin, end);  // old vertices [begin, split), midpoints [split, end)
-    // An old vertex's ring is the midpoints of its edges, in order; consecutive vertices' edges are consecutive.
-    if (begin < split)
-        for (Index k = p.vertex_edge_offsets[begin]; k < p.vertex_edge_offsets[split]; ++k)
-            *ring++ = nv + p.vertex_edges[k];
+    // An old vertex's ring is the midpoints of its edges, in order; consecutive vertices' edges are consecutive. The
+    // bounds in locals: a store to the ring may alias them, which would have them loaded again at every step (and
+    // the loop not vectorised).
+    if (begin < split) {
+        const Index* edges = p.vertex_edges.data();
+        const Index first = p.vertex_edge_offsets[begin], last = p.vertex_edge_offsets[split];
+        for (Index k = first; k < last; ++k) *ring++ = nv + edges[k];
+    }
     // The midpoint of edge e: its ends, then per face of e the two midpoints it is joined to.
     for (Index e = split - nv; e < end - nv; ++e) {
         ring = midpoint_ring_ends(p, e, ring);
