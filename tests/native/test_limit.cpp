@@ -231,43 +231,47 @@ TEST(LimitSurface, NormalsDoNotDependOnAPowerOfTwoScale) {
 }
 
 // Threads split the limit plan's steps and the normals pass, never their arithmetic or their order: any number gives
-// one thread's per-corner normals, and its compact normals in the same rows (the sides' too); the scalar kernel's limit
-// gives the same normals to float rounding.
+// one thread's per-corner normals, and its compact normals in the same rows (the sides' too), whether the limit is
+// planned over the last level itself (one level) or from its grandparent (two); the scalar kernel's limit gives the
+// same normals to float rounding.
 TEST(LimitSurface, NormalsAgreeAcrossThreadsAndKernels) {
     TestMesh mesh = icosphere(3);
     jitter(mesh, 7, 0.01f);
     add_random_creases(mesh, 7, 0.1, true);
-    auto plan_for = [&](int threads, Kernel kernel) {
-        Options options;
-        options.rules = Rules::OpenSubdiv;
-        options.levels = 2;
-        options.limit_surface = true;
-        options.threads = threads;
-        options.kernel = kernel;
-        return Plan(mesh.view(), options);
-    };
-    auto compact_normals = [&](Plan& plan) {
-        std::vector<float> out(3 * std::size_t(plan.num_output_vertices()));
-        std::vector<float> normals(3 * std::size_t(plan.num_limit_normals()));
-        plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
-                      Plan::LimitNormals{normals.data()});
-        const std::int32_t* rows = plan.corner_normal_indices();
-        return std::make_pair(normals, std::vector<std::int32_t>(rows, rows + 3 * plan.num_output_triangles()));
-    };
-    Plan one = plan_for(1, Kernel::Auto);
-    ASSERT_GT(one.num_limit_normals(), one.num_output_vertices());  // infinitely sharp creases part some fans
-    const std::vector<float> corner_normals = evaluate_limit(one, mesh).normals;
-    const auto compact = compact_normals(one);
-    for (int threads : {2, 3, 8}) {
-        SCOPED_TRACE("threads " + std::to_string(threads));
-        Plan more = plan_for(threads, Kernel::Auto);
-        EXPECT_EQ(corner_normals, evaluate_limit(more, mesh).normals);
-        EXPECT_EQ(compact, compact_normals(more));
+    for (int levels : {1, 2}) {
+        SCOPED_TRACE("levels " + std::to_string(levels));
+        auto plan_for = [&](int threads, Kernel kernel) {
+            Options options;
+            options.rules = Rules::OpenSubdiv;
+            options.levels = levels;
+            options.limit_surface = true;
+            options.threads = threads;
+            options.kernel = kernel;
+            return Plan(mesh.view(), options);
+        };
+        auto compact_normals = [&](Plan& plan) {
+            std::vector<float> out(3 * std::size_t(plan.num_output_vertices()));
+            std::vector<float> normals(3 * std::size_t(plan.num_limit_normals()));
+            plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(out.data(), 3),
+                          Plan::LimitNormals{normals.data()});
+            const std::int32_t* rows = plan.corner_normal_indices();
+            return std::make_pair(normals, std::vector<std::int32_t>(rows, rows + 3 * plan.num_output_triangles()));
+        };
+        Plan one = plan_for(1, Kernel::Auto);
+        ASSERT_GT(one.num_limit_normals(), one.num_output_vertices());  // infinitely sharp creases part some fans
+        const std::vector<float> corner_normals = evaluate_limit(one, mesh).normals;
+        const auto compact = compact_normals(one);
+        for (int threads : {2, 3, 8}) {
+            SCOPED_TRACE("threads " + std::to_string(threads));
+            Plan more = plan_for(threads, Kernel::Auto);
+            EXPECT_EQ(corner_normals, evaluate_limit(more, mesh).normals);
+            EXPECT_EQ(compact, compact_normals(more));
+        }
+        Plan scalar_plan = plan_for(1, Kernel::Scalar);
+        const std::vector<float> scalar = evaluate_limit(scalar_plan, mesh).normals;
+        for (std::size_t i = 0; i < corner_normals.size(); ++i)
+            ASSERT_NEAR(corner_normals[i], scalar[i], 1e-5) << "component " << i;
     }
-    Plan scalar_plan = plan_for(1, Kernel::Scalar);
-    const std::vector<float> scalar = evaluate_limit(scalar_plan, mesh).normals;
-    for (std::size_t i = 0; i < corner_normals.size(); ++i)
-        ASSERT_NEAR(corner_normals[i], scalar[i], 1e-5) << "component " << i;
 }
 
 // Every level up to the last has classes, the last one an entry per output vertex; with neither levels nor the limit
