@@ -412,11 +412,10 @@ void detail::PlanBuilder::plan_limit(LevelState& level, const Topology& parent) 
     // Sides: the corners at each such vertex, in vertex order, each vertex's corners in order, in pieces of whole
     // vertices taken in turn (a vertex's sides cost what its fan makes them, and a second thread starts late): from the
     // grandparent the visit's parts as they are, not joined.
-    const int side_pieces = feature_vertex_parts(parts);
+    const int side_pieces = int(visited.size());
     std::vector<Index> by_side;
-    std::vector<std::vector<Corner>> corner_pieces(static_cast<std::size_t>(side_pieces));
+    std::vector<std::vector<Corner>> corner_pieces(visited.size());
     if (sides_in_visit) {
-        assert(visited.size() == corner_pieces.size());
         for (std::size_t part = 0; part < visited.size(); ++part) {
             by_side.insert(by_side.end(), visited[part].by_side.begin(), visited[part].by_side.end());
             corner_pieces[part] = std::move(visited[part].at_sides);

@@ -82,11 +82,6 @@ bool follows_split_numbering(const Topology& parent, const Topology& child);
 // The ends of child edge e, from the parent alone.
 void child_edge_ends(const Topology& parent, Index e, Index ends[2]);
 
-// The connectivity around single vertices and edges of a level, whether the level holds it (Refined::Full and the
-// base) or not (faces only, or not stored at all): then it is derived from the parent level through the numbering, as
-// refine_topology would have written it, and the parent may itself be known so, through its own parent (the last level
-// of a limit plan read through its grandparent, the level between never built). Classifying the few vertices next to
-// a crease needs no more.
 // Corner 3 f + k of face f, at a vertex v: the face's next corner a and previous corner b, its edges from v to a (edge
 // k) and from b to v (edge k - 1), and whether v is each of the two edges' first end (which a split's numbering of
 // their halves at v follows).
@@ -99,6 +94,11 @@ inline bool operator==(const FanCorner& x, const FanCorner& y) {
            x.v_first_a == y.v_first_a && x.v_first_b == y.v_first_b;
 }
 
+// The connectivity around single vertices and edges of a level, whether the level holds it (Refined::Full and the
+// base) or not (faces only, or not stored at all): then it is derived from the parent level through the numbering, as
+// refine_topology would have written it, and the parent may itself be known so, through its own parent (the last level
+// of a limit plan read through its grandparent, the level between never built). Classifying the few vertices next to
+// a crease needs no more.
 class VertexNeighbourhood {
 public:
     // `history`: where known, the vertex counts of the levels up to this one, the base's first (a plan's
