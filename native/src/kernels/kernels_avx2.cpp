@@ -116,6 +116,18 @@ constexpr auto smooth_edge = [](__m128 a, __m128 b, __m128 c, __m128 d) {
 // A step of a tangent's sum (kernels_limit.h).
 constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_fmadd_ps(w, d, sum); };
 
+// Eight rows of three floats, x0 y0 z0 x1 ... z7, in three 32-byte stores, from the lanes of x, y and z: to_x, to_y and
+// to_z permute each coordinate so that its lanes are where the stores want them (x at 0, 3, 6 of the first, 1, 4, 7 of
+// the second, 2, 5 of the third; y and z in turn after it), which blends then pick.
+void store_eight_rows(float* rows, __m256 x, __m256 y, __m256 z, __m256i to_x, __m256i to_y, __m256i to_z) {
+    const __m256 px = _mm256_permutevar8x32_ps(x, to_x), py = _mm256_permutevar8x32_ps(y, to_y),
+                 pz = _mm256_permutevar8x32_ps(z, to_z);
+    constexpr int k147 = 0x92, k25 = 0x24;  // lanes 1, 4, 7 and lanes 2, 5
+    _mm256_storeu_ps(rows, _mm256_blend_ps(_mm256_blend_ps(px, py, k147), pz, k25));
+    _mm256_storeu_ps(rows + 8, _mm256_blend_ps(_mm256_blend_ps(pz, px, k147), py, k25));
+    _mm256_storeu_ps(rows + 16, _mm256_blend_ps(_mm256_blend_ps(py, pz, k147), px, k25));
+}
+
 // The unit normals t1 x t2 of eight tangent pairs (x, y, z in a quad's first lanes), as eight rows of three at `rows`:
 // the tangents turned into x, y and z registers of eight lanes, the reference's float arithmetic (limit_normals.h)
 // with fused multiply-adds, zero where the tangents do not span a plane.
@@ -136,17 +148,10 @@ struct UnitNormals {
         z = _mm256_shuffle_ps(z_0123, z_4567, _MM_SHUFFLE(1, 0, 1, 0));
     }
 
-    // Eight rows x0 y0 z0 x1 ... z7 from across()'s lanes: each coordinate permuted so that its lanes are where the
-    // three 32-byte stores want them (x at 0, 3, 6 of the first, 1, 4, 7 of the second, 2, 5 of the third), then
-    // blended.
+    // Eight rows x0 y0 z0 x1 ... z7 from across()'s lanes.
     static void store_rows(float* rows, __m256 x, __m256 y, __m256 z) {
-        const __m256 px = _mm256_permutevar8x32_ps(x, _mm256_setr_epi32(0, 5, 3, 4, 2, 7, 1, 6));
-        const __m256 py = _mm256_permutevar8x32_ps(y, _mm256_setr_epi32(6, 0, 5, 3, 4, 2, 7, 1));
-        const __m256 pz = _mm256_permutevar8x32_ps(z, _mm256_setr_epi32(1, 6, 0, 5, 3, 4, 2, 7));
-        constexpr int k147 = 0x92, k25 = 0x24;  // lanes 1, 4, 7 and lanes 2, 5
-        _mm256_storeu_ps(rows, _mm256_blend_ps(_mm256_blend_ps(px, py, k147), pz, k25));
-        _mm256_storeu_ps(rows + 8, _mm256_blend_ps(_mm256_blend_ps(pz, px, k147), py, k25));
-        _mm256_storeu_ps(rows + 16, _mm256_blend_ps(_mm256_blend_ps(py, pz, k147), px, k25));
+        store_eight_rows(rows, x, y, z, _mm256_setr_epi32(0, 5, 3, 4, 2, 7, 1, 6),
+                         _mm256_setr_epi32(6, 0, 5, 3, 4, 2, 7, 1), _mm256_setr_epi32(1, 6, 0, 5, 3, 4, 2, 7));
     }
 
     // The cross product of tangents a and b, and its squared length.
@@ -309,6 +314,10 @@ struct PatchAvx2 {
         return _mm256_and_ps(_mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ), _mm256_div_ps(_mm256_set1_ps(1.0f), x));
     }
     static void store(float* p, Vec v) { _mm256_storeu_ps(p, v); }
+    static void store_rows(float* rows, Vec x, Vec y, Vec z) {  // the lanes in row order
+        store_eight_rows(rows, x, y, z, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5),
+                         _mm256_setr_epi32(5, 0, 3, 6, 1, 4, 7, 2), _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+    }
 };
 
 void patch_avx2(const float points[kPatchPoints][4], const float* weights, int count, int stride, float* positions,

@@ -8,8 +8,9 @@
 //   V::max_magnitude(a, b, c)      the largest of |a|, |b|, |c|
 //   V::reciprocal_or_zero(x)       1 / x where x > 0, else 0
 //   V::store(p, v)
+//   V::store_rows(rows, x, y, z)   kWidth rows of three floats from the lanes of x, y and z
 // Reading a block's stride of weights (the block's samples padded with zeros to a multiple of 8), the kernel computes
-// whole vectors and writes only the block's samples.
+// whole vectors and writes only the block's samples: whole vectors as rows, the last part of one lane by lane.
 #pragma once
 
 #include "kernels/kernels.h"
@@ -45,9 +46,15 @@ void patch_pass(const float points[kPatchPoints][4], const float* weights, int c
                           V::subtract(V::multiply(s[0], t[1]), V::multiply(s[1], t[0]))};
         const Vec unit =
             V::unit_factor(V::multiply_add(n[0], n[0], V::multiply_add(n[1], n[1], V::multiply(n[2], n[2]))));
-        alignas(32) float out[6][W];
-        for (int c = 0; c < 3; ++c) V::store(out[c], sum[0][c]), V::store(out[3 + c], V::multiply(n[c], unit));
+        const Vec normal[3] = {V::multiply(n[0], unit), V::multiply(n[1], unit), V::multiply(n[2], unit)};
         const int lanes = count - first < W ? count - first : W;
+        if (lanes == W) {
+            V::store_rows(positions + 3 * std::size_t(first), sum[0][0], sum[0][1], sum[0][2]);
+            V::store_rows(normals + 3 * std::size_t(first), normal[0], normal[1], normal[2]);
+            continue;
+        }
+        alignas(32) float out[6][W];
+        for (int c = 0; c < 3; ++c) V::store(out[c], sum[0][c]), V::store(out[3 + c], normal[c]);
         for (int l = 0; l < lanes; ++l)
             for (int c = 0; c < 3; ++c) {
                 positions[3 * std::size_t(first + l) + std::size_t(c)] = out[c][l];

@@ -66,6 +66,13 @@ inline void next_edge_points(const Tables& t, const QuadSource<Step>& in, int e,
 // A step of a tangent's sum (kernels_limit.h): the reference's multiply, then add.
 constexpr auto multiply_add = [](__m128 w, __m128 d, __m128 sum) { return _mm_add_ps(sum, _mm_mul_ps(w, d)); };
 
+// Four rows of three floats, x0 y0 z0 x1 ... z3, from the lanes of x, y and z: transposed into quads, stored in three.
+void store_four_rows(float* rows, __m128 x, __m128 y, __m128 z) {
+    __m128 unused = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(x, y, z, unused);
+    PackedRows3{rows}.store_four(0, x, y, z, unused);
+}
+
 // The unit normals t1 x t2 of four tangent pairs (x, y, z in a quad's first lanes), as four rows of three at `rows`:
 // the reference's float arithmetic per lane (limit_normals.cpp), zero where the tangents do not span a plane.
 struct UnitNormals {
@@ -104,10 +111,7 @@ struct UnitNormals {
         }
         const __m128 positive = _mm_cmpgt_ps(squared, _mm_setzero_ps());
         const __m128 inverse = _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(1.0f), _mm_sqrt_ps(squared)));
-        __m128 x = _mm_mul_ps(n[0], inverse), y = _mm_mul_ps(n[1], inverse), z = _mm_mul_ps(n[2], inverse);
-        __m128 unused = _mm_setzero_ps();
-        _MM_TRANSPOSE4_PS(x, y, z, unused);
-        PackedRows3{rows}.store_four(0, x, y, z, unused);
+        store_four_rows(rows, _mm_mul_ps(n[0], inverse), _mm_mul_ps(n[1], inverse), _mm_mul_ps(n[2], inverse));
     }
 };
 constexpr UnitNormals unit_normals;
@@ -201,6 +205,7 @@ struct PatchSse41 {
         return _mm_and_ps(_mm_cmpgt_ps(x, _mm_setzero_ps()), _mm_div_ps(_mm_set1_ps(1.0f), x));
     }
     static void store(float* p, Vec v) { _mm_storeu_ps(p, v); }
+    static void store_rows(float* rows, Vec x, Vec y, Vec z) { store_four_rows(rows, x, y, z); }
 };
 
 void patch_sse41(const float points[kPatchPoints][4], const float* weights, int count, int stride, float* positions,

@@ -151,6 +151,10 @@ private:
 };
 #endif
 
+// A point's three floats. std::copy_n of three compiles to a call of memmove, which cost more than the copy once per
+// sample (docs/benchmark.md, "The tessellation's frame").
+void copy_point(const float* from, float* to) { to[0] = from[0], to[1] = from[1], to[2] = from[2]; }
+
 [[noreturn]] void fail(const std::string& message) { throw InputError("tessellation: " + message); }
 
 // what(): the rate's name, made only for the error.
@@ -896,7 +900,7 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
     for (const TessellationImpl::Band& b : d.bands) {
         b.positions.resize(3 * b.vertices.size());
         for (std::size_t v = 0; v < b.vertices.size(); ++v)
-            std::copy_n(positions + 3 * std::size_t(b.vertices[v]), 3, &b.positions[3 * v]);
+            copy_point(positions + 3 * std::size_t(b.vertices[v]), &b.positions[3 * v]);
         const ChannelsView<const float> in = interleaved(b.positions.data(), 3);
         b.limit_points.resize(3 * std::size_t(b.limit->num_output_vertices()));
         b.limit_normals.resize(3 * std::size_t(b.limit->num_limit_normals()));
@@ -908,9 +912,8 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
     }
     constexpr int kPoints = detail::kPatchPoints;
     auto write = [&](std::size_t s, const float* p, const float* n) {
-        if (const std::int32_t point = d.sample_point[s]; point >= 0)
-            std::copy_n(p, 3, points + 3 * std::size_t(point));
-        if (normals) std::copy_n(n, 3, normals + 3 * s);
+        if (const std::int32_t point = d.sample_point[s]; point >= 0) copy_point(p, points + 3 * std::size_t(point));
+        if (normals) copy_point(n, normals + 3 * s);
     };
     // An input triangle that is a patch: its 12 points for the patch kernel, over its block of weights; the positions
     // of the points it places copied out.
@@ -918,18 +921,17 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         const std::int32_t* patch = &d.input_patch_points[std::size_t(d.face_patch[f]) * kPoints];
         alignas(16) float x[kPoints][4] = {};  // a phantom's point is zero, with zero weights
         for (int i = 0; i < kPoints; ++i)
-            if (patch[i] >= 0) std::copy_n(positions + 3 * std::size_t(patch[i]), 3, x[i]);
+            if (patch[i] >= 0) copy_point(positions + 3 * std::size_t(patch[i]), x[i]);
         std::size_t sample = std::size_t(d.face_first_sample[f]);
         for (int part = 0; part < TessellationImpl::kParts; ++part) {
             const std::int32_t b = d.face_blocks[TessellationImpl::kParts * f + std::size_t(part)];
             if (b < 0) continue;
             const TessellationImpl::Block& block = d.blocks[std::size_t(b)];
-            scratch.resize(6 * std::size_t(block.count));
             float* part_normals = normals ? normals + 3 * sample : scratch.data() + 3 * std::size_t(block.count);
             d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), part_normals);
             for (int q = 0; q < block.count; ++q, ++sample)
                 if (const std::int32_t point = d.sample_point[sample]; point >= 0)
-                    std::copy_n(&scratch[3 * std::size_t(q)], 3, points + 3 * std::size_t(point));
+                    copy_point(&scratch[3 * std::size_t(q)], points + 3 * std::size_t(point));
         }
     };
     auto place = [&](std::size_t s) {
@@ -938,8 +940,8 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         const float* x = band.control_points.data();
         float p[3], n[3];
         if (sample.kind == Kind::Vertex) {
-            std::copy_n(&band.limit_points[3 * std::size_t(sample.a)], 3, p);
-            std::copy_n(&band.limit_normals[3 * std::size_t(sample.b)], 3, n);
+            copy_point(&band.limit_points[3 * std::size_t(sample.a)], p);
+            copy_point(&band.limit_normals[3 * std::size_t(sample.b)], n);
         } else {
             PointSums sums;
             if (sample.kind == Kind::Patch) {
@@ -960,9 +962,13 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         }
         write(s, p, n);
     };
+    // Each part's scratch takes the largest block once: resized block by block, it was zeroed again for every face.
+    std::size_t largest_block = 0;
+    for (const TessellationImpl::Block& block : d.blocks)
+        largest_block = std::max(largest_block, std::size_t(block.count));
     detail::run_levels(d.threads, 1, [&](int, int part, int parts) {
         const auto [first, last] = detail::part_of(num_faces, part, parts);
-        std::vector<float> scratch;
+        std::vector<float> scratch(6 * largest_block);
         for (std::size_t f = first; f < last; ++f) {
             if (d.face_patch[f] >= 0) {
                 place_patch_face(f, scratch);
