@@ -10,6 +10,7 @@
 #include "loopsub/tessellation.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <deque>
 #if defined(__SSE2__)
@@ -56,6 +57,7 @@ struct TessellationImpl {
     // plans, on the submesh) with the blocks of weights of its points (kernels.h, PatchFn), one per part of its
     // pattern: its corners, each edge's points, its inner points (-1: none).
     static constexpr int kParts = 5;
+    static constexpr int kInnerPart = kParts - 1;  // a triangle's own points, numbered one after the other
     std::vector<std::int32_t> face_first_sample, face_patch, face_blocks;
     std::vector<std::int32_t> input_patch_points;  // 12 per patch of the input's own points
     // A block per part of a pattern, its rate and its patch's shape, shared by every triangle that has the same: its
@@ -422,7 +424,8 @@ private:
         for (int k = 0; k < 3; ++k)
             for (int i = 1; i < s.rates[k]; ++i, ++p)
                 number[std::size_t(p)] = std::int32_t(s.first_point[k] + (s.along[k] ? i : s.rates[k] - i) - 1);
-        for (; p < int(pattern.points.size()); ++p) number[std::size_t(p)] = std::int32_t(face_first + p - first_inner);
+        for (; p < int(pattern.points.size()); ++p)  // TessellationImpl::kInnerPart
+            number[std::size_t(p)] = std::int32_t(face_first + p - first_inner);
 
         const int first_sample = int(d_.samples.size());
         d_.face_first_sample.push_back(first_sample);
@@ -916,7 +919,7 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         if (normals) copy_point(n, normals + 3 * s);
     };
     // An input triangle that is a patch: its 12 points for the patch kernel, over its block of weights; the positions
-    // of the points it places copied out.
+    // of the points it places copied out, but for its inner points: its own, one after the other, written in place.
     auto place_patch_face = [&](std::size_t f, std::vector<float>& scratch) {
         const std::int32_t* patch = &d.input_patch_points[std::size_t(d.face_patch[f]) * kPoints];
         alignas(16) float x[kPoints][4] = {};  // a phantom's point is zero, with zero weights
@@ -928,6 +931,15 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
             if (b < 0) continue;
             const TessellationImpl::Block& block = d.blocks[std::size_t(b)];
             float* part_normals = normals ? normals + 3 * sample : scratch.data() + 3 * std::size_t(block.count);
+            if (part == TessellationImpl::kInnerPart) {
+                const std::int32_t first_point = d.sample_point[sample];
+                for (int q = 0; q < block.count; ++q)
+                    assert(d.sample_point[sample + std::size_t(q)] == first_point + q);
+                d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride,
+                               points + 3 * std::size_t(first_point), part_normals);
+                sample += std::size_t(block.count);
+                continue;
+            }
             d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), part_normals);
             for (int q = 0; q < block.count; ++q, ++sample)
                 if (const std::int32_t point = d.sample_point[sample]; point >= 0)
