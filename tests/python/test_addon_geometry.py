@@ -90,6 +90,7 @@ def test_degenerate_and_duplicate_triangles():
     # Three on the same vertices: both later ones are paired with the first; none without triangles.
     assert geometry.duplicate_triangles(triangles[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
     assert geometry.duplicate_triangles(triangles[:0]).tolist() == []
+    assert geometry.duplicate_triangles(triangles[[0, 2, 3]]).tolist() == []  # distinct: no pair, nothing to tell
     # Vertex numbers past what three of fit in one 63-bit key (2**21 and more).
     far = triangles.astype(np.int64) * 2**21
     assert geometry.duplicate_triangles(far[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
