@@ -3,7 +3,7 @@
 # on the add-on as users install it (build/packaged-addon/, packed by scripts/setup.sh).
 # Usage: scripts/bench_blender.sh [--blender SERIES] [--repeat N] [--only NAME]
 #          SERIES: 3.4 (Debian's Blender, the default), a bpy series of tests/blender/bpy_versions.txt (4.2, 4.5,
-#          5.0, 5.2: Blender as a Python module, build/bpy-SERIES, made by scripts/setup_bpy.sh), or all
+#          5.0, 5.2, 5.3: Blender as a Python module, build/bpy-SERIES, made by scripts/setup_bpy.sh), or all
 #        scripts/bench_blender.sh --gui   (Edit Mode with redraws, in Blender 3.4.1's interface under Xvfb)
 #        scripts/bench_blender.sh --adaptive-scene [FRAMES]   (Adaptive Subdivision against levels on a rendered
 #          scene, in Blender 3.4.1; the pictures side by side in docs/adaptive-scene.png)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up (installs and builds) if needed, then runs every test through one ctest run, which ends with ctest's summary:
 # native (GoogleTest, against OpenSubdiv), CLI, Python (pytest), the packaged Blender add-on in background mode in
-# Debian's Blender 3.4.1 and in the bpy wheels of tests/blender/bpy_versions.txt (4.2, 4.5, 5.0, 5.2; virtual
+# Debian's Blender 3.4.1 and in the bpy wheels of tests/blender/bpy_versions.txt (4.2, 4.5, 5.0, 5.2, 5.3; virtual
 # environments under build/, made by scripts/setup_bpy.sh), and the deep
 # checks: the native, CLI and Python tests again under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/), 60 s
 # of each libFuzzer target (build-fuzz/), and the Windows and ARM64 cross builds checked under wine64 and qemu-user

@@ -1,5 +1,5 @@
 """What differs between Blender versions in normals, seams and shading, checked as an artist meets it, in whichever
-Blender runs this (3.4.1 and the bpy wheels 4.2, 4.5, 5.0, 5.2 here):
+Blender runs this (3.4.1 and the bpy wheels 4.2, 4.5, 5.0, 5.2, 5.3 here):
 
 - Custom normals (docs/addon.md, Normals): a cage that shades with custom normals of its own gives a result that
   shades with them, interpolated per face (as corner attributes are) and normalised, with Use Limit Surface on or off,
