@@ -158,7 +158,7 @@ class Refined:
 
     def corner_normals(self):
         """The limit normals per output corner, (T_out, 3, 3): a new array."""
-        return self.normals[self.normal_indices()]
+        return geometry.take_rows(self.normals, self.normal_indices())
 
     def vertex_normals(self):
         """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no crease
@@ -349,7 +349,8 @@ class Source:
         else:
             vertex = native.run(plan.evaluate, self.vertex.packed(), out)
         uvs = [None if unchanged(2 + layer, values)
-               else native.run(plan.evaluate_face_varying, values, layer=layer)[plan.face_varying_indices(layer)]
+               else geometry.take_rows(native.run(plan.evaluate_face_varying, values, layer=layer),
+                                       plan.face_varying_indices(layer))
                for layer, (_, values) in enumerate(self.uv_layers)]
         corners = None
         if self.corners.parts:

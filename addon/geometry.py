@@ -90,6 +90,13 @@ def lookup_edges(table_pairs, query_pairs, num_vertices):
     return np.where(sorted_keys[pos] == query, order[pos], -1)
 
 
+def take_rows(values, indices):
+    """values' rows (along the first axis) at indices, in indices' shape: np.take, which copies a row at a time, where
+    numpy's fancy indexing of rows of a few values copies value by value, 2-7 times slower on the millions of corners
+    of a result (docs/benchmark.md, "An artist's mesh read for Apply")."""
+    return np.take(values, indices, axis=0)
+
+
 def degenerate_triangles(triangles):
     t = triangles
     return np.flatnonzero((t[:, 0] == t[:, 1]) | (t[:, 1] == t[:, 2]) | (t[:, 2] == t[:, 0]))
@@ -189,7 +196,7 @@ def interpolate_in_triangles(corner_values, parents, parameters):
     """Values at points of triangles, linearly from the corners: corner_values (T, 3, C) per triangle corner, parents
     (P,) each point's triangle, parameters (P, 2) its (u, v) there (corner 0 + u (corner 1 - corner 0) + v (corner 2
     - corner 0)). Returns (P, C) float32."""
-    corners = np.asarray(corner_values, dtype=np.float32)[parents]
+    corners = take_rows(np.asarray(corner_values, dtype=np.float32), parents)
     u, v = parameters[:, 0:1], parameters[:, 1:2]
     return corners[:, 0] + u * (corners[:, 1] - corners[:, 0]) + v * (corners[:, 2] - corners[:, 0])
 
@@ -275,7 +282,7 @@ def inherit_edge_values(values, parents, default=0):
     values = np.asarray(values)
     out = np.full((len(parents),) + values.shape[1:], default, dtype=values.dtype)
     on_edge = parents >= 0
-    out[on_edge] = values[parents[on_edge]]
+    out[on_edge] = take_rows(values, parents[on_edge])
     return out
 
 

@@ -108,7 +108,8 @@ class TessellationOutput:
         if self._edge_parents is None:
             sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
             side_edges = geometry.lookup_edges(cage.edge_vertices, sides, cage.num_vertices).reshape(-1, 3)
-            corner_parameters = self.tessellation.face_point_parameters[self.tessellation.corner_face_points]
+            corner_parameters = geometry.take_rows(self.tessellation.face_point_parameters,
+                                                   self.tessellation.corner_face_points)
             self._edge_parents = geometry.tessellated_edge_parents(
                 self._output_edges()[1], geometry.tessellated_edge_sides(corner_parameters), self.parent_triangles,
                 side_edges, len(edges))
@@ -160,14 +161,16 @@ class TessellationOutput:
 
         vertex = points
         if source.vertex.width > 3:
-            vertex = per_face_point(source.vertex.packed()[cage.triangles])[self.point_face_point]
+            vertex = geometry.take_rows(per_face_point(geometry.take_rows(source.vertex.packed(), cage.triangles)),
+                                        self.point_face_point)
             vertex[:, source.vertex.columns["position"]] = points
 
         def per_corner(corner_values):
-            return per_face_point(corner_values)[tessellation.corner_face_points]
+            return geometry.take_rows(per_face_point(corner_values), tessellation.corner_face_points)
 
         uvs = [None if unchanged(2 + layer, values)
-               else native.run(tessellation.evaluate_face_varying, values, layer=layer)[tessellation.corner_face_points]
+               else geometry.take_rows(native.run(tessellation.evaluate_face_varying, values, layer=layer),
+                                       tessellation.corner_face_points)
                for layer, (_, values) in enumerate(source.uv_layers)]
         corners = None
         if source.corners.parts:

@@ -153,7 +153,7 @@ def _write_face_data(new, source, parent_polygons):
             add_attribute(new, "material_index", 'FACE', 'INT', materials)
     compat.write_smooth(new, None if source.smooth.all() else source.smooth[parent_polygons])
     for (name, domain, data_type), values in zip(source.face, source.face_values):
-        add_attribute(new, name, domain, data_type, values[parent_polygons])
+        add_attribute(new, name, domain, data_type, geometry.take_rows(values, parent_polygons))
 
 
 def _write_creases(new, cage, output, options, new_edges):
