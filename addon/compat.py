@@ -284,10 +284,25 @@ def read_edge_flags(mesh):
     attributes, absent while no edge has the mark."""
     count = len(mesh.edges)
     if not READS_ATTRIBUTES:
-        return {prop: read_array(mesh.edges, prop, count, 1, np.bool_) for prop in ("use_seam", "use_edge_sharp")}
-    seam = SEAM_ATTRIBUTE if NAMES_SEAMS_AND_NORMALS else "." + SEAM_ATTRIBUTE
-    return {"use_seam": _read_attribute(mesh, seam, count, np.bool_),
-            "use_edge_sharp": _read_attribute(mesh, "sharp_edge", count, np.bool_)}
+        return {prop: read_array(mesh.edges, prop, count, 1, np.bool_) for prop in _EDGE_FLAG_ATTRIBUTES}
+    return {prop: _read_attribute(mesh, name, count, np.bool_) for prop, name in _EDGE_FLAG_ATTRIBUTES.items()}
+
+
+def write_edge_flags(mesh, flags):
+    """Marks on a new mesh's edges, read_edge_flags' keys each with (E,) bool: from 4.0 through their attributes, one
+    block each, where MeshEdge's collection goes an edge at a time (160 ms for 1.9 million edges in 5.3)."""
+    for prop, values in flags.items():
+        values = np.ascontiguousarray(values, dtype=bool)
+        if not READS_ATTRIBUTES:
+            mesh.edges.foreach_set(prop, values)
+            continue
+        name = _EDGE_FLAG_ATTRIBUTES[prop]
+        (mesh.attributes.get(name) or mesh.attributes.new(name, 'BOOLEAN', 'EDGE')).data.foreach_set("value", values)
+
+
+# The edge marks and the attributes that hold them from 4.0.
+_EDGE_FLAG_ATTRIBUTES = {"use_seam": SEAM_ATTRIBUTE if NAMES_SEAMS_AND_NORMALS else "." + SEAM_ATTRIBUTE,
+                         "use_edge_sharp": "sharp_edge"}
 
 
 def read_face_materials_and_smooth(mesh):

@@ -143,25 +143,42 @@ def _equal_rows(x, y):
 
 
 def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
-    """For each edge (a, b) of the last level, the cage edge it lies on (index into cage_edges), -1 for edges inside
-    a cage face.
+    """For each edge of the last level, in Plan.output_edges' order, the cage edge it lies on (index into cage_edges),
+    -1 for edges inside a cage face. level_edges[l] (E_l, 2) and level_num_vertices[l] are the plan's, for levels 0
+    to levels - 1; with no levels, pairs are the cage triangles' own edges.
 
-    Walks up the core's numbering (loopsub.h): a level-(l+1) edge touches the new vertex V_l + e of level-l edge e;
-    it is a half of e when its other end is an end of e, and an edge inside a face when both ends are new vertices.
-    level_edges[l] (E_l, 2) and level_num_vertices[l] are the plan's, for l = levels - 1 down to 0."""
-    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
-    a, b = pairs[:, 0], pairs[:, 1]
-    on_edge = np.ones(len(pairs), dtype=bool)
+    The output's numbering names the level before's edge (docs/python.md, Output order): edge i < 2 E is a half of
+    edge i >> 1 there, the others lie inside faces; a half lies on the cage edge its parent lies on."""
+    if not len(level_edges):
+        return lookup_edges(cage_edges, pairs, num_cage_vertices)
+    before = np.asarray(level_edges[-1]).reshape(-1, 2)
+    above = _parents_by_vertices(before, level_edges[:-1], level_num_vertices[:-1], cage_edges, num_cage_vertices)
+    half_of = np.arange(len(pairs)) >> 1
+    return np.where(half_of < len(before), np.take(above, half_of, mode="clip"), -1)
+
+
+def _parents_by_vertices(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
+    """parent_edges for edges (a, b) of a level in any order, walking up the levels by their vertices (loopsub.h): a
+    level-(l+1) edge touches the new vertex V_l + e of level-l edge e; it is a half of e when its other end is an end
+    of e, and an edge inside a face when both ends are new vertices. Only the halves go on up; the first level's
+    edges are looked up among the cage's once."""
+    pairs = np.asarray(pairs).reshape(-1, 2)
+    if not len(level_edges):
+        return lookup_edges(cage_edges, pairs, num_cage_vertices)
+    parents = np.full(len(pairs), -1, dtype=np.int64)
+    rows, a, b = np.arange(len(pairs)), pairs[:, 0], pairs[:, 1]  # the pairs that lie on an edge of the level above
     for edges, num_vertices in zip(reversed(level_edges), reversed(level_num_vertices)):
-        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
-        a_new, b_new = a >= num_vertices, b >= num_vertices
-        edge = np.clip(np.where(a_new, a, b) - num_vertices, 0, max(len(edges) - 1, 0))
+        a_new = a >= num_vertices
+        half = np.flatnonzero(a_new != (b >= num_vertices))  # one end the midpoint of an edge: maybe its half
+        a_new, a, b = a_new[half], np.take(a, half), np.take(b, half)
+        edge = np.where(a_new, a, b) - num_vertices
         other = np.where(a_new, b, a)
-        ends = edges[edge] if len(edges) else np.zeros((len(edge), 2), np.int64)
-        on_edge &= (a_new != b_new) & ((ends[:, 0] == other) | (ends[:, 1] == other))
-        a, b = ends[:, 0], ends[:, 1]
-    found = lookup_edges(cage_edges, np.stack([a, b], axis=1), num_cage_vertices)
-    return np.where(on_edge, found, -1)
+        ends = take_rows(np.asarray(edges).reshape(-1, 2), edge)
+        on = np.flatnonzero((ends[:, 0] == other) | (ends[:, 1] == other))
+        rows, edge = np.take(rows, np.take(half, on)), np.take(edge, on)
+        a, b = np.take(ends[:, 0], on), np.take(ends[:, 1], on)
+    parents[rows] = take_rows(lookup_edges(cage_edges, level_edges[0], num_cage_vertices), edge)
+    return parents
 
 
 # How far a face point's parameters may be from a side of its triangle and still lie on it: parameters are multiples

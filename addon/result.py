@@ -178,8 +178,7 @@ def _write_edge_data(new, source, output, new_edges):
         return None
     parents = output.edge_parents(new_edges, source.cage)
     inherited = {prop: geometry.inherit_edge_values(values, parents) for prop, values in flags.items()}
-    for prop, values in inherited.items():
-        new.edges.foreach_set(prop, values)
+    compat.write_edge_flags(new, inherited)
     for (name, domain, data_type), values in zip(source.edge, source.edge_values):
         add_attribute(new, name, domain, data_type, geometry.inherit_edge_values(values, parents))
     return inherited.get("use_edge_sharp")

@@ -96,13 +96,16 @@ def test_degenerate_and_duplicate_triangles():
     assert geometry.duplicate_triangles(far[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
 
 
-def test_parent_edges_follow_the_cage_edges():
+@pytest.mark.parametrize("levels", [0, 1, 2, 3])
+def test_parent_edges_follow_the_cage_edges(levels):
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
     cage_edges = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32)
-    levels = 2
     plan = _loopsub.Plan(triangles, 4, levels, rules="opensubdiv")
     t = plan.triangles
-    pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
+    if levels:
+        pairs = plan.output_edges()[0]
+    else:
+        pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
     parents = geometry.parent_edges(pairs, [plan.level_edges(level) for level in range(levels)],
                                     [plan.level_num_vertices(level) for level in range(levels)], cage_edges, 4)
     # Placed linearly (positions as face-varying data), a child edge lies on the cage edge it names, and on none
