@@ -93,7 +93,7 @@ def lookup_edges(table_pairs, query_pairs, num_vertices):
 def take_rows(values, indices):
     """values' rows (along the first axis) at indices, in indices' shape: np.take, which copies a row at a time, where
     numpy's fancy indexing of rows of a few values copies value by value, 2-7 times slower on the millions of corners
-    of a result (docs/benchmark.md, "An artist's mesh read for Apply")."""
+    of a result (docs/benchmark.md, "an artist's mesh applied")."""
     return np.take(values, indices, axis=0)
 
 
@@ -108,7 +108,7 @@ def duplicate_triangles(triangles):
     Each triangle's three vertices, ordered by minimum and maximum (numpy's sort along rows of three is many times
     slower), become one integer where three vertex numbers fit in 63 bits (below 2 million vertices). Most meshes have
     no pair, which a plain sort of the integers shows at a fraction of the stable one that orders the pairs
-    (docs/benchmark.md, "An artist's mesh read for Apply")."""
+    (docs/benchmark.md, "an artist's mesh applied")."""
     t = np.asarray(triangles).reshape(-1, 3)
     low = np.minimum(np.minimum(t[:, 0], t[:, 1]), t[:, 2]).astype(np.int64)
     high = np.maximum(np.maximum(t[:, 0], t[:, 1]), t[:, 2]).astype(np.int64)

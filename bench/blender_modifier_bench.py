@@ -9,7 +9,8 @@ animation playback. Prints medians; run with scripts/bench_blender.sh (or blende
   (Blender's icosphere unwrap, seams included); times per output vertex too, since Catmull-Clark of triangles makes
   more vertices than Loop. Ratios compare like with like (limit on with limit on). And the 200x200 grid left as
   quads, as artists model it: Subdivision Surface gets the quads, the add-on triangulates them itself (Blender's
-  tessellation; the same vertex count at level 2 on both sides).
+  tessellation; the same vertex count at level 2 on both sides); the same with seams marked along its middle lines,
+  which both carry onto the child edges.
 - Edit: every cage vertex moves, then the evaluated mesh is asked for (what a viewport redraw waits on), on a
   100,352-triangle grid at level 1, limit surface on (both defaults) and off.
 - Playback: frames per second of a Wave-deformed 20,480-triangle icosphere at level 2 (the Wave modifier, animated
@@ -59,6 +60,16 @@ def mesh_object(name, build, triangulate=True):
 
 def grid(cuts):
     return lambda bm: bmesh.ops.create_grid(bm, x_segments=cuts, y_segments=cuts, size=1.0)
+
+
+def seamed_grid(cuts):
+    """A grid cut for its UV map as artists cut one: seams along its two middle lines."""
+    def build(bm):
+        bmesh.ops.create_grid(bm, x_segments=cuts, y_segments=cuts, size=1.0)
+        for edge in bm.edges:
+            a, b = (vertex.co for vertex in edge.verts)
+            edge.seam = any(abs(a[axis]) < 1e-6 and abs(b[axis]) < 1e-6 for axis in (0, 1))
+    return build
 
 
 def icosphere(subdivisions, uvs=False):
@@ -216,6 +227,7 @@ print(f"Blender {bpy.app.version_string}, medians of {args.repeat}")
 rows = [
     (apply_rows, "grid 200x200 (80,000 tris)", grid(200), 2, {}),
     (apply_rows, "quad grid 200x200 (40,000 quads)", grid(200), 2, {"triangulate": False}),
+    (apply_rows, "quad grid with seams 200x200", seamed_grid(200), 2, {"triangulate": False}),
     (apply_rows, "icosphere (20,480 tris)", icosphere(5), 3, {}),
     (apply_rows, "icosphere with UVs (20,480 tris)", icosphere(5, uvs=True), 3, {}),
     (edit_rows, "grid 224x224 (100,352 tris)", grid(224), 1, {}),
