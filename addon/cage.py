@@ -294,7 +294,6 @@ class Source:
             self.corners.add(("attribute", name),
                              read_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
         self.custom_normals = compat.custom_normals_in_use(mesh)
-        self.free_normals = self.custom_normals and compat.has_free_normals(mesh)  # 4.5+: the result's are free too
         if self.custom_normals:
             self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])
         # The result shades with the limit normals as custom normals, on smooth faces (normals.write_limit_normals).
@@ -315,7 +314,7 @@ class Source:
         """What, besides the plan, fixes the result's structure and its non-interpolated data: while it and the plan
         stay the same, a result can be updated in place (update_mesh) instead of built anew."""
         return (tuple(self.point), tuple(self.corner), tuple(self.face), tuple(self.uv_names), self.custom_normals,
-                self.free_normals, self.limit_normals,
+                self.limit_normals,
                 tuple(self.edge), tuple(self.group_names), self.group_weights, self.materials, self.smooth,
                 *self.face_values, *self.edge_values, *self.edge_flags.values(), self.cage.edge_weights,
                 self.cage.vertex_weights)

