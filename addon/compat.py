@@ -573,6 +573,15 @@ def custom_normals_in_use(mesh):
     return mesh.has_custom_normals and shades_sharp_edges(mesh)
 
 
+def own_corner_normals(mesh):
+    """The normals Blender gives a mesh's corners of itself, (L, 3) float32: split at marked sharp edges, the face
+    normal on a flat face. Free normals it has go first (4.5+: a result's own, written again after)."""
+    existing = mesh.attributes.get(CUSTOM_NORMAL_ATTRIBUTE) if NAMES_SEAMS_AND_NORMALS else None
+    if existing is not None:
+        mesh.attributes.remove(existing)
+    return read_corner_normals(mesh)
+
+
 def read_corner_normals(mesh):
     """The normal Blender shades each corner (loop) with, custom split normals included: (L, 3) float32.
 
