@@ -95,11 +95,14 @@ def refresh(obj, depsgraph, render=False):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
+            # Counted first: the operator that writes vertex groups (result._write_vertex_groups) evaluates the
+            # depsgraph, which frees `mesh`.
+            input_points = len(mesh.vertices)
             _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options, depsgraph, render)
             # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
             # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
             stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
-            stack.set_input_guard(helper, len(mesh.vertices) if stacked else 0)
+            stack.set_input_guard(helper, input_points if stacked else 0)
         finally:
             evaluated.to_mesh_clear()
     finally:

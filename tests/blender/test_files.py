@@ -12,6 +12,7 @@ Surface; and Blender's own Apply of an entry that is not first.
   compat.STALE_RESULT_OUTPUT says; never the mirrored result baked into the half cage under the Mirror. The panel
   says so where the entry is not first.
 """
+import io
 import os
 import sys
 import tempfile
@@ -143,17 +144,30 @@ def first_layout(folder):
           "a file with the first layout of the node group opens with the current one and the same result")
 
 
-def blender_apply_not_first():
+def mirrored_apply(grouped):
+    """Blender's Apply of an entry under a Mirror; grouped: the cage has a vertex group, which the result's update
+    writes through an operator that evaluates the depsgraph (and so frees the evaluated input it read)."""
+    what = " (the cage with a vertex group)" if grouped else ""
     support.clear_scene()
     obj = sphere("Mirrored")
+    if grouped:
+        obj.vertex_groups.new(name="Weights").add(range(len(obj.data.vertices)), 0.5, 'REPLACE')
     obj.modifiers.new("Mirror", 'MIRROR')
     support.select_only(obj)
-    bpy.ops.object.loop_subdivision_add(levels=1)
+    saved, sys.stderr = sys.stderr, io.StringIO()
+    try:
+        bpy.ops.object.loop_subdivision_add(levels=1)
+        evaluated(obj)
+    finally:
+        printed, sys.stderr = sys.stderr.getvalue(), saved
+        sys.stderr.write(printed)
+    check("Error" not in printed, f"adding the entry raises nothing in Blender's handlers{what} ({printed.strip()!r})")
     cage = support.positions(obj.data)
     _, faces = evaluated(obj)
-    check(faces == 2 * 4 * len(obj.data.polygons), "the entry subdivides what the Mirror above makes")
+    check(faces == 2 * 4 * len(obj.data.polygons), f"the entry subdivides what the Mirror above makes{what}")
     notes = support.panel_labels(ui, obj, stack.entry(obj))
-    check(any("Blender's Apply" in note for note in notes), f"the panel says what Blender's Apply does here ({notes})")
+    check(any("Blender's Apply" in note for note in notes),
+          f"the panel says what Blender's Apply does here{what} ({notes})")
     try:
         with bpy.context.temp_override(object=obj, active_object=obj):
             result = bpy.ops.object.modifier_apply(modifier=stack.entry(obj).name)
@@ -164,12 +178,16 @@ def blender_apply_not_first():
     unchanged = np.array_equal(support.positions(obj.data), cage)
     if compat.STALE_RESULT_OUTPUT == 'NOTHING':
         check(refused and "does not contain a mesh" in result and unchanged and kinds == ['MIRROR', 'NODES'],
-              f"Blender's Apply of an entry under a Mirror refuses and changes nothing ({result})")
+              f"Blender's Apply of an entry under a Mirror refuses and changes nothing{what} ({result})")
     else:
         check(result == {'FINISHED'} and unchanged and kinds == ['MIRROR'],
-              "Blender's Apply of an entry under a Mirror leaves the mesh as it was (3.4 applies no refusal)")
-    check(evaluated(obj)[1] in (faces, 2 * len(obj.data.polygons)), "no face is doubled under the Mirror")
+              f"Blender's Apply of an entry under a Mirror leaves the mesh as it was (3.4 applies no refusal){what}")
+    check(evaluated(obj)[1] in (faces, 2 * len(obj.data.polygons)), f"no face is doubled under the Mirror{what}")
 
+
+def blender_apply_not_first():
+    for grouped in (False, True):
+        mirrored_apply(grouped)
     # With the Mirror off in the viewport the entry acts first, and Blender's Apply bakes its result.
     support.clear_scene()
     obj = sphere("MirrorOff")
