@@ -186,15 +186,21 @@ def _parents_by_vertices(pairs, level_edges, level_num_vertices, cage_edges, num
 _ON_SIDE = 1e-6
 
 
-def tessellated_edge_sides(corner_parameters):
+def tessellated_edge_sides(corner_face_points, face_point_parameters):
     """For edge k of each triangle of a tessellation (from corner k to k + 1), the side of its parent triangle it lies
-    on, -1 inside: corner_parameters (T, 3, 2) are each corner's (u, v) in the parent (Tessellation's
-    face_point_parameters of its corner_face_points), side 0 running from corner 0 to 1 (v = 0), side 1 from 1 to 2
-    (u + v = 1), side 2 from 2 to 0 (u = 0). Returns (T, 3) int8."""
-    u, v = corner_parameters[..., 0], corner_parameters[..., 1]
-    on = (np.abs(v) < _ON_SIDE) * 1 | (np.abs(u + v - 1) < _ON_SIDE) * 2 | (np.abs(u) < _ON_SIDE) * 4
-    shared = on & np.roll(on, -1, axis=1)  # both ends on one side: two corners share at most one
-    return np.select([shared == 1, shared == 2, shared == 4], [0, 1, 2], -1).astype(np.int8)
+    on, -1 inside: corner_face_points (T, 3) and face_point_parameters (P, 2), the Tessellation's, each face point's
+    (u, v) in its triangle, side 0 running from corner 0 to 1 (v = 0), side 1 from 1 to 2 (u + v = 1), side 2 from 2
+    to 0 (u = 0). Returns (T, 3) int8. The sides are found per face point and gathered per corner as bytes, not from
+    each corner's parameters, 16 times the bytes."""
+    u, v = face_point_parameters[:, 0], face_point_parameters[:, 1]
+    on = (np.abs(v) < _ON_SIDE).view(np.uint8) | (np.abs(u + v - 1) < _ON_SIDE).view(np.uint8) << 1
+    on |= (np.abs(u) < _ON_SIDE).view(np.uint8) << 2
+    corners = np.take(on, corner_face_points)
+    shared = corners & corners[:, [1, 2, 0]]  # both ends on one side: two corners share at most one
+    return np.take(_SIDE_OF_FLAGS, shared)
+
+
+_SIDE_OF_FLAGS = np.array([-1, 0, 1, -1, 2, -1, -1, -1], dtype=np.int8)  # the side of each single flag, else -1
 
 
 def tessellated_edge_parents(triangle_edges, edge_sides, parent_triangles, side_edges, num_edges):
@@ -203,9 +209,9 @@ def tessellated_edge_parents(triangle_edges, edge_sides, parent_triangles, side_
     (T_cage, 3) the cage edge of each side of each cage triangle (-1 where it is none, as a diagonal Blender's
     triangulation of an n-gon added)."""
     parents = np.full(num_edges, -1, dtype=np.int64)
-    on_side = edge_sides >= 0
-    sides_of = np.broadcast_to(np.asarray(parent_triangles)[:, None], edge_sides.shape)
-    parents[triangle_edges[on_side]] = side_edges[sides_of[on_side], edge_sides[on_side]]
+    on_side = np.flatnonzero(np.asarray(edge_sides).ravel() >= 0)  # triangle 3 t + k's edge k
+    cage_sides = np.take(parent_triangles, on_side // 3) * 3 + np.take(edge_sides, on_side)
+    parents[np.take(triangle_edges, on_side)] = np.take(side_edges, cage_sides)
     return parents
 
 

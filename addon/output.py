@@ -108,11 +108,10 @@ class TessellationOutput:
         if self._edge_parents is None:
             sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
             side_edges = geometry.lookup_edges(cage.edge_vertices, sides, cage.num_vertices).reshape(-1, 3)
-            corner_parameters = geometry.take_rows(self.tessellation.face_point_parameters,
-                                                   self.tessellation.corner_face_points)
+            sides_of_edges = geometry.tessellated_edge_sides(self.tessellation.corner_face_points,
+                                                             self.tessellation.face_point_parameters)
             self._edge_parents = geometry.tessellated_edge_parents(
-                self._output_edges()[1], geometry.tessellated_edge_sides(corner_parameters), self.parent_triangles,
-                side_edges, len(edges))
+                self._output_edges()[1], sides_of_edges, self.parent_triangles, side_edges, len(edges))
         return self._edge_parents
 
     def has_vertex_creases(self):

@@ -272,7 +272,7 @@ def test_tessellated_edges_find_the_cage_edge_they_lie_on():
     placed[tessellation.triangles.ravel()] = corners.reshape(-1, 2)
     assert np.abs(placed[tessellation.triangles] - corners).max() < 1e-6
     out_edges, triangle_edges = tessellation.output_edges()
-    sides = geometry.tessellated_edge_sides(corner_parameters)
+    sides = geometry.tessellated_edge_sides(tessellation.corner_face_points, tessellation.face_point_parameters)
     side_edges = geometry.lookup_edges(edges, triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), 4).reshape(-1, 3)
     parents = geometry.tessellated_edge_parents(triangle_edges, sides, tessellation.parent_triangles, side_edges,
                                                 len(out_edges))
