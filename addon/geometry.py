@@ -153,8 +153,9 @@ def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_ve
         return lookup_edges(cage_edges, pairs, num_cage_vertices)
     before = np.asarray(level_edges[-1]).reshape(-1, 2)
     above = _parents_by_vertices(before, level_edges[:-1], level_num_vertices[:-1], cage_edges, num_cage_vertices)
-    half_of = np.arange(len(pairs)) >> 1
-    return np.where(half_of < len(before), np.take(above, half_of, mode="clip"), -1)
+    parents = np.full(len(pairs), -1, dtype=np.int64)
+    parents[:2 * len(before)] = np.repeat(above, 2)
+    return parents
 
 
 def _parents_by_vertices(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
