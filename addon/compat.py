@@ -279,6 +279,11 @@ def read_loop_triangles(mesh, corner_vertices):
     return loops, polygons, corner_vertices[loops]
 
 
+# The edge marks and the attributes that hold them from 4.0.
+_EDGE_FLAG_ATTRIBUTES = {"use_seam": SEAM_ATTRIBUTE if NAMES_SEAMS_AND_NORMALS else "." + SEAM_ATTRIBUTE,
+                         "use_edge_sharp": "sharp_edge"}
+
+
 def read_edge_flags(mesh):
     """The edges' seam and sharp marks, as {"use_seam": (E,) bool, "use_edge_sharp": (E,) bool}; from 4.0 boolean
     attributes, absent while no edge has the mark."""
@@ -298,11 +303,6 @@ def write_edge_flags(mesh, flags):
             continue
         name = _EDGE_FLAG_ATTRIBUTES[prop]
         (mesh.attributes.get(name) or mesh.attributes.new(name, 'BOOLEAN', 'EDGE')).data.foreach_set("value", values)
-
-
-# The edge marks and the attributes that hold them from 4.0.
-_EDGE_FLAG_ATTRIBUTES = {"use_seam": SEAM_ATTRIBUTE if NAMES_SEAMS_AND_NORMALS else "." + SEAM_ATTRIBUTE,
-                         "use_edge_sharp": "sharp_edge"}
 
 
 def read_face_materials_and_smooth(mesh):

@@ -7,6 +7,7 @@ raises AssertionError on any failure so that `--python-exit-code 1` fails the ru
 import argparse
 import contextlib
 import importlib
+import io
 import os
 import subprocess
 import sys
@@ -244,6 +245,18 @@ def capture_output(function):
         text = capture.read().decode("utf-8", "replace")
     print(text, end="")
     return result, text
+
+
+def raised_in_handlers(function):
+    """Runs function; returns what Blender printed meanwhile of exceptions raised in handlers (the add-on's updates
+    run in depsgraph_update_post; Blender prints their exceptions to sys.stderr and carries on)."""
+    saved, sys.stderr = sys.stderr, io.StringIO()
+    try:
+        function()
+        return sys.stderr.getvalue()
+    finally:
+        printed, sys.stderr = sys.stderr.getvalue(), saved
+        sys.stderr.write(printed)
 
 
 def tiny_render_camera(distance):

@@ -12,7 +12,6 @@ Surface; and Blender's own Apply of an entry that is not first.
   compat.STALE_RESULT_OUTPUT says; never the mirrored result baked into the half cage under the Mirror. The panel
   says so where the entry is not first.
 """
-import io
 import os
 import sys
 import tempfile
@@ -154,13 +153,7 @@ def mirrored_apply(grouped):
         obj.vertex_groups.new(name="Weights").add(range(len(obj.data.vertices)), 0.5, 'REPLACE')
     obj.modifiers.new("Mirror", 'MIRROR')
     support.select_only(obj)
-    saved, sys.stderr = sys.stderr, io.StringIO()
-    try:
-        bpy.ops.object.loop_subdivision_add(levels=1)
-        evaluated(obj)
-    finally:
-        printed, sys.stderr = sys.stderr.getvalue(), saved
-        sys.stderr.write(printed)
+    printed = support.raised_in_handlers(lambda: (bpy.ops.object.loop_subdivision_add(levels=1), evaluated(obj)))
     check("Error" not in printed, f"adding the entry raises nothing in Blender's handlers{what} ({printed.strip()!r})")
     cage = support.positions(obj.data)
     _, faces = evaluated(obj)

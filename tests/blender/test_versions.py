@@ -16,7 +16,6 @@ Blender runs this (3.4.1 and the bpy wheels 4.2, 4.5, 5.0, 5.2, 5.3 here):
 - 4.0 (not installed here): Mesh.corner_normals is empty there until calc_normals_split() ran;
   compat.read_corner_normals takes the old way on 4.0, which nothing here can run.
 """
-import io
 import os
 import shutil
 import subprocess
@@ -222,18 +221,6 @@ def custom_normals():
             support.remove(obj)
 
 
-def raised_in_handlers(function):
-    """Runs function; returns what Blender printed meanwhile of exceptions raised in handlers (the add-on's updates
-    run in depsgraph_update_post; Blender prints their exceptions to sys.stderr and carries on)."""
-    saved, sys.stderr = sys.stderr, io.StringIO()
-    try:
-        function()
-        return sys.stderr.getvalue()
-    finally:
-        printed, sys.stderr = sys.stderr.getvalue(), saved
-        sys.stderr.write(printed)
-
-
 def edited_values(mesh, positions):
     """What check_edits changes: the positions, or the UV map."""
     return support.positions(mesh) if positions else support.read_array(mesh.uv_layers[0].data, "uv", 2)
@@ -264,7 +251,7 @@ def check_edits(label, obj):
                 obj.data.uv_layers[0].data[alone[edit // 2]].uv[0] += 0.001
             note_expected(obj.data)
             evaluated_mesh(obj)  # the update, in depsgraph_update_post
-        raised = raised_in_handlers(change)
+        raised = support.raised_in_handlers(change)
         raised = raised.strip().splitlines()[-1] if "Traceback" in raised else ""
         worst, storage, length_error = custom_normal_error(obj)
         followed = not np.array_equal(edited_values(evaluated_mesh(obj), moves_vertex), before)
