@@ -588,7 +588,7 @@ void bind_plan(py::module_& m) {
             "holes.")
         .def(
             "output_edges",
-            [](PyPlan& p, py::handle edge_vertices_out, py::handle triangle_edges_out) {
+            [](PyPlan& p, py::handle edge_vertices_out, py::handle triangle_edges_out, py::handle triangles_out) {
                 const std::vector<Dim> edge_dims{{num_output_edges(p), "E_out"}, {2, "2"}};
                 const std::vector<Dim> triangle_dims{{p.plan.num_output_triangles(), "M_out"}, {3, "3"}};
                 auto array = [](py::handle out, const char* name, const std::vector<Dim>& dims) {
@@ -597,23 +597,55 @@ void bind_plan(py::module_& m) {
                 };
                 py::array edge_vertices = array(edge_vertices_out, "edge_vertices", edge_dims);
                 py::array triangle_edges = array(triangle_edges_out, "triangle_edges", triangle_dims);
-                if (overlaps(edge_vertices, triangle_edges))
-                    throw py::value_error("edge_vertices and triangle_edges must not share memory");
+                const bool copy_triangles = !triangles_out.is_none();
+                py::array triangles = copy_triangles ? array(triangles_out, "triangles", triangle_dims) : py::array();
+                if (overlaps(edge_vertices, triangle_edges) ||
+                    (copy_triangles && (overlaps(triangles, edge_vertices) || overlaps(triangles, triangle_edges))))
+                    throw py::value_error("edge_vertices, triangle_edges and triangles must not share memory");
                 auto* ends = static_cast<std::int32_t*>(edge_vertices.mutable_data());
                 auto* sides = static_cast<std::int32_t*>(triangle_edges.mutable_data());
+                auto* corners = copy_triangles ? static_cast<std::int32_t*>(triangles.mutable_data()) : nullptr;
                 {
                     py::gil_scoped_release nogil;
-                    p.plan.output_edges(ends, sides);
+                    p.plan.output_edges(ends, sides, corners);
                 }
                 return py::make_tuple(edge_vertices, triangle_edges);
             },
             py::arg("edge_vertices") = py::none(), py::arg("triangle_edges") = py::none(),
-            "output_edges(edge_vertices=None, triangle_edges=None)\n\n(edge_vertices (E_out, 2) int32, "
-            "triangle_edges (M_out, 3) int32): the output's edges as the last split numbers them (the halves of edge "
-            "e of level levels - 1 are 2e and 2e + 1, the edges inside its face f are 2E + 3f + k), and each output "
-            "triangle's edges (edge k joins corners k and k + 1): a mesh without an edge search. Written into the "
-            "arrays given (C-contiguous, writeable int32 of those shapes, apart in memory: a mesh's own arrays, say), "
-            "else into new ones. ValueError for a plan of no levels or with holes.")
+            py::arg("triangles") = py::none(),
+            "output_edges(edge_vertices=None, triangle_edges=None, triangles=None)\n\n(edge_vertices (E_out, 2) "
+            "int32, triangle_edges (M_out, 3) int32): the output's edges as the last split numbers them (the halves of "
+            "edge e of level levels - 1 are 2e and 2e + 1, the edges inside its face f are 2E + 3f + k), and each "
+            "output triangle's edges (edge k joins corners k and k + 1): a mesh without an edge search. Written into "
+            "the arrays given (C-contiguous, writeable int32 of those shapes, apart in memory: a mesh's own arrays, "
+            "say), else into new ones. Given triangles ((M_out, 3) int32, the same rules), the output triangles are "
+            "copied there in the same pass (a mesh's corner vertices). ValueError for a plan of no levels or with "
+            "holes.")
+        .def(
+            "output_edge_parents",
+            [](PyPlan& p, py::handle side_edges_in, py::handle parents_out) {
+                const std::vector<Dim> side_dims{{p.num_input_triangles, "M"}, {3, "3"}};
+                const py::array side_edges = require_array<std::int32_t>(side_edges_in, "side_edges", side_dims);
+                const std::vector<Dim> parent_dims{{num_output_edges(p), "E_out"}};
+                py::array parents = parents_out.is_none()
+                                        ? py::array(py::array_t<std::int32_t>(parent_dims[0].size))
+                                        : require_array<std::int32_t>(parents_out, "parents", parent_dims, true);
+                if (overlaps(parents, side_edges))
+                    throw py::value_error("side_edges and parents must not share memory");
+                const auto* sides = static_cast<const std::int32_t*>(side_edges.data());
+                auto* out = static_cast<std::int32_t*>(parents.mutable_data());
+                {
+                    py::gil_scoped_release nogil;
+                    p.plan.output_edge_parents(sides, out);
+                }
+                return parents;
+            },
+            py::arg("side_edges"), py::arg("parents") = py::none(),
+            "output_edge_parents(side_edges, parents=None)\n\n(E_out,) int32: for each output edge (output_edges()' "
+            "order), the number of the input edge it lies on, -1 inside an input triangle. side_edges (M, 3) int32: "
+            "per input triangle, the caller's number of its edge k (from corner k to k + 1), -1 for none (a diagonal "
+            "the caller's triangulation added); an edge given several numbers takes the greatest. Written into parents "
+            "when given (C-contiguous, writeable). ValueError for a plan of no levels or with holes.")
         .def(
             "level_num_vertices",
             [](PyPlan& p, int level) {

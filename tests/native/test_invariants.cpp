@@ -183,12 +183,18 @@ TEST_P(Invariants, CountsAndEulerCharacteristic) {
 }
 
 // Plan::output_edges: every distinct edge of the output triangles once (non-manifold ones included), each
-// triangle's edge k joining its corners k and k + 1, the halves of edge e of the level before at 2e and 2e + 1.
+// triangle's edge k joining its corners k and k + 1, the halves of edge e of the level before at 2e and 2e + 1; asked
+// for the triangles too, the same edges and the output triangles as they are.
 TEST_P(Invariants, OutputEdgesAreTheTrianglesEdgesNumberedBySplit) {
     const Plan& plan = *plan_;
     const int num_edges = plan.num_output_edges();
     std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), sides(3 * std::size_t(plan.num_output_triangles()));
     plan.output_edges(ends.data(), sides.data());
+    std::vector<std::int32_t> ends_again(ends.size(), -1), sides_again(sides.size(), -1), copied(sides.size(), -1);
+    plan.output_edges(ends_again.data(), sides_again.data(), copied.data());
+    EXPECT_EQ(ends_again, ends);
+    EXPECT_EQ(sides_again, sides);
+    EXPECT_EQ(copied, std::vector<std::int32_t>(plan.output_triangles(), plan.output_triangles() + sides.size()));
     std::vector<std::array<std::int32_t, 2>> listed;
     for (int e = 0; e < num_edges; ++e)
         listed.push_back({std::min(ends[2 * e], ends[2 * e + 1]), std::max(ends[2 * e], ends[2 * e + 1])});
@@ -213,6 +219,77 @@ TEST_P(Invariants, OutputEdgesAreTheTrianglesEdgesNumberedBySplit) {
         ASSERT_EQ(ends[4 * e + 2], midpoint);
         ASSERT_EQ(ends[4 * e + 3], before[2 * e + 1]);
     }
+}
+
+// Plan::output_edge_parents: the input edge each output edge lies on, against where each vertex lies, worked out
+// level by level from the level's edges (an input vertex, a point of an input edge, or inside an input triangle): an
+// edge lies on the input edge whose closure holds both its ends. The caller's numbers are the input edges' places
+// among their sorted pairs; a side numbered -1 (a diagonal) loses to another side's number, and an edge given only
+// -1 lies on no edge.
+TEST_P(Invariants, OutputEdgeParentsNameTheInputEdgeEachLiesOn) {
+    const Plan& plan = *plan_;
+    const std::vector<std::array<std::int32_t, 2>> input_edges = unique_edges(mesh_.triangles);
+    auto number_of = [&](std::int32_t a, std::int32_t b) {
+        const std::array<std::int32_t, 2> pair{std::min(a, b), std::max(a, b)};
+        const auto found = std::lower_bound(input_edges.begin(), input_edges.end(), pair);
+        return found != input_edges.end() && *found == pair ? std::int32_t(found - input_edges.begin()) : -1;
+    };
+    // Every seventh edge unnumbered on all its sides, a third of the others on their first side, a third on their
+    // last.
+    std::vector<std::int32_t> side_numbers(mesh_.triangles.size()), sides_of(input_edges.size(), 0);
+    for (std::size_t c = 0; c < side_numbers.size(); ++c) {
+        side_numbers[c] = number_of(mesh_.triangles[c], mesh_.triangles[c - c % 3 + (c + 1) % 3]);
+        ++sides_of[std::size_t(side_numbers[c])];
+    }
+    std::vector<std::int32_t> side_edges(side_numbers.size()), given(input_edges.size(), 0);
+    std::vector<std::int32_t> expected_numbers(input_edges.size(), -1);  // the greatest of each edge's sides
+    for (std::size_t c = 0; c < side_edges.size(); ++c) {
+        const std::int32_t number = side_numbers[c];
+        const std::int32_t place = given[std::size_t(number)]++;
+        const bool dropped = number % 7 == 3 || (number % 3 == 1 && place == 0) ||
+                             (number % 3 == 2 && place + 1 == sides_of[std::size_t(number)]);
+        side_edges[c] = dropped ? -1 : number;
+        expected_numbers[std::size_t(number)] = std::max(expected_numbers[std::size_t(number)], side_edges[c]);
+    }
+
+    struct Place {
+        int kind;  // 0: input vertex id, 1: on input edge id, 2: inside a triangle
+        std::int32_t id;
+    };
+    auto on_closure = [&](const Place& p, std::int32_t edge) {
+        return (p.kind == 1 && p.id == edge) || (p.kind == 0 && (input_edges[std::size_t(edge)][0] == p.id ||
+                                                                 input_edges[std::size_t(edge)][1] == p.id));
+    };
+    auto edge_between = [&](const Place& a, const Place& b) -> std::int32_t {
+        if (a.kind == 0 && b.kind == 0) return number_of(a.id, b.id);
+        if (a.kind == 1 && on_closure(b, a.id)) return a.id;
+        if (b.kind == 1 && on_closure(a, b.id)) return b.id;
+        return -1;
+    };
+    std::vector<Place> places(std::size_t(mesh_.num_vertices()));
+    for (std::size_t v = 0; v < places.size(); ++v) places[v] = {0, std::int32_t(v)};
+    for (int level = 0; level < GetParam().levels; ++level) {
+        const std::vector<std::int32_t>& edges = plan.level_edges(level);
+        for (std::size_t e = 0; e < edges.size() / 2; ++e) {
+            const std::int32_t on =
+                edge_between(places[std::size_t(edges[2 * e])], places[std::size_t(edges[2 * e + 1])]);
+            places.push_back(on >= 0 ? Place{1, on} : Place{2, -1});
+        }
+        ASSERT_EQ(int(places.size()), plan.level_num_vertices(level + 1));
+    }
+
+    const int num_edges = plan.num_output_edges();
+    std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), sides(3 * std::size_t(plan.num_output_triangles()));
+    plan.output_edges(ends.data(), sides.data());
+    std::vector<std::int32_t> parents(std::size_t(num_edges), -7);
+    plan.output_edge_parents(side_edges.data(), parents.data());
+    int on_input_edges = 0;
+    for (int e = 0; e < num_edges; ++e) {
+        const std::int32_t on = edge_between(places[std::size_t(ends[2 * e])], places[std::size_t(ends[2 * e + 1])]);
+        on_input_edges += on >= 0;
+        ASSERT_EQ(parents[std::size_t(e)], on >= 0 ? expected_numbers[std::size_t(on)] : -1) << "output edge " << e;
+    }
+    EXPECT_EQ(on_input_edges, int(input_edges.size()) << GetParam().levels);
 }
 
 // A closed manifold stays one: every edge in exactly two faces, which traverse it in opposite directions (so the

@@ -268,6 +268,30 @@ def test_tagged_edges_are_numbered_as_output_edges(levels, rules):
     assert np.isin(plan.crease_edge_indices, plan.sharp_edge_indices).all()
 
 
+def test_output_edge_parents_name_the_input_edges():
+    # A quad as two triangles, its diagonal (0, 2) unnumbered on both sides: the halves of each numbered edge carry
+    # its number (the halves of level-0 edge e are 2e and 2e + 1; edges are numbered by their first corner), the
+    # diagonal's halves and the edges inside the triangles -1; one level further, every half of a half keeps it.
+    triangles = np.array([[0, 1, 2], [0, 2, 3]], np.int32)
+    side_edges = np.array([[5, 6, -1], [-1, 7, 8]], np.int32)
+    plan = _loopsub.Plan(triangles, 4, 1, threads=2)
+    parents = plan.output_edge_parents(side_edges)
+    assert parents.dtype == np.int32
+    assert parents.tolist() == [5, 5, 6, 6, -1, -1, 7, 7, 8, 8] + [-1] * 6
+    deeper = _loopsub.Plan(triangles, 4, 2).output_edge_parents(side_edges)
+    assert deeper.tolist() == [n for n in parents.tolist()[:10] for _ in (0, 1)] + [-1] * (len(deeper) - 20)
+    # A side numbered on one triangle only gives the edge that number.
+    assert plan.output_edge_parents(np.array([[5, 6, 9], [-1, 7, 8]], np.int32))[4:6].tolist() == [9, 9]
+    out = np.full(plan.num_output_edges, -7, np.int32)
+    assert plan.output_edge_parents(side_edges, out) is out and out.tolist() == parents.tolist()
+    for bad, error, message in ((side_edges.astype(np.int64), TypeError, "int32"),
+                                (side_edges[:1], ValueError, "shape")):
+        with pytest.raises(error, match=message):
+            plan.output_edge_parents(bad)
+    with pytest.raises(ValueError, match="no levels"):
+        _loopsub.Plan(triangles, 4, 0).output_edge_parents(side_edges)
+
+
 def test_output_edges_write_into_given_arrays():
     # Into arrays the caller owns (a mesh's own edge and corner arrays, say): the same values as new arrays, the very
     # arrays returned, num_output_edges their length; a wrong dtype, shape, layout, a read-only or overlapping
@@ -280,6 +304,13 @@ def test_output_edges_write_into_given_arrays():
     corner_out = np.full(3 * plan.num_output_triangles, -7, np.int32)  # one per corner, as a mesh keeps them
     returned = plan.output_edges(edge_out, corner_out.reshape(-1, 3))
     assert returned[0] is edge_out and np.shares_memory(returned[1], corner_out)
+    np.testing.assert_array_equal(edge_out, edges)
+    np.testing.assert_array_equal(corner_out.reshape(-1, 3), triangle_edges)
+    # With the corners' vertices too (a mesh's corner array): the output triangles, the same edges.
+    vertex_out = np.full_like(corner_out, -7)
+    edge_out[:] = corner_out[:] = -7
+    plan.output_edges(edge_out, corner_out.reshape(-1, 3), vertex_out.reshape(-1, 3))
+    np.testing.assert_array_equal(vertex_out.reshape(-1, 3), plan.triangles)
     np.testing.assert_array_equal(edge_out, edges)
     np.testing.assert_array_equal(corner_out.reshape(-1, 3), triangle_edges)
     untouched = np.full_like(edge_out, -7)
@@ -296,6 +327,10 @@ def test_output_edges_write_into_given_arrays():
     with pytest.raises(ValueError, match="share memory"):
         plan.output_edges(both[:2 * len(edges)].reshape(-1, 2), both[len(edges):len(edges) + 3 * len(triangle_edges)]
                           .reshape(-1, 3))
+    with pytest.raises(ValueError, match="share memory"):
+        plan.output_edges(untouched, corner_out.reshape(-1, 3), corner_out.reshape(-1, 3))
+    with pytest.raises(ValueError, match="writeable"):
+        plan.output_edges(untouched, corner_out.reshape(-1, 3), plan.triangles)
     assert (untouched == -7).all() and (both == -7).all()
 
 

@@ -258,9 +258,17 @@ public:
     // edge e are output edges 2e and 2e + 1, the edges inside face f are 2E + 3f + k. Writes
     // 2 * num_output_edges() vertex indices (each edge's ends) and 3 * num_output_triangles() edge indices (edge k
     // of a triangle joins its corners k and k + 1). For plans of at least one level and without holes
-    // (std::logic_error otherwise: a hole's inner edges have no triangle to be read from).
+    // (std::logic_error otherwise: a hole's inner edges have no triangle to be read from). Given `triangles`, also
+    // copies output_triangles() there (3 * num_output_triangles()) in the same pass, which reads them anyway: a mesh's
+    // corner vertices and corner edges written together.
     int num_output_edges() const;
-    void output_edges(std::int32_t* edge_vertices, std::int32_t* triangle_edges) const;
+    void output_edges(std::int32_t* edge_vertices, std::int32_t* triangle_edges,
+                      std::int32_t* triangles = nullptr) const;
+    // For each output edge (output_edges()' order), the caller's number of the input edge it lies on, -1 inside an
+    // input triangle: side_edges gives 3 numbers per input triangle, that of its edge k (from corner k to k + 1), -1
+    // for none (a diagonal the caller's triangulation added); an edge given several takes the greatest. Writes
+    // num_output_edges() numbers. For plans of at least one level and without holes (std::logic_error otherwise).
+    void output_edge_parents(const std::int32_t* side_edges, std::int32_t* parents) const;
     // Class of each vertex of level L (0 <= L <= levels()) under the chosen rules: what the repositioning at level L
     // used; for the last level, the class its vertices would take at the next level (with the limit surface: what
     // the limit used). The one classification an application needs to tag the output. (With no levels and no limit

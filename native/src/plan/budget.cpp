@@ -9,7 +9,8 @@ namespace loopsub::detail {
 
 std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channels) {
     // Bytes per element, summed over the arrays that hold them.
-    std::uint64_t kept = 0, largest_transient = 0;
+    // Kept with any level: the input triangles' edges (12 per face), which name the output edges' input edges.
+    std::uint64_t kept = levels > 0 ? mul(12, level.faces) : 0, largest_transient = 0;
     LevelCounts previous = level;
     for (int l = 0; l < levels; ++l) {
         // Kept per level: stencils (rings 8, edge points 16, offsets 4), the level's edges (8), vertex types (1).

@@ -117,6 +117,8 @@ PlanBuilder::PlanBuilder(const MeshView& mesh, PlanImpl& plan)
 void PlanBuilder::run() {
     LevelState level = base_level();
     const std::uint64_t needed = check_memory(level.topology);
+    if (options_.levels > 0)
+        plan_.input_triangle_edges.assign(level.topology.face_edges.begin(), level.topology.face_edges.end());
     std::vector<FaceVaryingBuilder> layers;
     for (int k = 0; k < mesh_.num_face_varying; ++k) layers.emplace_back(mesh_, k, options_, level);
     choose_table_forms(level, !layers.empty());

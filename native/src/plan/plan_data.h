@@ -50,6 +50,9 @@ struct PlanImpl {
 
     // The output mesh.
     detail::LargeVector<Index> output_triangles;
+    // Each input triangle's edges in the base level's numbering (3 per triangle, edge k from corner k to k + 1), for
+    // plans of at least one level: what names an output edge's input edge (Plan::output_edge_parents).
+    detail::LargeVector<Index> input_triangle_edges;
     std::vector<std::uint8_t> holes;            // per input triangle (empty: none)
     detail::LargeVector<Index> kept_triangles;  // with holes: the last level's triangles written, in order
     detail::OutputTags output_tags;
