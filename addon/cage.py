@@ -21,10 +21,11 @@ class Topology:
         self.vertex_weights = vertex_weights
 
     def tags(self, options):
-        # Loose (wire) edges are not part of the surface: the core only takes creases on its triangles' edges.
-        in_faces = self.edge_face_counts > 0 if options.use_creases else np.zeros(len(self.edge_vertices), bool)
+        # Loose (wire) edges are not part of the surface: the core only takes creases on its triangles' edges. Only
+        # creased edges are gathered (most of a cage's are not).
+        creased = np.flatnonzero((self.edge_weights > 0) & (self.edge_face_counts > 0) if options.use_creases else ())
         vertex_weights = self.vertex_weights if options.use_creases else self.vertex_weights[:0]
-        return geometry.crease_tags(self.edge_vertices[in_faces], self.edge_weights[in_faces], vertex_weights,
+        return geometry.crease_tags(self.edge_vertices[creased], self.edge_weights[creased], vertex_weights,
                                     options.rules, options.crease_threshold)
 
     def plan(self, options, levels, cones, face_varying_indices=()):
@@ -46,12 +47,21 @@ class Cage(Topology):
         # triangle, found without reading MeshPolygon.loop_total a face at a time.
         self.num_triangulated = int(np.count_nonzero(
             np.bincount(self.triangle_polygons, minlength=self.num_polygons) != 1))
+        self.loop_edges = loop_edges
+        self._side_edges = None
         super().__init__(num_vertices,
                          triangles,
                          compat.read_edge_vertices(mesh),
                          geometry.edge_face_counts(loop_edges, len(mesh.edges)),
                          compat.read_edge_creases(mesh),
                          compat.read_vertex_creases(mesh))
+
+    def side_edges(self):
+        """The mesh edge of each side of each triangle, -1 for diagonals (geometry.side_edges), worked out once."""
+        if self._side_edges is None:
+            self._side_edges = geometry.side_edges(self.triangles, self.triangle_loops, self.loop_edges,
+                                                   self.edge_vertices)
+        return self._side_edges
 
     def validate(self, name, topology=True):
         """The checks that give a clearer message here than the core's own; topology=False skips those that depend on

@@ -155,31 +155,29 @@ def write_positions(mesh, positions):
     _write_array(mesh, "position", "vector", mesh.vertices, "co", values)
 
 
-def write_edges(mesh, edge_vertices, corner_edges):
-    """The edges' vertex pairs, (E, 2), and each face corner's (loop's) edge, (L,)."""
+def write_edges(mesh, edge_vertices, corner_edges, corner_vertices):
+    """The edges' vertex pairs, (E, 2), and each face corner's (loop's) edge and vertex, (L,) each."""
     _write_array(mesh, ".edge_verts", "value", mesh.edges, "vertices",
                  np.ascontiguousarray(edge_vertices, dtype=np.int32).ravel())
     _write_array(mesh, ".corner_edge", "value", mesh.loops, "edge_index",
                  np.ascontiguousarray(corner_edges, dtype=np.int32).ravel())
-
-
-def write_corner_vertices(mesh, corner_vertices):
-    """Each face corner's (loop's) vertex, (L,)."""
     _write_array(mesh, ".corner_vert", "value", mesh.loops, "vertex_index",
                  np.ascontiguousarray(corner_vertices, dtype=np.int32).ravel())
 
 
 def edge_arrays(mesh):
-    """Blender's own arrays of a mesh's edges' vertex pairs and of its corners' edges, as writable (E, 2) and (L,)
-    int32 views of its memory, for the core to write in place (write_edges' values without a copy), or None. From 4.0
-    they are the attributes .edge_verts and .corner_edge, whose items point at their elements; a new mesh's arrays,
-    just added, are its own (no other mesh shares them). New numpy arrays of their size cost page faults of their own
-    inside Blender, which reuses little of its freed memory, on top of the mesh's (docs/benchmark.md)."""
+    """Blender's own arrays of a mesh's edges' vertex pairs, of its corners' edges and of its corners' vertices, as
+    writable (E, 2), (L,) and (L,) int32 views of its memory, for the core to write in place (write_edges' values
+    without a copy), or None. From 4.0 they are the attributes .edge_verts, .corner_edge and .corner_vert, whose items
+    point at their elements; a new mesh's arrays, just added, are its own (no other mesh shares them). New numpy
+    arrays of their size cost page faults of their own inside Blender, which reuses little of its freed memory, on top
+    of the mesh's (docs/benchmark.md)."""
     edge_block = _attribute_block(mesh, ".edge_verts", len(mesh.edges), 2)
-    corner_block = _attribute_block(mesh, ".corner_edge", len(mesh.loops), 1)
-    if edge_block is None or corner_block is None:
+    corner_edge_block = _attribute_block(mesh, ".corner_edge", len(mesh.loops), 1)
+    corner_vertex_block = _attribute_block(mesh, ".corner_vert", len(mesh.loops), 1)
+    if edge_block is None or corner_edge_block is None or corner_vertex_block is None:
         return None
-    return edge_block, corner_block.reshape(-1)
+    return edge_block, corner_edge_block.reshape(-1), corner_vertex_block.reshape(-1)
 
 
 def position_array(mesh):
@@ -276,7 +274,7 @@ def read_loop_triangles(mesh, corner_vertices):
     faces = mesh.loop_triangle_polygons if READS_ATTRIBUTES else triangles
     polygons = read_array(faces, "value" if READS_ATTRIBUTES else "polygon_index", count, 1, np.int32)
     # A triangle's vertices are its corners' (what MeshLoopTriangle.vertices reads, element by element).
-    return loops, polygons, corner_vertices[loops]
+    return loops, polygons, np.take(corner_vertices, loops)
 
 
 # The edge marks and the attributes that hold them from 4.0.

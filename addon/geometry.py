@@ -142,44 +142,16 @@ def _equal_rows(x, y):
     return equal
 
 
-def parent_edges(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
-    """For each edge of the last level, in Plan.output_edges' order, the cage edge it lies on (index into cage_edges),
-    -1 for edges inside a cage face. level_edges[l] (E_l, 2) and level_num_vertices[l] are the plan's, for levels 0
-    to levels - 1; with no levels, pairs are the cage triangles' own edges.
-
-    The output's numbering names the level before's edge (docs/python.md, Output order): edge i < 2 E is a half of
-    edge i >> 1 there, the others lie inside faces; a half lies on the cage edge its parent lies on."""
-    if not len(level_edges):
-        return lookup_edges(cage_edges, pairs, num_cage_vertices)
-    before = np.asarray(level_edges[-1]).reshape(-1, 2)
-    above = _parents_by_vertices(before, level_edges[:-1], level_num_vertices[:-1], cage_edges, num_cage_vertices)
-    parents = np.full(len(pairs), -1, dtype=np.int64)
-    parents[:2 * len(before)] = np.repeat(above, 2)
-    return parents
-
-
-def _parents_by_vertices(pairs, level_edges, level_num_vertices, cage_edges, num_cage_vertices):
-    """parent_edges for edges (a, b) of a level in any order, walking up the levels by their vertices (loopsub.h): a
-    level-(l+1) edge touches the new vertex V_l + e of level-l edge e; it is a half of e when its other end is an end
-    of e, and an edge inside a face when both ends are new vertices. Only the halves go on up; the first level's
-    edges are looked up among the cage's once."""
-    pairs = np.asarray(pairs).reshape(-1, 2)
-    if not len(level_edges):
-        return lookup_edges(cage_edges, pairs, num_cage_vertices)
-    parents = np.full(len(pairs), -1, dtype=np.int64)
-    rows, a, b = np.arange(len(pairs)), pairs[:, 0], pairs[:, 1]  # the pairs that lie on an edge of the level above
-    for edges, num_vertices in zip(reversed(level_edges), reversed(level_num_vertices)):
-        a_new = a >= num_vertices
-        half = np.flatnonzero(a_new != (b >= num_vertices))  # one end the midpoint of an edge: maybe its half
-        a_new, a, b = a_new[half], np.take(a, half), np.take(b, half)
-        edge = np.where(a_new, a, b) - num_vertices
-        other = np.where(a_new, b, a)
-        ends = take_rows(np.asarray(edges).reshape(-1, 2), edge)
-        on = np.flatnonzero((ends[:, 0] == other) | (ends[:, 1] == other))
-        rows, edge = np.take(rows, np.take(half, on)), np.take(edge, on)
-        a, b = np.take(ends[:, 0], on), np.take(ends[:, 1], on)
-    parents[rows] = take_rows(lookup_edges(cage_edges, level_edges[0], num_cage_vertices), edge)
-    return parents
+def side_edges(triangles, triangle_loops, loop_edges, edge_vertices):
+    """For side k of each cage triangle (from corner k to k + 1), the mesh edge it runs along, -1 for a diagonal that
+    Blender's triangulation of an n-gon added: (T, 3) int32, the numbers Plan.output_edge_parents takes. A triangle
+    keeps its face's winding, so a side along the face's boundary is the edge of the loop at its first corner; a
+    diagonal is not (that edge leads elsewhere). The loop's vertex is one end of its edge, so the exclusive or of the
+    edge's two ends with it is the other end, the side's second corner where the side runs along the edge."""
+    edges = np.take(loop_edges, triangle_loops)
+    edge_vertices = np.asarray(edge_vertices).reshape(-1, 2)
+    other_end = np.take(edge_vertices[:, 0] ^ edge_vertices[:, 1], edges) ^ triangles
+    return np.where(other_end == triangles[:, [1, 2, 0]], edges, -1).astype(np.int32)
 
 
 # How far a face point's parameters may be from a side of its triangle and still lie on it: parameters are multiples
@@ -207,8 +179,7 @@ _SIDE_OF_FLAGS = np.array([-1, 0, 1, -1, 2, -1, -1, -1], dtype=np.int8)  # the s
 def tessellated_edge_parents(triangle_edges, edge_sides, parent_triangles, side_edges, num_edges):
     """For each edge of a tessellation, the cage edge it lies on, -1 inside a cage triangle: triangle_edges (T, 3)
     from Tessellation.output_edges, edge_sides (T, 3) from tessellated_edge_sides, parent_triangles (T,), side_edges
-    (T_cage, 3) the cage edge of each side of each cage triangle (-1 where it is none, as a diagonal Blender's
-    triangulation of an n-gon added)."""
+    (T_cage, 3) from side_edges: the cage edge of each side of each cage triangle (-1 for a diagonal)."""
     parents = np.full(num_edges, -1, dtype=np.int64)
     on_side = np.flatnonzero(np.asarray(edge_sides).ravel() >= 0)  # triangle 3 t + k's edge k
     cage_sides = np.take(parent_triangles, on_side // 3) * 3 + np.take(edge_sides, on_side)
@@ -307,12 +278,12 @@ def from_refined(values, data_type):
 
 
 def inherit_edge_values(values, parents, default=0):
-    """Per child edge, the value of the cage edge it lies on (parents from parent_edges), default inside faces."""
+    """Per child edge, the value of the cage edge it lies on (parents: its index, -1 inside a face), default inside
+    faces: one gather from the values with the default after them, where -1 takes the last row (no mask of the
+    million edges inside faces)."""
     values = np.asarray(values)
-    out = np.full((len(parents),) + values.shape[1:], default, dtype=values.dtype)
-    on_edge = parents >= 0
-    out[on_edge] = take_rows(values, parents[on_edge])
-    return out
+    table = np.concatenate([values, np.full((1,) + values.shape[1:], default, dtype=values.dtype)])
+    return take_rows(table, parents)
 
 
 def shared_positions(positions):

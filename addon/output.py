@@ -16,30 +16,33 @@ class PlanOutput:
     def __init__(self, plan):
         self.plan = plan
         self.triangles = plan.triangles
-        self.parent_triangles = plan.parent_triangles
         self.num_vertices = plan.num_output_vertices
+
+    @property
+    def parent_triangles(self):
+        # The core works them out on first use (5 MB at 1.28 million triangles): most results need none.
+        return self.plan.parent_triangles
 
     def num_edges(self):
         return native.run(lambda: self.plan.num_output_edges)
 
     def write_edges(self, mesh):
-        """The result's edges (E, 2) and each triangle's (edge k joins its corners k and k + 1) into mesh, whose edges
-        and corners are added: by the core into Blender's arrays where the version lets it (compat.edge_arrays), else
-        copied. Returns the edges."""
+        """The result's edges (E, 2), each triangle's (edge k joins its corners k and k + 1) and its corners' vertices
+        into mesh, whose edges and corners are added: by the core into Blender's arrays in one pass where the version
+        lets it (compat.edge_arrays), else copied. Returns the edges."""
         arrays = compat.edge_arrays(mesh)
         if arrays is None:
             edges, triangle_edges = native.run(self.plan.output_edges)
-            compat.write_edges(mesh, edges, triangle_edges)
+            compat.write_edges(mesh, edges, triangle_edges, self.triangles)
             return edges
-        edges, _ = native.run(self.plan.output_edges, arrays[0], arrays[1].reshape(-1, 3))
+        edge_vertices, corner_edges, corner_vertices = arrays
+        edges, _ = native.run(self.plan.output_edges, edge_vertices, corner_edges.reshape(-1, 3),
+                              corner_vertices.reshape(-1, 3))
         return edges
 
     def edge_parents(self, edges, cage):
-        """The cage edge each edge lies on, -1 inside a cage face."""
-        plan = self.plan
-        return geometry.parent_edges(edges, [plan.level_edges(level) for level in range(plan.levels)],
-                                     [plan.level_num_vertices(level) for level in range(plan.levels)],
-                                     cage.edge_vertices, cage.num_vertices)
+        """The cage edge each edge lies on, -1 inside a cage face: the core's, down its numbering."""
+        return native.run(self.plan.output_edge_parents, cage.side_edges())
 
     def has_vertex_creases(self):
         return len(self.plan.corner_vertices) > 0
@@ -100,18 +103,16 @@ class TessellationOutput:
     def write_edges(self, mesh):
         """As PlanOutput.write_edges, copied."""
         edges, triangle_edges = self._output_edges()
-        compat.write_edges(mesh, edges, triangle_edges)
+        compat.write_edges(mesh, edges, triangle_edges, self.triangles)
         return edges
 
     def edge_parents(self, edges, cage):
         """The cage edge each edge (of write_edges()) lies on, -1 inside a cage triangle."""
         if self._edge_parents is None:
-            sides = cage.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-            side_edges = geometry.lookup_edges(cage.edge_vertices, sides, cage.num_vertices).reshape(-1, 3)
             sides_of_edges = geometry.tessellated_edge_sides(self.tessellation.corner_face_points,
                                                              self.tessellation.face_point_parameters)
             self._edge_parents = geometry.tessellated_edge_parents(
-                self._output_edges()[1], sides_of_edges, self.parent_triangles, side_edges, len(edges))
+                self._output_edges()[1], sides_of_edges, self.parent_triangles, cage.side_edges(), len(edges))
         return self._edge_parents
 
     def has_vertex_creases(self):

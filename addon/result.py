@@ -128,13 +128,11 @@ def _write_structure(new, output):
     """Vertices (their positions to come), edges and triangles. The edges come from the output (a plan numbers them
     as it refines), so Blender need not find them, nor the add-on read them back. Returns the edges' vertices (E,
     2)."""
-    triangles = output.triangles
-    num_triangles = len(triangles)
+    num_triangles = len(output.triangles)
     new.vertices.add(output.num_vertices)
     new.edges.add(output.num_edges())
     new.loops.add(3 * num_triangles)
     edges = output.write_edges(new)
-    compat.write_corner_vertices(new, triangles)
     new.polygons.add(num_triangles)
     compat.set_triangle_loops(new)
     new.update()
@@ -176,7 +174,8 @@ def _write_edge_data(new, source, output, new_edges):
     flags = {prop: values for prop, values in source.edge_flags.items() if values.any()}
     if not flags and not source.edge:
         return None
-    parents = output.edge_parents(new_edges, source.cage)
+    # As numpy's own index type once: np.take converts int32 indices on every call (a million and more here).
+    parents = np.asarray(output.edge_parents(new_edges, source.cage), dtype=np.intp)
     inherited = {prop: geometry.inherit_edge_values(values, parents) for prop, values in flags.items()}
     compat.write_edge_flags(new, inherited)
     for (name, domain, data_type), values in zip(source.edge, source.edge_values):

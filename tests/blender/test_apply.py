@@ -120,8 +120,10 @@ def faces_and_shading():
 
 # --- UVs, seams ------------------------------------------------------------------------------------------------
 
-def uv_seams():
-    obj = uv_cube("UVCube")
+def uv_seams(triangulate):
+    """Seams and sharp marks on a cube of triangles, and on one of quads, whose diagonals (Blender's triangulation,
+    no mesh edges) must leave no mark on the edges along them."""
+    obj = uv_cube("UVCube", triangulate)
     mesh = obj.data
     uv_name = mesh.uv_layers.active.name
     mesh.uv_layers.new(name="Second")
@@ -136,10 +138,11 @@ def uv_seams():
     run_apply(obj, levels=level, rules='OPENSUBDIV')
     mesh = obj.data
     result_seams = uv_discontinuities(mesh, uv_name)
+    kind = "triangles" if triangulate else "quads"
     check(len(seams) > 0 and len(result_seams) == len(seams) * 2 ** level,
-          f"UV seams stay seams: {len(seams)} seam edges become {len(result_seams)} = {len(seams)}·2^{level}")
-    check(edge_flags(mesh, "use_seam") == result_seams, "seam marks follow the seams onto the child edges")
-    check(len(edge_flags(mesh, "use_edge_sharp")) == 2 ** level, "a sharp edge's child edges are sharp")
+          f"{kind}: UV seams stay seams: {len(seams)} seam edges become {len(result_seams)} = {len(seams)}·2^{level}")
+    check(edge_flags(mesh, "use_seam") == result_seams, f"{kind}: seam marks follow the seams onto the child edges")
+    check(len(edge_flags(mesh, "use_edge_sharp")) == 2 ** level, f"{kind}: a sharp edge's child edges are sharp")
     check([uv.name for uv in mesh.uv_layers] == [uv_name, "Second"] and mesh.uv_layers.active.name == uv_name,
           "UV maps are kept, with the active one")
     support.remove(obj)
@@ -394,7 +397,8 @@ def undo_restores():
 
 support.clear_scene()
 faces_and_shading()
-uv_seams()
+uv_seams(triangulate=True)
+uv_seams(triangulate=False)
 vertex_channels('OPENSUBDIV')
 vertex_channels('HOPPE94')
 creases_written()

@@ -96,20 +96,35 @@ def test_degenerate_and_duplicate_triangles():
     assert geometry.duplicate_triangles(far[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
 
 
-@pytest.mark.parametrize("levels", [0, 1, 2, 3])
-def test_parent_edges_follow_the_cage_edges(levels):
-    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
-    cage_edges = np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32)
+# The unit square as Blender keeps it: one quad (0, 1, 3, 2) that Blender triangulates along its diagonal (1, 2), or
+# two triangles whose shared edge (1, 2) is a mesh edge. Each: the mesh's edges, each loop's vertex and edge, and the
+# triangles as (corner loops, their vertices).
+_SQUARE_AS_BLENDER_KEEPS_IT = {
+    "quad": (np.array([[0, 1], [1, 3], [3, 2], [2, 0]], np.int32), np.array([0, 1, 2, 3], np.int32),
+             np.array([[0, 1, 3], [1, 2, 3]], np.int32), np.array([[0, 1, 2], [1, 3, 2]], np.int32)),
+    "triangles": (np.array([[0, 1], [1, 2], [2, 0], [1, 3], [3, 2]], np.int32), np.array([0, 1, 2, 3, 4, 1], np.int32),
+                  np.array([[0, 1, 2], [3, 4, 5]], np.int32), np.array([[0, 1, 2], [1, 3, 2]], np.int32)),
+}
+
+
+def test_side_edges_name_the_mesh_edges_and_leave_diagonals_out():
+    edges, loop_edges, loops, triangles = _SQUARE_AS_BLENDER_KEEPS_IT["quad"]
+    assert geometry.side_edges(triangles, loops, loop_edges, edges).tolist() == [[0, -1, 3], [1, 2, -1]]
+    edges, loop_edges, loops, triangles = _SQUARE_AS_BLENDER_KEEPS_IT["triangles"]
+    assert geometry.side_edges(triangles, loops, loop_edges, edges).tolist() == [[0, 1, 2], [3, 4, 1]]
+
+
+@pytest.mark.parametrize("cage", sorted(_SQUARE_AS_BLENDER_KEEPS_IT))
+@pytest.mark.parametrize("levels", [1, 2, 3])
+def test_output_edge_parents_follow_the_cage_edges(levels, cage):
+    cage_edges, loop_edges, loops, triangles = _SQUARE_AS_BLENDER_KEEPS_IT[cage]
     plan = _loopsub.Plan(triangles, 4, levels, rules="opensubdiv")
     t = plan.triangles
-    if levels:
-        pairs = plan.output_edges()[0]
-    else:
-        pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
-    parents = geometry.parent_edges(pairs, [plan.level_edges(level) for level in range(levels)],
-                                    [plan.level_num_vertices(level) for level in range(levels)], cage_edges, 4)
+    pairs = plan.output_edges()[0]
+    parents = plan.output_edge_parents(geometry.side_edges(triangles, loops, loop_edges, cage_edges))
     # Placed linearly (positions as face-varying data), a child edge lies on the cage edge it names, and on none
-    # when it names none: checked against the unit square's geometry, not the numbering.
+    # when it names none (the quad's diagonal is no cage edge): checked against the unit square's geometry, not the
+    # numbering.
     square = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.float64)
     linear = plan.evaluate_face_varying(np.ascontiguousarray(square[triangles], dtype=np.float32))
     positions = np.zeros((plan.num_output_vertices, 2))
@@ -123,7 +138,7 @@ def test_parent_edges_follow_the_cage_edges(levels):
 
     lying = [[e for e in range(len(cage_edges)) if on_segment(positions[pair], ends[e])] for pair in pairs]
     assert [parent for parent in parents] == [found[0] if found else -1 for found in lying]
-    assert np.bincount(parents[parents >= 0], minlength=5).tolist() == [2 ** levels] * 5
+    assert np.bincount(parents[parents >= 0], minlength=len(cage_edges)).tolist() == [2 ** levels] * len(cage_edges)
 
 
 def test_plan_attributes():
