@@ -9,6 +9,7 @@
 //   face-varying channels per corner and the layer's values (raw float bits). "Closed" takes an octahedron's 6
 //   vertices and 8 triangles instead of the counts and the triangles' indices (the bytes are read all the same): a
 //   closed surface, which random triangles hardly ever are, and whose limit comes from the last level's grandparent.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -19,12 +20,14 @@
 namespace {
 
 // The output's edges, as Blender's mesh takes them (Plan::output_edges): each triangle's edge k joins its corners k and
-// k + 1, and every edge is some triangle's.
+// k + 1, every edge is some triangle's, and the triangles copied in the same pass are the output's.
 void require_output_edges(const loopsub::Plan& plan) {
     const int num_edges = plan.num_output_edges(), num_triangles = plan.num_output_triangles();
     std::vector<std::int32_t> ends(2 * std::size_t(num_edges)), triangle_edges(3 * std::size_t(num_triangles));
-    plan.output_edges(ends.data(), triangle_edges.data());
+    std::vector<std::int32_t> copied(3 * std::size_t(num_triangles));
+    plan.output_edges(ends.data(), triangle_edges.data(), copied.data());
     const std::int32_t* corners = plan.output_triangles();
+    if (!std::equal(copied.begin(), copied.end(), corners)) std::abort();
     std::vector<std::uint8_t> used(std::size_t(num_edges), 0);
     for (int c = 0; c < 3 * num_triangles; ++c) {
         const std::int32_t e = triangle_edges[std::size_t(c)];
@@ -36,6 +39,22 @@ void require_output_edges(const loopsub::Plan& plan) {
     }
     for (const std::uint8_t edge_used : used)
         if (!edge_used) std::abort();
+}
+
+// The input edges' numbers on the output's edges (Plan::output_edge_parents), each input triangle's side numbered by
+// its corner: every number is a side's, and an input edge's (its greatest side's) reaches 2^levels edges, its halves.
+void require_output_edge_parents(const loopsub::Plan& plan, int num_input_triangles, int levels) {
+    std::vector<std::int32_t> side_edges(3 * std::size_t(num_input_triangles));
+    for (std::size_t c = 0; c < side_edges.size(); ++c) side_edges[c] = std::int32_t(c);
+    std::vector<std::int32_t> parents(std::size_t(plan.num_output_edges()));
+    plan.output_edge_parents(side_edges.data(), parents.data());
+    std::vector<int> edges_on(side_edges.size(), 0);
+    for (const std::int32_t parent : parents) {
+        if (parent < -1 || parent >= std::int32_t(side_edges.size())) std::abort();
+        if (parent >= 0) ++edges_on[std::size_t(parent)];
+    }
+    for (const int count : edges_on)
+        if (count != 0 && count != 1 << levels) std::abort();
 }
 
 }  // namespace
@@ -81,6 +100,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         fuzz::exercise(plan, mesh.positions, face_varying, 2, values);
         try {
             require_output_edges(plan);
+            require_output_edge_parents(plan, triangles, options.levels);
         } catch (const std::logic_error&) {  // refused: a plan of no levels, or with holes (tagged or Boundary::None)
         }
     } catch (const InputError&) {
