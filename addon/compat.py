@@ -141,12 +141,42 @@ def has_free_normals(mesh):
 # name beginning with "." is Blender's own, and 3.4 keeps no generic layer named "position".
 def _write_array(mesh, name, prop, legacy, legacy_prop, values):
     """values into the attribute `name` (its `prop`) where the mesh keeps one, else into the legacy collection's
-    legacy_prop."""
+    legacy_prop (its structs' field in place where it can: _struct_field)."""
     attribute = mesh.attributes.get(name)
     if attribute is None:
-        legacy.foreach_set(legacy_prop, values)
+        _write_legacy(legacy, legacy_prop, values)
     elif not _holds(attribute, values):
         attribute.data.foreach_set(prop, values)
+
+
+def _write_legacy(collection, prop, values):
+    field = _struct_field(collection, prop)
+    if field is None:
+        collection.foreach_set(prop, values)
+    else:
+        field[...] = values.reshape(field.shape)
+
+
+# Before 3.6 (3.4.1 here) edges, corners and faces are arrays of structs (MEdge: v1, v2, then flags; MLoop: v, e;
+# MPoly: loopstart, totloop, then material and flags), whose integer fields foreach_get and foreach_set move one element
+# at a time through RNA: 200-650 ms a field for a 1.28-million-triangle result in 3.4.1, a copy as a view of the
+# structs (docs/benchmark.md). Per (item type, property): the struct's size in int32s, its field's first int32, and
+# how many. Where the items' pointers are not such an array (other versions), the collection's own accessors remain.
+_STRUCT_FIELDS = {("MeshEdge", "vertices"): (3, 0, 2), ("MeshLoop", "vertex_index"): (2, 0, 1),
+                  ("MeshLoop", "edge_index"): (2, 1, 1), ("MeshPolygon", "loop_start"): (3, 0, 1),
+                  ("MeshPolygon", "loop_total"): (3, 1, 1)}
+
+
+def _struct_field(collection, prop):
+    """The int32 field `prop` of a collection's structs (_STRUCT_FIELDS), as a (count, width) view of Blender's memory;
+    None for other properties, versions or collections."""
+    count = len(collection)
+    layout = _STRUCT_FIELDS.get((collection[0].rna_type.identifier, prop)) if count else None
+    if layout is None:
+        return None
+    size, first, width = layout
+    block = _block_at(collection, count, size)
+    return None if block is None else block[:, first:first + width]
 
 
 def write_positions(mesh, positions):
@@ -233,6 +263,10 @@ def _read_array(mesh, name, prop, legacy, legacy_prop, count, width, dtype):
     attribute = mesh.attributes.get(name) if READS_ATTRIBUTES else None
     if attribute is not None:
         return read_array(attribute.data, prop, count, width, dtype)
+    field = _struct_field(legacy, legacy_prop) if dtype == np.int32 else None
+    if field is not None:
+        values = np.ascontiguousarray(field)
+        return values if width > 1 else values.reshape(-1)
     return read_array(legacy, legacy_prop, count, width, dtype)
 
 
@@ -326,9 +360,9 @@ def set_triangle_loops(mesh):
     count = len(mesh.polygons)
     block = _block_at(mesh.polygons, count, 1) if FACES_ARE_OFFSETS else None
     if block is None:
-        mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * count, 3, dtype=np.int32))
+        _write_legacy(mesh.polygons, "loop_start", np.arange(0, 3 * count, 3, dtype=np.int32))
         if not FACES_ARE_OFFSETS:
-            mesh.polygons.foreach_set("loop_total", np.full(count, 3, dtype=np.int32))
+            _write_legacy(mesh.polygons, "loop_total", np.full(count, 3, dtype=np.int32))
         return
     # A chunk at a time: a small temporary is memory Blender's process reuses, one of the faces' size is fresh (5 MB
     # and page faults for 1.28 million faces).
