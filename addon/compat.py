@@ -150,6 +150,8 @@ def _write_array(mesh, name, prop, legacy, legacy_prop, values):
 
 
 def _write_legacy(collection, prop, values):
+    """values into a legacy collection's prop: into its structs' field where _struct_field views it, else through
+    foreach_set."""
     field = _struct_field(collection, prop)
     if field is None:
         collection.foreach_set(prop, values)
