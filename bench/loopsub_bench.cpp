@@ -510,6 +510,26 @@ void ours_face_varying(benchmark::State& state, const Mesh* m, int threads) {
     set_rate(state, plan.num_output_face_varying_values(0));
 }
 
+// Vertex data wider than positions (point attributes, vertex-group weights): `channels` floats per vertex, the first
+// three the positions, the rest their sums, on the limit surface as the add-on refines them.
+void ours_limit_channels(benchmark::State& state, const Mesh* m, int channels) {
+    loopsub::Options o = options(loopsub::Kernel::Auto, 1);
+    o.limit_surface = true;
+    loopsub::Plan plan(view(*m), o);
+    std::vector<float> in(std::size_t(m->num_vertices()) * std::size_t(channels));
+    for (int v = 0; v < m->num_vertices(); ++v)
+        for (int c = 0; c < channels; ++c) {
+            const float* p = &m->positions[3 * std::size_t(v)];
+            in[std::size_t(v) * std::size_t(channels) + std::size_t(c)] = c < 3 ? p[c] : p[0] + p[1] + p[2];
+        }
+    std::vector<float> out(std::size_t(plan.num_output_vertices()) * std::size_t(channels));
+    for (auto _ : state) {
+        plan.evaluate(loopsub::interleaved(in.data(), channels), loopsub::interleaved(out.data(), channels));
+        benchmark::DoNotOptimize(out.data());
+    }
+    set_rate(state, plan.num_output_vertices());
+}
+
 void ours_full_uvs(benchmark::State& state, const Mesh* m, int threads) {
     int vertices = 0;
     for (auto _ : state) {
@@ -581,6 +601,9 @@ void register_all() {
             add("loopsub_tessellate/" + suffix + "/threads:2", ours_tessellate, &m, rate, 2);
             add("loopsub_tessellation/" + suffix + "/threads:1", ours_tessellation, &m, rate, 1);
         }
+        for (int channels : {7, 16})
+            add("loopsub_limit_channels/" + m.name + "/channels:" + std::to_string(channels), ours_limit_channels, &m,
+                channels);
         for (int threads : {1, 2}) {
             add("loopsub_limit/" + m.name + "/threads:" + std::to_string(threads), ours_limit, &m, threads);
             add("loopsub_limit_compact/" + m.name + "/threads:" + std::to_string(threads), ours_limit_compact, &m,

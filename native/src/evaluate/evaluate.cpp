@@ -29,24 +29,27 @@ namespace {
 // step (fill_tables_from_parent).
 constexpr int kPiecesPerThread = 4;
 
-// Floats per element in the scratch levels (see run_passes).
-std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : (std::size_t(channels) + 3) / 4 * 4; }
+// Channels a run of passes refines at once (run_passes): one quad.
+constexpr int kQuadChannels = 4;
 
-// Runs stencil passes (refinement levels, then the limit) over data of `channels` channels: pass i reads counts[i]
-// elements and writes counts[i + 1]; the first reads load(element, channel), the last writes `out`. With `limit` (the
-// plan's limit tables, then the last of `passes`), the last pass is the limit kernel's, which also writes the vertex
-// normals where `normals` is set, and a step after it the sides' (Plan::LimitNormals' layout).
+// Floats per element in the scratch levels (see run_quad_passes).
+std::size_t scratch_stride(int channels) { return channels == 3 ? 3 : kQuadChannels; }
+
+// run_passes for at most kQuadChannels channels: pass i reads counts[i] elements and writes counts[i + 1]; the first
+// reads load(element, channel), the last writes `out`. With `limit` (the plan's limit tables, then the last of
+// `passes`), the last pass is the limit kernel's, which also writes the vertex normals where `normals` is set, and a
+// step after it the sides' (Plan::LimitNormals' layout).
 //
-// Passes run on quads: an element's channels side by side, padded with zeros to a multiple of four, so that a kernel
-// fetches every channel of a neighbour with one 16-byte load (kernels_quads.h); with gathers from planar arrays each
-// channel of each neighbour is a load of its own (docs/benchmark.md, "Why the kernels evaluate in quads"). The padding
-// refines like a channel (zeros stay zeros). Three channels (positions) are not padded: a 16-byte load then also reads
-// the next element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a
-// quad of zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2].
+// Passes run on quads: an element's channels side by side, padded with zeros to four, so that a kernel fetches every
+// channel of a neighbour with one 16-byte load (kernels_quads.h); with gathers from planar arrays each channel of each
+// neighbour is a load of its own (docs/benchmark.md, "Why the kernels evaluate in quads"). The padding refines like a
+// channel (zeros stay zeros). Three channels (positions) are not padded: a 16-byte load then also reads the next
+// element's first channel, which goes unused, and a level takes a quarter less memory; the scratch ends with a quad of
+// zeros for the last element's load. Pass i reads scratch[(i + 1) % 2] and writes scratch[i % 2].
 template <typename Load>
-void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
-                int channels, Load load, ChannelsView<float> out, const detail::LimitTables* limit = nullptr,
-                float* normals = nullptr) {
+void run_quad_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes,
+                     const std::vector<int>& counts, int channels, Load load, ChannelsView<float> out,
+                     const detail::LimitTables* limit, float* normals) {
     const int n = int(passes.size());
     if (n == 0) {
         for (int v = 0; v < counts[0]; ++v)
@@ -100,6 +103,24 @@ void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& pa
             detail::refine_part(kernels, s, sources[pass], targets[pass], part, parts);
         },
         kPiecesPerThread);
+}
+
+// Runs stencil passes (refinement levels, then the limit) over data of `channels` channels, a quad of channels at a
+// time (run_quad_passes), the normals (where `normals` is set) with the first, the positions'. Each quad's levels are
+// then as dense as four channels make them: with all channels side by side, each neighbour a kernel loads would be a
+// cache line of its own past four channels, and sixteen channels took 15 times four's time (docs/benchmark.md).
+template <typename Load>
+void run_passes(PlanImpl& p, const std::vector<const detail::LevelStencils*>& passes, const std::vector<int>& counts,
+                int channels, Load load, ChannelsView<float> out, const detail::LimitTables* limit = nullptr,
+                float* normals = nullptr) {
+    for (int first = 0; first < channels; first += kQuadChannels) {
+        ChannelsView<float> quad = out;
+        quad.data += std::size_t(first) * out.channel_stride;
+        quad.num_channels = std::min(kQuadChannels, channels - first);
+        run_quad_passes(
+            p, passes, counts, quad.num_channels, [&load, first](int v, int c) { return load(v, first + c); }, quad,
+            limit, first == 0 ? normals : nullptr);
+    }
 }
 
 // Every mask's weights are non-negative and sum to one, so a refined value never exceeds the largest input; only the

@@ -22,9 +22,9 @@ std::uint64_t estimate_for_counts(LevelCounts level, int levels, int num_channel
         previous = level;
         level = level.child();
     }
-    // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation (their
-    // channels padded to a multiple of four).
-    const std::uint64_t padded = (std::uint64_t(num_channels) + 3) / 4 * 4;
+    // The last level's triangles and parents (16), the output, and the two scratch levels of evaluation (four
+    // channels, or fewer padded to four: an evaluation runs a quad of channels at a time).
+    const std::uint64_t padded = 4;
     kept = add(kept, add(mul(16, level.faces), add(mul(mul(4, std::uint64_t(num_channels)), level.vertices),
                                                    mul(mul(4, padded), mul(2, previous.vertices)))));
     return add(kept, mul(2, largest_transient));  // a child level is built while its parent still lives
