@@ -84,8 +84,8 @@ def check_memory(source, edge_rates):
     counts = (vertices, vertices + triangles, triangles)
     mesh = source.mesh
     product = memory.TESSELLATION_BYTES_PER_TRIANGLE * triangles * (1 + len(mesh.uv_layers))  # a UV map is cut too
-    required = memory.estimate_output_bytes(counts, product, uv_layers=len(mesh.uv_layers), version=bpy.app.version,
-                                            drawn=not bpy.app.background)
+    required = memory.estimate_output_bytes(counts, product, version=bpy.app.version, drawn=not bpy.app.background,
+                                            **source.contents())
     subject = f"Adaptive Subdivision at {source.options.dicing_rate:g} px ({counted(triangles, 'triangle')})"
     budget = MemoryBudget(required - product, memory.available_bytes(), subject)
     if not memory.fits(required, budget.available):

@@ -129,18 +129,19 @@ def check_object(obj):
         raise LoopSubError(f"{obj.name} is in Edit Mode")
 
 
-def check_memory(mesh, options):
-    """Raises LoopSubError, saying what it would need and what is free, where subdividing mesh (the input) with
+def check_memory(source):
+    """Raises LoopSubError, saying what it would need and what is free, where subdividing the source's mesh with its
     options would need more memory than this process may still use (memory.py: the peak of the whole update, the
     core's plan, the result in Blender and its copies; the memory free, or left in the cgroup Blender runs in). A
     request past it would otherwise get Blender killed for lack of memory, unsaved work lost."""
+    mesh, options = source.mesh, source.options
     triangles = len(mesh.loops) - 2 * len(mesh.polygons)
     edges = len(mesh.edges) + triangles - len(mesh.polygons)
+    contents = source.contents()
     required = memory.estimate_bytes(
         len(mesh.vertices), edges, triangles, options.levels,
-        native.estimate_plan_bytes(len(mesh.vertices), edges, triangles, options.levels),
-        uv_layers=len(mesh.uv_layers), limit_surface=options.use_limit_surface, version=bpy.app.version,
-        drawn=not bpy.app.background)
+        native.estimate_plan_bytes(len(mesh.vertices), edges, triangles, options.levels, contents["vertex_channels"]),
+        limit_surface=options.use_limit_surface, version=bpy.app.version, drawn=not bpy.app.background, **contents)
     available = memory.available_bytes()
     if not memory.fits(required, available):
         raise LoopSubError(memory.describe(required, available, f"Level {options.levels}"))
@@ -278,12 +279,13 @@ class Source:
             self.messages.append(('WARNING', f"{obj.name}: attributes not carried over: "
                                         + ", ".join(f"{n} ({d.lower()} {t.lower()})" for n, d, t in dropped)))
 
-        # Vertex channels: positions, point attributes and vertex groups refine together with the same weights.
+        # Vertex channels: positions and point attributes refine together with the same weights, on every update.
+        # Vertex groups refine with those weights too, but only when a result is built (result._write_vertex_groups):
+        # an update in place leaves them as they are, and a rig's hundreds of groups would multiply its work.
         self.vertex = _Channels()
         self.vertex.add("position", cage.positions)
         for name, _, _ in self.point:
             self.vertex.add(("attribute", name), read_attribute(mesh.attributes[name], cage.num_vertices))
-        self.vertex.add("groups", self.group_weights)
 
         # Edge data passes to the child edges on each cage edge: seam and sharp marks, edge attributes.
         self.edge_flags = compat.read_edge_flags(mesh)
@@ -314,6 +316,13 @@ class Source:
         self.face_values = [read_attribute(mesh.attributes[name], cage.num_polygons) for name, _, _ in self.face]
         if not known:
             self.messages += _normal_notes(obj.name, mesh, self)
+
+    def contents(self):
+        """What besides its counts sizes a result (memory.estimate_output_bytes' arguments): floats per vertex and per
+        corner refined on every update, UV maps, vertex groups and their weights above zero per cage vertex."""
+        return dict(vertex_channels=self.vertex.width, corner_channels=self.corners.width,
+                    uv_layers=len(self.uv_layers), groups=len(self.group_names),
+                    group_weights=np.count_nonzero(self.group_weights) / max(1, self.cage.num_vertices))
 
     def plan_key(self):
         """What the plan depends on: equal keys, equal plans."""

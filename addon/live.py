@@ -116,11 +116,11 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
     try:
         if options.levels == 0 and not options.use_adaptive:
             raise _PassThrough
+        source = cage.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None)
         # A result no larger than the one shown fitted before; a larger one is checked against the memory left.
         shown = len(helper.data.polygons) if cache.result == helper.data.name else 0
         if not options.use_adaptive and (len(mesh.loops) - 2 * len(mesh.polygons)) * 4 ** options.levels > shown:
-            cage.check_memory(mesh, options)
-        source = cage.Source(obj, mesh, options, cache.plan_key[1] if cache.plan_key else None)
+            cage.check_memory(source)
         if options.use_adaptive:
             view = adaptive.view_for(depsgraph.scene, depsgraph, render)
             edge_rates = adaptive.rates(source.cage, options, view, evaluated.matrix_world)
@@ -155,7 +155,7 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
             result.update_mesh(helper.data, source, refined, cache.blender_corners)
         else:
             old = helper.data
-            _swap(helper, old, result.build_mesh(source, cache.output, helper.name, helper))
+            _swap(helper, old, result.build_mesh(source, cache.output, helper.name))
             cache.result, cache.layout_key = helper.data.name, layout_key
             cache.blender_corners = source.blender_corners
         cache.inputs = inputs

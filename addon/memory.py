@@ -220,6 +220,16 @@ _COPIES_3_4 = 2
 _DRAW = _Bytes(corner=2 * 24, triangle=2 * 12, edge=2 * 8)
 _DRAW_UV = _Bytes(corner=2 * 8)
 
+# (f) Vertex groups. Blender keeps a vertex's weights above zero in an array of its own (a weight 8 bytes, the array 16
+# bytes of the vertex's record and 16 of the allocator's); a result vertex takes weights from the cage vertices around
+# its cage triangle, twelve where they are regular, so it has up to about _GROUP_SPREAD times a cage vertex's weights
+# above zero. The weights are refined GROUP_BATCH groups at a time (result._write_vertex_groups), each batch held while
+# its groups are written through a float attribute of their own.
+GROUP_BATCH = 4
+_GROUP_SPREAD = 12
+_GROUP_VERTEX = 32
+_GROUP_WEIGHT = 8
+
 # What does not grow with the result, measured at level 1: the native module, the helper and node group, the
 # allocator's arenas; with a viewport, the shaders and batches of its first drawing.
 _FIXED = 48 << 20
@@ -234,22 +244,26 @@ def estimate_bytes(vertices, edges, triangles, levels, plan_bytes, **arguments):
     return estimate_output_bytes(output_counts(vertices, edges, triangles, levels), plan_bytes, **arguments)
 
 
-def estimate_output_bytes(counts, plan_bytes, uv_layers=0, corner_channels=0, vertex_channels=3, limit_surface=True,
-                          version=(4, 5, 0), drawn=True):
+def estimate_output_bytes(counts, plan_bytes, uv_layers=0, corner_channels=0, vertex_channels=3, groups=0,
+                          group_weights=0.0, limit_surface=True, version=(4, 5, 0), drawn=True):
     """Peak bytes one update of an entry adds for a result of counts (vertices, edges, triangles): levels' (see
     estimate_bytes) or a tessellation's; plan_bytes: the core's own. corner_channels: floats per corner refined
     linearly (colour attributes, the cage's own custom normals); vertex_channels: floats per vertex (3 for positions,
-    plus point attributes and vertex groups); drawn: False in background mode, which has no viewport.
+    plus point attributes); groups: vertex groups, with group_weights weights above zero per cage vertex; drawn: False
+    in background mode, which has no viewport.
 
     The peak comes either while the update builds the result (the refined values, then the larger of two moments'
     temporaries), or once it is shown (the result with its caches and evaluated copies, the draw cache) and, with the
     limit surface, its limit normals are written into it; the core's plan lives throughout."""
     old = version < (3, 5, 0)
-    # Point attributes and vertex groups beyond the positions, and corner attributes, are stored too (4 bytes a
-    # channel; a vertex group's weight takes 8 in Blender's deform weights).
-    stored = (_STORED_3_4 if old else _STORED) + _Bytes(vertex=8 * (vertex_channels - 3), corner=4 * corner_channels)
+    # Point attributes beyond the positions, and corner attributes, are stored too (4 bytes a channel).
+    stored = (_STORED_3_4 if old else _STORED) + _Bytes(vertex=4 * (vertex_channels - 3), corner=4 * corner_channels)
     caches = _CACHES_3_4 if old else _CACHES
     refined = _REFINED + _Bytes(vertex=4 * vertex_channels, corner=4 * corner_channels)
+    if groups:
+        weights = min(groups, _GROUP_SPREAD * group_weights)
+        stored += _Bytes(vertex=round(_GROUP_VERTEX + _GROUP_WEIGHT * weights))
+        refined += _Bytes(vertex=4 * (min(groups, GROUP_BATCH) + 1))  # a batch, and the attribute written from it
     core_uv, held, split, write_normals = _CORE_UV, _NONE, _NONE, _NONE
     if limit_surface:
         core_uv += _CORE_UV_LIMIT

@@ -2,7 +2,7 @@
 import bpy
 from bpy.props import BoolProperty, IntProperty
 
-from . import adaptive, cage, compat, live, result, settings, stack, tags
+from . import adaptive, compat, live, result, settings, stack, tags
 from .native import LoopSubError
 from .properties import bpy_property
 
@@ -112,12 +112,11 @@ Non-triangle faces are triangulated first. Arguments that are set override the m
             if modifier is not None:
                 obj.modifiers.remove(modifier)
             return {'FINISHED'}
+        # Adaptive Subdivision applies what the scene camera sees (levels check their memory in result.subdivide).
+        view = None
         try:
             if options.use_adaptive:
                 view = adaptive.scene_view(context.scene, context.evaluated_depsgraph_get())
-            else:
-                view = None
-                cage.check_memory(obj.data, options)
         except LoopSubError as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}

@@ -67,6 +67,10 @@ class PlanOutput:
     def refine(self, source, written=None, into=None):
         return source.refine(self.plan, written, into)
 
+    def refine_vertex_values(self, values):
+        """Further vertex channels (V, C) of the cage, refined as the Refined's vertex channels are."""
+        return native.run(self.plan.evaluate, values)
+
 
 class TessellationOutput:
     """The limit surface cut by the rates of the cage's edges (Adaptive Subdivision): the points are the cage's
@@ -118,6 +122,17 @@ class TessellationOutput:
     def has_vertex_creases(self):
         return len(self.cage.tags(self.options)["corner_vertices"]) > 0
 
+    def _per_face_point(self, corner_values):
+        """Values per cage corner (T, 3, C), linear in each cage triangle, at every face point."""
+        return geometry.interpolate_in_triangles(corner_values, self.face_point_parent,
+                                                 self.tessellation.face_point_parameters)
+
+    def refine_vertex_values(self, values):
+        """Further vertex channels (V, C) of the cage, linear in its triangles as the Refined's are (the points'
+        own)."""
+        return geometry.take_rows(self._per_face_point(geometry.take_rows(values, self.cage.triangles)),
+                                  self.point_face_point)
+
     def creases(self, cage, options, edges):
         """(edge weights (E,), vertex weights (V,)) on the limit surface (geometry.limit_crease_weights): the edges on
         a creased cage edge and the cage's corners."""
@@ -155,18 +170,13 @@ class TessellationOutput:
         into = into or Destination()
         points, normals = native.run(tessellation.evaluate, cage.positions, into.positions_for(source.vertex.width))
 
-        def per_face_point(corner_values):
-            return geometry.interpolate_in_triangles(corner_values, self.face_point_parent,
-                                                     tessellation.face_point_parameters)
-
         vertex = points
         if source.vertex.width > 3:
-            vertex = geometry.take_rows(per_face_point(geometry.take_rows(source.vertex.packed(), cage.triangles)),
-                                        self.point_face_point)
+            vertex = self.refine_vertex_values(source.vertex.packed())
             vertex[:, source.vertex.columns["position"]] = points
 
         def per_corner(corner_values):
-            return geometry.take_rows(per_face_point(corner_values), tessellation.corner_face_points)
+            return geometry.take_rows(self._per_face_point(corner_values), tessellation.corner_face_points)
 
         uvs = [None if unchanged(2 + layer, values)
                else geometry.take_rows(native.run(tessellation.evaluate_face_varying, values, layer=layer),

@@ -7,8 +7,8 @@ object's mesh untouched.
 import bpy
 import numpy as np
 
-from . import adaptive, compat, geometry, normals
-from .cage import Destination, Source, check_object
+from . import adaptive, compat, geometry, memory, normals
+from .cage import Destination, Source, check_memory, check_object
 from .output import PlanOutput
 from .mesh_data import add_attribute, fill_attribute
 
@@ -43,18 +43,18 @@ def subdivide(obj, options, progress, view=None):
         edge_rates = adaptive.rates(source.cage, options, view, obj.matrix_world)
         output = adaptive.tessellate(source, edge_rates)
     else:
+        check_memory(source)
         output = PlanOutput(source.plan())
     progress(2)
-    new = build_mesh(source, output, obj.data.name, None)
+    new = build_mesh(source, output, obj.data.name)
     locks = [group.lock_weight for group in obj.vertex_groups]
     return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 
 
-def build_mesh(source, output, name, holder):
+def build_mesh(source, output, name):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
     groups, tags. output: its structure (output.PlanOutput or TessellationOutput), refined straight into the new
-    mesh's arrays where it can (cage.Destination). holder: an object whose data the new mesh may become while vertex
-    groups are written (None: a temporary one). Sets source.blender_corners, which update_mesh takes."""
+    mesh's arrays where it can (cage.Destination). Sets source.blender_corners, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
     new = bpy.data.meshes.new(name)
@@ -80,7 +80,7 @@ def build_mesh(source, output, name, holder):
         _write_values(new, source, refined)
         new.update()
         normals.write_normals(new, source, refined, source.blender_corners)
-        _write_vertex_groups(new, source, refined.vertex[:, vertex.columns["groups"]], holder)
+        _write_vertex_groups(new, source, output)
         output.write_tags(new, len(new_edges))
     except Exception:
         bpy.data.meshes.remove(new)
@@ -192,25 +192,30 @@ def _restore_color_choice(new, mesh):
         colors.render_color_index = colors.find(mesh.color_attributes.default_color_name)
 
 
-def _write_vertex_groups(new, source, refined_groups, holder):
+def _write_vertex_groups(new, source, output):
     """Vertex groups through Blender's Convert Attribute operator, which writes the weights in C (the API has no
-    bulk setter); it works on an object, the holder (a temporary one when None). The cone group holds tags, not
-    weights: it stays on the cage's vertices, which keep their indices."""
+    bulk setter) and only those above zero. It works on an object: a temporary one that no scene holds, since each
+    call evaluates the depsgraph, which would evaluate again whatever shows the new mesh (the live entry's helper, at
+    1.3 million triangles: 47 ms a group against 7). The weights are refined memory.GROUP_BATCH groups at a time: a
+    rig's hundreds of groups, refined at once, would hold four bytes per group and output vertex where Blender keeps
+    the few above zero. The cone group holds tags, not weights: it stays on the cage's vertices, which keep their
+    indices. The groups' names are the mesh's (Blender 3.0 on), whichever object shows it next."""
     if not source.group_names:
         return
-    temporary = holder is None
-    if temporary:
-        holder = bpy.data.objects.new("Loop Subdivision (temporary)", new)
-    else:
-        holder.data = new
+    holder = bpy.data.objects.new("Loop Subdivision (temporary)", new)
     try:
         holder.vertex_groups.clear()
+        refined, first = None, 0
         for index, name in enumerate(source.group_names):
             if index == source.cone_index:
                 weights = np.zeros(len(new.vertices), dtype=np.float32)
                 weights[:len(source.group_weights)] = source.group_weights[:, index]
             else:
-                weights = np.clip(refined_groups[:, index], 0.0, 1.0)
+                if refined is None or index >= first + refined.shape[1]:
+                    first = index
+                    batch = source.group_weights[:, first:first + memory.GROUP_BATCH]
+                    refined = output.refine_vertex_values(np.ascontiguousarray(batch)).reshape(len(new.vertices), -1)
+                weights = np.clip(refined[:, index - first], 0.0, 1.0)
             attribute = add_attribute(new, _GROUP_TRANSFER, 'POINT', 'FLOAT', weights)
             new.attributes.active = attribute
             # Convert Attribute refuses while any object is in Edit Mode (its poll reads the context's edit object,
@@ -219,8 +224,7 @@ def _write_vertex_groups(new, source, refined_groups, holder):
                 bpy.ops.geometry.attribute_convert(mode='VERTEX_GROUP')
             holder.vertex_groups[index].name = name
     finally:
-        if temporary:
-            bpy.data.objects.remove(holder)
+        bpy.data.objects.remove(holder)
 
 
 def replace_mesh(obj, result):

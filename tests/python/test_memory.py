@@ -211,6 +211,9 @@ def test_what_adds_to_the_estimate():
     base = changed()
     assert changed(uv_layers=2) > base > changed(uv_layers=0)
     assert changed(corner_channels=4) > base and changed(vertex_channels=5) > base
+    # Vertex groups: their weights above zero, a few per vertex however many groups there are.
+    assert changed(groups=200, group_weights=4.0) > changed(groups=200, group_weights=1.0) > base
+    assert changed(groups=2, group_weights=4.0) == changed(groups=2, group_weights=2.0)  # no more than one per group
     assert changed(limit_surface=False) < base
     assert changed(version=(3, 4, 1), limit_surface=False) > changed(limit_surface=False)  # 3.4 copies the result
     assert changed(drawn=False, limit_surface=False) < changed(limit_surface=False)
