@@ -223,14 +223,15 @@ def _dropped():
 
 
 def _collect():
-    """Frees the helpers, results and node group that no live entry uses any more (stack.collect); not while a
-    render job may read them."""
+    """Frees the helpers, results and node group that no live entry uses any more (stack.collect), and takes pasted
+    helpers out of the scene (stack.unlink_helpers); not while a render job may read them."""
     global _busy
     if _busy or _rendering or _saving:
         return
     _busy = True  # the updates removing data makes are not edits
     try:
         stack.collect()
+        stack.unlink_helpers()
     finally:
         _busy = False
 

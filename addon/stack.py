@@ -226,6 +226,21 @@ def collect():
     return removed
 
 
+def unlink_helpers():
+    """Takes helpers out of the collections a paste or an append linked them into (Blender links every object of a
+    copy buffer or a library that no collection holds into the active one), where they showed the result a second
+    time, beside their entry's. Returns how many it took out."""
+    unlinked = 0
+    for helper in bpy.data.objects:
+        if not is_helper(helper) or helper.library is not None:
+            continue
+        for collection in helper.users_collection:
+            if collection.library is None:
+                collection.objects.unlink(helper)
+                unlinked += 1
+    return unlinked
+
+
 def migrate():
     """Files saved by earlier versions of the add-on: node groups of an older layout get the current one; helpers
     that held their owner as an ID pointer (a user of it) get the owner's name, and an owner that only its helper

@@ -2,7 +2,8 @@
 the same steps: cycles of adding, removing and re-adding the entry, Shift D and Alt D copies, a tiny Cycles render,
 deleting the Alt D copy and applying the original (Blender's Apply refuses a mesh that a deleted copy still shares),
 deleting the Shift D copy, then saving and reopening the file. Our entry runs the cycles twice: by levels, and with
-Adaptive Subdivision on (its result is made the same way, and must leave no more behind).
+Adaptive Subdivision on (its result is made the same way, and must leave no more behind). And Ctrl C / Ctrl V of an
+object with an entry into another file.
 
 After each cycle (before saving, and after reopening) every bpy.data collection holds as many IDs as with Subdivision
 Surface, except that the add-on may have one helper object, one result mesh and one node group more per live entry;
@@ -297,6 +298,30 @@ def original_deleted(base):
               f"(objects in no scene: {not_in_scenes})")
 
 
+def copied_and_pasted(base):
+    """Ctrl C of an object with an entry, Ctrl V into another file (view3d.copybuffer and pastebuffer): the scene
+    holds the same objects as with Subdivision Surface (the copy buffer's helper in no collection), and the pasted
+    object shows its subdivision."""
+    scenes = {}
+    for kind in ('SUBSURF', 'LOOP'):
+        bpy.ops.wm.open_mainfile(filepath=base)
+        obj = support.object_from_bmesh("Copied", support.cube("Copied"))
+        add_entry(kind, obj)
+        update()
+        select(obj)
+        assert bpy.ops.view3d.copybuffer() == {'FINISHED'}
+        bpy.ops.wm.open_mainfile(filepath=base)
+        assert bpy.ops.view3d.pastebuffer() == {'FINISHED'}
+        update()
+        pasted = bpy.data.objects["Copied"]
+        scenes[kind] = sorted(other.name for other in bpy.context.scene.objects)
+        if kind == 'LOOP':
+            faces = viewport_faces(pasted)
+            check(faces == 4 * len(pasted.data.polygons), f"the pasted object shows its level 1 ({faces} faces)")
+    check(scenes['LOOP'] == scenes['SUBSURF'],
+          f"pasted, the scene holds what it holds with Subdivision Surface ({scenes['LOOP']}, {scenes['SUBSURF']})")
+
+
 def legacy_file(base, folder):
     """A file of the add-on's earlier versions: each helper held its owner as an ID pointer, so a deleted Alt D copy
     stayed in the file with the original's mesh shared."""
@@ -342,6 +367,7 @@ with tempfile.TemporaryDirectory() as folder:
             check(passed, f"{label}, cycle {cycle}: {what}")
         compare(theirs, ours, label)
     original_deleted(base)
+    copied_and_pasted(base)
     legacy_file(base, folder)
     bpy.ops.wm.open_mainfile(filepath=base)
 
