@@ -82,7 +82,7 @@ def refresh(obj, depsgraph, render=False):
     if modifier is None or _busy or _saving or not (modifier.show_render if render else modifier.show_viewport):
         return
     if obj.library is not None:
-        return  # linked from another file: read-only here, it shows the result that file saved
+        return _linked(obj, modifier)
     options = obj.loop_subdivision.options(render=render)
     helper = stack.helper_of(obj, modifier)
     index = list(obj.modifiers).index(modifier)
@@ -189,6 +189,18 @@ def _tell(text):
             except ReferenceError:
                 pass  # a workspace deleted meanwhile
     bpy.app.timers.register(clear, first_interval=_STATUS_SECONDS)
+
+
+def _linked(obj, modifier):
+    """An entry linked from another file is read-only here: it shows the result that file saved, or, where the file
+    saved none (Store Result off, the default), its input, which the panel and the console say once, with the ways out.
+    The result cannot be made here: the entry points at what its own file holds."""
+    cache = _caches.setdefault(obj.name, Cache())
+    if stack.is_helper(compat.modifier_input(modifier, stack.RESULT_SOCKET)) or cache.error:
+        return
+    cache.error = (f"Linked from {bpy.path.basename(obj.library.filepath)}, which keeps no result: turn on Store "
+                   "Result there, or make a Library Override here")
+    _tell(f"{obj.name}: {cache.error}")
 
 
 class _PassThrough(Exception):

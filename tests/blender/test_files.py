@@ -7,6 +7,8 @@ Surface; and Blender's own Apply of an entry that is not first.
   made again on opening (the scene camera's).
 - Store Result keeps the Render-level result in the file; the panel's estimate of what that costs is within a third
   of what the file grows by.
+- An object with an entry linked into another file shows the result its file stored (Store Result), or its input,
+  the panel saying why and what to do.
 - A file saved by the add-on's first layout of the node group (the helper's mesh alone) opens with the current one.
 - Blender's Apply of an entry under a Mirror refuses (4.2 and later) or leaves the mesh as it was (3.4), as
   compat.STALE_RESULT_OUTPUT says; never the mirrored result baked into the half cage under the Mirror. The panel
@@ -96,6 +98,37 @@ def file_sizes(folder):
           f"the file opened with the add-on shows the same result, made again ({reopened_faces} faces)")
     check(not any(other.get(stack.PLACEHOLDER_TAG) for other in bpy.data.objects),
           "nothing of the saving stays in the opened file")
+
+
+def linked(folder):
+    """An object with an entry, linked into another file (File ▸ Link, as an asset is): with Store Result in its own
+    file it shows that result; by default that file keeps none, and it shows its input, the panel and the console
+    saying why and what to do."""
+    for store in (False, True):
+        support.clear_scene()
+        obj = sphere("Prop")
+        support.select_only(obj)
+        bpy.ops.object.loop_subdivision_add(levels=1, render_levels=1)
+        obj.loop_subdivision.store_result = store
+        asset = os.path.join(folder, f"asset_{store}.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=asset, copy=True)
+        support.clear_scene()
+        with bpy.data.libraries.load(asset, link=True) as (_, into):
+            into.objects = ["Prop"]
+        prop = into.objects[0]
+        bpy.context.scene.collection.objects.link(prop)
+        bpy.context.view_layer.update()
+        faces = evaluated(prop)[1]
+        cage = len(prop.data.polygons)
+        cache = addon.live.cache_of(prop)
+        error = cache.error if cache is not None else ""
+        if store:
+            check(faces == 4 * cage and not error, f"linked with Store Result: the stored result shows ({faces} faces)")
+        else:
+            check(faces == cage and "Store Result" in error and "Library Override" in error,
+                  f"linked without a stored result: the input shows ({faces} faces), the panel says why ({error!r})")
+        bpy.data.objects.remove(prop)
+        bpy.data.libraries.remove(bpy.data.libraries[-1])
 
 
 def adaptive_file_size(folder):
@@ -197,6 +230,7 @@ def blender_apply_not_first():
 
 with tempfile.TemporaryDirectory() as folder:
     file_sizes(folder)
+    linked(folder)
     adaptive_file_size(folder)
     first_layout(folder)
 blender_apply_not_first()
