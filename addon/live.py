@@ -55,6 +55,7 @@ class Cache:
         self.cut = None  # Adaptive Subdivision: the (cage, options, object matrix) of the last cut, in the viewport
         self.error = ""
         self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
+        self.options = None  # the settings of the last viewport update (_changed_settings)
 
 
 _caches = {}
@@ -98,7 +99,10 @@ def refresh(obj, depsgraph, render=False):
             # Counted first: the operator that writes vertex groups (result._write_vertex_groups) evaluates the
             # depsgraph, which frees `mesh`.
             input_points = len(mesh.vertices)
-            _write(_caches.setdefault(obj.name, Cache()), obj, evaluated, mesh, helper, options, depsgraph, render)
+            cache = _caches.setdefault(obj.name, Cache())
+            if not render:
+                cache.options = options
+            _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render)
             # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
             # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
             stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
@@ -256,10 +260,21 @@ def _refresh_updated(depsgraph):
     updated = {update.id.original for update in depsgraph.updates
                if isinstance(update.id, bpy.types.Object)
                and (update.is_updated_geometry or update.is_updated_transform and _is_cut(update.id.original))}
-    updated |= _cut_for_camera(depsgraph)
+    updated |= _cut_for_camera(depsgraph) | _changed_settings()
     for obj in updated:
         stack.tidy(obj)  # a duplicated entry named as one, the helper's fields hidden
         refresh(obj, depsgraph)
+
+
+def _changed_settings():
+    """The objects whose entry's settings differ from those of its last viewport update: keyframed or driven ones (an
+    animated Levels Viewport, as Subdivision Surface's can be), which a frame evaluates with no geometry update."""
+    changed = set()
+    for name, cache in _caches.items():
+        obj = bpy.data.objects.get(name)
+        if obj is not None and cache.options is not None and cache.options != obj.loop_subdivision.options():
+            changed.add(obj)
+    return changed
 
 
 def _is_cut(obj):

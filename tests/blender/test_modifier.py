@@ -329,6 +329,24 @@ def animation():
     scene.frame_set(1)
     support.remove(obj)
 
+    # Levels Viewport keyframed, as Subdivision Surface's Levels can be: each frame shows its level.
+    obj = support.object_from_bmesh("Levelled", support.cube("Levelled"))
+    add_entry(obj, levels=1)
+    settings = obj.loop_subdivision
+    for frame, levels in ((1, 1), (11, 3)):
+        settings.levels = levels
+        settings.keyframe_insert("levels", frame=frame)
+    shown = []
+    for frame in (1, 11, 1, 11):
+        scene.frame_set(frame)
+        # Not evaluated(): its show_viewport write would tag the object, and the next frame would update for that.
+        shown.append(len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.polygons))
+    cage = len(obj.data.polygons)
+    check(shown == [4 * cage, 64 * cage, 4 * cage, 64 * cage],
+          f"a keyframed Levels Viewport: each frame shows its level ({shown} faces at frames 1, 11, 1, 11)")
+    obj.animation_data_clear()
+    support.remove(obj)
+
 
 # --- errors ---------------------------------------------------------------------------------------------------------
 
