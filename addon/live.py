@@ -548,12 +548,41 @@ _handlers = (
 ) + tuple((name, _on_saved) for name in compat.SAVE_FAILED_HANDLERS)
 
 
+def _detach():
+    """The session's entries as a Blender without the add-on shows them, for when the add-on is turned off: each
+    entry without Store Result points at the placeholder (its panel names it, "Enable the Loop Subdivision add-on")
+    and shows its input, and its helper and result go. Left live, a result would stay frozen while the cage is
+    edited, and a save would write it whole (19 times the cage at level 3)."""
+    empty = None
+    for obj in bpy.data.objects:
+        modifier = stack.entry(obj)
+        if modifier is None or obj.library is not None or not obj.users or obj.loop_subdivision.store_result:
+            continue
+        empty = empty or stack.placeholder()
+        compat.set_modifier_input(modifier, stack.RESULT_SOCKET, empty)
+    if empty is not None:
+        compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, True)
+    stack.collect()
+
+
+def _attach():
+    """The session's entries made live again, for when the add-on is turned on in a session that has some (turned
+    off before, or entries of a file opened meanwhile): as a file opens (_on_load)."""
+    if not any(stack.entry(obj) is not None for obj in bpy.data.objects):
+        return
+    refresh_all()
+    compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, False)
+    _collect()
+
+
 def register():
     for name, handler in _handlers:
         getattr(bpy.app.handlers, name).append(handler)
     if not bpy.app.background:
         bpy.app.timers.register(_serve, persistent=True)
         bpy.app.timers.register(_watch_views, persistent=True)
+    if _data_readable():  # not at Blender's start, where the file's loading makes the results (_on_load)
+        _attach()
 
 
 def unregister():
@@ -563,3 +592,10 @@ def unregister():
         if bpy.app.timers.is_registered(timer):
             bpy.app.timers.unregister(timer)
     _caches.clear()
+    if _data_readable():
+        _detach()
+
+
+def _data_readable():
+    """Whether a file's data can be read: not while Blender starts, where add-ons register with bpy.data restricted."""
+    return isinstance(bpy.data, bpy.types.BlendData)

@@ -7,6 +7,8 @@ Surface; and Blender's own Apply of an entry that is not first.
   made again on opening (the scene camera's).
 - Store Result keeps the Render-level result in the file; the panel's estimate of what that costs is within a third
   of what the file grows by.
+- The add-on turned off in a session: its entries show their input, and a save stays lean; turned on again, they
+  are live.
 - An object with an entry linked into another file shows the result its file stored (Store Result), or its input,
   the panel saying why and what to do.
 - A file saved by the add-on's first layout of the node group (the helper's mesh alone) opens with the current one.
@@ -98,6 +100,33 @@ def file_sizes(folder):
           f"the file opened with the add-on shows the same result, made again ({reopened_faces} faces)")
     check(not any(other.get(stack.PLACEHOLDER_TAG) for other in bpy.data.objects),
           "nothing of the saving stays in the opened file")
+
+
+def turned_off_and_on(folder):
+    """The add-on turned off in a session with an entry (Preferences ▸ Add-ons, or an extension updated): the entry
+    shows its input as a Blender without the add-on does, following edits of the cage, and a save stays as lean as
+    with the add-on on; turned on again, the result is back, made from the edited cage."""
+    support.clear_scene()
+    obj = sphere("Switched")
+    support.select_only(obj)
+    bpy.ops.object.loop_subdivision_add(levels=2)
+    _, lean = saved_size(folder, "switched_on")
+    cage = len(obj.data.polygons)
+    addon.unregister()
+    try:
+        for vertex in obj.data.vertices:
+            vertex.co *= 2.0
+        obj.data.update()
+        positions, faces = evaluated(obj)
+        check(faces == cage and abs(np.linalg.norm(positions, axis=1).max() - 2.0) < 1e-5,
+              f"turned off: the entry shows its input, as edited ({faces} faces)")
+        _, off = saved_size(folder, "switched_off")
+        check(off <= 1.05 * lean, f"turned off, a save is as lean as with the add-on on ({off} against {lean} bytes)")
+    finally:
+        addon.register()
+    positions, faces = evaluated(obj)
+    check(faces == 16 * cage and np.linalg.norm(positions, axis=1).max() > 1.5,
+          f"turned on again: the result of the edited cage ({faces} faces)")
 
 
 def linked(folder):
@@ -230,6 +259,7 @@ def blender_apply_not_first():
 
 with tempfile.TemporaryDirectory() as folder:
     file_sizes(folder)
+    turned_off_and_on(folder)
     linked(folder)
     adaptive_file_size(folder)
     first_layout(folder)
