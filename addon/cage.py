@@ -68,10 +68,7 @@ class Cage(Topology):
         the triangles alone (for triangles already checked)."""
         if not len(self.triangles):
             raise LoopSubError(f"{name} has no faces to subdivide")
-        if not np.isfinite(self.positions).all():  # at once: numpy's all along rows of three is many times slower
-            bad = np.flatnonzero(~np.isfinite(self.positions).all(axis=1))
-            raise LoopSubError(f"{name}: vertex {bad[0]} has a non-finite coordinate "
-                               f"({counted(len(bad), 'such vertex', 'such vertices')})")
+        finite(self.positions, name, "the position", "vertex", "vertices")
         if not topology:
             return
         degenerate = geometry.degenerate_triangles(self.triangles)
@@ -80,6 +77,17 @@ class Cage(Topology):
             raise LoopSubError(f"{name}: face {face} repeats a vertex "
                                f"({counted(len(degenerate), 'degenerate triangle')}); "
                                "Mesh ▸ Clean Up ▸ Degenerate Dissolve can fix it")
+
+
+def finite(values, name, what, element, elements):
+    """values, rows of one element each (a vertex, a corner), where all are finite numbers; else a LoopSubError that
+    names the first element that is not, as the artist finds it (the Spreadsheet's index): "Hero: UV map "UVMap" has
+    a non-finite value at corner 37 (1 such corner)". The core would refuse it too, but by its own numbering."""
+    if np.isfinite(values).all():  # at once: numpy's all along rows of three is many times slower
+        return values
+    bad = np.flatnonzero(~np.isfinite(values.reshape(len(values), -1)).all(axis=1))
+    raise LoopSubError(f"{name}: {what} has a non-finite value at {element} {bad[0]} "
+                       f"({counted(len(bad), 'such ' + element, 'such ' + elements)})")
 
 
 def counted(count, singular, plural=None):
@@ -285,7 +293,8 @@ class Source:
         self.vertex = _Channels()
         self.vertex.add("position", cage.positions)
         for name, _, _ in self.point:
-            self.vertex.add(("attribute", name), read_attribute(mesh.attributes[name], cage.num_vertices))
+            self.vertex.add(("attribute", name), finite(read_attribute(mesh.attributes[name], cage.num_vertices),
+                                                        obj.name, f'attribute "{name}"', "vertex", "vertices"))
 
         # Edge data passes to the child edges on each cage edge: seam and sharp marks, edge attributes.
         self.edge_flags = compat.read_edge_flags(mesh)
@@ -295,7 +304,8 @@ class Source:
         # UV Smooth says, to the limit with the limit surface.
         self.uv_names = [uv.name for uv in mesh.uv_layers]
         self.uv_layers = [native.weld_corner_values(cage.triangles, cage.num_vertices,
-                                                    read_array(uv.data, "uv", cage.num_loops, 2, np.float32)
+                                                    finite(read_array(uv.data, "uv", cage.num_loops, 2, np.float32),
+                                                           obj.name, f'UV map "{uv.name}"', "corner", "corners")
                                                     [cage.triangle_loops])
                           for uv in mesh.uv_layers]
 
@@ -304,7 +314,8 @@ class Source:
         self.corners = _Channels()
         for name, _, _ in self.corner:
             self.corners.add(("attribute", name),
-                             read_attribute(mesh.attributes[name], cage.num_loops)[cage.triangle_loops])
+                             finite(read_attribute(mesh.attributes[name], cage.num_loops), obj.name,
+                                    f'attribute "{name}"', "corner", "corners")[cage.triangle_loops])
         self.custom_normals = compat.custom_normals_in_use(mesh)
         if self.custom_normals:
             self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])

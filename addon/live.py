@@ -167,7 +167,8 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
         if cache.error != str(problem) and str(problem):
-            _tell(f"{obj.name}: {problem}")
+            # The add-on's own checks name the object already; the core's and the memory check's do not.
+            _tell(str(problem) if str(problem).startswith(f"{obj.name}: ") else f"{obj.name}: {problem}")
         cache.error = str(problem)
         cache.plan_key = cache.result = cache.inputs = cache.cut = None
         _swap(helper, helper.data, bpy.data.meshes.new_from_object(evaluated))

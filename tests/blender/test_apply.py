@@ -340,6 +340,20 @@ def bad_meshes():
     expect_error(obj, "a non-finite coordinate", "non-finite", levels=1)
     support.remove(obj)
 
+    # Values other than positions are named by what holds them and where the Spreadsheet shows them.
+    obj = uv_cube("BadUV")
+    obj.data.uv_layers["UVMap"].data[5].uv = (float("nan"), 0.5)
+    expect_error(obj, "a UV corner that is not a number",
+                 'BadUV: UV map "UVMap" has a non-finite value at corner 5 (1 such corner)', levels=1)
+    support.remove(obj)
+
+    obj = uv_cube("BadAttribute")
+    wetness = obj.data.attributes.new("wetness", 'FLOAT', 'POINT')
+    wetness.data[2].value = float("inf")
+    expect_error(obj, "an attribute value that is not finite",
+                 'BadAttribute: attribute "wetness" has a non-finite value at vertex 2 (1 such vertex)', levels=1)
+    support.remove(obj)
+
     obj = uv_cube("Infinite")
     obj.data.vertices[3].co.x = 3.4028235e38  # what Blender stores for an infinite coordinate typed in
     expect_error(obj, "a coordinate whose refinement would overflow", "too large to refine", levels=1)

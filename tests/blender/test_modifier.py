@@ -355,11 +355,18 @@ def errors():
     add_entry(obj)
     good, _ = evaluated(obj)
     obj.data.vertices[1].co.x = float("nan")
-    obj.data.update()
-    _, faces = evaluated(obj)
+    told = []
+    tell, addon.live._tell = addon.live._tell, told.append
+    try:
+        obj.data.update()
+        _, faces = evaluated(obj)
+    finally:
+        addon.live._tell = tell
     error = addon.live.cache_of(obj).error
     check(faces == len(obj.data.polygons) and "non-finite" in error,
           f"a bad input passes through unchanged and the panel says why ({error})")
+    check(told == [error] and error.startswith("Broken: ") and not error.startswith("Broken: Broken"),
+          f"the console and the status bar say it once, naming the object once ({told})")
     obj.data.vertices[1].co.x = 0.0
     obj.data.update()
     _, faces = evaluated(obj)
