@@ -313,17 +313,24 @@ def fits(required, available, reserve=None):
 
 def describe(required, available, subject):
     """The report of a refused subdivision: "Level 4 needs about 31 GB; 9.2 GB are free" (subject "Level 4"). A need
-    below the free memory, refused for the reserve, says so."""
-    text = f"{subject} needs about {format_bytes(required)}; {format_bytes(available)} are free"
+    below the free memory, refused for the reserve, says so. Two amounts that would read the same get a decimal more
+    until they differ ("needs about 21.3 GB; 21.1 GB are free", not "21 GB; 21 GB")."""
+    need, free = format_bytes(required), format_bytes(available)
+    for decimals in range(1, 4):
+        if need != free or required == available:
+            break
+        need, free = format_bytes(required, decimals), format_bytes(available, decimals)
+    text = f"{subject} needs about {need}; {free} are free"
     if required <= available:
         text += f", less {format_bytes(reserve_bytes(available))} kept for Blender and the system"
     return text
 
 
-def format_bytes(count):
-    """MB under 1000 MB, else GB (of 2^30 bytes, as systems count memory) with one decimal under 10."""
-    megabytes = round(count / (1 << 20))
-    if megabytes < 1000:
-        return f"{megabytes} MB"
+def format_bytes(count, decimals=0):
+    """MB under 1000 MB, else GB (of 2^30 bytes, as systems count memory) with one decimal under 10; decimals more
+    where two amounts must read apart."""
+    megabytes = count / (1 << 20)
+    if round(megabytes) < 1000:
+        return f"{round(megabytes, decimals or None)} MB"
     gigabytes = count / (1 << 30)
-    return f"{round(gigabytes)} GB" if gigabytes >= 9.95 else f"{round(gigabytes, 1):g} GB"
+    return f"{round(gigabytes, (0 if gigabytes >= 9.95 else 1) + decimals):g} GB"

@@ -1,5 +1,6 @@
 """The Loop Subdivision modifier's settings, drawn inside its panel in Properties ▸ Modifiers, laid out like
 Blender's Subdivision Surface; and the Add Loop Subdivision button under Add Modifier."""
+import re
 import textwrap
 
 import bpy
@@ -25,12 +26,18 @@ def note_columns(context):
     return max(_MIN_COLUMNS, int((region.width / scale - _LABEL_MARGIN) / _CHAR_WIDTH))
 
 
+# An amount and its unit stay on one line ("21 GB", "8 px"): the space between them does not break.
+_UNIT = re.compile(r"(\d) (MB|GB|px)\b")
+
+
 def note_lines(text, columns):
-    """The lines a note is drawn in: split at word boundaries to at most columns characters (long words stay whole),
-    the whole note on one line when columns is None."""
+    """The lines a note is drawn in: split at word boundaries to at most columns characters (long words and amounts
+    with their units stay whole), the whole note on one line when columns is None."""
     if columns is None:
         return [text]
-    return textwrap.wrap(text, width=columns, break_long_words=False, break_on_hyphens=False) or [text]
+    kept = _UNIT.sub("\\1\u00a0\\2", text)
+    lines = textwrap.wrap(kept, width=columns, break_long_words=False, break_on_hyphens=False) or [kept]
+    return [line.replace("\u00a0", " ") for line in lines]
 
 
 def _note(layout, text, icon, columns):

@@ -137,8 +137,8 @@ value) pair, cut by the same rates; with "all", linear in each triangle.
 constexpr const char* kScreenRatesDoc =
     R"doc(screen_space_rates(positions, triangles, world_to_clip, viewport, pixels=1.0, max_rate=64, measure="length", offscreen_scale=4.0)
 
-Rates from a camera, measured as Cycles measures its dicing (at each edge's midpoint's depth, as if
-the edge faced the camera): each edge of the mesh cut into as few segments as keep it to ``pixels``
+Rates from a camera, measured as Cycles measures its dicing (as if each edge faced the camera
+straight ahead at its midpoint's distance from it): each edge of the mesh cut into as few segments as keep it to ``pixels``
 - its length per segment (``measure="length"``, Cycles' dicing rate), or how far a segment may
 stray from the surface along the edge, from its bulge after one split (``measure="deviation"``;
 then no edge coarser than the other edges of its triangles) - from 1 to ``max_rate``; an edge

@@ -59,9 +59,11 @@ def points_on_side(mesh):
     return int(np.count_nonzero((np.abs(p[:, 1] + 1) < 1e-5) & (np.abs(p[:, 0]) <= 0.5 + 1e-5)))
 
 
-def expected_rate(length, depth, pixels_per_unit, dicing_rate):
-    """Cycles' dicing: an edge facing the camera at depth, cut into segments of at most dicing_rate pixels."""
-    return int(np.ceil(length * pixels_per_unit / depth / dicing_rate))
+def expected_rate(length, midpoint, height, pixels_per_unit, dicing_rate):
+    """Cycles' dicing: an edge as if it faced the camera at (0, 0, height) straight ahead at its midpoint's distance,
+    cut into segments of at most dicing_rate pixels."""
+    distance = np.linalg.norm(np.subtract(midpoint, (0.0, 0.0, height)))
+    return int(np.ceil(length * pixels_per_unit / distance / dicing_rate))
 
 
 def defaults():
@@ -83,13 +85,14 @@ def rates_from_the_camera():
     obj = support.object_from_bmesh("Grid", support.grid(cuts=4, size=2.0))
     length = 0.5
     bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=4.0)
-    viewport = expected_rate(length, 2.0, pixels_per_unit, 4.0)
+    # The side's two middle edges, midpoints (-+0.25, -1, 0).
+    viewport = expected_rate(length, (0.25, -1.0, 0.0), 2.0, pixels_per_unit, 4.0)
     check(points_on_side(shown(obj)) == 2 * viewport + 1,
           f"viewport: each boundary edge cut into {viewport} segments "
           f"({points_on_side(shown(obj)) - 1} / 2)")
     obj.scale = (1.5, 1.5, 1.5)  # its side y = -1.5 still in view
     bpy.context.view_layer.update()
-    scaled = expected_rate(1.5 * length, 2.0, pixels_per_unit, 4.0)
+    scaled = expected_rate(1.5 * length, (0.375, -1.5, 0.0), 2.0, pixels_per_unit, 4.0)
     check(points_on_side(shown(obj)) == 2 * scaled + 1,
           f"the object scaled by 1.5: {scaled} segments an edge ({points_on_side(shown(obj)) - 1} / 2)")
     obj.scale = (1.0, 1.0, 1.0)
@@ -97,7 +100,7 @@ def rates_from_the_camera():
     check(points_on_side(shown(obj)) == 2 * 3 + 1, "Max Segments 3: 3 segments an edge")
     obj.loop_subdivision.max_rate = 64
     obj.loop_subdivision.render_dicing_rate = 0.5
-    render = expected_rate(length, 2.0, pixels_per_unit, 0.5)
+    render = expected_rate(length, (0.25, -1.0, 0.0), 2.0, pixels_per_unit, 0.5)
     result = support.apply_loop(obj)
     check(result == {'FINISHED'} and points_on_side(obj.data) == 2 * render + 1
           and stack.entry(obj) is None,

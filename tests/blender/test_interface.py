@@ -184,6 +184,10 @@ def wrapping():
     check(all(len(line) <= 30 for line in lines) and " ".join(lines) == text and len(lines) > 2,
           f"a long note splits at words into lines of at most 30 characters ({len(lines)} lines)")
     check(ui.note_lines(text, None) == [text], "without a region (nothing drawn) a note stays whole")
+    refusal = "Level 5 needs about 21.3 GB; 21.1 GB are free"
+    lines = ui.note_lines(refusal, 24)  # "Level 5 needs about 21.3" is 24 characters: the amount apart from its unit
+    check(" ".join(lines) == refusal and not any(line[-1].isdigit() or line.startswith("GB") for line in lines),
+          f"an amount keeps its unit on its line ({lines})")
     narrow, wide = ui.note_columns(Context(300)), ui.note_columns(Context(900))
     check(narrow is not None and wide is not None and narrow < wide and narrow >= 20,
           f"the characters per line follow the panel's width ({narrow} at 300 pixels, {wide} at 900)")

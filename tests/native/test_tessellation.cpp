@@ -595,8 +595,8 @@ Camera camera_down_z() {
 }
 
 TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
-    // Three triangles: one facing the camera at distance 2, one far off to the side (out of view), one reaching
-    // behind the camera.
+    // Three triangles: one facing the camera at distance 2, one far off to the side (out of view, as deep), one
+    // reaching behind the camera.
     MeshData mesh;
     mesh.positions = {-0.5f, 0,  -2, 0.5f, 0,  -2, 0,  0.5f, -2,  // 0-1: 1 unit at distance 2: 25 pixels
                       40,    0,  -2, 41,   0,  -2, 40, 1,    -2,  // 3-4: 25 pixels, all right of the view
@@ -610,9 +610,12 @@ TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
     };
     EXPECT_EQ(rates.rates.size(), 9u);
     EXPECT_EQ(rate_of(0, 1), 7);  // 25 / 4 = 6.25
-    EXPECT_EQ(rate_of(3, 4), 2);  // 6.25 / 4 off screen
-    // Midpoint (0, -1, 0.5), behind the camera, depth 0.5: 5 units are 500 pixels there, 125 / 4 off screen = 31.25.
-    EXPECT_EQ(rate_of(6, 7), 32);
+    // As Cycles measures, at the midpoint's distance from the camera, not its depth: (40.5, 0, -2) is 40.55 away,
+    // where a unit is 50 / 40.55 = 1.23 pixels; 1.23 / 4 = 0.31, and / 4 off screen.
+    EXPECT_EQ(rate_of(3, 4), 1);
+    // Midpoint (0, -1, 0.5), behind the camera, 1.118 away: 5 units are 223.6 pixels there, 55.9 / 4 off screen
+    // = 13.98.
+    EXPECT_EQ(rate_of(6, 7), 14);
     EXPECT_EQ(rate_of(7, 8), 1);
     // Farther away, fewer segments; never below one.
     const ScreenRates coarse = screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 100.0f, 64);
@@ -707,12 +710,12 @@ int lattice_rate(const ScreenRates& rates, int a, int b) {
 // By deviation an edge is held to how far its segments stray from the surface along it. On z = x^2 + y^2 / 3 the
 // middle edge a-b along x (h = 1, t = x): its new point is 3/8 (0 + 1) + 1/8 (0.5 + 0.5) = 1/2 high; its ends' new
 // points 1/16 of their six neighbours' heights above them, 1/16 (1 + 1 + 4 (1/4 + 1/4)) = 1/4 (the Hessian's trace
-// 8/3 times 3/2): the chord between them at 1/2 + 1/4, so the bulge is 1/4, (h^2 / 8) t'Ht. At the midpoint's depth
-// 3.5, 0.25 * 50 / 3.5 = 3.57 pixels: sqrt(3.57 / 0.2) = 4.2 -> 5 segments. The midpoint's distance from the old ends'
-// midpoint, (c + d - a - b) / 8, is 0 there: blind to the curve along the edge.
-// An edge whose ends' coordinates sum past the float range (each end finite, the edge itself short) is measured at
-// its midpoint all the same: a rate between 1 and the cap, by length and by deviation, not a NaN made an integer (the
-// fuzzer's find: the midpoint was half of an overflowed sum).
+// 8/3 times 3/2): the chord between them at 1/2 + 1/4, so the bulge is 1/4, (h^2 / 8) t'Ht. At the midpoint's distance
+// 3.54 (0.5 across, 3.5 deep), 0.25 * 50 / 3.54 = 3.54 pixels: sqrt(3.54 / 0.2) = 4.2 -> 5 segments. The midpoint's
+// distance from the old ends' midpoint, (c + d - a - b) / 8, is 0 there: blind to the curve along the edge. An edge
+// whose ends' coordinates sum past the float range (each end finite, the edge itself short) is measured at its midpoint
+// all the same: a rate between 1 and the cap, by length and by deviation, not a NaN made an integer (the fuzzer's find:
+// the midpoint was half of an overflowed sum).
 TEST(ScreenRates, AnEdgeFarOutIsMeasuredAtAFiniteMidpoint) {
     const float far_out = 3.0e38f;
     MeshData mesh;
@@ -729,6 +732,19 @@ TEST(ScreenRates, AnEdgeFarOutIsMeasuredAtAFiniteMidpoint) {
     }
 }
 
+// An edge beside the camera, out of the picture at depth 1, is about as far away as one 10 units ahead: a quarter of
+// its segments (the off-screen scale), where by depth it would take ten times theirs. 1 unit at distance 10 is 5
+// pixels, 20 segments of 0.25 pixels ahead; at 10.05, 19.9 / 4 = 4.97 beside (by depth: 200 / 4 = 50).
+TEST(ScreenRates, AnEdgeBesideTheCameraIsMeasuredAtItsDistance) {
+    MeshData mesh;
+    mesh.positions = {-0.5f, 0,     -10, 0.5f, 0,    -10, 0,  0.5f, -10,     // ahead, in view
+                      10,    -0.5f, -1,  10,   0.5f, -1,  10, 0,    -1.5f};  // beside, out of view
+    mesh.triangles = {0, 1, 2, 3, 4, 5};
+    const ScreenRates rates = screen_space_rates(mesh.view(), mesh.positions.data(), camera_down_z(), 0.25f, 64);
+    EXPECT_EQ(lattice_rate(rates, 0, 1), 20);
+    EXPECT_EQ(lattice_rate(rates, 3, 4), 5);
+}
+
 TEST(ScreenRates, ByDeviationAnEdgeIsHeldToItsCurveAlongIt) {
     const MeshData curved = lattice([](double x, double y) { return x * x + y * y / 3.0; });
     const int a = 3 * 9 + 4, b = a + 1;
@@ -739,7 +755,7 @@ TEST(ScreenRates, ByDeviationAnEdgeIsHeldToItsCurveAlongIt) {
     // rate of its triangles' other edges, more than one segment, so that no strip of slivers fans from its ends.
     const MeshData across = lattice([](double, double y) { return y * y; });
     const ScreenRates raised =
-        screen_space_rates(across.view(), across.positions.data(), camera_down_z(), 0.2f, 64, DicingMeasure::Deviation);
+        screen_space_rates(across.view(), across.positions.data(), camera_down_z(), 0.1f, 64, DicingMeasure::Deviation);
     for (int j = -2; j <= 2; ++j)
         for (int i = -3; i < 3; ++i) {
             const int from = (j + 3) * 9 + (i + 4);

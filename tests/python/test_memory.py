@@ -273,6 +273,17 @@ def test_describe_in_gb_and_mb():
     assert memory.describe(1000 * MB, 0, "Level 1") == "Level 1 needs about 1 GB; 0 MB are free"
 
 
+def test_describe_never_reads_the_same_amount_twice():
+    """A need just past what is free, rounded alike, gets the decimals that part them (it read "Level 5 needs about
+    21 GB; 21 GB are free")."""
+    assert (memory.describe(int(21.3 * GB), int(21.1 * GB), "Level 5")
+            == "Level 5 needs about 21.3 GB; 21.1 GB are free")
+    assert (memory.describe(int(2.26 * GB), int(2.255 * GB), "Level 3")
+            == "Level 3 needs about 2.26 GB; 2.25 GB are free")
+    assert (memory.describe(int(500.4 * MB), int(500.2 * MB), "Level 2")
+            == "Level 2 needs about 500.4 MB; 500.2 MB are free")
+
+
 def test_describe_says_when_the_reserve_refuses():
     assert (memory.describe(int(8.5 * GB), int(9.2 * GB), "Level 4")
             == "Level 4 needs about 8.5 GB; 9.2 GB are free, less 1.2 GB kept for Blender and the system")

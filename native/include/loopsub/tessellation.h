@@ -39,9 +39,9 @@ struct Camera {
 Camera look_at_camera(const float eye[3], const float target[3], const float up[3], float fov_degrees, float width,
                       float height);
 
-// What a camera's rates hold an edge to (screen_space_rates), measured as Cycles measures its dicing: at the edge's
-// midpoint's depth, as if the edge faced the camera (an edge seen end on is not spared, an edge running past the
-// camera is not blown up by the projection), in pixels.
+// What a camera's rates hold an edge to (screen_space_rates), measured as Cycles measures its dicing: as if the edge
+// faced the camera straight ahead at its midpoint's distance from it (an edge seen end on is not spared, an edge
+// running past the camera, or beside it out of the picture, is not blown up by the projection), in pixels.
 enum class DicingMeasure {
     Length,    // Cycles' dicing rate: the edge's length, `pixels` per segment
     Deviation  // how far a segment strays from the surface along the edge: the edge's bulge (after one smooth split,
