@@ -90,9 +90,10 @@ SETTINGS = (
     Setting("max_rate", "Max Segments", 64, "Largest number of segments an edge of the cage is cut into",
             limits=dict(min=1, max=4096, soft_max=256)),
     Setting("store_result", "Store Result", False,
-            "Save the result at Render levels in the file, for machines without the add-on (render farms). Off, "
-            "the file holds the cage and the settings, as with Subdivision Surface, and the result is made again "
-            "when the file is opened", live=False),
+            "Save the result at Render levels in the file, for machines without the add-on (render farms): the "
+            "result of the frame the file is saved at, which such a machine renders on every frame. Off, the file "
+            "holds the cage and the settings, as with Subdivision Surface, and the result is made again when the "
+            "file is opened", live=False),
 )
 BY_NAME = {setting.name: setting for setting in SETTINGS}
 

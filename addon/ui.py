@@ -121,7 +121,8 @@ def _draw_settings(layout, obj, modifier, columns=None):
     layout.prop(settings, "store_result")
     if settings.store_result:
         kept = "Render dicing rate" if settings.use_adaptive else "Render level"
-        _note(layout, f"The file keeps the {kept}: about {memory.format_bytes(stored_bytes(obj, modifier))}",
+        _note(layout, f"The file keeps the {kept} of the frame it is saved at: about "
+                      f"{memory.format_bytes(stored_bytes(obj, modifier))}",
               'INFO', columns)
 
     cache = live.cache_of(obj)
