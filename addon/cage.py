@@ -233,6 +233,11 @@ def _notes(name, cage):
         notes.append(('WARNING', f"{name}: faces {first} and {second} lie on the same three vertices "
                                  f"({counted(len(duplicates), 'such pair')}); their edges are non-manifold and "
                                  "stay sharp, as in Subdivision Surface"))
+    flipped = geometry.edges_run_the_same_way(cage.triangles)
+    if flipped:
+        notes.append(('WARNING', f"{name}: {counted(flipped, 'edge')} {'joins' if flipped == 1 else 'join'} faces "
+                                 "that face opposite ways and stay sharp (Mesh ▸ Normals ▸ Recalculate Outside "
+                                 "turns them)"))
     cracks = geometry.shared_positions(cage.positions)
     if cracks:
         notes.append(('WARNING', f"{name}: {counted(cracks, 'vertex', 'vertices')} "

@@ -216,7 +216,15 @@ Command parse_command_line(int argc, char** argv) {
         throw UsageError("--levels, --tessellate and --camera exclude each other");
     if (!levels_given && command.tessellate == 0 && !camera_given)
         throw UsageError("--levels N, --tessellate N or --camera is required");
-    if (camera_given) command.camera = look;
+    if (camera_given) {
+        try {  // the core's check that the flags make a view, here: a wrong command line exits 2 before any reading
+            loopsub::look_at_camera(look.eye, look.target, look.up, look.fov_degrees, float(look.width),
+                                    float(look.height));
+        } catch (const loopsub::InputError&) {
+            throw UsageError("--camera: the eye, the target and --up must span a view");
+        }
+        command.camera = look;
+    }
     command.input = positional[0];
     command.output = positional[1];
     return command;

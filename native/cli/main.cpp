@@ -21,14 +21,26 @@ using loopsub::cli::kUsage;
 using loopsub::cli::parse_command_line;
 using loopsub::cli::UsageError;
 
-// The camera of --camera (the core's look_at_camera), its refusal of a view that is no view in the flags' words.
+// The camera of --camera (the core's look_at_camera; parse_command_line checked that the flags make a view).
 loopsub::Camera camera_of(const loopsub::cli::LookAt& look) {
-    try {
-        return loopsub::look_at_camera(look.eye, look.target, look.up, look.fov_degrees, float(look.width),
-                                       float(look.height));
-    } catch (const loopsub::InputError&) {
-        throw loopsub::InputError("--camera: the eye, the target and --up must span a view");
+    return loopsub::look_at_camera(look.eye, look.target, look.up, look.fov_degrees, float(look.width),
+                                   float(look.height));
+}
+
+// Edges along which two faces run the same way, as a face wound against its neighbours (flipped) leaves them: the
+// rules make them infinitely sharp (docs/rules.md, Sharpness), where the artist most often wants the face turned.
+int edges_run_the_same_way(const std::vector<std::int32_t>& triangles) {
+    std::vector<std::uint64_t> directed;
+    directed.reserve(triangles.size());
+    for (std::size_t c = 0; c < triangles.size(); ++c) {
+        const std::size_t next = c % 3 == 2 ? c - 2 : c + 1;
+        directed.push_back(std::uint64_t(std::uint32_t(triangles[c])) << 32 | std::uint32_t(triangles[next]));
     }
+    std::sort(directed.begin(), directed.end());
+    int count = 0;
+    for (std::size_t k = 1; k < directed.size(); ++k)
+        count += directed[k] == directed[k - 1] && (k == 1 || directed[k - 1] != directed[k - 2]);
+    return count;
 }
 
 // The mesh the core reads: the input's, and its vt indices as the UV layer's topology (where a vertex's corners name
@@ -91,6 +103,11 @@ int run(const Command& command) {
     }
     for (const std::string& note : in.notes)
         std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
+    if (const int same_way = edges_run_the_same_way(in.triangles); same_way > 0)
+        std::fprintf(stderr,
+                     "loopsub: note: %s: %d edge(s) along which two faces run the same way (a face wound against its "
+                     "neighbours), infinitely sharp\n",
+                     command.input.c_str(), same_way);
 
     loopsub::Options options = command.options;
     // One evaluation follows: derived tables make the plan quicker and smaller, and cost that evaluation less than

@@ -137,6 +137,15 @@ def plurals():
     expected = (f"{cracks} vertex shares a position" if cracks == 1 else f"{cracks} vertices share a position")
     check(cracks >= 1 and any(expected in note for note in notes), f"split vertices: \"{expected}\" ({notes})")
     support.remove(obj)
+    bm = support.cube("Flipped")
+    bm.faces.ensure_lookup_table()
+    bm.faces[0].normal_flip()  # a quad wound against its neighbours: its four edges run the same way as theirs
+    obj = support.object_from_bmesh("Flipped", bm)
+    add_entry(obj)
+    notes = notes_of(obj)
+    check(any("4 edges join faces that face opposite ways and stay sharp" in note for note in notes),
+          f"a flipped face: the panel names its sharp edges and the way to turn it ({notes})")
+    support.remove(obj)
     check(cage.counted(1, "vertex", "vertices") == "1 vertex" and cage.counted(2, "loose edge") ==
           "2 loose edges" and cage.counted(0, "face") == "0 faces", "counted: the singular for one only")
 

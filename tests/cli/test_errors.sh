@@ -128,5 +128,27 @@ OBJ
 run_cli 0 "$WORK/quads.obj" "$out" --levels 1
 expect_stderr "loopsub: note: $WORK/quads.obj: triangulated 6 polygon(s) with more than 3 corners"
 check_valid_obj "$out" 26 48  # 8 vertices + 18 edges (12 sides, 6 diagonals); 12 triangles x 4
+# Nothing else to say of a closed, consistently wound cube.
+grep -q "run the same way" "$WORK/stderr" && fail "a consistently wound cube noted as flipped: $(cat "$WORK/stderr")"
+
+# An octahedron with one face wound against its neighbours: its three edges are infinitely sharp, and the CLI says so.
+cat >"$WORK/flipped.obj" <<'OBJ'
+v 1 0 0
+v 0 1 0
+v -1 0 0
+v 0 -1 0
+v 0 0 1
+v 0 0 -1
+f 5 2 1
+f 2 1 6
+f 2 3 5
+f 3 2 6
+f 3 4 5
+f 4 3 6
+f 4 1 5
+f 1 4 6
+OBJ
+run_cli 0 "$WORK/flipped.obj" "$out" --levels 1
+expect_stderr "loopsub: note: $WORK/flipped.obj: 3 edge(s) along which two faces run the same way (a face wound against its neighbours), infinitely sharp"
 
 finish

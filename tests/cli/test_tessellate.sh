@@ -115,6 +115,6 @@ run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,1,6
 expect_stderr "--camera expects 6 numbers separated by commas"
 run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,1,6,0,0,0 --tessellate 2
 expect_stderr "--levels, --tessellate and --camera exclude each other"
-run_cli 1 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,0,0,0,0,0
+run_cli 2 "$WORK/ground.obj" "$WORK/x.obj" --camera 0,0,0,0,0,0
 expect_stderr "the eye, the target and --up must span a view"
 finish
