@@ -163,6 +163,8 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
             cache.result, cache.layout_key = helper.data.name, layout_key
             cache.blender_corners = source.blender_corners
         cache.inputs = inputs
+        if cache.error:
+            _clear_status()  # what was wrong is mended: the status bar no longer says otherwise
         cache.error = ""
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
@@ -177,23 +179,31 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
 _STATUS_SECONDS = 10.0
 
 
+# The workspaces whose status bar shows what _tell said, until _clear_status.
+_told = set()
+
+
 def _tell(text):
-    """A refusal the artist should see beside the panel's note: in the status bar for a while (the interface), and on
-    the console (renders and scripts from the command line)."""
+    """A refusal the artist should see beside the panel's note: in the status bar for a while, or until the entry
+    works again (the interface), and on the console (renders and scripts from the command line)."""
     print(f"Loop Subdivision: {text}")
     if bpy.app.background or bpy.context.window_manager is None:
         return
-    workspaces = {window.workspace for window in bpy.context.window_manager.windows if window.workspace is not None}
-    for workspace in workspaces:
+    _told.update(window.workspace for window in bpy.context.window_manager.windows if window.workspace is not None)
+    for workspace in _told:
         workspace.status_text_set(text)
+    if bpy.app.timers.is_registered(_clear_status):
+        bpy.app.timers.unregister(_clear_status)  # the newest message stays its full while
+    bpy.app.timers.register(_clear_status, first_interval=_STATUS_SECONDS)
 
-    def clear():
-        for workspace in workspaces:
-            try:
-                workspace.status_text_set(None)
-            except ReferenceError:
-                pass  # a workspace deleted meanwhile
-    bpy.app.timers.register(clear, first_interval=_STATUS_SECONDS)
+
+def _clear_status():
+    for workspace in _told:
+        try:
+            workspace.status_text_set(None)
+        except ReferenceError:
+            pass  # a workspace deleted meanwhile
+    _told.clear()
 
 
 def _linked(obj, modifier):

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <string_view>
 #include <system_error>
@@ -395,8 +396,16 @@ private:
         auto require_counts = [&](bool ok, const char* expected) {
             if (!ok) fail("tag '" + name + "' expects " + expected + ", got " + std::string(counts));
         };
-        // A tag with one value applies it to every element it names; otherwise each element has its own.
+        // A tag with one value applies it to every element it names; otherwise each element has its own. A sharpness
+        // is refused here, where the line is known, as the core would refuse it by the tag's order.
         auto value_for = [&](std::size_t element) { return floats.size() == 1 ? floats[0] : floats[element]; };
+        auto sharpness_for = [&](std::size_t element) {
+            const float sharpness = value_for(element);
+            if (!(sharpness >= 0.0f) || !std::isfinite(sharpness))
+                fail("tag '" + name + "' gives sharpness " + std::to_string(sharpness) +
+                     "; a sharpness is a finite number >= 0");
+            return sharpness;
+        };
 
         if (name == "crease") {
             std::size_t edges = ints.size() / 2;
@@ -406,14 +415,14 @@ private:
             for (std::size_t e = 0; e < edges; ++e) {
                 crease_indices_.push_back({ints[2 * e], line_});
                 crease_indices_.push_back({ints[2 * e + 1], line_});
-                mesh_.crease_sharpness.push_back(value_for(e));
+                mesh_.crease_sharpness.push_back(sharpness_for(e));
             }
         } else if (name == "corner") {
             require_counts(!ints.empty() && strings.empty() && (floats.size() == 1 || floats.size() == ints.size()),
                            "vertices and one sharpness or one per vertex, as in 1/1/0");
             for (std::size_t k = 0; k < ints.size(); ++k) {
                 corner_indices_.push_back({ints[k], line_});
-                mesh_.corner_sharpness.push_back(value_for(k));
+                mesh_.corner_sharpness.push_back(sharpness_for(k));
             }
         } else if (name == "cone") {
             require_counts(!ints.empty() && floats.empty() && strings.empty(), "vertices only, as in 1/0/0");
@@ -535,6 +544,8 @@ ObjMesh parse_obj(const std::string& text, const std::string& name) {
 }
 
 ObjMesh read_obj(const std::string& path) {
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) throw InputError(path + ": is a directory, not an OBJ file");
     File file(std::fopen(path.c_str(), "rb"));
     if (!file) throw InputError(path + ": cannot open for reading");
     std::size_t size = 0;  // only to reserve the arrays; a pipe has none

@@ -151,4 +151,11 @@ OBJ
 run_cli 0 "$WORK/flipped.obj" "$out" --levels 1
 expect_stderr "loopsub: note: $WORK/flipped.obj: 3 edge(s) along which two faces run the same way (a face wound against its neighbours), infinitely sharp"
 
+# A negative sharpness and a directory for a file: named where they are.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 -1\n' >"$WORK/negative.obj"
+run_cli 1 "$WORK/negative.obj" "$out" --levels 1
+expect_stderr "loopsub: error: $WORK/negative.obj:5: tag 'crease' gives sharpness -1.000000; a sharpness is a finite number >= 0"
+run_cli 1 "$WORK" "$out" --levels 1
+expect_stderr "loopsub: error: $WORK: is a directory, not an OBJ file"
+
 finish
