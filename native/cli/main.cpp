@@ -27,6 +27,11 @@ loopsub::Camera camera_of(const loopsub::cli::LookAt& look) {
                                    float(look.height));
 }
 
+// Where --stats prints: standard output, unless the OBJ goes there.
+std::FILE* stats_stream(const Command& command) {
+    return command.output == "/dev/stdout" || command.output == "/proc/self/fd/1" ? stderr : stdout;
+}
+
 // Edges along which two faces run the same way, as a face wound against its neighbours (flipped) leaves them: the
 // rules make them infinitely sharp (docs/rules.md, Sharpness), where the artist most often wants the face turned.
 int edges_run_the_same_way(const std::vector<std::int32_t>& triangles) {
@@ -84,7 +89,8 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     loopsub::obj::write_obj(command.output, out, options.threads);
     if (command.stats) {
         using ms = std::chrono::duration<double, std::milli>;
-        std::printf(
+        std::fprintf(
+            stats_stream(command),
             "topology_ms=%.3f evaluate_ms=%.3f rate=%d levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
             "triangles_out=%d threads=%d\n",
             ms(planned - started).count(), ms(evaluated - planned).count(),
@@ -171,12 +177,12 @@ int run(const Command& command) {
     loopsub::obj::write_obj(command.output, out, options.threads);
 
     if (command.stats) {
-        std::printf(
-            "topology_ms=%.3f evaluate_ms=%.3f levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
-            "triangles_out=%d kernel=%s threads=%d\n",
-            plan.topology_ms(), evaluate_ms, plan.levels(), in.num_vertices(), in.num_triangles(),
-            plan.num_output_vertices(), plan.num_output_triangles(), loopsub::kernel_name(plan.kernel()),
-            plan.options().threads);
+        std::fprintf(stats_stream(command),
+                     "topology_ms=%.3f evaluate_ms=%.3f levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
+                     "triangles_out=%d kernel=%s threads=%d\n",
+                     plan.topology_ms(), evaluate_ms, plan.levels(), in.num_vertices(), in.num_triangles(),
+                     plan.num_output_vertices(), plan.num_output_triangles(), loopsub::kernel_name(plan.kernel()),
+                     plan.options().threads);
     }
     return 0;
 }

@@ -26,4 +26,10 @@ run_cli 0 "$in" "$WORK/zero.obj" --levels 0 --stats
 grep -Eq " levels=0 vertices_in=8 triangles_in=12 vertices_out=8 triangles_out=12 " "$WORK/stdout" \
   || fail "unexpected --stats line at level 0: $(cat "$WORK/stdout")"
 
+# The OBJ on standard output: the line goes to stderr, and stdout is the OBJ alone.
+run_cli 0 "$in" /dev/stdout --levels 1 --stats
+grep -q "^topology_ms=" "$WORK/stderr" || fail "--stats with the OBJ on stdout: no line on stderr: $(cat "$WORK/stderr")"
+grep -q "topology_ms=" "$WORK/stdout" && fail "--stats with the OBJ on stdout: the line is inside the OBJ"
+grep -q "^f " "$WORK/stdout" || fail "--stats with the OBJ on stdout: no faces on stdout"
+
 finish
