@@ -745,6 +745,29 @@ TEST(ScreenRates, AnEdgeBesideTheCameraIsMeasuredAtItsDistance) {
     EXPECT_EQ(lattice_rate(rates, 3, 4), 5);
 }
 
+// A matrix whose frame cannot be told apart (an x or y row along the w row, or none at all) is measured at the
+// depth, as an orthographic one: every rate between 1 and the cap, never a NaN made an integer.
+TEST(ScreenRates, AProjectionWithoutAFrameIsMeasuredAtItsDepth) {
+    MeshData mesh;
+    mesh.positions = {0, 0, -2, 1, 0, -2, 0, 1, -2};
+    mesh.triangles = {0, 1, 2};
+    Camera along = camera_down_z(), flat = camera_down_z();
+    std::copy(along.world_to_clip + 12, along.world_to_clip + 16, along.world_to_clip);  // x row = w row
+    std::fill(flat.world_to_clip, flat.world_to_clip + 8, 0.0f);                         // no x or y row
+    for (const Camera& camera : {along, flat})
+        for (DicingMeasure measure : {DicingMeasure::Length, DicingMeasure::Deviation}) {
+            const ScreenRates rates = screen_space_rates(mesh.view(), mesh.positions.data(), camera, 1.0f, 64, measure);
+            ASSERT_EQ(rates.rates.size(), 3u);
+            for (int rate : rates.rates) {
+                EXPECT_GE(rate, 1);
+                EXPECT_LE(rate, 64);
+            }
+        }
+    // Along: its y row still measures 1 unit at depth 2 as 25 pixels, as the matrix said before.
+    const ScreenRates along_rates = screen_space_rates(mesh.view(), mesh.positions.data(), along, 1.0f, 64);
+    EXPECT_EQ(lattice_rate(along_rates, 0, 1), 25);
+}
+
 TEST(ScreenRates, ByDeviationAnEdgeIsHeldToItsCurveAlongIt) {
     const MeshData curved = lattice([](double x, double y) { return x * x + y * y / 3.0; });
     const int a = 3 * 9 + 4, b = a + 1;

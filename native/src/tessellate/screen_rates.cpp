@@ -115,40 +115,42 @@ private:
 // Distances from the camera, from world_to_clip alone. A perspective projection's w row is the view direction
 // (times the object's scale, as every row is), and its x and y rows are the frustum's focal scales along the camera's
 // right and up plus the lens shift times that direction: the camera's x and y are then (x - shift w) / scale. An
-// orthographic projection has a constant w, and every point is at depth 1 for what it measures.
+// orthographic projection has a constant w: every point is at depth |w| = 1 for what it measures. So is any matrix
+// whose frame cannot be told apart (a w row past the float range, an x or y row along it): measured at its depth.
 class CameraDistance {
 public:
-    explicit CameraDistance(const float m[16]) {
+    CameraDistance(const float m[16], double viewport_height) {
         const double w[3] = {m[12], m[13], m[14]};
         const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-        perspective_ = ww > 0.0;
-        if (!perspective_) return;
+        // Pixels per unit of length at depth 1 (w = 1), perpendicular to the view: the up row's scale times half
+        // the viewport's height; at distance 1 for a perspective, its focal scale of y.
+        pixels_at_one_ =
+            std::sqrt(double(m[4]) * m[4] + double(m[5]) * m[5] + double(m[6]) * m[6]) * 0.5 * viewport_height;
+        if (!(ww > 0.0) || !std::isfinite(ww)) return;
         for (int axis = 0; axis < 2; ++axis) {
             const float* row = m + 4 * axis;
             shift_[axis] = (row[0] * w[0] + row[1] * w[1] + row[2] * w[2]) / ww;
             double across = 0.0;
             for (int k = 0; k < 3; ++k) across += (row[k] - shift_[axis] * w[k]) * (row[k] - shift_[axis] * w[k]);
             scale_[axis] = std::sqrt(across / ww);
+            if (!(scale_[axis] > 0.0) || !std::isfinite(scale_[axis])) return;
         }
+        perspective_ = true;
+        pixels_at_one_ = scale_[1] * std::sqrt(ww) * 0.5 * viewport_height;
     }
 
-    // Pixels per unit of length at distance 1 for a viewport `height` pixels high.
-    double pixels_at_distance_one(const float m[16], double height) const {
-        if (!perspective_)
-            return std::sqrt(double(m[4]) * m[4] + double(m[5]) * m[5] + double(m[6]) * m[6]) * 0.5 * height;
-        const double w = std::sqrt(double(m[12]) * m[12] + double(m[13]) * m[13] + double(m[14]) * m[14]);
-        return scale_[1] * w * 0.5 * height;
-    }
+    double pixels_at_one() const { return pixels_at_one_; }
 
-    // The distance of a point (its clip coordinates) from the camera; 1 for an orthographic view.
+    // The distance of a point (its clip coordinates) from the camera, or its depth where the frame is not told.
     double operator()(const Clip& c) const {
-        if (!perspective_) return 1.0;
+        if (!perspective_) return std::fabs(c.w);
         const double x = (c.x - shift_[0] * c.w) / scale_[0], y = (c.y - shift_[1] * c.w) / scale_[1];
         return std::sqrt(x * x + y * y + c.w * c.w);
     }
 
 private:
     bool perspective_ = false;
+    double pixels_at_one_ = 0.0;
     double shift_[2] = {0.0, 0.0}, scale_[2] = {1.0, 1.0};
 };
 
@@ -238,11 +240,8 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
 
     ScreenRates out;
     out.edges.reserve(2 * keys.size()), out.rates.reserve(keys.size());
-    // Pixels per unit of length at distance 1, perpendicular to the view: the focal scale of y (the up row's)
-    // times half the viewport's height.
     const float* m = camera.world_to_clip;
-    const CameraDistance distance(m);
-    const double pixels_at_distance_one = distance.pixels_at_distance_one(m, camera.viewport_height);
+    const CameraDistance distance(m, camera.viewport_height);
     for (std::size_t e = 0; e < keys.size(); ++e) {
         const std::int32_t a = std::int32_t(keys[e] >> 32), b = std::int32_t(keys[e] & 0xffffffffu);
         const float* pa = positions + 3 * std::size_t(a);
@@ -255,14 +254,14 @@ ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, con
         const Clip p = to_clip(m, pa), q = to_clip(m, pb), mid = to_clip(m, middle);
         const double length =
             std::sqrt(double(offset[0]) * offset[0] + double(offset[1]) * offset[1] + double(offset[2]) * offset[2]);
-        if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + mid.w + length))
+        if (!std::isfinite(p.x + p.y + p.w + q.x + q.y + q.w + mid.x + mid.y + mid.w + length))
             fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is too large to measure");
         int rate = 1;
         if (p.w > 0.0 || q.w > 0.0) {  // else both ends are behind the camera: unseen, one segment
             // As Cycles measures: the length in pixels it would have straight ahead of the camera at its midpoint's
             // distance, facing it; an edge out of the view coarser by offscreen_scale. (By depth, an edge beside the
             // camera, out of the picture, would be cut finest of all.)
-            double measured = length * pixels_at_distance_one / std::max(distance(mid), 1e-6);
+            double measured = length * distance.pixels_at_one() / std::max(distance(mid), 1e-6);
             const bool in_view = reaches_view(p, q, mid);
             double segments = by_deviation ? std::sqrt(measured / pixels) : measured / pixels;
             if (!in_view) segments /= offscreen_scale;
