@@ -578,12 +578,12 @@ def _detach():
 
 def _attach():
     """The session's entries made live again, for when the add-on is turned on in a session that has some (turned
-    off before, or entries of a file opened meanwhile): as a file opens (_on_load)."""
+    off before, or entries of a file opened meanwhile, which may want migrating): what opening the file does
+    (_on_load), and the placeholder's field hidden again."""
     if not any(stack.entry(obj) is not None for obj in bpy.data.objects):
         return
-    refresh_all()
+    _on_load()
     compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, False)
-    _collect()
 
 
 def register():
