@@ -3,7 +3,18 @@
 A "Loop Subdivision" modifier in the modifier stack (a Geometry Nodes modifier whose result the add-on keeps
 current), an apply operator, and crease tags written as attributes. See docs/addon.md.
 """
-from . import live, operators, properties, ui
+import sys
+
+import bpy
+
+# Blender imports an add-on's package again when its files changed (an update from a zip) and on Reload Scripts, but
+# not the package's modules, which would keep running the old code: they are imported anew with it (the package's
+# names for them go too, or the imports below would take them).
+for _name in [name for name in sys.modules if name.startswith(__name__ + ".")]:
+    del sys.modules[_name]
+    globals().pop(_name.rpartition(".")[2], None)
+
+from . import live, native, operators, properties, ui  # noqa: E402
 
 bl_info = {
     "name": "Loop Subdivision",
@@ -19,6 +30,7 @@ _modules = (properties, operators, ui, live)
 
 
 def register():
+    native.private_folder = bpy.app.tempdir
     for module in _modules:
         module.register()
 

@@ -307,6 +307,7 @@ def _cut_for_camera(depsgraph):
 
 @persistent
 def _on_depsgraph_update(scene, depsgraph):
+    _attach_when_readable()
     # After edits only (deleting an object or removing an entry is one), not on frame changes: playback deletes nothing.
     _collect()
     _refresh_updated(depsgraph)
@@ -425,6 +426,8 @@ def _on_undo(*_):
 
 @persistent
 def _on_load(*_):
+    global _attach_pending
+    _attach_pending = False
     _caches.clear()
     stack.migrate()
     _undo_auto_smooth_conversion()
@@ -586,14 +589,33 @@ def _attach():
     compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, False)
 
 
+# Whether the entries wait for _attach: the add-on was turned on while Blender kept its data from add-ons.
+_attach_pending = False
+
+
+def _attach_when_readable():
+    """_attach, at the first chance after registering: the next pass of the interface's event loop (a timer), the
+    next update of a script's scene (_on_depsgraph_update), or a file's loading, which makes the entries live
+    itself (_on_load)."""
+    global _attach_pending
+    if _attach_pending and _data_readable():
+        _attach_pending = False
+        _attach()
+
+
 def register():
+    global _attach_pending
     for name, handler in _handlers:
         getattr(bpy.app.handlers, name).append(handler)
     if not bpy.app.background:
         bpy.app.timers.register(_serve, persistent=True)
         bpy.app.timers.register(_watch_views, persistent=True)
-    if _data_readable():  # not at Blender's start, where the file's loading makes the results (_on_load)
-        _attach()
+    # Blender keeps its data from an add-on while it registers (Preferences, addon_utils.enable, an update, Reload
+    # Scripts) and while it starts (then the file's loading makes the results).
+    _attach_pending = True
+    if not bpy.app.background:
+        bpy.app.timers.register(_attach_when_readable, first_interval=0.0)
+    _attach_when_readable()
 
 
 def unregister():
@@ -602,6 +624,8 @@ def unregister():
     for timer in (_serve, _watch_views):
         if bpy.app.timers.is_registered(timer):
             bpy.app.timers.unregister(timer)
+    if bpy.app.timers.is_registered(_attach_when_readable):
+        bpy.app.timers.unregister(_attach_when_readable)
     _caches.clear()
     if _data_readable():
         _detach()

@@ -3,6 +3,11 @@
 The module is imported on first use, so that the add-on registers and reports a missing build instead of failing to
 load. Every error of the core becomes a LoopSubError, which the operators turn into an error report.
 """
+import importlib.machinery
+import importlib.util
+import os
+import shutil
+
 import numpy as np
 
 
@@ -10,13 +15,58 @@ class LoopSubError(Exception):
     """A problem the artist can act on; the message is shown as a Blender report."""
 
 
+# Where the module is loaded from: a copy in this folder (Blender's temporary folder of the session, which it empties
+# on quitting; set on registering), not the installed file. Blender 3.4's Install writes a newer zip's files over the
+# installed ones, and a module whose file is rewritten while it is loaded crashes the process on its next call; a
+# copy is never written again. None: the installed file (tests without Blender).
+private_folder = None
+_module = None
+
+
 def load():
+    global _module
+    if _module is None:
+        _module = _import()
+    return _module
+
+
+def _import():
+    here = os.path.dirname(os.path.abspath(__file__))
+    installed = next((path for path in (os.path.join(here, "_loopsub" + suffix)
+                                        for suffix in importlib.machinery.EXTENSION_SUFFIXES)
+                      if os.path.isfile(path)), None)
     try:
-        from . import _loopsub
-    except ImportError as error:
+        if installed is None:
+            raise ImportError(f"no _loopsub module for this Python in {here}")
+        return _import_from(_private_copy(installed) or installed)
+    except (ImportError, OSError) as error:
         raise LoopSubError("The native Loop subdivision module is missing or does not load "
                            f"({error}); build it with scripts/setup.sh") from error
-    return _loopsub
+
+
+def _private_copy(installed):
+    """A copy of the installed module in private_folder, named by the installed file's size and time (an update's
+    module gets a folder of its own); None where there is no such folder or it cannot be written."""
+    if not private_folder:
+        return None
+    status = os.stat(installed)
+    folder = os.path.join(private_folder, f"loop_subdivision-{status.st_size}-{status.st_mtime_ns}")
+    copy = os.path.join(folder, os.path.basename(installed))
+    try:
+        if not os.path.isfile(copy):
+            os.makedirs(folder, exist_ok=True)
+            shutil.copyfile(installed, copy + ".part")
+            os.replace(copy + ".part", copy)
+    except OSError:
+        return None
+    return copy
+
+
+def _import_from(path):
+    spec = importlib.util.spec_from_file_location(f"{__package__}._loopsub", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, face_varying_indices=()):

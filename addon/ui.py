@@ -139,19 +139,30 @@ def _draw_settings(layout, obj, modifier, columns=None):
     row.operator("object.loop_subdivision_refresh_tags", text="Refresh Tags", icon='FILE_REFRESH')
 
 
+def _draw_entry(panel, context):
+    modifier = panel.custom_data
+    if modifier is not None and stack.is_entry(modifier):
+        _draw_settings(panel.layout, modifier.id_data, modifier, note_columns(context))
+
+
+def _draw_nothing(_panel, _context):
+    """The kept sub-panel's drawing while the add-on is off."""
+
+
 class DATA_PT_loop_subdivision(bpy.types.Panel):
-    """A header-less part of every Geometry Nodes modifier's panel that draws only in the Loop Subdivision ones."""
+    """A header-less part of every Geometry Nodes modifier's panel that draws only in the Loop Subdivision ones.
+
+    Registered once per session and never unregistered (register, unregister): the modifier panels Blender has made
+    keep their sub-panels' types, and a type freed under them is read on the next redraw (3.4.1 crashed when the
+    add-on was turned off and on, as an update does, with the Modifier tab shown). While the add-on is off it draws
+    nothing."""
     bl_label = "Loop Subdivision"
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     bl_context = "modifier"
     bl_parent_id = compat.NODES_MODIFIER_PANEL
     bl_options = {'HIDE_HEADER'}
-
-    def draw(self, context):
-        modifier = self.custom_data
-        if modifier is not None and stack.is_entry(modifier):
-            _draw_settings(self.layout, modifier.id_data, modifier, note_columns(context))
+    draw = _draw_entry
 
 
 class DATA_PT_loop_subdivision_settings(bpy.types.Panel):
@@ -179,17 +190,31 @@ _button_target = None
 _panel = None
 
 
+def _kept_panel():
+    """The sub-panel type an earlier registration of this session left registered (DATA_PT_loop_subdivision), with
+    the same parent; None at the session's first registration."""
+    kept = getattr(bpy.types, DATA_PT_loop_subdivision.__name__, None)
+    return kept if kept is not None and kept.bl_parent_id == DATA_PT_loop_subdivision.bl_parent_id else None
+
+
 def register():
     global _button_target, _panel
-    try:
-        bpy.utils.register_class(DATA_PT_loop_subdivision)
-        _panel = DATA_PT_loop_subdivision
-    except RuntimeError:  # no Geometry Nodes modifier panel by that name in this Blender
-        bpy.utils.register_class(DATA_PT_loop_subdivision_settings)
-        _panel = DATA_PT_loop_subdivision_settings
+    _panel = _kept_panel()
+    if _panel is not None:
+        _panel.draw = _draw_entry  # this module's drawing, also after an update or a reload
+    else:
+        try:
+            bpy.utils.register_class(DATA_PT_loop_subdivision)
+            _panel = DATA_PT_loop_subdivision
+        except RuntimeError:  # no Geometry Nodes modifier panel by that name in this Blender
+            bpy.utils.register_class(DATA_PT_loop_subdivision_settings)
+            _panel = DATA_PT_loop_subdivision_settings
     _button_target = compat.add_modifier_button(_add_button)
 
 
 def unregister():
     compat.remove_modifier_button(_button_target, _add_button)
-    bpy.utils.unregister_class(_panel)
+    if _panel is DATA_PT_loop_subdivision_settings:  # a panel of its own: Blender forgets it safely
+        bpy.utils.unregister_class(_panel)
+    else:
+        _panel.draw = _draw_nothing

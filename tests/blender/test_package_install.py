@@ -57,6 +57,34 @@ zip_path, package, user_dir, is_extension, name, version, tagline = sys.argv[sys
     faces = len(bpy.context.object.data.polygons)
     assert faces == 48, f"a cube at level 1 has {faces} faces, expected 48"
     print("INSTALLED-AND-APPLIED", loaded.__file__)
+
+    # With an entry in the scene: turned off and on, then updated (the zip installed again over itself, which
+    # rewrites the installed native module in 3.4), as an artist does from Preferences. The entry is live again at
+    # the next update of the scene, and the part of the modifier panel draws with the new code.
+    bpy.ops.mesh.primitive_cube_add(location=(4.0, 0.0, 0.0))
+    cube = bpy.context.object
+    assert bpy.ops.object.loop_subdivision_add(levels=1) == {'FINISHED'}, "add failed"
+
+    def shown_faces():
+        cube.location.x += 1.0
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        return len(cube.evaluated_get(depsgraph).data.polygons)
+
+    for step in ("turned off and on", "updated from the zip"):
+        assert shown_faces() == 48, f"before being {step}: the entry shows its subdivision"
+        bpy.ops.preferences.addon_disable(module=module)
+        assert shown_faces() == 6, f"{step}: while off, the entry shows its cage"
+        if step == "updated from the zip" and is_extension == "1":
+            bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default", enable_on_install=True)
+        else:
+            if step == "updated from the zip":
+                assert bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True) == {'FINISHED'}
+            assert bpy.ops.preferences.addon_enable(module=module) == {'FINISHED'}, "addon_enable failed"
+        faces = shown_faces()
+        assert faces == 48, f"{step}: the entry is live again at the next update ({faces} faces)"
+        draw = bpy.types.DATA_PT_loop_subdivision.draw
+        assert draw is sys.modules[module + ".ui"]._draw_entry, f"{step}: the panel draws with {draw}"
+    print("TURNED-OFF-ON-AND-UPDATED")
 """)
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
@@ -118,6 +146,9 @@ with tempfile.TemporaryDirectory(prefix="loopsub-package-") as temp:
     check(installed.returncode == 0 and "INSTALLED-AND-APPLIED" in installed.stdout,
           f"a Blender with empty user folders installs the zip as {where}, shows the manifest's name, version "
           "and tagline (4.2+), enables it, and its apply operator works")
+    check(installed.returncode == 0 and "TURNED-OFF-ON-AND-UPDATED" in installed.stdout,
+          "with an entry in the scene, the add-on turned off and on, and updated from the zip, leaves Blender "
+          "running and the entry live")
     installed_init = glob.glob(os.path.join(temp, "**", package, "__init__.py"), recursive=True)
     check(len(installed_init) == 1, f"installed once, under the temporary user folders: {installed_init}")
 

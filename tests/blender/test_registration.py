@@ -35,7 +35,9 @@ HANDLERS = ("depsgraph_update_post", "frame_change_post", "render_init", "render
             "render_cancel", "undo_post",
             "redo_post", "load_post", "save_pre", "save_post")
 CLASSES = tuple(f"OBJECT_OT_loop_subdivision_{name}" for name in OPERATORS) + (
-    "LoopSubdivisionSettings", "DATA_PT_loop_subdivision", "VIEW3D_MT_object_loop_subdivision")
+    "LoopSubdivisionSettings", "VIEW3D_MT_object_loop_subdivision")
+# The part of Blender's modifier panel, registered once per session and kept (ui.DATA_PT_loop_subdivision).
+SUB_PANEL = "DATA_PT_loop_subdivision"
 
 
 def footprint():
@@ -120,15 +122,35 @@ def registration():
         panel = bpy.types.DATA_PT_loop_subdivision
         check(panel.bl_context == "modifier" and panel.bl_parent_id == "MOD_PT_GeometryNodes",
               "the settings are drawn inside the modifier's own panel in Properties ▸ Modifiers")
-        cube = support.object_from_bmesh("Cube", support.cube("Cube"))
+        if round_ == 1:
+            sub_panel = panel
+        check(panel is sub_panel, f"round {round_}: the part of the modifier panel is the one of round 1, never "
+                                  "freed under the panels Blender made of it")
+        cube = support.object_from_bmesh("Cube", support.cube("Cube"), triangulate=False)  # a note on its quads
         bpy.ops.object.loop_subdivision_add()
         check(addon.stack.entry(cube) is not None, f"round {round_}: the add operator works")
+        check(sub_panel_labels(cube), f"round {round_}: the part of the modifier panel draws the entry's settings")
         own, loaded = addon_imported_gpu()
         check(not own and not loaded, f"round {round_}: background mode does not import gpu (modules of the add-on "
               f"that did: {own}; gpu loaded since the start: {loaded})")
         addon.unregister()
+        check(hasattr(bpy.types, SUB_PANEL) and not sub_panel_labels(cube),
+              f"round {round_}: unregistered, the kept part of the modifier panel draws nothing")
         bpy.data.objects.remove(cube)
-        check(footprint() == empty, f"round {round_}: unregister leaves nothing behind {footprint()}")
+        check(footprint() == empty, f"round {round_}: unregister leaves nothing else behind {footprint()}")
+
+
+class SubPanel:
+    def __init__(self, modifier, labels):
+        self.custom_data = modifier
+        self.layout = support.Recorder(labels)
+
+
+def sub_panel_labels(obj):
+    """What the registered part of the modifier panel draws for obj's entry (the labels of its notes and buttons)."""
+    labels = []
+    getattr(bpy.types, SUB_PANEL).draw(SubPanel(obj.modifiers[0], labels), bpy.context)
+    return labels
 
 
 def fallback_panel():
@@ -139,8 +161,7 @@ def fallback_panel():
     panel.bl_parent_id = "MOD_PT_NoSuchPanel"
     try:
         addon.register()
-        check(hasattr(bpy.types, "DATA_PT_loop_subdivision_settings")
-              and not hasattr(bpy.types, "DATA_PT_loop_subdivision"),
+        check(hasattr(bpy.types, "DATA_PT_loop_subdivision_settings") and not hasattr(bpy.types, SUB_PANEL),
               "without the modifier panel, the settings get a panel of their own")
         addon.unregister()
         check(not hasattr(bpy.types, "DATA_PT_loop_subdivision_settings"), "and unregistering removes it")
@@ -196,8 +217,8 @@ def without_keymaps():
 
 
 support.clear_scene()
+fallback_panel()  # first: the part of the modifier panel, once registered, stays for the session
 registration()
-fallback_panel()
 without_keymaps()
 manifest()
 check.finish()
