@@ -464,16 +464,16 @@ def remove_modifier_button(target, draw):
 NODES_MODIFIER_PANEL = "MOD_PT_GeometryNodes"
 
 
-def hide_geometry_nodes_fields(modifier, result_socket):
+def hide_geometry_nodes_fields(modifier, sockets):
     """Hides what the panel of a Geometry Nodes modifier draws above the Loop Subdivision settings, as far as the
     version lets Python: returns the names of what stays shown.
 
     3.4 (3.4.1 here) offers nothing: the modifier panel always draws the node-group picker (with its user count,
-    fake-user, copy and unlink buttons) and every group input's field ("Result"); "Output Attributes" and "Internal
-    Dependencies" are sub-panels of it registered in C, with no flag or poll a Python add-on can change.
+    fake-user, copy and unlink buttons) and every group input's field ("Result", "Base Result"); "Output Attributes"
+    and "Internal Dependencies" are sub-panels of it registered in C, with no flag or poll a Python add-on can change.
     4.2 and 4.5 (4.2.23 and 4.5.15 here; 4.0 and 4.1 are not installed): NodesModifier.show_group_selector hides the
-    picker, and the group input's interface socket flag hide_in_modifier hides the "Result" field (the modifier keeps
-    its value, and runs with it). "Output Attributes" is drawn only for group outputs that take an attribute name
+    picker, and the group inputs' interface socket flag hide_in_modifier hides their fields (the modifier keeps their
+    values, and runs with them). "Output Attributes" is drawn only for group outputs that take an attribute name
     (the group has one, a Geometry); the "Manage" panel (Bake, Named Attributes: the former "Internal Dependencies")
     stays, closed by default, with no flag to hide it.
     5.0 on (5.0.1 and 5.2.3 here): as 4.5, and NodesModifier.show_manage_panel hides "Manage" too.
@@ -486,12 +486,13 @@ def hide_geometry_nodes_fields(modifier, result_socket):
     else:
         shown.append("node group")
     group = modifier.node_group
-    socket = group.interface.items_tree.get(result_socket) if hasattr(group, "interface") else None
-    if socket is not None and hasattr(socket, "hide_in_modifier"):
-        if not socket.hide_in_modifier:
-            socket.hide_in_modifier = True
-    else:
-        shown.append("Result")
+    for name in sockets:
+        socket = group.interface.items_tree.get(name) if hasattr(group, "interface") else None
+        if socket is not None and hasattr(socket, "hide_in_modifier"):
+            if not socket.hide_in_modifier:
+                socket.hide_in_modifier = True
+        else:
+            shown.append(name)
     if not hasattr(group, "interface"):
         shown.append("Output Attributes")
     if hasattr(modifier, "show_manage_panel"):
@@ -508,7 +509,7 @@ HAS_WARNING_NODE = hasattr(bpy.types, "GeometryNodeWarning")
 def show_result_field(group, result_socket, show):
     """Shows (or hides again) the group input's field in the modifier's panel, where the version hides it
     (hide_geometry_nodes_fields) and has no Warning node to say that the add-on is missing (4.0 to 4.2): in a file saved
-    without results, the field names the placeholder object, "Enable the Loop Subdivision add-on"."""
+    without results, the field names the placeholder object, "Add-on off"."""
     socket = group.interface.items_tree.get(result_socket) if hasattr(group, "interface") else None
     if socket is not None and hasattr(socket, "hide_in_modifier") and not HAS_WARNING_NODE:
         socket.hide_in_modifier = not show
@@ -539,13 +540,6 @@ def enabled_sockets(sockets, *names):
     return [next(socket for socket in sockets if socket.enabled and socket.name == name) for name in names]
 
 
-# What Blender's own Apply gets from a Geometry Nodes modifier whose output holds no mesh: from 4.2 (4.2.23, 4.5.15,
-# 5.0.1, 5.2.3 here) it refuses ("Evaluated geometry from modifier does not contain a mesh") and leaves the object
-# as it was; 3.4.1 applies an empty mesh, so there the node group outputs its input instead (the modifier goes, the
-# mesh stays). 3.5 to 4.1 are not installed here: they get the output that is safe in both cases.
-STALE_RESULT_OUTPUT = 'NOTHING' if bpy.app.version >= (4, 2, 0) else 'INPUT'
-
-
 def add_warning(group, condition, message):
     """A Warning node (4.3+; 4.5.15 here) on condition, which the modifier's panel shows while it holds; returns the
     socket to use in place of condition, through which the node is evaluated. Earlier versions have no such node:
@@ -557,6 +551,13 @@ def add_warning(group, condition, message):
     group.links.new(condition, warning.inputs["Show"])
     warning.inputs["Message"].default_value = message
     return warning.outputs["Show"]
+
+
+def has_group_input(group, name):
+    if hasattr(group, "interface"):
+        item = group.interface.items_tree.get(name)
+        return item is not None and item.item_type == 'SOCKET' and item.in_out == 'INPUT'
+    return name in group.inputs
 
 
 def group_input_identifier(group, name):

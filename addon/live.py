@@ -56,6 +56,7 @@ class Cache:
         self.error = ""
         self.messages = []  # notes on the cage of the current plan: (level, text) as in Operator.report
         self.options = None  # the settings of the last viewport update (_changed_settings)
+        self.base = None  # the Cache of the Base Result, where the entry is not first (_refresh_base)
 
 
 _caches = {}
@@ -75,9 +76,10 @@ def _equal(a, b):
         for x, y in zip(a, b))
 
 
-def refresh(obj, depsgraph, render=False):
+def refresh(obj, depsgraph, render=False, base_changed=True):
     """Brings obj's entry up to date: its input read from depsgraph (the view layer's), subdivided at Levels Viewport,
-    or at Render levels for a render."""
+    or at Render levels for a render; and, in the viewport, its Base Result where the entry is not first, made anew
+    unless base_changed says that neither the object's own mesh nor the settings changed."""
     global _busy
     modifier = stack.entry(obj)
     if modifier is None or _busy or _saving or not (modifier.show_render if render else modifier.show_viewport):
@@ -96,17 +98,10 @@ def refresh(obj, depsgraph, render=False):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
-            # Counted first: the operator that writes vertex groups (result._write_vertex_groups) evaluates the
-            # depsgraph, which frees `mesh`.
-            input_points = len(mesh.vertices)
             cache = _caches.setdefault(obj.name, Cache())
             if not render:
                 cache.options = options
             _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render)
-            # Blender's own Apply of an entry under other modifiers gets the object's mesh alone as input: the node
-            # group then refuses the result made from theirs. Renders may see other inputs (Render settings above).
-            stacked = not render and any(other.show_viewport for other in obj.modifiers[:index])
-            stack.set_input_guard(helper, input_points if stacked else 0)
         finally:
             evaluated.to_mesh_clear()
     finally:
@@ -114,6 +109,30 @@ def refresh(obj, depsgraph, render=False):
             other.show_viewport = True
         depsgraph.update()
         _busy = False
+    if not render:
+        _busy = True
+        try:
+            _refresh_base(obj, modifier, cache, options, depsgraph, base_changed)
+        finally:
+            _busy = False
+
+
+def _refresh_base(obj, modifier, cache, options, depsgraph, changed):
+    """The Base Result (stack.BASE_SOCKET): where modifiers above the entry act, the subdivision of the object's own
+    mesh, which Blender's own Apply gives (it evaluates the entry on that mesh alone); none where the entry is first,
+    whose input is that mesh."""
+    index = list(obj.modifiers).index(modifier)
+    if not any(other.show_viewport for other in obj.modifiers[:index]):
+        cache.base = None
+        if compat.modifier_input(modifier, stack.BASE_SOCKET) is not None:
+            compat.set_modifier_input(modifier, stack.BASE_SOCKET, None)  # collect() frees the helper
+        return
+    if cache.base is not None and not changed:
+        return
+    cache.base = cache.base or Cache()
+    helper = stack.helper_of(obj, modifier, socket=stack.BASE_SOCKET)
+    _write(cache.base, obj, obj, obj.data, helper, options, depsgraph, render=False)
+    stack.keep_base_input(helper, compat.read_positions(obj.data))
 
 
 def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
@@ -177,6 +196,7 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
 
 
 _STATUS_SECONDS = 10.0
+ON_CAGE_REFUSAL = "Loop Subdivision cannot adjust the edit cage to its result: the cage is drawn as it is"
 
 
 # The workspaces whose status bar shows what _tell said, until _clear_status.
@@ -271,10 +291,16 @@ def _refresh_updated(depsgraph):
     updated = {update.id.original for update in depsgraph.updates
                if isinstance(update.id, bpy.types.Object)
                and (update.is_updated_geometry or update.is_updated_transform and _is_cut(update.id.original))}
-    updated |= _cut_for_camera(depsgraph) | _changed_settings()
+    changed_settings = _changed_settings()
+    updated |= _cut_for_camera(depsgraph) | changed_settings
+    # A Base Result is made anew when the object's own mesh or the settings changed: not on the frames of an
+    # animation in the modifiers above (a rig's playback).
+    changed_meshes = {update.id.original for update in depsgraph.updates if isinstance(update.id, bpy.types.Mesh)}
     for obj in updated:
         stack.tidy(obj)  # a duplicated entry named as one, the helper's fields hidden
-        refresh(obj, depsgraph)
+        if stack.keep_off_cage(obj):
+            _tell(f"{obj.name}: {ON_CAGE_REFUSAL}")
+        refresh(obj, depsgraph, base_changed=obj.data in changed_meshes or obj in changed_settings)
 
 
 def _changed_settings():
@@ -444,6 +470,7 @@ def _on_load(*_):
 # it wrote at Render levels.
 _unsaved = []
 _stored = []
+_rebased = []  # the entries whose Base Result _on_save dropped
 # From _on_save to _on_saved: the interface draws the file's thumbnail in between, which evaluates the scene (and shows
 # the cages); the handlers must not give the entries their results back before the file is written.
 _saving = False
@@ -461,10 +488,12 @@ def _on_save(*_):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     in_view_layer = {instance.original.name_full for instance in depsgraph.objects}
     empty = None
-    for obj in bpy.data.objects:
+    for obj in list(bpy.data.objects):  # a list: _drop_base removes objects
         modifier = stack.entry(obj)
         if modifier is None or obj.library is not None or not obj.users:
             continue
+        if _drop_base(obj, modifier):
+            _rebased.append(obj.name)  # made again after saving: no file needs it
         helper = stack.helper_of(obj, modifier, create=False)
         if obj.loop_subdivision.store_result:
             if obj.name_full in in_view_layer:
@@ -509,12 +538,35 @@ def _on_saved(*_):
         _busy = False
     _unsaved.clear()
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    for name in _stored:
+    for name in _stored + _rebased:
         obj = bpy.data.objects.get(name)
         if obj is not None:
             refresh(obj, depsgraph)
     _stored.clear()
+    _rebased.clear()
     _collect()
+
+
+def _drop_base(obj, modifier):
+    """Takes the entry's Base Result away with its helper and mesh (cache.base is made again on the next refresh).
+    Returns whether it had one."""
+    global _busy
+    helper = stack.helper_of(obj, modifier, create=False, socket=stack.BASE_SOCKET)
+    cache = _caches.get(obj.name)
+    if cache is not None:
+        cache.base = None
+    if helper is None:
+        return False
+    _busy = True
+    try:
+        compat.set_modifier_input(modifier, stack.BASE_SOCKET, None)
+        mesh = helper.data
+        bpy.data.objects.remove(helper)
+        if mesh is not None and mesh.users == 0:
+            bpy.data.meshes.remove(mesh)
+    finally:
+        _busy = False
+    return True
 
 
 def _undo_auto_smooth_conversion():
@@ -564,13 +616,16 @@ _handlers = (
 
 def _detach():
     """The session's entries as a Blender without the add-on shows them, for when the add-on is turned off: each
-    entry without Store Result points at the placeholder (its panel names it, "Enable the Loop Subdivision add-on")
+    entry without Store Result points at the placeholder (its panel's Result field says "Add-on off")
     and shows its input, and its helper and result go. Left live, a result would stay frozen while the cage is
     edited, and a save would write it whole (19 times the cage at level 3)."""
     empty = None
-    for obj in bpy.data.objects:
+    for obj in list(bpy.data.objects):  # a list: _drop_base removes objects
         modifier = stack.entry(obj)
-        if modifier is None or obj.library is not None or not obj.users or obj.loop_subdivision.store_result:
+        if modifier is None or obj.library is not None or not obj.users:
+            continue
+        _drop_base(obj, modifier)
+        if obj.loop_subdivision.store_result:
             continue
         empty = empty or stack.placeholder()
         compat.set_modifier_input(modifier, stack.RESULT_SOCKET, empty)

@@ -15,20 +15,32 @@ live entry uses any more (its owner deleted, its entry removed or applied) is fr
 live.py runs after each update, before saving and after loading; an entry added again reuses its object's helper.
 """
 import bpy
+import numpy as np
 
 from . import compat
 
 ENTRY_NAME = "Loop Subdivision"
 GROUP_TAG = "loop_subdivision"  # on the node group: the version of its layout
-GROUP_VERSION = 2
-GROUP_VERSIONS = (1, GROUP_VERSION)  # 1: the helper's mesh alone (files saved before 2026-11-26)
+GROUP_VERSION = 3
+# 1: the helper's mesh alone (files saved before 2026-11-26); 2: no Base Result (before 2026-12-07).
+GROUP_VERSIONS = (1, 2, GROUP_VERSION)
 OWNER_TAG = "loop_subdivision_owner"  # on a helper: the name of the object whose entry it serves
+BASE_TAG = "loop_subdivision_base"  # on a helper of the Base Result
 RESULT_TAG = "loop_subdivision_result"  # on a helper's mesh (and the meshes that replaced it): made by the add-on
 RESULT_SOCKET = "Result"
+# The subdivision of the object's own mesh, where the entry is not first (live.py): what Blender's own Apply of the
+# entry gives, since it evaluates the modifier on that mesh alone while the modifiers above stay, as Subdivision
+# Surface's Apply does. Its mesh keeps the positions it was made from in this point attribute (first points), by
+# which the node group knows that mesh when it is the input.
+BASE_SOCKET = "Base Result"
+BASE_INPUT_ATTRIBUTE = "loop_subdivision_input"
+SOCKETS = (RESULT_SOCKET, BASE_SOCKET)
 # A file saved without its results (the default; Object.loop_subdivision.store_result keeps them) points every entry
 # at one empty object of this name: where the add-on is missing the entry shows the cage, and its panel shows this
-# name in the Result field (3.4, 4.2; 4.3+ show a warning from the node group).
-PLACEHOLDER_NAME = "Enable the Loop Subdivision add-on"
+# name in the Result field under the node group's name, "Loop Subdivision" (3.4 to 4.2; 4.3+ show a warning from the
+# node group besides). Short enough to be read whole in that field at the default width of the Properties editor
+# (3.4.1: ten characters; a longer name was cut to "Enable t…").
+PLACEHOLDER_NAME = "Add-on off"
 PLACEHOLDER_TAG = "loop_subdivision_placeholder"
 
 
@@ -39,7 +51,6 @@ def node_group():
         group = bpy.data.node_groups.new(ENTRY_NAME, 'GeometryNodeTree')
         # Blender expects a geometry input first: the cage, shown when there is no result.
         compat.add_group_socket(group, 'INPUT', 'NodeSocketGeometry', "Geometry")
-        compat.add_group_socket(group, 'INPUT', 'NodeSocketObject', RESULT_SOCKET)
         compat.add_group_socket(group, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
         _build_nodes(group)
         group[GROUP_TAG] = GROUP_VERSION
@@ -47,23 +58,36 @@ def node_group():
 
 
 def _build_nodes(group):
-    """The group's nodes: the helper's mesh (Object Info, original space: the helper's coordinates are the owner's),
-    except
+    """The group's inputs (those it lacks) and nodes: the Result helper's mesh (Object Info, original space: the
+    helper's coordinates are the owner's), except
 
-    - where the helper has no mesh (no helper, or an empty one: a file saved without its result and opened where the
-      add-on is missing), the input, so that the object shows its cage, never nothing; from 4.3 a warning in the
-      modifier's panel says why (compat.add_warning);
-    - where the input has not the number of vertices the result was made from (the helper's location x, see
-      set_input_guard; 0: no check), nothing, or the input where Blender would apply nothing
-      (compat.STALE_RESULT_OUTPUT): that is Blender's own Apply of an entry that is not first, which evaluates the
-      modifier on the object's mesh alone while the modifiers above stay; the result, made from their output, would
-      be baked into the mesh under them (a Mirror above: every face twice)."""
+    - where the input is the mesh the Base Result was made from (as many points, at the very positions it keeps): the
+      Base Result, without the attribute that keeps them. That is Blender's own Apply of an entry that is not first,
+      which evaluates the modifier on the object's own mesh alone while the modifiers above stay: the Result, made
+      from their output, would be baked into the mesh under them (a Mirror above: every face twice);
+    - where the Result helper has no mesh (no helper, or an empty one: a file saved without its result and opened
+      where the add-on is missing), the input, so that the object shows its cage, never nothing; from 4.3 a warning
+      in the modifier's panel says why (compat.add_warning)."""
+    for name in SOCKETS:
+        if not compat.has_group_input(group, name):
+            compat.add_group_socket(group, 'INPUT', 'NodeSocketObject', name)
     group.nodes.clear()
     nodes, links = group.nodes, group.links
     group_input = nodes.new('NodeGroupInput')
-    info = nodes.new('GeometryNodeObjectInfo')
-    info.transform_space = 'ORIGINAL'
-    links.new(group_input.outputs[RESULT_SOCKET], info.inputs["Object"])
+
+    def object_info(socket):
+        info = nodes.new('GeometryNodeObjectInfo')
+        info.transform_space = 'ORIGINAL'
+        links.new(group_input.outputs[socket], info.inputs["Object"])
+        return info
+
+    def connect(node, names, values):
+        """Links or sets node's inputs of these names (those its current data type shows) to values."""
+        for socket, value in zip(compat.enabled_sockets(node.inputs, *names), values):
+            if isinstance(value, bpy.types.NodeSocket):
+                links.new(value, socket)
+            else:
+                socket.default_value = value
 
     def point_count(geometry):
         size = nodes.new('GeometryNodeAttributeDomainSize')
@@ -71,49 +95,58 @@ def _build_nodes(group):
         links.new(geometry, size.inputs["Geometry"])
         return size.outputs["Point Count"]
 
-    def compare(operation, a, b):
-        node = nodes.new('FunctionNodeCompare')
-        node.data_type, node.operation = 'FLOAT', operation
-        for socket, value in zip(compat.enabled_sockets(node.inputs, "A", "B"), (a, b)):
+    def math(operation, *values):
+        """A Math node (1 for true, 0 for false where it compares): of the comparing nodes the one a file keeps
+        smallest (3 sockets to the Compare node's 13)."""
+        node = nodes.new('ShaderNodeMath')
+        node.operation = operation
+        for socket, value in zip(node.inputs, values):
             if isinstance(value, bpy.types.NodeSocket):
                 links.new(value, socket)
             else:
                 socket.default_value = value
-        return node.outputs["Result"]
+        return node.outputs["Value"]
 
     def switch(condition, false, true):
         node = nodes.new('GeometryNodeSwitch')
         node.input_type = 'GEOMETRY'
-        inputs = compat.enabled_sockets(node.inputs, "Switch", "False", "True")
-        for socket, value in zip(inputs, (condition, false, true)):
-            if value is not None:
-                links.new(value, socket)
+        connect(node, ("Switch", "False", "True"), (condition, false, true))
         return compat.enabled_sockets(node.outputs, "Output")[0]
 
-    missing = compat.add_warning(group, compare('LESS_THAN', point_count(info.outputs["Geometry"]), 0.5),
+    info, base = object_info(RESULT_SOCKET), object_info(BASE_SOCKET)
+    missing = compat.add_warning(group, math('LESS_THAN', point_count(info.outputs["Geometry"]), 0.5),
                                  "The Loop Subdivision add-on is not enabled: the cage is shown")
     shown = switch(missing, info.outputs["Geometry"], group_input.outputs["Geometry"])
+
+    # The input is the Base Result's mesh: as many points as it was made from (the Base helper's location x, see
+    # keep_base_input), each where the Base Result keeps it.
     separate = nodes.new('ShaderNodeSeparateXYZ')
-    links.new(info.outputs["Location"], separate.inputs[0])
-    guarded = compare('GREATER_THAN', separate.outputs["X"], 0.5)
-    other_input = compare('NOT_EQUAL', point_count(group_input.outputs["Geometry"]), separate.outputs["X"])
-    both = nodes.new('FunctionNodeBooleanMath')
-    both.operation = 'AND'
-    links.new(guarded, both.inputs[0])
-    links.new(other_input, both.inputs[1])
-    stale = group_input.outputs["Geometry"] if compat.STALE_RESULT_OUTPUT == 'INPUT' else None
+    links.new(base.outputs["Location"], separate.inputs[0])
+    same_count = math('COMPARE', point_count(group_input.outputs["Geometry"]), separate.outputs["X"], 0.5)
+    kept = nodes.new('GeometryNodeInputNamedAttribute')
+    kept.data_type = 'FLOAT_VECTOR'
+    connect(kept, ("Name",), (BASE_INPUT_ATTRIBUTE,))
+    sample = nodes.new('GeometryNodeSampleIndex')
+    sample.data_type, sample.domain = 'FLOAT_VECTOR', 'POINT'
+    connect(sample, ("Geometry", "Value", "Index"), (base.outputs["Geometry"],
+                                                    compat.enabled_sockets(kept.outputs, "Attribute")[0],
+                                                    nodes.new('GeometryNodeInputIndex').outputs["Index"]))
+    distance = nodes.new('ShaderNodeVectorMath')
+    distance.operation = 'DISTANCE'
+    links.new(nodes.new('GeometryNodeInputPosition').outputs["Position"], distance.inputs[0])
+    links.new(compat.enabled_sockets(sample.outputs, "Value")[0], distance.inputs[1])
+    farthest = nodes.new('GeometryNodeAttributeStatistic')
+    farthest.data_type, farthest.domain = 'FLOAT', 'POINT'
+    connect(farthest, ("Geometry", "Attribute"), (group_input.outputs["Geometry"], distance.outputs["Value"]))
+    same_positions = math('COMPARE', farthest.outputs["Max"], 0.0, 0.0)  # exactly
+    both = math('MULTIPLY', same_count, same_positions)
+    unmarked = nodes.new('GeometryNodeRemoveAttribute')
+    links.new(base.outputs["Geometry"], unmarked.inputs["Geometry"])
+    unmarked.inputs["Name"].default_value = BASE_INPUT_ATTRIBUTE
     group_output = nodes.new('NodeGroupOutput')
-    links.new(switch(both.outputs[0], shown, stale), group_output.inputs["Geometry"])
+    links.new(switch(both, shown, unmarked.outputs["Geometry"]), group_output.inputs["Geometry"])
     for column, node in enumerate(nodes):
         node.location = (250 * (column % 6), -200 * (column // 6))
-
-
-def set_input_guard(helper, input_points):
-    """What the node group checks its input against (_build_nodes): the number of vertices of the input the
-    helper's result was made from, or 0 for no check (what a new helper has). Kept in the helper's location, which
-    nothing else reads (Object Info in original space does not move the geometry by it); exact up to 2^24."""
-    if helper.location.x != input_points:
-        helper.location.x = input_points
 
 
 def is_entry(modifier):
@@ -138,37 +171,56 @@ def owner_name(helper):
     return owner.name if isinstance(owner, bpy.types.ID) else owner
 
 
-def _serves(helper, obj):
-    """Whether helper is (or may become) the helper of obj's entry: it names obj, or it names no object whose entry
-    uses it (its owner was renamed, or deleted and a linked duplicate remains)."""
+def _serves(helper, obj, socket):
+    """Whether helper is (or may become) the helper of obj's entry at socket: it names obj, or it names no object
+    whose entry uses it (its owner was renamed, or deleted and a linked duplicate remains)."""
     name = owner_name(helper)
     if name == obj.name:
         return True
     owner = bpy.data.objects.get(name) if isinstance(name, str) else None
     owner_entry = entry(owner) if owner is not None and owner != obj and owner.users else None
-    return owner_entry is None or compat.modifier_input(owner_entry, RESULT_SOCKET) != helper
+    return owner_entry is None or compat.modifier_input(owner_entry, socket) != helper
 
 
-def helper_of(obj, modifier, create=True):
-    """The object that carries this entry's result; the object's unused helper, or a new one, when the entry has none
-    of its own (None with create=False)."""
-    current = compat.modifier_input(modifier, RESULT_SOCKET)
-    if current is not None and is_helper(current) and _serves(current, obj):
+def helper_of(obj, modifier, create=True, socket=RESULT_SOCKET):
+    """The object that carries this entry's result (or, at BASE_SOCKET, its Base Result); the object's unused helper
+    of that kind, or a new one, when the entry has none of its own (None with create=False)."""
+    current = compat.modifier_input(modifier, socket)
+    if current is not None and is_helper(current) and _serves(current, obj, socket):
         if current.get(OWNER_TAG) != obj.name and current.library is None:
             current[OWNER_TAG] = obj.name
         return current
     if not create:
         return None
+    base = socket == BASE_SOCKET
     helper = next((other for other in bpy.data.objects
                     if is_helper(other) and other.library is None and owner_name(other) == obj.name
-                    and not other.users), None)
+                    and bool(other.get(BASE_TAG)) == base and not other.users), None)
     if helper is None:
-        mesh = bpy.data.meshes.new(f"{obj.name} ({ENTRY_NAME})")
+        mesh = bpy.data.meshes.new(f"{obj.name} ({socket if base else ENTRY_NAME})")
         mesh[RESULT_TAG] = True
         helper = bpy.data.objects.new(mesh.name, mesh)
+        if base:
+            helper[BASE_TAG] = True
     helper[OWNER_TAG] = obj.name
-    compat.set_modifier_input(modifier, RESULT_SOCKET, helper)
+    compat.set_modifier_input(modifier, socket, helper)
     return helper
+
+
+def keep_base_input(helper, positions):
+    """Marks the Base helper's mesh as made from a mesh with these vertex positions ((N, 3) float32): their number
+    in the helper's location x (which Object Info in original space does not move the geometry by; exact up to
+    2^24), the positions themselves in the mesh's first points (_build_nodes compares the input with them)."""
+    mesh = helper.data
+    kept = np.zeros((len(mesh.vertices), 3), dtype=np.float32)
+    count = min(len(positions), len(kept))
+    kept[:count] = positions[:count]
+    attribute = mesh.attributes.get(BASE_INPUT_ATTRIBUTE)
+    if attribute is None:
+        attribute = mesh.attributes.new(BASE_INPUT_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
+    attribute.data.foreach_set("vector", kept.ravel())
+    if helper.location.x != len(positions):
+        helper.location.x = len(positions)
 
 
 def placeholder():
@@ -192,9 +244,10 @@ def _in_use():
             continue
         for modifier in obj.modifiers:
             if is_entry(modifier):
-                helper = compat.modifier_input(modifier, RESULT_SOCKET)
-                if helper is not None:
-                    used.add(helper.name_full)
+                for socket in SOCKETS:
+                    helper = compat.modifier_input(modifier, socket)
+                    if helper is not None:
+                        used.add(helper.name_full)
     return used
 
 
@@ -211,6 +264,7 @@ def collect():
         if helper.name_full in used:
             continue
         mesh = helper.data
+        _forget_phantom_users(helper)
         bpy.data.objects.remove(helper)
         removed += 1
         if mesh is not None and mesh.users == 0 and mesh.library is None:
@@ -224,6 +278,14 @@ def collect():
         bpy.data.node_groups.remove(group)
         removed += 1
     return removed
+
+
+def _forget_phantom_users(helper):
+    """Clears the users Blender counts for a helper that nothing uses: a duplicate of an entry (object.modifier_copy)
+    counts one user of its helper that its removal, or Convert ▸ Mesh, does not give back (3.4.1), and removing a
+    helper that still counts one prints an error on the console."""
+    if helper.users and not bpy.data.user_map(subset=[helper])[helper]:
+        helper.user_clear()
 
 
 def unlink_helpers():
@@ -273,7 +335,7 @@ def add(obj):
     modifier = obj.modifiers.new(ENTRY_NAME, 'NODES')
     modifier.node_group = node_group()
     modifier.show_in_editmode = True
-    compat.hide_geometry_nodes_fields(modifier, RESULT_SOCKET)
+    compat.hide_geometry_nodes_fields(modifier, SOCKETS)
     helper_of(obj, modifier)
     return modifier
 
@@ -299,8 +361,20 @@ def tidy(obj):
             modifier.name = ENTRY_NAME  # Blender makes it unique in the stack ("Loop Subdivision.001")
             renamed.append(modifier)
         if modifier.node_group.library is None:
-            compat.hide_geometry_nodes_fields(modifier, RESULT_SOCKET)
+            compat.hide_geometry_nodes_fields(modifier, SOCKETS)
     return renamed
+
+
+def keep_off_cage(obj):
+    """Turns the entries' "Adjust edit cage to modifier result" (On Cage) off again: Blender draws the cage onto a
+    modifier's result by the original indices the result carries, which a result made by Python cannot, so the
+    cage would not be drawn at all and nothing could be selected. Returns whether one was on."""
+    turned = False
+    for modifier in obj.modifiers if obj is not None and obj.type == 'MESH' and obj.library is None else ():
+        if is_entry(modifier) and modifier.show_on_cage:
+            modifier.show_on_cage = False
+            turned = True
+    return turned
 
 
 def is_first(obj, modifier):

@@ -74,15 +74,6 @@ def stored_bytes(obj, modifier):
     return triangles * (STORED_BYTES_PER_TRIANGLE_COMPRESSED if compressed else STORED_BYTES_PER_TRIANGLE)
 
 
-# Blender's own Apply of an entry under other modifiers (stack.set_input_guard, compat.STALE_RESULT_OUTPUT).
-_NOT_FIRST_NOTES = {
-    'NOTHING': "Modifiers above: Blender's Apply refuses here; this Apply subdivides the object's own mesh, as "
-               "Subdivision Surface's would",
-    'INPUT': "Modifiers above: Blender's Apply only removes this modifier here; this Apply subdivides the object's "
-             "own mesh, as Subdivision Surface's would",
-}
-
-
 def _draw_settings(layout, obj, modifier, columns=None):
     """The entry's settings, laid out like Subdivision Surface's panel; notes wrapped at columns characters."""
     if stack.entry(obj) != modifier:
@@ -131,8 +122,6 @@ def _draw_settings(layout, obj, modifier, columns=None):
     elif cache is not None:
         for level, text in cache.messages:
             _note(layout, text.split(": ", 1)[-1], 'ERROR' if level == 'WARNING' else 'INFO', columns)
-    if not stack.is_first(obj, modifier):
-        _note(layout, _NOT_FIRST_NOTES[compat.STALE_RESULT_OUTPUT], 'INFO', columns)
     row = layout.row(align=True)
     row.context_pointer_set("object", obj)
     row.operator("object.loop_subdivision_apply", text="Apply", icon='CHECKMARK')

@@ -1,5 +1,5 @@
 """Screenshots of the add-on's panel in Blender's real interface for docs/, run by scripts/screenshots.sh (which
-documents the two Blender runs). With --addon-dir: add-modifier-menu.png, modifier-panel.png, modifier-not-first.png,
+documents the two Blender runs). With --addon-dir: add-modifier-menu.png, modifier-panel.png,
 modifier-adaptive.png, and --save FILE.blend (an entry with default settings); without it (FILE.blend opened by a
 Blender without the add-on): modifier-without-addon.png.
 
@@ -15,9 +15,8 @@ import traceback
 
 import bpy
 import numpy as np
-from mathutils import Matrix
 
-PROPERTIES_WIDTH = 520  # wide enough for "Enable the Loop Subdivision add-on" in the Result field
+PROPERTIES_WIDTH = 520  # wide enough for the settings' labels and the notes on few lines
 MARGIN = 8  # pixels of background kept under the last panel
 BORDER = 12  # rows at the bottom of Properties drawn darker (the area's edge), never a panel
 
@@ -121,11 +120,10 @@ def properties_columns():
     return properties.x, properties.x + properties.width
 
 
-def icosphere(name, offset=0.0):
+def icosphere(name):
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=1.0)  # UV-mapped (calc_uvs)
     obj = bpy.context.object
     obj.name = obj.data.name = name
-    obj.data.transform(Matrix.Translation((offset, 0.0, 0.0)))
     return obj
 
 
@@ -156,20 +154,12 @@ def panel():
     capture("modifier-panel.png", *properties_columns())
     if ARGS.save:
         bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(ARGS.save), copy=True)
-    # Two spheres: one mirrored across X, so that the Mirror has something to do.
-    obj = icosphere("Mirrored", offset=1.5)
-    mirror = obj.modifiers.new("Mirror", 'MIRROR')
-    mirror.show_expanded = False
-    bpy.ops.object.loop_subdivision_add(levels=2)
-    activate(obj)
     return 2.0
 
 
-def not_first():
-    capture("modifier-not-first.png", *properties_columns())
-    # Adaptive Subdivision on the first sphere, the other out of the way, the viewport close to it with the wireframe
-    # shown: the result is cut finer where the sphere faces the view than at its silhouette and back.
-    bpy.data.objects.remove(bpy.data.objects["Mirrored"])
+def adaptive_view():
+    # Adaptive Subdivision on the sphere, the viewport close to it with the wireframe shown: the result is cut finer
+    # where the sphere faces the view than at its silhouette and back.
     obj = bpy.data.objects["Icosphere"]
     activate(obj)
     obj.loop_subdivision.use_adaptive = True
@@ -224,7 +214,7 @@ def quit_blender():
     return None
 
 
-STAGES = ([setup, arranged, add_button, panel, not_first, adaptive] if ARGS.addon_dir
+STAGES = ([setup, arranged, add_button, panel, adaptive_view, adaptive] if ARGS.addon_dir
           else [setup_without, frame_without, zoom_out, without_addon])
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Retakes the docs' screenshots of the add-on's panel in Debian's Blender 3.4.1, its real interface under Xvfb:
-# add-modifier-menu.png, modifier-panel.png, modifier-not-first.png and modifier-adaptive.png with the add-on as users
+# add-modifier-menu.png, modifier-panel.png and modifier-adaptive.png with the add-on as users
 # install it (build/packaged-addon/), then modifier-without-addon.png from a second Blender without the add-on,
 # opening the file the first one saved. What each shows: scripts/screenshots.py.
 # Usage: scripts/screenshots.sh [--out docs]

@@ -229,21 +229,23 @@ def apply_loop(obj, **arguments):
     return bpy.ops.object.loop_subdivision_apply(**arguments)
 
 
-def capture_output(function):
-    """Runs function and returns (its result, what was printed to stdout at the C level, e.g. operator reports)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
+def capture_output(function, stream=sys.stdout):
+    """Runs function and returns (its result, what was printed to stream at the C level: on stdout operator
+    reports, on sys.stderr Blender's own error lines)."""
+    stream.flush()
+    descriptor = stream.fileno()
+    saved = os.dup(descriptor)
     with tempfile.TemporaryFile(mode="w+b") as capture:
-        os.dup2(capture.fileno(), 1)
+        os.dup2(capture.fileno(), descriptor)
         try:
             result = function()
         finally:
-            sys.stdout.flush()
-            os.dup2(saved, 1)
+            stream.flush()
+            os.dup2(saved, descriptor)
             os.close(saved)
         capture.seek(0)
         text = capture.read().decode("utf-8", "replace")
-    print(text, end="")
+    stream.write(text)
     return result, text
 
 

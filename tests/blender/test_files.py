@@ -12,9 +12,9 @@ Surface; and Blender's own Apply of an entry that is not first.
 - An object with an entry linked into another file shows the result its file stored (Store Result), or its input,
   the panel saying why and what to do.
 - A file saved by the add-on's first layout of the node group (the helper's mesh alone) opens with the current one.
-- Blender's Apply of an entry under a Mirror refuses (4.2 and later) or leaves the mesh as it was (3.4), as
-  compat.STALE_RESULT_OUTPUT says; never the mirrored result baked into the half cage under the Mirror. The panel
-  says so where the entry is not first.
+- Blender's own Apply of an entry under an Array, a Mirror or a Displace gives what Subdivision Surface's gives in
+  the same place and what the panel's Apply gives: the object's own mesh subdivided, the modifier above left in the
+  stack; never the result of the stack baked into the mesh under it.
 """
 import os
 import sys
@@ -205,53 +205,94 @@ def first_layout(folder):
           "a file with the first layout of the node group opens with the current one and the same result")
 
 
-def mirrored_apply(grouped):
-    """Blender's Apply of an entry under a Mirror; grouped: the cage has a vertex group, which the result's update
-    writes through an operator that evaluates the depsgraph (and so frees the evaluated input it read)."""
-    what = " (the cage with a vertex group)" if grouped else ""
-    support.clear_scene()
-    obj = sphere("Mirrored")
+def under(kind, name, grouped=False):
+    """A UV-mapped, smooth Suzanne (500 faces) with a modifier of this kind above where the entry or Subdivision
+    Surface goes: an Array (more faces), a Mirror (every face twice) or a Displace (the same vertices elsewhere)."""
+    bpy.ops.mesh.primitive_monkey_add()
+    obj = bpy.context.object
+    obj.name = obj.data.name = name
     if grouped:
         obj.vertex_groups.new(name="Weights").add(range(len(obj.data.vertices)), 0.5, 'REPLACE')
-    obj.modifiers.new("Mirror", 'MIRROR')
+    above = obj.modifiers.new(kind.title(), kind)
+    if kind == 'DISPLACE':
+        above.strength = 0.3
     support.select_only(obj)
-    printed = support.raised_in_handlers(lambda: (bpy.ops.object.loop_subdivision_add(levels=1), evaluated(obj)))
-    check("Error" not in printed, f"adding the entry raises nothing in Blender's handlers{what} ({printed.strip()!r})")
-    cage = support.positions(obj.data)
-    _, faces = evaluated(obj)
-    check(faces == 2 * 4 * len(obj.data.polygons), f"the entry subdivides what the Mirror above makes{what}")
-    notes = support.panel_labels(ui, obj, stack.entry(obj))
-    check(any("Blender's Apply" in note for note in notes),
-          f"the panel says what Blender's Apply does here{what} ({notes})")
+    return obj
+
+
+def blender_apply_of(obj, modifier):
+    """Blender's own Apply (the modifier's menu ▸ Apply, Ctrl A over its panel): its result or its refusal."""
     try:
         with bpy.context.temp_override(object=obj, active_object=obj):
-            result = bpy.ops.object.modifier_apply(modifier=stack.entry(obj).name)
-        refused = False
+            return bpy.ops.object.modifier_apply(modifier=modifier.name)
     except RuntimeError as error:
-        result, refused = str(error), True
-    kinds = [modifier.type for modifier in obj.modifiers]
-    unchanged = np.array_equal(support.positions(obj.data), cage)
-    if compat.STALE_RESULT_OUTPUT == 'NOTHING':
-        check(refused and "does not contain a mesh" in result and unchanged and kinds == ['MIRROR', 'NODES'],
-              f"Blender's Apply of an entry under a Mirror refuses and changes nothing{what} ({result})")
-    else:
-        check(result == {'FINISHED'} and unchanged and kinds == ['MIRROR'],
-              f"Blender's Apply of an entry under a Mirror leaves the mesh as it was (3.4 applies no refusal){what}")
-    check(evaluated(obj)[1] in (faces, 2 * len(obj.data.polygons)), f"no face is doubled under the Mirror{what}")
+        return str(error)
+
+
+def not_first(kind, levels, grouped=False):
+    """Blender's own Apply of an entry under a modifier of this kind, against the panel's Apply and Subdivision
+    Surface's Apply in the same place: the object's own mesh subdivided, the modifier above left in the stack."""
+    what = f"under {kind.title()}, level {levels}" + (", the cage with a vertex group" if grouped else "")
+    support.clear_scene()
+    alone = under(kind, "Alone", grouped)
+    alone.modifiers.clear()
+    alone.modifiers.new("Subdivision", 'SUBSURF').levels = levels
+    alone_faces = evaluated(alone)[1]
+    reference = under(kind, "Subsurf", grouped)
+    subsurf = reference.modifiers.new("Subdivision", 'SUBSURF')
+    subsurf.levels = levels
+    result = blender_apply_of(reference, subsurf)
+    check(result == {'FINISHED'} and [m.type for m in reference.modifiers] == [kind]
+          and len(reference.data.polygons) == alone_faces,
+          f"{what}: Subdivision Surface's Apply subdivides the object's own mesh, as it would alone, and leaves the "
+          f"{kind.title()} ({len(reference.data.polygons)} faces)")
+
+    copies = MADE_BY[kind]
+    obj = under(kind, "Blender", grouped)
+    printed = support.raised_in_handlers(lambda: (bpy.ops.object.loop_subdivision_add(levels=levels), evaluated(obj)))
+    check("Error" not in printed,
+          f"{what}: adding the entry raises nothing in Blender's handlers ({printed.strip()!r})")
+    stacked_faces = evaluated(obj)[1]
+    panel = under(kind, "Panel", grouped)
+    bpy.ops.object.loop_subdivision_add(levels=levels)
+    triangles = sum(len(face.vertices) - 2 for face in obj.data.polygons)
+    check(stacked_faces == copies * triangles * 4 ** levels,
+          f"{what}: the entry shows the subdivision of what the {kind.title()} makes ({stacked_faces} faces)")
+    result = blender_apply_of(obj, stack.entry(obj))
+    support.select_only(panel)
+    applied = support.capture_output(lambda: bpy.ops.object.loop_subdivision_apply())[0]
+    ours, theirs = support.positions(obj.data), support.positions(panel.data)
+    diagonal = float(np.linalg.norm(theirs.max(axis=0) - theirs.min(axis=0)))
+    check(result == {'FINISHED'} and applied == {'FINISHED'} and [m.type for m in obj.modifiers] == [kind]
+          and len(ours) == len(theirs) and len(obj.data.polygons) == len(panel.data.polygons)
+          and np.abs(ours - theirs).max() <= 1e-5 * diagonal,
+          f"{what}: Blender's Apply gives the panel's Apply, the object's own mesh subdivided, the {kind.title()} "
+          f"left above ({result}; {len(ours)} vertices against {len(theirs)}, "
+          f"{np.abs(ours - theirs).max() / diagonal if len(ours) == len(theirs) else float('nan'):.1e} of the "
+          "diagonal)")
+    check(stack.BASE_INPUT_ATTRIBUTE not in obj.data.attributes,
+          f"{what}: the mark of the Base Result does not go into the mesh")
+    check(evaluated(obj)[1] == copies * len(obj.data.polygons),
+          f"{what}: after the Apply the {kind.title()} acts on the subdivided mesh, once")
+
+
+MADE_BY = {'ARRAY': 2, 'MIRROR': 2, 'DISPLACE': 1}  # copies of the mesh a modifier of this kind makes (defaults)
 
 
 def blender_apply_not_first():
-    for grouped in (False, True):
-        mirrored_apply(grouped)
-    # With the Mirror off in the viewport the entry acts first, and Blender's Apply bakes its result.
+    not_first('ARRAY', 1)
+    not_first('MIRROR', 2, grouped=True)
+    not_first('DISPLACE', 1)  # as many vertices as the mesh: told apart by where they are
+    # With the modifier above off in the viewport the entry acts first, and Blender's Apply bakes its result.
     support.clear_scene()
     obj = sphere("MirrorOff")
     obj.modifiers.new("Mirror", 'MIRROR').show_viewport = False
     support.select_only(obj)
     bpy.ops.object.loop_subdivision_add(levels=1)
     positions, faces = evaluated(obj)
-    with bpy.context.temp_override(object=obj, active_object=obj):
-        result = bpy.ops.object.modifier_apply(modifier=stack.entry(obj).name)
+    check(compat.modifier_input(stack.entry(obj), stack.BASE_SOCKET) is None,
+          "an entry that acts first keeps no Base Result")
+    result = blender_apply_of(obj, stack.entry(obj))
     check(result == {'FINISHED'} and len(obj.data.polygons) == faces
           and np.array_equal(support.positions(obj.data), positions),
           "with the modifiers above off, Blender's Apply writes the result into the mesh")

@@ -43,7 +43,7 @@ def edited(obj):
 def expected_shown():
     """What each installed version still shows above the settings (compat.hide_geometry_nodes_fields)."""
     if bpy.app.version < (4, 0, 0):
-        return ["node group", "Result", "Output Attributes", "Internal Dependencies"]
+        return ["node group", "Result", "Base Result", "Output Attributes", "Internal Dependencies"]
     if bpy.app.version < (5, 0, 0):
         return ["Manage"]
     return []
@@ -66,7 +66,7 @@ def geometry_nodes_fields():
              + (["Manage panel"] if bpy.app.version >= (5, 0, 0) else []))
     check(all(done for _, done in hidden) and [name for name, _ in hidden] == flags,
           f"a new entry hides what this version lets it hide: {[name for name, _ in hidden]}")
-    shown = compat.hide_geometry_nodes_fields(modifier, stack.RESULT_SOCKET)
+    shown = compat.hide_geometry_nodes_fields(modifier, stack.SOCKETS)
     check(shown == expected_shown(),
           f"Blender {bpy.app.version_string}: what the modifier panel still shows above the settings: {shown}")
     check(faces_shown(obj) == 4 * 12 and compat.modifier_input(modifier, stack.RESULT_SOCKET) is not None,

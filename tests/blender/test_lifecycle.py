@@ -356,6 +356,40 @@ def legacy_file(base, folder):
     check(not orphans, f"nothing without users after saving and reopening ({orphans})")
 
 
+def duplicated_entry_converted(base):
+    """The entry's menu ▸ Duplicate (the copy kept, or removed again), then Object ▸ Convert ▸ Mesh: the subdivision
+    becomes the mesh, the helpers go, and Blender prints no error (3.4.1 counts a user of the helper for the copy
+    that nothing gives back)."""
+    for removed in (False, True):
+        bpy.ops.wm.open_mainfile(filepath=base)
+        bpy.ops.mesh.primitive_monkey_add()
+        obj = bpy.context.object
+        add_entry('LOOP', obj)
+        update()
+        faces = viewport_faces(obj)
+        with bpy.context.temp_override(object=obj, active_object=obj):
+            bpy.ops.object.modifier_copy(modifier=obj.modifiers[-1].name)
+            if removed:
+                bpy.ops.object.modifier_remove(modifier=obj.modifiers[-1].name)
+        update()
+        select(obj)
+
+        def convert():
+            with bpy.context.temp_override(object=obj, active_object=obj, selected_objects=[obj],
+                                           selected_editable_objects=[obj]):
+                result = bpy.ops.object.convert(target='MESH')
+            update()
+            return result
+
+        result, printed = support.capture_output(convert, sys.stderr)
+        what = "removed again" if removed else "kept"
+        helpers = [other.name for other in bpy.data.objects if addon.stack.is_helper(other)]
+        check(result == {'FINISHED'} and len(obj.data.polygons) == faces and not obj.modifiers and not helpers,
+              f"a duplicated entry ({what}), then Convert ▸ Mesh: the mesh is the subdivision, no helper stays")
+        check("ERROR" not in printed, f"a duplicated entry ({what}), then Convert ▸ Mesh: no error on the console "
+                                      f"({printed.strip()!r})")
+
+
 with tempfile.TemporaryDirectory() as folder:
     base = base_file(folder)
     theirs, their_notes = run('SUBSURF', base, folder)
@@ -369,6 +403,7 @@ with tempfile.TemporaryDirectory() as folder:
     original_deleted(base)
     copied_and_pasted(base)
     legacy_file(base, folder)
+    duplicated_entry_converted(base)
     bpy.ops.wm.open_mainfile(filepath=base)
 
 addon.unregister()

@@ -21,6 +21,7 @@ import blender_test_support as support  # noqa: E402
 
 MODULE = "loop_subdivision"
 check = support.Check("test_addon_lifecycle")
+bpy.context.preferences.view.show_splash = False  # now, before Blender opens it over the window
 _arguments = argparse.ArgumentParser()
 _arguments.add_argument("--addon-dir", required=True)
 _arguments.add_argument("--package-dir", required=True)
