@@ -138,7 +138,8 @@ public:
     // What this read of its input mesh alone, for a tessellation of the same mesh at other rates.
     InputTopology input_topology() const;
     // Bytes the memory check counted against Options::memory_limit_bytes: the result's arrays, the plans of the input
-    // triangles that are no patch (Plan::estimate_bytes), and each face-varying layer's own cut.
+    // triangles that are no patch (Plan::estimate_bytes), the most their neighbourhoods' local refinements held at
+    // once besides (counted as each was made), and each face-varying layer's own cut.
     std::uint64_t estimated_bytes() const;
 
     // Places the points for the input's positions (3 floats per input vertex): points gets 3 * num_points() floats,

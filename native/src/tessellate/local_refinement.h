@@ -4,8 +4,18 @@
 // neighbourhood is made of its parent's. (Chaikin's decay at the far end of an edge also reads edges outside them,
 // which OpenSubdiv's Bfr ignores in the same way.)
 //
+// Around a non-manifold vertex (of several fans, or on an edge of three faces or more) the faces of other fans shape
+// nothing of the triangle: such a vertex is a crease or a corner, whose masks read only its sharp edges. There the
+// neighbourhood keeps the triangle's fan and, for each non-manifold edge that decides the vertex's rule, the fans of
+// three faces on it (the vertex keeps its rule and class, the edge its face count; checked, and where a rule would
+// change, all the faces as elsewhere): a few fans where a hundred pages meet on one edge, whose every triangle's
+// neighbourhood held all of them, so that its refinement, and the rows of its weights, grew with their number.
+// Untagged vertices only: a tag at the vertex or on one of its edges may be semi-sharp, whose decay and blend read
+// every edge there.
+//
 // The neighbourhood is refined by a Plan of its own, on the unit vectors (one channel per vertex), so that the refined
-// points come out as weights over the level's points; the result is a stencil, made once per mesh and rates.
+// points come out as weights over the level's points; the result is a stencil, made once per mesh and rates. What the
+// refinements hold is counted as Plan::estimate_bytes counts a plan, and refused past the limit it is given.
 #pragma once
 
 #include <cstdint>
@@ -46,12 +56,19 @@ struct LocalMesh {
 // child 3), returning the child's number; the point's coordinates become the child's.
 int descend(FacePoint& point);
 
+// What a tessellation holds, counted: its result and plans, and the refinements of its bands' neighbourhoods as they
+// are made, against its memory limit.
+struct RefinementBytes {
+    std::uint64_t limit = 0, held = 0, peak = 0;
+};
+
 class LocalRefiner {
 public:
     // level: the refined level's patches; plan: the plan that made the level (its output tags are the level's);
     // cones: the input's cone vertices (Hoppe94), which keep their numbers.
+    // bytes: what the tessellation holds besides (MemoryLimitError past its limit); must outlive this.
     LocalRefiner(const LevelPatches& level, const Plan& plan, const Options& options, const std::int32_t* cones,
-                 int num_cones);
+                 int num_cones, RefinementBytes& bytes);
     ~LocalRefiner();
     // The weights of `point` of `face` (not at a corner of it).
     void weights(int face, FacePoint point, Stencil& out);
@@ -61,15 +78,30 @@ public:
     static constexpr int kMaxLocalLevels = 4;
 
 private:
+    struct Refined;
     struct Neighbourhood;
+    struct Fans;
     Neighbourhood& neighbourhood(int face);
+    const Fans& fans(std::int32_t v);
+    void add_faces_around(std::int32_t v, int face, std::vector<int>& faces);
+    bool keeps_rules(std::int32_t v, const std::vector<int>& faces);
+    void refine(Neighbourhood& n, Refined& r, int levels, bool limit_surface);
+    // Counts bytes held from now on and, while they are made, `transient` more, refusing what passes the limit.
+    template <typename What>
+    void hold(std::uint64_t bytes, std::uint64_t transient, What what);
 
     const LevelPatches& level_;
     Options options_;
     std::unordered_map<std::uint64_t, float> crease_tags_;
     std::unordered_map<std::int32_t, float> corner_tags_;
     std::vector<bool> cone_;
+    std::unordered_map<std::int32_t, std::unique_ptr<Fans>> fans_;
+    // Neighbourhoods kept for the next points of their triangles, all forgotten past kCachedBytes (a triangle of a
+    // level holds a few points at most, and those of one input triangle come together), as counted in bytes_.
+    static constexpr std::uint64_t kCachedBytes = std::uint64_t(32) << 20;
     std::unordered_map<int, std::unique_ptr<Neighbourhood>> cache_;
+    RefinementBytes& bytes_;
+    std::uint64_t cached_bytes_ = 0;
 };
 
 }  // namespace loopsub::detail

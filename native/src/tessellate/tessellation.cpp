@@ -387,7 +387,7 @@ public:
         if (next > std::int64_t(INT32_MAX) || num_samples > std::int64_t(INT32_MAX) ||
             3 * num_triangles > std::int64_t(INT32_MAX))
             throw MemoryLimitError("tessellation: more than 2^31 points", bytes);
-        d_.estimated_bytes = bytes;
+        refinement_bytes_ = {options_.memory_limit_bytes, bytes, bytes};
         for (std::size_t b = 0; b < d_.bands.size(); ++b) {
             options_.levels = d_.bands[b].limit_levels;
             d_.bands[b].limit = std::make_unique<Plan>(band_builders_[b].view, options_);
@@ -402,6 +402,7 @@ public:
         subface_patch_.assign(std::size_t(1) << 2 * d_.levels, kUnknown);
         for (int f = 0; f < mesh_.num_triangles; ++f) add_face(f, sides[std::size_t(f)], face_first[std::size_t(f)]);
         d_.face_first_sample.push_back(std::int32_t(d_.samples.size()));
+        d_.estimated_bytes = refinement_bytes_.peak;
     }
 
 private:
@@ -613,7 +614,7 @@ private:
         b.control = std::make_unique<Plan>(bb.view, control);
         bb.patches = std::make_unique<LevelPatches>(*b.control);
         bb.local = std::make_unique<LocalRefiner>(*bb.patches, *b.control, control, bb.mesh.cones.data(),
-                                                  int(bb.mesh.cones.size()));
+                                                  int(bb.mesh.cones.size()), refinement_bytes_);
     }
 
     static int two_adic(int rate) {  // the exponent of the largest power of two dividing rate
@@ -658,6 +659,7 @@ private:
     std::map<std::tuple<int, int, int>, CachedPattern> patterns_;
     std::vector<std::int32_t> numbers_;
     Stencil stencil_;
+    detail::RefinementBytes refinement_bytes_;  // Tessellation::estimated_bytes, with what local refinement held
 };
 
 }  // namespace

@@ -1,0 +1,119 @@
+// What a tessellation holds against what its memory check counted, where local refinement does the work: a "book" of
+// triangles on one edge (fins, cards glued along an edge), whose non-manifold edge leaves every triangle irregular.
+// Each triangle's neighbourhood once took all the pages, so that 100 pages at rate 3 held 17 GB that the check never
+// counted. Measured in a child process (the peak of its resident memory, reset before the tessellation), whose address
+// space is capped so that a run that goes astray ends there, not on the machine.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "loopsub/tessellation.h"
+
+namespace loopsub::testing {
+namespace {
+
+constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
+
+// P triangles on the edge between vertices 0 and 1, each with a third vertex of its own.
+struct Book {
+    std::vector<float> positions;
+    std::vector<std::int32_t> triangles;
+    explicit Book(int pages) {
+        positions = {0, 0, 0, 0, 0, 1};
+        for (int k = 0; k < pages; ++k) {
+            const double angle = 2.0 * M_PI * k / pages;
+            positions.insert(positions.end(), {float(std::cos(angle)), float(std::sin(angle)), 0.5f});
+            triangles.insert(triangles.end(), {0, 1, 2 + k});
+        }
+    }
+    MeshView view() const {
+        MeshView mesh;
+        mesh.num_vertices = int(positions.size() / 3);
+        mesh.triangles = triangles.data(), mesh.num_triangles = int(triangles.size() / 3);
+        return mesh;
+    }
+};
+
+// A field of /proc/self/status in bytes (VmRSS, VmHWM).
+std::uint64_t status_bytes(const std::string& field) {
+    std::ifstream status("/proc/self/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind(field + ":", 0) == 0) return std::strtoull(line.c_str() + field.size() + 1, nullptr, 10) * 1024;
+    return 0;
+}
+
+// In a child capped at 2 GiB of address space: tessellates the book at the rate, and exits 0 where its estimate covers
+// the growth of its resident peak and stays under kMostEstimate, else prints both and exits 1 (3 where it could not
+// measure).
+constexpr std::uint64_t kMostEstimate = 300 * kMiB;
+[[noreturn]] void measure_in_child(int pages, int rate) {
+    const rlimit cap{2048 * kMiB, 2048 * kMiB};
+    setrlimit(RLIMIT_AS, &cap);
+    const Book book(pages);
+    Options options;
+    options.rules = Rules::OpenSubdiv;
+    TessellationRates rates;
+    rates.uniform_rate = rate;
+    std::ofstream("/proc/self/clear_refs") << "5";  // the peak resident size starts again from the current
+    const std::uint64_t before = status_bytes("VmRSS");
+    if (before == 0 || status_bytes("VmHWM") > before + kMiB) std::_Exit(3);
+    try {
+        const Tessellation tessellation(book.view(), options, rates);
+        std::vector<float> points(3 * std::size_t(tessellation.num_points()));
+        tessellation.evaluate(book.positions.data(), points.data(), nullptr);
+        const std::uint64_t grown = status_bytes("VmHWM") - before, estimate = tessellation.estimated_bytes();
+        std::fprintf(stderr, "%d pages at rate %d: resident peak grew %.1f MiB, estimated %.1f MiB\n", pages, rate,
+                     double(grown) / kMiB, double(estimate) / kMiB);
+        std::_Exit(estimate >= grown && estimate <= kMostEstimate ? 0 : 1);
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "%d pages at rate %d: %s\n", pages, rate, error.what());
+        std::_Exit(1);
+    }
+}
+
+TEST(TessellationMemory, ABookOfAHundredPagesIsCountedAndSmallAtEveryRate) {
+    if (std::ifstream("/proc/self/clear_refs").fail()) GTEST_SKIP() << "no /proc/self/clear_refs to reset the peak";
+    for (int rate : {3, 5, 6, 7})
+        EXPECT_EXIT(measure_in_child(100, rate), ::testing::ExitedWithCode(0), "") << "rate " << rate;
+}
+
+// Past the limit, the local refinement is refused before it allocates, with the bytes it would need in all (in a capped
+// child as above).
+[[noreturn]] void refuse_in_child() {
+    const rlimit cap{2048 * kMiB, 2048 * kMiB};
+    setrlimit(RLIMIT_AS, &cap);
+    const Book book(100);
+    Options options;
+    options.rules = Rules::OpenSubdiv;
+    TessellationRates rates;
+    rates.uniform_rate = 3;
+    try {
+        const std::uint64_t counted = Tessellation(book.view(), options, rates).estimated_bytes();
+        options.memory_limit_bytes = counted;
+        if (Tessellation(book.view(), options, rates).estimated_bytes() != counted) std::_Exit(1);
+        options.memory_limit_bytes = counted - 1;
+        try {
+            Tessellation(book.view(), options, rates);
+            std::fprintf(stderr, "made within a limit one byte below its count\n");
+        } catch (const MemoryLimitError& error) {
+            std::fprintf(stderr, "%s\n", error.what());
+            std::_Exit(error.required_bytes == counted ? 0 : 1);
+        }
+    } catch (const std::exception& error) { std::fprintf(stderr, "%s\n", error.what()); }
+    std::_Exit(1);
+}
+
+TEST(TessellationMemory, ALimitBelowTheRefinementRefusesIt) {
+    EXPECT_EXIT(refuse_in_child(), ::testing::ExitedWithCode(0), "");
+}
+
+}  // namespace
+}  // namespace loopsub::testing
