@@ -14,7 +14,6 @@
 
 #include "obj_file.h"
 #include "obj_io.h"
-#include "topology/triangle_corners.h"
 #include "triangulate.h"
 
 namespace loopsub::obj {
@@ -502,7 +501,7 @@ private:
         }
         const std::vector<std::int32_t>& tri = mesh_.triangles;
         for (std::size_t t = 0; t < tri.size() && !missing.empty(); t += 3) {
-            for (int k = 0; k < 3; ++k) missing.erase(edge_key(tri[t + k], tri[t + detail::next_corner(k)]));
+            for (int k = 0; k < 3; ++k) missing.erase(edge_key(tri[t + k], tri[t + (k + 1) % 3]));
         }
         for (std::size_t k = 0; k < mesh_.crease_edges.size(); k += 2) {
             std::int32_t a = mesh_.crease_edges[k], b = mesh_.crease_edges[k + 1];

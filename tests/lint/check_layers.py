@@ -1,9 +1,11 @@
 """The layers of native/src (docs/architecture.md, "Layers") include only the layers below them: a lower layer that
 included a higher one would tie the rules to a mesh, the kernels to the builder, and so on. Each header included
 by folder ("rules/rule_set.h") is checked against the table; an include without a folder must name a file of the
-including layer. Prints one line per breach and `N passed, N failed`.
+including layer. The front ends (native/cli, native/python, bench) use the public API (loopsub/) and, the CLI, the
+core's threads (base/): none reaches into a layer that only the core should know. Prints one line per breach and
+`N passed, N failed`.
 
-    python3 tests/lint/check_layers.py [NATIVE_SRC]
+    python3 tests/lint/check_layers.py [REPOSITORY]
 """
 import os
 import re
@@ -20,6 +22,13 @@ MAY_INCLUDE = {
     "evaluate": {"base", "tables", "kernels", "plan"},
     "tessellate": {"base", "rules", "topology", "kernels"},
     "api": {"base"},
+}
+# Which layers of native/src each front end (a folder of the repository) may include besides its own files and the
+# public API.
+FRONT_ENDS = {
+    "native/cli": {"base"},  # the core's team of threads writes the OBJ's lines
+    "native/python": set(),
+    "bench": set(),
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
 
@@ -45,9 +54,30 @@ def breaches(source_dir):
     return found, checked
 
 
+def front_end_breaches(repository):
+    found, checked = [], 0
+    for front_end, allowed in FRONT_ENDS.items():
+        folder = os.path.join(repository, front_end)
+        for name in sorted(os.listdir(folder)):
+            if not name.endswith((".h", ".cpp")):
+                continue
+            with open(os.path.join(folder, name), encoding="utf-8") as file:
+                for header in INCLUDE.findall(file.read()):
+                    checked += 1
+                    if "/" not in header:
+                        if not os.path.exists(os.path.join(folder, header)):
+                            found.append(f"{front_end}/{name}: includes \"{header}\", no file of {front_end}")
+                    elif header.split("/")[0] not in allowed | {"loopsub"}:
+                        found.append(f"{front_end}/{name}: includes \"{header}\", but {front_end} may only use the "
+                                     f"public API{''.join(f' and {layer}/' for layer in sorted(allowed))}")
+    return found, checked
+
+
 if __name__ == "__main__":
-    source = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..", "native", "src")
-    found, checked = breaches(source)
+    repository = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..")
+    found, checked = breaches(os.path.join(repository, "native", "src"))
+    front_found, front_checked = front_end_breaches(repository)
+    found, checked = found + front_found, checked + front_checked
     for line in found:
         print(line)
     print(f"{checked - len(found)} passed, {len(found)} failed")
