@@ -101,6 +101,9 @@ def refresh(obj, depsgraph, render=False, base_changed=True):
             cache = _caches.setdefault(obj.name, Cache())
             if not render:
                 cache.options = options
+            # Read first: the operator that writes vertex groups (result._write_vertex_groups) evaluates the
+            # depsgraph, which frees `mesh`.
+            own_mesh = not render and not stack.is_first(obj, modifier) and _is_own_mesh(mesh, obj)
             _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render)
         finally:
             evaluated.to_mesh_clear()
@@ -112,30 +115,45 @@ def refresh(obj, depsgraph, render=False, base_changed=True):
     if not render:
         _busy = True
         try:
-            _refresh_base(obj, modifier, cache, options, depsgraph, base_changed)
+            _refresh_base(obj, modifier, cache, options, depsgraph, base_changed, own_mesh)
         finally:
             _busy = False
 
 
-def _refresh_base(obj, modifier, cache, options, depsgraph, changed):
+def _is_own_mesh(mesh, obj):
+    """Whether the input mesh is the object's own in points, positions and faces (the modifiers above change none of
+    them: a rig at rest); not asked in Edit Mode, where the object's mesh is not the edited one."""
+    own = obj.data
+    if obj.mode == 'EDIT' or len(mesh.vertices) != len(own.vertices) or len(mesh.polygons) != len(own.polygons):
+        return False
+    return np.array_equal(compat.read_positions(mesh), compat.read_positions(own))
+
+
+def _refresh_base(obj, modifier, cache, options, depsgraph, changed, own_mesh):
     """The Base Result (stack.BASE_SOCKET): where modifiers above the entry act, the subdivision of the object's own
-    mesh, which Blender's own Apply gives (it evaluates the entry on that mesh alone); none where the entry is first,
-    whose input is that mesh."""
-    index = list(obj.modifiers).index(modifier)
-    if not any(other.show_viewport for other in obj.modifiers[:index]):
+    mesh, which Blender's own Apply gives (it evaluates the entry on that mesh alone), made anew where that mesh or
+    the settings changed; none where the entry is first, whose input is that mesh. Where the stack's input is that
+    mesh itself (own_mesh), the node group shows the result of the stack: the modifiers above may change what the
+    Base Result cannot tell (shading, creases), and renders show Render levels. Kept as it was in Edit Mode, where
+    the object's mesh is not the edited one: leaving Edit Mode updates the mesh, and so the Base Result."""
+    if stack.is_first(obj, modifier):
         cache.base = None
         if compat.modifier_input(modifier, stack.BASE_SOCKET) is not None:
             compat.set_modifier_input(modifier, stack.BASE_SOCKET, None)  # collect() frees the helper
         return
-    if cache.base is not None and not changed:
+    if obj.mode == 'EDIT':
         return
-    cache.base = cache.base or Cache()
     helper = stack.helper_of(obj, modifier, socket=stack.BASE_SOCKET)
-    _write(cache.base, obj, obj, obj.data, helper, options, depsgraph, render=False)
-    stack.keep_base_input(helper, compat.read_positions(obj.data))
+    if cache.base is None or changed:
+        cache.base = cache.base or Cache()
+        # Its refusals are not the entry's (the modifiers above may take out what is refused): Blender's Apply gets
+        # the mesh as it is then.
+        _write(cache.base, obj, obj, obj.data, helper, options, depsgraph, render=False, tell=False)
+        stack.keep_base_input(helper, compat.read_positions(obj.data), len(obj.data.polygons))
+    stack.show_base(helper, not own_mesh)
 
 
-def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
+def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render, tell=True):
     try:
         if options.levels == 0 and not options.use_adaptive:
             raise _PassThrough
@@ -187,7 +205,7 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render):
         cache.error = ""
     except (LoopSubError, _PassThrough) as problem:
         # As a modifier that cannot work: the input passes through unchanged, and the panel says why.
-        if cache.error != str(problem) and str(problem):
+        if tell and cache.error != str(problem) and str(problem):
             # The add-on's own checks name the object already; the core's and the memory check's do not.
             _tell(str(problem) if str(problem).startswith(f"{obj.name}: ") else f"{obj.name}: {problem}")
         cache.error = str(problem)
@@ -488,10 +506,7 @@ def _on_save(*_):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     in_view_layer = {instance.original.name_full for instance in depsgraph.objects}
     empty = None
-    for obj in list(bpy.data.objects):  # a list: _drop_base removes objects
-        modifier = stack.entry(obj)
-        if modifier is None or obj.library is not None or not obj.users:
-            continue
+    for obj, modifier in _local_entries():
         if _drop_base(obj, modifier):
             _rebased.append(obj.name)  # made again after saving: no file needs it
         helper = stack.helper_of(obj, modifier, create=False)
@@ -545,6 +560,13 @@ def _on_saved(*_):
     _stored.clear()
     _rebased.clear()
     _collect()
+
+
+def _local_entries():
+    """The objects of this file with a live entry, and their entries: a list made before any is changed (_drop_base
+    removes objects)."""
+    return [(obj, modifier) for obj, modifier in ((obj, stack.entry(obj)) for obj in bpy.data.objects)
+            if modifier is not None and obj.library is None and obj.users]
 
 
 def _drop_base(obj, modifier):
@@ -620,10 +642,7 @@ def _detach():
     and shows its input, and its helper and result go. Left live, a result would stay frozen while the cage is
     edited, and a save would write it whole (19 times the cage at level 3)."""
     empty = None
-    for obj in list(bpy.data.objects):  # a list: _drop_base removes objects
-        modifier = stack.entry(obj)
-        if modifier is None or obj.library is not None or not obj.users:
-            continue
+    for obj, modifier in _local_entries():
         _drop_base(obj, modifier)
         if obj.loop_subdivision.store_result:
             continue

@@ -26,6 +26,7 @@ GROUP_VERSION = 3
 GROUP_VERSIONS = (1, 2, GROUP_VERSION)
 OWNER_TAG = "loop_subdivision_owner"  # on a helper: the name of the object whose entry it serves
 BASE_TAG = "loop_subdivision_base"  # on a helper of the Base Result
+BASE_COUNTS_TAG = "loop_subdivision_base_counts"  # on it: the points and faces of the mesh it was made from
 RESULT_TAG = "loop_subdivision_result"  # on a helper's mesh (and the meshes that replaced it): made by the add-on
 RESULT_SOCKET = "Result"
 # The subdivision of the object's own mesh, where the entry is not first (live.py): what Blender's own Apply of the
@@ -89,11 +90,11 @@ def _build_nodes(group):
             else:
                 socket.default_value = value
 
-    def point_count(geometry):
+    def domain_size(geometry):
         size = nodes.new('GeometryNodeAttributeDomainSize')
         size.component = 'MESH'
         links.new(geometry, size.inputs["Geometry"])
-        return size.outputs["Point Count"]
+        return size
 
     def math(operation, *values):
         """A Math node (1 for true, 0 for false where it compares): of the comparing nodes the one a file keeps
@@ -114,15 +115,18 @@ def _build_nodes(group):
         return compat.enabled_sockets(node.outputs, "Output")[0]
 
     info, base = object_info(RESULT_SOCKET), object_info(BASE_SOCKET)
-    missing = compat.add_warning(group, math('LESS_THAN', point_count(info.outputs["Geometry"]), 0.5),
+    result_points = domain_size(info.outputs["Geometry"]).outputs["Point Count"]
+    missing = compat.add_warning(group, math('LESS_THAN', result_points, 0.5),
                                  "The Loop Subdivision add-on is not enabled: the cage is shown")
     shown = switch(missing, info.outputs["Geometry"], group_input.outputs["Geometry"])
 
-    # The input is the Base Result's mesh: as many points as it was made from (the Base helper's location x, see
-    # keep_base_input), each where the Base Result keeps it.
+    # The input is the Base Result's mesh: as many points and faces as it was made from (the Base helper's location,
+    # see show_base), each point where the Base Result keeps it.
     separate = nodes.new('ShaderNodeSeparateXYZ')
     links.new(base.outputs["Location"], separate.inputs[0])
-    same_count = math('COMPARE', point_count(group_input.outputs["Geometry"]), separate.outputs["X"], 0.5)
+    size = domain_size(group_input.outputs["Geometry"])
+    same_count = math('MULTIPLY', math('COMPARE', size.outputs["Point Count"], separate.outputs["X"], 0.5),
+                      math('COMPARE', size.outputs["Face Count"], separate.outputs["Y"], 0.5))
     kept = nodes.new('GeometryNodeInputNamedAttribute')
     kept.data_type = 'FLOAT_VECTOR'
     connect(kept, ("Name",), (BASE_INPUT_ATTRIBUTE,))
@@ -207,10 +211,9 @@ def helper_of(obj, modifier, create=True, socket=RESULT_SOCKET):
     return helper
 
 
-def keep_base_input(helper, positions):
-    """Marks the Base helper's mesh as made from a mesh with these vertex positions ((N, 3) float32): their number
-    in the helper's location x (which Object Info in original space does not move the geometry by; exact up to
-    2^24), the positions themselves in the mesh's first points (_build_nodes compares the input with them)."""
+def keep_base_input(helper, positions, faces):
+    """Marks the Base helper's mesh as made from a mesh with these vertex positions ((N, 3) float32), in its first
+    points (_build_nodes compares the input with them), and this many faces."""
     mesh = helper.data
     kept = np.zeros((len(mesh.vertices), 3), dtype=np.float32)
     count = min(len(positions), len(kept))
@@ -219,8 +222,18 @@ def keep_base_input(helper, positions):
     if attribute is None:
         attribute = mesh.attributes.new(BASE_INPUT_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
     attribute.data.foreach_set("vector", kept.ravel())
-    if helper.location.x != len(positions):
-        helper.location.x = len(positions)
+    helper[BASE_COUNTS_TAG] = (len(positions), faces)
+
+
+def show_base(helper, shown):
+    """Whether the node group may show the Base Result (where its input is the mesh it was made from), kept in the
+    helper's location, which Object Info in original space does not move the geometry by: x the number of points of
+    that mesh, or 0 where it may not (the stack's input is that mesh in points, positions and faces, as a rig at rest
+    makes it: the result of the stack then shows, at Render levels in renders), y its number of faces (exact up to
+    2^24)."""
+    points, faces = helper.get(BASE_COUNTS_TAG, (0, 0)) if shown else (0, 0)
+    if tuple(helper.location[:2]) != (points, faces):
+        helper.location[:2] = (points, faces)
 
 
 def placeholder():

@@ -21,6 +21,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bmesh  # noqa: E402
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -279,6 +280,74 @@ def not_first(kind, levels, grouped=False):
 MADE_BY = {'ARRAY': 2, 'MIRROR': 2, 'DISPLACE': 1}  # copies of the mesh a modifier of this kind makes (defaults)
 
 
+def base_results_in_a_session(folder):
+    """Entries that are not first (each keeps a Base Result) among others, through what a session does with them: a
+    save, the add-on turned off and on, Edit Mode; and modifiers above that leave the vertices where they are."""
+    support.clear_scene()
+    names = ("A_first", "M_array", "Z_last")  # the entry under the Array between two that are first, by name
+    for name in names:
+        obj = under('ARRAY', name) if name == "M_array" else sphere(name)
+        support.select_only(obj)
+        bpy.ops.object.loop_subdivision_add(levels=1)
+    shown = {name: evaluated(bpy.data.objects[name])[1] for name in names}
+    path = os.path.join(folder, "bases.blend")
+    printed = support.raised_in_handlers(lambda: bpy.ops.wm.save_as_mainfile(filepath=path, copy=True))
+    with bpy.data.libraries.load(path) as (data_from, _):
+        results = [name for name in data_from.meshes if name.endswith(("(Loop Subdivision)", "(Base Result)"))]
+    check("Error" not in printed and not results,
+          f"a save with an entry that is not first raises nothing and writes no result ({printed.strip()!r}; "
+          f"{results})")
+    try:
+        addon.unregister()
+        unregistered = ""
+    except Exception as error:  # noqa: BLE001  (what the artist would see in Preferences)
+        unregistered = repr(error)
+    cages = {name: evaluated(bpy.data.objects[name])[1] for name in names}
+    addon.register()
+    check(not unregistered and all(cages[name] < shown[name] for name in names),
+          f"turned off, every entry shows its input ({cages}; {unregistered})")
+    back = {name: evaluated(bpy.data.objects[name])[1] for name in names}
+    check(back == shown, f"turned on again, every entry shows its result ({back})")
+
+    obj = bpy.data.objects["M_array"]
+    before, _ = evaluated(obj)
+    support.select_only(obj)
+    bpy.ops.object.mode_set(mode='EDIT')
+    edited = bmesh.from_edit_mesh(obj.data)
+    for vertex in edited.verts:
+        vertex.co.z += 0.25
+    bmesh.update_edit_mesh(obj.data)
+    printed = support.raised_in_handlers(lambda: evaluated(obj))
+    after, _ = evaluated(obj)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    check("Error" not in printed and abs((after - before)[:, 2].mean() - 0.25) < 1e-4,
+          f"in Edit Mode the entry under the Array follows the edit, with no error ({printed.strip()!r})")
+
+    # Above the entry, a Displace of no strength and a Triangulate move no vertex: the result of the stack shows (at
+    # Render levels in renders), not the Base Result.
+    rest = under('DISPLACE', "Rest")
+    rest.modifiers[0].strength = 0.0
+    bpy.ops.object.loop_subdivision_add(levels=1, render_levels=2)
+    addon.live.refresh_all(render=True)  # what each frame of a render does
+    triangles = sum(len(face.vertices) - 2 for face in rest.data.polygons)
+    rendered = evaluated(rest)[1]
+    addon.live.refresh_all()
+    check(rendered == 16 * triangles, f"a rest state above: a render shows Render levels ({rendered} faces)")
+    for method in ('BEAUTY', 'SHORTEST_DIAGONAL'):
+        stacked = under('TRIANGULATE', f"Triangulated{method}")
+        stacked.modifiers[0].quad_method = method
+        bpy.ops.object.loop_subdivision_add(levels=1)
+        applied = under('TRIANGULATE', f"Applied{method}")
+        applied.modifiers[0].quad_method = method
+        with bpy.context.temp_override(object=applied, active_object=applied):
+            bpy.ops.object.modifier_apply(modifier=applied.modifiers[0].name)
+        bpy.ops.object.loop_subdivision_add(levels=1)
+        ours, theirs = evaluated(stacked)[0], evaluated(applied)[0]
+        check(ours.shape == theirs.shape and np.abs(ours - theirs).max() < 1e-6,
+              f"a Triangulate above ({method}): the entry shows the result of the stack, as with the Triangulate "
+              "applied")
+
+
 def blender_apply_not_first():
     not_first('ARRAY', 1)
     not_first('MIRROR', 2, grouped=True)
@@ -304,6 +373,7 @@ with tempfile.TemporaryDirectory() as folder:
     linked(folder)
     adaptive_file_size(folder)
     first_layout(folder)
+    base_results_in_a_session(folder)
 blender_apply_not_first()
 addon.unregister()
 check.finish()
