@@ -106,7 +106,7 @@ void limit_grandchild_scalar(const LimitTables& lt, ChannelsView<const float> in
 }
 
 // A forced kernel the CPU cannot run steps down to the next narrower one rather than crash. The CPU is asked once:
-// in a virtual machine each cpuid leaves for the hypervisor (about 40 us of every plan here, docs/benchmark.md).
+// in a virtual machine each cpuid leaves for the hypervisor (docs/benchmark.md, "Measurements behind the code").
 Kernel resolve_kernel(Kernel requested) {
     static const bool avx2 = cpu_runs_avx2_fma();
     static const bool sse41 = cpu_runs_sse41();
