@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include "rules/rule_set.h"
+
 namespace loopsub::detail {
 
 namespace {
@@ -79,14 +81,22 @@ struct LocalRefiner::Fans {
     struct Edge {
         std::int32_t end;
         int faces = 0, forward = 0;    // faces on it; of them, those that run from the vertex to `end`
+        float sharpness = 0.0f;        // on the level as a plan of it reads it: boundary or non-manifold, or its tag
         std::vector<int> first_faces;  // its three lowest faces
         bool manifold() const { return faces == 2 && forward == 1; }
-        bool sharp() const { return faces == 1 || !manifold(); }  // boundary or non-manifold: infinitely sharp
+        bool sharp() const { return is_infinite(sharpness); }
+        bool semi_sharp() const { return is_semi_sharp(sharpness); }
     };
     std::vector<int> face, fan;  // per corner of the vertex: its face and its fan
     std::vector<Edge> edges;
-    int num_fans = 0, fins = 0, sharp = 0;  // fins: edges of three faces or more
-    bool reducible = false;                 // non-manifold and untagged: other fans may be left out
+    // fins: edges of three faces or more; sharp, semi_sharp: edges infinitely and semi-sharp.
+    int num_fans = 0, fins = 0, sharp = 0, semi_sharp = 0;
+    float sharpness = 0.0f;  // the vertex's own, as a plan of the level reads it
+    // A corner on every level whatever its semi-sharp edges: sharp itself, or on two fins and a third sharp edge.
+    bool corner_forever = false;
+    // Where the vertex's rule, or the decay of its semi-sharp edges, reads them: every fan of a semi-sharp edge kept.
+    bool keeps_semi_sharp = false;
+    bool reducible = false;  // non-manifold: other fans may be left out
     // The edge to `end` (edges are in the order of their ends), edges.size() where v has none.
     std::size_t edge(std::int32_t end) const {
         const auto e = std::lower_bound(edges.begin(), edges.end(), end,
@@ -97,7 +107,7 @@ struct LocalRefiner::Fans {
 
 LocalRefiner::LocalRefiner(const LevelPatches& level, const Plan& plan, const Options& options,
                            const std::int32_t* cones, int num_cones, RefinementBytes& bytes)
-    : level_(level), options_(options), bytes_(bytes) {
+    : level_(level), options_(options), rules_(make_rule_set(options)), bytes_(bytes) {
     const auto& creases = plan.output_crease_edges();
     const auto& crease_sharpness = plan.output_crease_sharpness();
     for (std::size_t e = 0; e < crease_sharpness.size(); ++e)
@@ -109,6 +119,14 @@ LocalRefiner::LocalRefiner(const LevelPatches& level, const Plan& plan, const Op
 }
 
 LocalRefiner::~LocalRefiner() = default;
+
+// v's sharpness as a plan of the level reads it (RuleSet::base_vertex_sharpness), v non-manifold with `valence` edges
+// of `edge_faces` faces in all, `fins` of them edges of three faces or more.
+float LocalRefiner::vertex_sharpness(std::int32_t v, int valence, int edge_faces, int fins) const {
+    const auto tag = corner_tags_.find(v);
+    return rules_->base_vertex_sharpness(tag == corner_tags_.end() ? 0.0f : tag->second, true, valence,
+                                         [=] { return std::pair<int, int>(edge_faces, fins); });
+}
 
 const LocalRefiner::Fans& LocalRefiner::fans(std::int32_t v) {
     std::unique_ptr<Fans>& found = fans_[v];
@@ -141,7 +159,10 @@ const LocalRefiner::Fans& LocalRefiner::fans(std::int32_t v) {
         std::sort(e.first_faces.begin(), e.first_faces.end());
         e.first_faces.resize(std::min<std::size_t>(e.first_faces.size(), 3));
         if (e.manifold()) root[std::size_t(find(ends[first].second / 2))] = find(ends[first + 1].second / 2);
-        f.fins += e.faces > 2, f.sharp += e.sharp();
+        const auto tag = crease_tags_.find(edge_key(v, e.end));
+        e.sharpness = rules_->base_edge_sharpness(tag == crease_tags_.end() ? 0.0f : tag->second, e.faces,
+                                                  e.faces > 1 && !e.manifold());
+        f.fins += e.faces > 2, f.sharp += e.sharp(), f.semi_sharp += e.semi_sharp();
     }
     f.fan.resize(f.face.size());
     std::vector<int> number(f.face.size(), -1);
@@ -155,9 +176,17 @@ const LocalRefiner::Fans& LocalRefiner::fans(std::int32_t v) {
                               });
     hold(sizeof(Fans) + f.face.size() * 2 * sizeof(int) + f.edges.size() * (sizeof(Fans::Edge) + 3 * sizeof(int)) + 64,
          0, [] { return std::string("the fans around a vertex"); });  // with the map's node
-    f.reducible = non_manifold && corner_tags_.count(v) == 0 &&
-                  std::none_of(f.edges.begin(), f.edges.end(),
-                               [&](const Fans::Edge& e) { return crease_tags_.count(edge_key(v, e.end)) != 0; });
+    if (!non_manifold) return f;
+    int edge_faces = 0;
+    for (const Fans::Edge& e : f.edges) edge_faces += e.faces;
+    f.sharpness = vertex_sharpness(v, int(f.edges.size()), edge_faces, f.fins);
+    f.corner_forever = is_infinite(f.sharpness) || (f.fins == 2 && f.sharp > 2);
+    f.keeps_semi_sharp = f.semi_sharp > 0 && (!f.corner_forever || rules_->decay_reads_other_edges());
+    // With Boundary::None a boundary edge's tag decides which faces leave the surface: there, untagged vertices only.
+    f.reducible = options_.boundary != Boundary::None ||
+                  (corner_tags_.count(v) == 0 && std::none_of(f.edges.begin(), f.edges.end(), [&](const Fans::Edge& e) {
+                       return crease_tags_.count(edge_key(v, e.end)) != 0;
+                   }));
     return f;
 }
 
@@ -181,16 +210,19 @@ void LocalRefiner::add_faces_around(std::int32_t v, int face, std::vector<int>& 
         if (kept[std::size_t(f.fan[i])])
             for (int k = 0; k < 3; ++k) touched[f.edge(triangles[3 * f.face[i] + k])] = 1;
     // The edges that decide v's rule besides: with two fins, the crease they make; with more, three of them (still
-    // more than two); and a sharp edge that is no fin where there is one (a corner, not a crease).
+    // more than two); a sharp edge that is no fin where there is one (a corner, not a crease; one of face's fan where
+    // it has one); and where v's rule or their decay reads them, its semi-sharp edges.
     int fins = 0, other_sharp = -1;
     for (std::size_t e = 0; e < f.edges.size(); ++e) {
         const Fans::Edge& edge = f.edges[e];
         if (edge.faces > 2 && (f.fins == 2 || fins < 3)) touched[e] = 1, ++fins;
-        if (edge.sharp() && edge.faces <= 2 && other_sharp < 0) other_sharp = int(e);
+        if (edge.sharp() && edge.faces <= 2 && (other_sharp < 0 || (touched[e] && !touched[std::size_t(other_sharp)])))
+            other_sharp = int(e);
+        if (edge.semi_sharp() && f.keeps_semi_sharp) touched[e] = 1;
     }
     if (f.fins == 2 && other_sharp >= 0) touched[std::size_t(other_sharp)] = 1;
     for (std::size_t e = 0; e < f.edges.size(); ++e)
-        if (touched[e] && !f.edges[e].manifold())
+        if (touched[e])
             for (int g : f.edges[e].first_faces) keep_fan_of(g);
     if (std::count(kept.begin(), kept.end(), 1) == 1 && f.num_fans > 1)  // several fans and no fin: keep two
         kept[std::size_t(kept[0] ? 1 : 0)] = 1;
@@ -198,8 +230,9 @@ void LocalRefiner::add_faces_around(std::int32_t v, int face, std::vector<int>& 
         if (kept[std::size_t(f.fan[i])]) faces.push_back(f.face[i]);
 }
 
-// Whether v, among these faces, keeps what its rule and class are read from: every edge of v here its face count (or
-// three faces or more), its fins and sharp edges (two or more than two), being non-manifold.
+// Whether v, among these faces, keeps what its rule and class on every level are read from (rules/rule_set.h): every
+// edge of v here its face count (or three faces or more) and so its sharpness; v its own sharpness, being
+// non-manifold; and then a corner on every level, or the same sharp edges (two fins) and every semi-sharp one.
 bool LocalRefiner::keeps_rules(std::int32_t v, const std::vector<int>& faces) {
     const Fans& f = fans(v);
     std::vector<int> count(f.edges.size() + 1, 0);  // per edge (and, last, v itself)
@@ -210,16 +243,21 @@ bool LocalRefiner::keeps_rules(std::int32_t v, const std::vector<int>& faces) {
         fan_kept[std::size_t(f.fan[i])] = 1;
         for (int k = 0; k < 3; ++k) ++count[f.edge(triangles[3 * f.face[i] + k])];
     }
-    int fins = 0, sharp = 0;
+    int valence = 0, edge_faces = 0, fins = 0, sharp = 0, semi_sharp = 0;
     bool non_manifold = std::count(fan_kept.begin(), fan_kept.end(), 1) > 1;
     for (std::size_t e = 0; e < f.edges.size(); ++e) {
         if (count[e] == 0) continue;
         const Fans::Edge& edge = f.edges[e];
+        // The same face count, or three faces or more (still non-manifold): the same sharpness.
         if (count[e] != edge.faces && (count[e] < 3 || edge.faces < 3)) return false;
-        fins += count[e] > 2, sharp += edge.sharp();
+        ++valence, edge_faces += count[e], fins += count[e] > 2;
+        sharp += edge.sharp(), semi_sharp += edge.semi_sharp();
         non_manifold |= !edge.manifold();
     }
-    return non_manifold && (fins == 2) == (f.fins == 2) && (f.fins != 2 || (sharp == 2) == (f.sharp == 2));
+    if (!non_manifold || vertex_sharpness(v, valence, edge_faces, fins) != f.sharpness) return false;
+    if (f.keeps_semi_sharp && semi_sharp != f.semi_sharp) return false;
+    if (f.corner_forever) return is_infinite(f.sharpness) || (fins == 2 && sharp > 2);
+    return fins == 2 && sharp == f.sharp;
 }
 
 LocalRefiner::Neighbourhood& LocalRefiner::neighbourhood(int face) {

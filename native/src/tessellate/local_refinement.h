@@ -10,8 +10,13 @@
 // three faces on it (the vertex keeps its rule and class, the edge its face count; checked, and where a rule would
 // change, all the faces as elsewhere): a few fans where a hundred pages meet on one edge, whose every triangle's
 // neighbourhood held all of them, so that its refinement, and the rows of its weights, grew with their number.
-// Untagged vertices only: a tag at the vertex or on one of its edges may be semi-sharp, whose decay and blend read
-// every edge there.
+// Tags are read as a plan of the level reads them (RuleSet): a tag on a non-manifold or boundary edge changes nothing
+// (infinitely sharp whatever it says), nor one at a vertex made sharp by its fins. An edge tagged infinitely sharp
+// counts as a sharp edge, kept where it makes the vertex a corner. The semi-sharp edges at the vertex are kept with
+// their fans wherever the vertex's rule on some level, or the blend where it changes, or Chaikin's decay of the
+// edges kept, reads them (all but a corner on every level under uniform decay). Tags elsewhere on a fan left out shape
+// nothing kept, and those on the fans kept are kept with them. Under Boundary::None, where a boundary edge's tag
+// decides which faces leave the surface, untagged vertices only.
 //
 // The neighbourhood is refined by a Plan of its own, on the unit vectors (one channel per vertex), so that the refined
 // points come out as weights over the level's points; the result is a stencil, made once per mesh and rates. What the
@@ -27,6 +32,8 @@
 #include "tessellate/level_patches.h"
 
 namespace loopsub::detail {
+
+class RuleSet;
 
 // A point of the surface as weights over a level's points: its position and its derivatives along the parameters of
 // the face it was found in (their directions give the normal; their lengths are that face's).
@@ -85,6 +92,7 @@ private:
     const Fans& fans(std::int32_t v);
     void add_faces_around(std::int32_t v, int face, std::vector<int>& faces);
     bool keeps_rules(std::int32_t v, const std::vector<int>& faces);
+    float vertex_sharpness(std::int32_t v, int valence, int edge_faces, int fins) const;
     void refine(Neighbourhood& n, Refined& r, int levels, bool limit_surface);
     // Counts bytes held from now on and, while they are made, `transient` more, refusing what passes the limit.
     template <typename What>
@@ -92,6 +100,7 @@ private:
 
     const LevelPatches& level_;
     Options options_;
+    std::unique_ptr<RuleSet> rules_;
     std::unordered_map<std::uint64_t, float> crease_tags_;
     std::unordered_map<std::int32_t, float> corner_tags_;
     std::vector<bool> cone_;
