@@ -24,7 +24,7 @@ void fill_tables_from_parent(const Topology& parent, LevelStencils& s, Index* la
     s.interior->first_edge = halves;
     s.interior->parent_vertices = nv;
     // Each part takes its share of each kind of vertex, edge and face. Two steps: the halves' wings are scattered by
-    // face, and a midpoint's ring is read back from its edge's wings (midpoint_ring_face in topology.cpp: the ring is
+    // face, and a midpoint's ring is read back from its edge's wings (midpoint_ring_face in topology/: the ring is
     // the edge's ends, then its halves' wings face by face), a stream rather than a search of each face. The last
     // level's faces are written in the first step too (write_grandchild_faces), the step's pieces taking tables and
     // faces in turn: the faces' stores (16 MB for 1.3M triangles) wait on memory, the tables' passes on the cores, so
