@@ -25,6 +25,12 @@ void add_triangle(TestMesh& mesh, int a, int b, int c) {
     mesh.triangles.push_back(c);
 }
 
+// The quad a-b-c-d as two triangles, split along its diagonal a-c.
+void add_quad(TestMesh& mesh, int a, int b, int c, int d) {
+    add_triangle(mesh, a, b, c);
+    add_triangle(mesh, a, c, d);
+}
+
 // For convex meshes around the origin: flips every triangle whose normal points inwards, so that all are
 // counter-clockwise seen from outside.
 void orient_outward(TestMesh& mesh) {
@@ -148,10 +154,7 @@ TestMesh cube() {
     for (int v = 0; v < 8; ++v) add_vertex(mesh, (v & 1) ? 1 : -1, (v & 2) ? 1 : -1, (v & 4) ? 1 : -1);
     // Each face as a quad (in either winding: orient_outward fixes it), split along its first diagonal.
     const int quads[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
-    for (const auto& q : quads) {
-        add_triangle(mesh, q[0], q[1], q[2]);
-        add_triangle(mesh, q[0], q[2], q[3]);
-    }
+    for (const auto& q : quads) add_quad(mesh, q[0], q[1], q[2], q[3]);
     orient_outward(mesh);
     return mesh;
 }
@@ -187,10 +190,8 @@ TestMesh torus(int nu, int nv) {
     }
     for (int i = 0; i < nu; ++i) {
         for (int j = 0; j < nv; ++j) {
-            int a = torus_vertex(nv, i, j), b = torus_vertex(nv, (i + 1) % nu, j);
-            int c = torus_vertex(nv, (i + 1) % nu, (j + 1) % nv), d = torus_vertex(nv, i, (j + 1) % nv);
-            add_triangle(mesh, a, b, c);
-            add_triangle(mesh, a, c, d);
+            add_quad(mesh, torus_vertex(nv, i, j), torus_vertex(nv, (i + 1) % nu, j),
+                     torus_vertex(nv, (i + 1) % nu, (j + 1) % nv), torus_vertex(nv, i, (j + 1) % nv));
         }
     }
     return mesh;
@@ -208,10 +209,8 @@ TestMesh grid(int nx, int ny) {
     }
     for (int j = 0; j < ny; ++j) {
         for (int i = 0; i < nx; ++i) {
-            int a = grid_vertex(nx, i, j), b = grid_vertex(nx, i + 1, j);
-            int c = grid_vertex(nx, i + 1, j + 1), d = grid_vertex(nx, i, j + 1);
-            add_triangle(mesh, a, b, c);
-            add_triangle(mesh, a, c, d);
+            add_quad(mesh, grid_vertex(nx, i, j), grid_vertex(nx, i + 1, j), grid_vertex(nx, i + 1, j + 1),
+                     grid_vertex(nx, i, j + 1));
         }
     }
     return mesh;
@@ -229,8 +228,7 @@ TestMesh open_cylinder(int n, int rows) {
     auto vertex = [&](int i, int j) { return (i % n) * (rows + 1) + j; };
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j < rows; ++j) {
-            add_triangle(mesh, vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1));
-            add_triangle(mesh, vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1));
+            add_quad(mesh, vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1));
         }
     }
     return mesh;
