@@ -29,7 +29,7 @@ MAY_INCLUDE = {
 FRONT_ENDS = {
     "native/cli": {"base"},  # the core's team of threads writes the OBJ's lines
     "native/python": set(),
-    "bench": set(),
+    "bench": {"support"},
     "tests/support": {"support"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
