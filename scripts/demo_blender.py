@@ -24,7 +24,7 @@ from mathutils import Matrix, Vector
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if REPO not in sys.path:
     sys.path.insert(0, REPO)
-from addon import compat  # noqa: E402  (the working tree's add-on: its Blender-version differences)
+from addon import compat, geometry  # noqa: E402  (the working tree's add-on: Blender's versions, the crease mapping)
 
 # Layout: every model is scaled so that its largest dimension is MODEL_SIZE, and the three stand SPACING apart on X.
 MODEL_SIZE = 2.0
@@ -106,8 +106,9 @@ def default_cage():
 
 
 def crease_weight(sharpness):
-    """Blender's crease weight for an OpenSubdiv sharpness, inverting Blender's own s = 10·c²."""
-    return min(1.0, math.sqrt(max(0.0, float(sharpness)) / 10.0))
+    """Blender's crease weight for an OpenSubdiv sharpness (a tag's text), inverting Blender's own s = 10·c² as the
+    add-on does."""
+    return float(geometry.sharpness_to_crease(float(sharpness)))
 
 
 def read_obj_tags(path):

@@ -116,6 +116,12 @@ def cube(name, subdivisions=0):
     return bm
 
 
+def icosphere(subdivisions=2):
+    bm = bmesh.new()
+    bmesh.ops.create_icosphere(bm, subdivisions=subdivisions, radius=1.0)
+    return bm
+
+
 def uv_sphere(segments=8, rings=6):
     bm = bmesh.new()
     bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=1.0)

@@ -40,9 +40,7 @@ NORMALS_AGREEING = 0.995
 
 
 def icosphere():
-    bm = bmesh.new()
-    bmesh.ops.create_icosphere(bm, subdivisions=2, radius=1.0)
-    return support.object_from_bmesh("Icosphere", bm)
+    return support.object_from_bmesh("Icosphere", support.icosphere())
 
 
 def suzanne():

@@ -13,7 +13,6 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bpy  # noqa: E402
-import bmesh  # noqa: E402
 import numpy as np  # noqa: E402
 
 import blender_test_support as support  # noqa: E402
@@ -63,9 +62,7 @@ def same_as_apply(obj, what, **arguments):
 
 
 def icosphere(name):
-    bm = bmesh.new()
-    bmesh.ops.create_icosphere(bm, subdivisions=2, radius=1.0)
-    return support.shade_smooth(support.object_from_bmesh(name, bm))
+    return support.shade_smooth(support.object_from_bmesh(name, support.icosphere()))
 
 
 def ringed_sphere():

@@ -11,7 +11,6 @@ import traceback
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "blender"))
 import bpy  # noqa: E402
-import bmesh  # noqa: E402
 from mathutils import Quaternion  # noqa: E402
 
 import blender_test_support as support  # noqa: E402
@@ -37,9 +36,7 @@ def steps():
     for obj in list(bpy.data.objects):
         if obj.type == 'MESH':
             bpy.data.objects.remove(obj)
-    bm = bmesh.new()
-    bmesh.ops.create_icosphere(bm, subdivisions=2, radius=1.0)
-    obj = support.object_from_bmesh("Sphere", bm)
+    obj = support.object_from_bmesh("Sphere", support.icosphere())
     bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=8.0)
     view = region_3d()
     view.view_perspective = 'PERSP'

@@ -2,8 +2,9 @@
 included a higher one would tie the rules to a mesh, the kernels to the builder, and so on. Each header included
 by folder ("rules/rule_set.h") is checked against the table; an include without a folder must name a file of the
 including layer. The front ends (native/cli, native/python, bench) use the public API (loopsub/) and, the CLI, the
-core's threads (base/): none reaches into a layer that only the core should know. Prints one line per breach and
-`N passed, N failed`.
+core's threads (base/): none reaches into a layer that only the core should know. The helpers the tests share with
+the benchmark (tests/support, included as "support/NAME.h") are held to the public API too, so that the benchmark
+reaches the core through them no more than itself. Prints one line per breach and `N passed, N failed`.
 
     python3 tests/lint/check_layers.py [REPOSITORY]
 """
@@ -24,11 +25,12 @@ MAY_INCLUDE = {
     "api": {"base"},
 }
 # Which layers of native/src each front end (a folder of the repository) may include besides its own files and the
-# public API.
+# public API; "support" is not a layer but the tests' shared helpers (tests/support), public API only themselves.
 FRONT_ENDS = {
     "native/cli": {"base"},  # the core's team of threads writes the OBJ's lines
     "native/python": set(),
-    "bench": set(),
+    "bench": {"support"},
+    "tests/support": {"support"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
 

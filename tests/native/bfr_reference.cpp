@@ -1,5 +1,4 @@
 #include "bfr_reference.h"
-#include "osd_options.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,10 +7,10 @@
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
+#include <opensubdiv/far/topologyRefiner.h>
 
 #include "mesh_gen.h"
+#include "support/osd_adapter.h"
 
 namespace loopsub::testing {
 
@@ -22,30 +21,8 @@ namespace {
 std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, FaceVaryingInterpolation interpolation,
                                                    bool face_varying) {
     if (!mesh.hole_triangles.empty()) throw std::runtime_error("bfr: meshes without holes only");
-    std::vector<int> vertices_per_face(std::size_t(mesh.num_triangles()), 3);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = mesh.num_vertices();
-    desc.numFaces = mesh.num_triangles();
-    desc.numVertsPerFace = vertices_per_face.data();
-    desc.vertIndicesPerFace = mesh.triangles.data();
-    desc.numCreases = int(mesh.crease_sharpness.size());
-    desc.creaseVertexIndexPairs = mesh.crease_edges.data();
-    desc.creaseWeights = mesh.crease_sharpness.data();
-    desc.numCorners = int(mesh.corner_sharpness.size());
-    desc.cornerVertexIndices = mesh.corner_vertices.data();
-    desc.cornerWeights = mesh.corner_sharpness.data();
-    const Sdc::Options sdc = sdc_options(mesh.boundary, mesh.crease_method, interpolation);
-    Far::TopologyDescriptor::FVarChannel channel;
-    if (face_varying) {
-        channel.numValues = int(mesh.uvs.size() / 2);
-        channel.valueIndices = mesh.triangle_uvs.data();
-        desc.numFVarChannels = 1;
-        desc.fvarChannels = &channel;
-    }
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
-    if (!refiner) throw std::runtime_error("OpenSubdiv refused the mesh");
-    return refiner;
+    return osd_topology_refiner(face_varying ? mesh.view_with_uvs() : mesh.view(),
+                                sdc_options(mesh.boundary, mesh.crease_method, interpolation));
 }
 
 // Exact at the points asked for: they are corners of Bfr's patches once it isolates smooth irregular vertices to the

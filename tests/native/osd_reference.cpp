@@ -1,5 +1,4 @@
 #include "osd_reference.h"
-#include "osd_options.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +8,9 @@
 #include <utility>
 
 #include <opensubdiv/far/primvarRefiner.h>
-#include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefiner.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include "support/osd_adapter.h"
 
 namespace loopsub::testing {
 
@@ -59,34 +58,14 @@ struct OsdReference::Impl {
 OsdReference::OsdReference(const MeshView& mesh, const float* positions, const ReferenceOptions& options,
                            const ReferenceUVs& uvs)
     : impl_(std::make_unique<Impl>()) {
-    std::vector<int> vertices_per_face(std::size_t(mesh.num_triangles), 3);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = mesh.num_vertices;
-    desc.numFaces = mesh.num_triangles;
-    desc.numVertsPerFace = vertices_per_face.data();
-    desc.vertIndicesPerFace = mesh.triangles;
-    desc.numCreases = mesh.num_crease_edges;
-    desc.creaseVertexIndexPairs = mesh.crease_edges;
-    desc.creaseWeights = mesh.crease_sharpness;
-    desc.numCorners = mesh.num_corners;
-    desc.cornerVertexIndices = mesh.corner_vertices;
-    desc.cornerWeights = mesh.corner_sharpness;
-    desc.numHoles = mesh.num_holes;
-    desc.holeIndices = mesh.hole_triangles;
-    Far::TopologyDescriptor::FVarChannel channel;
+    // The UVs, if any, as the mesh's one face-varying layer (whatever layers the view names).
     impl_->has_uvs = uvs.triangle_uvs != nullptr;
-    if (impl_->has_uvs) {
-        channel.numValues = uvs.num_uvs;
-        channel.valueIndices = uvs.triangle_uvs;
-        desc.numFVarChannels = 1;
-        desc.fvarChannels = &channel;
-    }
-
-    const Sdc::Options sdc = sdc_options(options.boundary, options.crease_method, options.face_varying);
-
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    impl_->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
-    if (!impl_->refiner) throw std::runtime_error("OpenSubdiv refused the mesh");
+    const FaceVaryingLayer layer{uvs.triangle_uvs, uvs.num_uvs};
+    MeshView base = mesh;
+    base.face_varying = impl_->has_uvs ? &layer : nullptr;
+    base.num_face_varying = impl_->has_uvs ? 1 : 0;
+    impl_->refiner =
+        osd_topology_refiner(base, sdc_options(options.boundary, options.crease_method, options.face_varying));
 
     Far::TopologyRefiner::UniformOptions uniform(options.levels);
     uniform.fullTopologyInLastLevel = true;  // the last level's faces and edges are compared too
