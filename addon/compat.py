@@ -599,14 +599,6 @@ def set_modifier_input(modifier, name, value):
         values[key] = value
 
 
-def tag_modifier_inputs(modifier):
-    """Makes Blender see that a Geometry Nodes modifier's inputs point at other objects: up to 5.0 they are ID
-    properties, whose setting from Python rebuilds no relation, so the modifier would go on reading the object it
-    read before; setting a setting of the modifier to its own value runs the update Blender's own fields run. (5.2's
-    RNA inputs update themselves.)"""
-    modifier.show_viewport = modifier.show_viewport
-
-
 def bmesh_crease_layers(bm):
     """The bmesh layers of edge and vertex creases, made when missing: (edge layer, vertex layer)."""
     if USES_CREASE_ATTRIBUTES:

@@ -3,10 +3,8 @@ before every frame a render evaluates (at Render levels), and when settings chan
 
 The input is the object evaluated up to the cache. Blender evaluates a stack as a whole and shows an add-on no
 intermediate mesh, so the entry and every active modifier below it are switched off for one evaluation of the view
-layer's depsgraph, whose result is the input, and switched on again once the helper holds the new subdivision. Where
-nothing acts before the entry (no modifier above, no shape key, not in Edit Mode) the input is the object's own mesh,
-read as it is: no switching, which makes Blender rebuild the relations of the whole scene. A guard keeps the handlers
-from reacting to the updates this makes.
+layer's depsgraph, whose result is the input, and switched on again once the helper holds the new subdivision. A guard
+keeps the handlers from reacting to the updates this makes.
 
 Renders read their input from the view layer's depsgraph too (so modifiers above the entry act with their viewport
 settings): Blender 3.4 does not re-evaluate a render depsgraph reliably when a modifier is switched off and on from
@@ -89,43 +87,7 @@ def refresh(obj, depsgraph, render=False, base_changed=True):
     if obj.library is not None:
         return _linked(obj, modifier)
     options = obj.loop_subdivision.options(render=render)
-    shown = compat.modifier_input(modifier, stack.RESULT_SOCKET)
     helper = stack.helper_of(obj, modifier)
-    cache = _caches.setdefault(obj.name, Cache())
-    if not render:
-        cache.options = options
-    if _input_is_own_mesh(obj, modifier):
-        _busy = True
-        try:
-            _write(cache, obj, obj, obj.data, helper, options, depsgraph, render)
-            if helper != shown:
-                compat.tag_modifier_inputs(modifier)
-            depsgraph.update()
-        finally:
-            _busy = False
-        own_mesh = False
-    else:
-        own_mesh = _write_from_stack(obj, modifier, cache, helper, options, depsgraph, render)
-    if not render:
-        _busy = True
-        try:
-            _refresh_base(obj, modifier, cache, options, depsgraph, base_changed, own_mesh)
-        finally:
-            _busy = False
-
-
-def _input_is_own_mesh(obj, modifier):
-    """Whether the entry's input is the object's own mesh as it is: no modifier above acts, no shape key moves it, and
-    it is not being edited. It is then read as it is, with no evaluation of the stack: switching a modifier off and on
-    makes Blender rebuild the relations of the whole scene, which made each update's cost grow with the scene."""
-    return obj.mode != 'EDIT' and obj.data.shape_keys is None and stack.is_first(obj, modifier)
-
-
-def _write_from_stack(obj, modifier, cache, helper, options, depsgraph, render):
-    """Writes the result of the input the modifiers above make: the object evaluated with the entry and every active
-    modifier below it switched off. Returns whether that input is the object's own mesh (_is_own_mesh), for the Base
-    Result."""
-    global _busy
     index = list(obj.modifiers).index(modifier)
     switched = [other for other in obj.modifiers[index:] if other.show_viewport]
     _busy = True
@@ -136,6 +98,9 @@ def _write_from_stack(obj, modifier, cache, helper, options, depsgraph, render):
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
+            cache = _caches.setdefault(obj.name, Cache())
+            if not render:
+                cache.options = options
             # Read first: the operator that writes vertex groups (result._write_vertex_groups) evaluates the
             # depsgraph, which frees `mesh`.
             own_mesh = not render and not stack.is_first(obj, modifier) and _is_own_mesh(mesh, obj)
@@ -147,7 +112,12 @@ def _write_from_stack(obj, modifier, cache, helper, options, depsgraph, render):
             other.show_viewport = True
         depsgraph.update()
         _busy = False
-    return own_mesh
+    if not render:
+        _busy = True
+        try:
+            _refresh_base(obj, modifier, cache, options, depsgraph, base_changed, own_mesh)
+        finally:
+            _busy = False
 
 
 def _is_own_mesh(mesh, obj):
