@@ -14,6 +14,7 @@ import sys
 import tempfile
 import textwrap
 import time
+import traceback
 
 import bpy
 import bmesh
@@ -319,6 +320,43 @@ class Recorder:
 
     def __setattr__(self, name, value):
         pass
+
+
+class PanelStandIn:
+    """What Blender hands the draw of the part of a modifier's panel: the modifier, and a layout (a Recorder)."""
+
+    def __init__(self, modifier, labels):
+        self.custom_data = modifier
+        self.layout = Recorder(labels)
+
+
+def drawn_labels(panel_class, modifier, context=None):
+    """The texts of the labels panel_class's draw (as registered now) draws for a modifier."""
+    labels = []
+    panel_class.draw(PanelStandIn(modifier, labels), context or bpy.context)
+    return [text for text, _ in labels]
+
+
+def run_in_interface(steps, check):
+    """Runs the generator steps in Blender's interface from a timer, as an artist's actions arrive between redraws
+    (each step yields the seconds to wait before the next), then ends Blender with the checks' exit code: 1 on a
+    failed check or an exception."""
+    def run():
+        try:
+            return next(steps)
+        except StopIteration:
+            code = 0
+        except BaseException:  # noqa: B036  (any failure fails the test)
+            traceback.print_exc()
+            code = 1
+        try:
+            check.finish()
+        except AssertionError:
+            code = 1
+        sys.stdout.flush()
+        os._exit(code)
+
+    bpy.app.timers.register(run, first_interval=1.0, persistent=True)
 
 
 def panel_labels(ui, obj, modifier):

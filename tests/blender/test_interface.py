@@ -161,12 +161,6 @@ class Context:
         self.preferences = bpy.context.preferences
 
 
-class Panel:
-    def __init__(self, modifier, labels):
-        self.custom_data = modifier
-        self.layout = support.Recorder(labels)
-
-
 def wrapping():
     obj = support.object_from_bmesh("Wrapped", support.cube("Wrapped"))
     modifier = add_entry(obj, levels=1)
@@ -174,7 +168,7 @@ def wrapping():
     error = live.cache_of(obj).error
     for width in (300, 600):
         labels = []
-        ui.DATA_PT_loop_subdivision.draw(Panel(modifier, labels), Context(width))
+        ui.DATA_PT_loop_subdivision.draw(support.PanelStandIn(modifier, labels), Context(width))
         columns = width // 5  # no character of the interface font is narrower than 5 pixels at scale 1
         error_lines = []
         for index, (label, icon) in enumerate(labels):

@@ -140,17 +140,9 @@ def registration():
         check(footprint() == empty, f"round {round_}: unregister leaves nothing else behind {footprint()}")
 
 
-class SubPanel:
-    def __init__(self, modifier, labels):
-        self.custom_data = modifier
-        self.layout = support.Recorder(labels)
-
-
 def sub_panel_labels(obj):
-    """What the registered part of the modifier panel draws for obj's entry (the labels of its notes and buttons)."""
-    labels = []
-    getattr(bpy.types, SUB_PANEL).draw(SubPanel(obj.modifiers[0], labels), bpy.context)
-    return labels
+    """What the registered part of the modifier panel draws for obj's entry (the labels of its notes)."""
+    return support.drawn_labels(getattr(bpy.types, SUB_PANEL), obj.modifiers[0])
 
 
 def fallback_panel():

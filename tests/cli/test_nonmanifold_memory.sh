@@ -20,45 +20,37 @@ PY
 
 native=0
 [ "$(head -c 4 "$LOOPSUB" | od -An -c | tr -d ' ')" = '177ELF' ] && native=1
-for rules in opensubdiv hoppe94; do
-  for rate in 3 5 7; do
-    out="$WORK/book.$rules.$rate.obj"
-    if ((native)); then
-      (ulimit -v $((768 * 1024)) && exec timeout 60 "$LOOPSUB" "$book" "$out" --tessellate "$rate" --rules "$rules") \
-        >"$WORK/stdout" 2>"$WORK/stderr"
-    else
-      "$LOOPSUB" "$book" "$out" --tessellate "$rate" --rules "$rules" >"$WORK/stdout" 2>"$WORK/stderr"
-    fi
-    code=$?
-    if ((code != 0)); then
-      fail "the book at --tessellate $rate --rules $rules exited with $code (124: past 60 s): $(head -c 300 "$WORK/stderr")"
-      continue
-    fi
-    # The vertices, the points inside the spine (once) and the pages' 200 other edges, and inside the 100 triangles.
-    check_valid_obj "$out" $((102 + 201 * (rate - 1) + 50 * (rate - 1) * (rate - 2))) $((100 * rate * rate))
+# tessellate WHAT MESH RATES: each rate under both rule sets, each run capped in memory and time where the binary is
+# this machine's (a cross-built one runs under wine or qemu, which the caps would cut short); the output checked.
+tessellate() {
+  local what=$1 mesh=$2 rate rules out code
+  shift 2
+  for rules in opensubdiv hoppe94; do
+    for rate in "$@"; do
+      out="$WORK/$(basename "$mesh" .obj).$rules.$rate.obj"
+      if ((native)); then
+        (ulimit -v $((768 * 1024)) && exec timeout 60 "$LOOPSUB" "$mesh" "$out" --tessellate "$rate" --rules "$rules") \
+          >"$WORK/stdout" 2>"$WORK/stderr"
+      else
+        "$LOOPSUB" "$mesh" "$out" --tessellate "$rate" --rules "$rules" >"$WORK/stdout" 2>"$WORK/stderr"
+      fi
+      code=$?
+      if ((code != 0)); then
+        fail "$what at --tessellate $rate --rules $rules exited with $code (124: past 60 s): $(head -c 300 "$WORK/stderr")"
+        continue
+      fi
+      # The vertices, the points inside the spine (once) and the pages' 200 other edges, and inside the 100 triangles.
+      check_valid_obj "$out" $((102 + 201 * (rate - 1) + 50 * (rate - 1) * (rate - 2))) $((100 * rate * rate))
+    done
   done
-done
+}
+
+tessellate "the book" "$book" 3 5 7
 # The spine tagged (infinitely sharp, as a non-manifold edge is whatever its tag) and a page's edges semi-sharp: each
 # triangle still refines its own fans (the tag took 204 MB and 87 s at rate 3, 251 s at rate 7).
 tagged="$WORK/tagged.obj"
 { cat "$book"; printf 't crease 2/1/0 0 1 10\nt crease 2/1/0 0 2 2.5\n'; } >"$tagged"
-for rules in opensubdiv hoppe94; do
-  for rate in 3 7; do
-    out="$WORK/tagged.$rules.$rate.obj"
-    if ((native)); then
-      (ulimit -v $((768 * 1024)) && exec timeout 60 "$LOOPSUB" "$tagged" "$out" --tessellate "$rate" --rules "$rules") \
-        >"$WORK/stdout" 2>"$WORK/stderr"
-    else
-      "$LOOPSUB" "$tagged" "$out" --tessellate "$rate" --rules "$rules" >"$WORK/stdout" 2>"$WORK/stderr"
-    fi
-    code=$?
-    if ((code != 0)); then
-      fail "the tagged book at --tessellate $rate --rules $rules exited with $code (124: past 60 s): $(head -c 300 "$WORK/stderr")"
-      continue
-    fi
-    check_valid_obj "$out" $((102 + 201 * (rate - 1) + 50 * (rate - 1) * (rate - 2))) $((100 * rate * rate))
-  done
-done
+tessellate "the tagged book" "$tagged" 3 7
 # The resident peak, where GNU time is there to tell it: under 300 MB (under the same cap).
 if ((native)) && [ -x /usr/bin/time ]; then
   (ulimit -v $((768 * 1024)) && exec /usr/bin/time -f '%M' -o "$WORK/peak" timeout 60 "$LOOPSUB" "$book" \

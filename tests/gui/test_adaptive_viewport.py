@@ -7,7 +7,6 @@ code.
 """
 import os
 import sys
-import traceback
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "blender"))
 import bpy  # noqa: E402
@@ -84,23 +83,4 @@ def steps():
                                         f"({shown_triangles(obj)})")
 
 
-_steps = steps()
-
-
-def run():
-    try:
-        return next(_steps)
-    except StopIteration:
-        code = 0
-    except BaseException:  # noqa: B036  (any failure fails the test)
-        traceback.print_exc()
-        code = 1
-    try:
-        check.finish()
-    except AssertionError:
-        code = 1
-    sys.stdout.flush()
-    os._exit(code)
-
-
-bpy.app.timers.register(run, first_interval=1.0)
+support.run_in_interface(steps(), check)

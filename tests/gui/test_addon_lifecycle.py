@@ -12,7 +12,6 @@ import glob
 import os
 import shutil
 import sys
-import traceback
 
 import bpy
 
@@ -64,19 +63,9 @@ def after_redraws(count):
         waited += 0.1
 
 
-class SubPanel:
-    """What Blender hands the Loop Subdivision part of a modifier's panel: the modifier, and a layout (recording)."""
-
-    def __init__(self, modifier, labels):
-        self.custom_data = modifier
-        self.layout = support.Recorder(labels)
-
-
 def drawn_labels(obj):
     """The labels that the registered part of the modifier panel draws for obj's first modifier."""
-    labels = []
-    bpy.types.DATA_PT_loop_subdivision.draw(SubPanel(obj.modifiers[0], labels), bpy.context)
-    return [text for text, _ in labels]
+    return support.drawn_labels(bpy.types.DATA_PT_loop_subdivision, obj.modifiers[0])
 
 
 def screenshot(name):
@@ -150,23 +139,4 @@ def steps():
           "turned off at the end: the cage is shown, and the kept part of the modifier's panel draws nothing")
 
 
-_steps = steps()
-
-
-def run():
-    try:
-        return next(_steps)
-    except StopIteration:
-        code = 0
-    except BaseException:  # noqa: B036  (any failure fails the test)
-        traceback.print_exc()
-        code = 1
-    try:
-        check.finish()
-    except AssertionError:
-        code = 1
-    sys.stdout.flush()
-    os._exit(code)
-
-
-bpy.app.timers.register(run, first_interval=1.0, persistent=True)
+support.run_in_interface(steps(), check)

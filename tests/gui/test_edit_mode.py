@@ -9,7 +9,6 @@ from a timer, as an artist's actions arrive between redraws; the screenshot goes
 """
 import os
 import sys
-import traceback
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "blender"))
 import bpy  # noqa: E402
@@ -56,23 +55,4 @@ def steps():
     yield 0.2
 
 
-_steps = steps()
-
-
-def run():
-    try:
-        return next(_steps)
-    except StopIteration:
-        code = 0
-    except BaseException:  # noqa: B036  (any failure fails the test)
-        traceback.print_exc()
-        code = 1
-    try:
-        check.finish()
-    except AssertionError:
-        code = 1
-    sys.stdout.flush()
-    os._exit(code)
-
-
-bpy.app.timers.register(run, first_interval=1.0)
+support.run_in_interface(steps(), check)
