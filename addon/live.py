@@ -488,7 +488,6 @@ def _on_load(*_):
 # it wrote at Render levels.
 _unsaved = []
 _stored = []
-_rebased = []  # the entries whose Base Result _on_save dropped
 # From _on_save to _on_saved: the interface draws the file's thumbnail in between, which evaluates the scene (and shows
 # the cages); the handlers must not give the entries their results back before the file is written.
 _saving = False
@@ -507,28 +506,37 @@ def _on_save(*_):
     in_view_layer = {instance.original.name_full for instance in depsgraph.objects}
     empty = None
     for obj, modifier in _local_entries():
-        if _drop_base(obj, modifier):
-            _rebased.append(obj.name)  # made again after saving: no file needs it
-        helper = stack.helper_of(obj, modifier, create=False)
+        # No file needs a Base Result: a Blender without the add-on has none to show, one with it makes it again.
+        base = stack.helper_of(obj, modifier, create=False, socket=stack.BASE_SOCKET)
+        if base is not None:
+            empty = empty or stack.placeholder()
+            _keep_out_of_file(obj, modifier, stack.BASE_SOCKET, base, None, empty)
         if obj.loop_subdivision.store_result:
             if obj.name_full in in_view_layer:
                 refresh(obj, depsgraph, render=True)
                 _stored.append(obj.name)
             continue
         empty = empty or stack.placeholder()
-        # The helper, with no user, is not written; nor its mesh once the helper holds the placeholder's instead.
-        _unsaved.append((obj.name, helper.name if helper is not None else None,
-                         helper.data.name if helper is not None else None))
-        _busy = True
-        try:
-            compat.set_modifier_input(modifier, stack.RESULT_SOCKET, empty)
-            if helper is not None:
-                helper.data = empty.data
-        finally:
-            _busy = False
-    if empty is not None:
+        _keep_out_of_file(obj, modifier, stack.RESULT_SOCKET, stack.helper_of(obj, modifier, create=False), empty,
+                          empty)
+    if any(socket == stack.RESULT_SOCKET for _, socket, _, _ in _unsaved):
         compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, True)
     _saving = True
+
+
+def _keep_out_of_file(obj, modifier, socket, helper, stand_in, empty):
+    """Points the entry's socket at stand_in (the placeholder, or None) until _on_saved, and its helper, if any, at
+    the placeholder's (empty) mesh: the helper, with no user, is not written, nor its mesh."""
+    global _busy
+    _unsaved.append((obj.name, socket, helper.name if helper is not None else None,
+                     helper.data.name if helper is not None else None))
+    _busy = True
+    try:
+        compat.set_modifier_input(modifier, socket, stand_in)
+        if helper is not None:
+            helper.data = empty.data
+    finally:
+        _busy = False
 
 
 @persistent
@@ -538,7 +546,7 @@ def _on_saved(*_):
     _saving = False
     _busy = True
     try:
-        for name, helper_name, result_name in _unsaved:
+        for name, socket, helper_name, result_name in _unsaved:
             obj = bpy.data.objects.get(name)
             modifier = stack.entry(obj)
             helper = bpy.data.objects.get(helper_name) if helper_name is not None else None
@@ -546,19 +554,18 @@ def _on_saved(*_):
             if helper is not None and result is not None:
                 helper.data = result
             if modifier is not None and helper is not None:
-                compat.set_modifier_input(modifier, stack.RESULT_SOCKET, helper)
-        if _unsaved:
+                compat.set_modifier_input(modifier, socket, helper)
+        if any(socket == stack.RESULT_SOCKET for _, socket, _, _ in _unsaved):
             compat.show_result_field(stack.node_group(), stack.RESULT_SOCKET, False)
     finally:
         _busy = False
     _unsaved.clear()
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    for name in _stored + _rebased:
+    for name in _stored:
         obj = bpy.data.objects.get(name)
         if obj is not None:
             refresh(obj, depsgraph)
     _stored.clear()
-    _rebased.clear()
     _collect()
 
 

@@ -82,13 +82,17 @@ def _build_nodes(group):
         links.new(group_input.outputs[socket], info.inputs["Object"])
         return info
 
-    def connect(node, names, values):
-        """Links or sets node's inputs of these names (those its current data type shows) to values."""
-        for socket, value in zip(compat.enabled_sockets(node.inputs, *names), values):
+    def feed(sockets, values):
+        """Links each of the sockets to its value's socket, or sets it to the value."""
+        for socket, value in zip(sockets, values):
             if isinstance(value, bpy.types.NodeSocket):
                 links.new(value, socket)
             else:
                 socket.default_value = value
+
+    def connect(node, names, values):
+        """Feeds node's inputs of these names (those its current data type shows) with values."""
+        feed(compat.enabled_sockets(node.inputs, *names), values)
 
     def domain_size(geometry):
         size = nodes.new('GeometryNodeAttributeDomainSize')
@@ -101,11 +105,7 @@ def _build_nodes(group):
         smallest (3 sockets to the Compare node's 13)."""
         node = nodes.new('ShaderNodeMath')
         node.operation = operation
-        for socket, value in zip(node.inputs, values):
-            if isinstance(value, bpy.types.NodeSocket):
-                links.new(value, socket)
-            else:
-                socket.default_value = value
+        feed(node.inputs, values)
         return node.outputs["Value"]
 
     def switch(condition, false, true):
