@@ -14,7 +14,9 @@ for _name in [name for name in sys.modules if name.startswith(__name__ + ".")]:
     del sys.modules[_name]
     globals().pop(_name.rpartition(".")[2], None)
 
-from . import live, native, operators, properties, ui  # noqa: E402
+from . import native  # noqa: E402
+from .live import handlers  # noqa: E402
+from .ui import operators, panel, properties  # noqa: E402
 
 bl_info = {
     "name": "Loop Subdivision",
@@ -26,7 +28,7 @@ bl_info = {
     "category": "Mesh",
 }
 
-_modules = (properties, operators, ui, live)
+_modules = (properties, operators, panel, handlers)
 
 
 def register():

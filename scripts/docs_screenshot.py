@@ -54,7 +54,7 @@ def build_scene():
     bpy.ops.object.loop_subdivision_add(levels=2, render_levels=3)
     displace = obj.modifiers.new("Displace", 'DISPLACE')
     displace.strength = 0.1
-    obj.modifiers.active = addon.stack.entry(obj)  # the Loop Subdivision panel, outlined as the active one
+    obj.modifiers.active = addon.blender.stack.entry(obj)  # the Loop Subdivision panel, outlined as the active one
     mirror.show_expanded = False
     displace.show_expanded = False
 

@@ -15,6 +15,7 @@ import tempfile
 import textwrap
 import time
 import traceback
+import types
 
 import bpy
 import bmesh
@@ -36,6 +37,15 @@ def load_addon(register=True):
     if register:
         package.register()
     return package
+
+
+def blender_access(addon):
+    """The add-on's Blender access (addon/blender/: mesh arrays, creases, shading, the stack and its node group) as one
+    namespace, for the tests that read and write meshes the way the add-on does."""
+    modules = (addon.blender.mesh_arrays, addon.blender.creases, addon.blender.shading, addon.blender.node_group,
+               addon.blender.stack)
+    return types.SimpleNamespace(**{name: getattr(module, name) for module in modules for name in dir(module)
+                                    if not name.startswith("_")})
 
 
 class Check:

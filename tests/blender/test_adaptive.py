@@ -20,7 +20,7 @@ import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
 check = support.Check("test_adaptive")
-stack = addon.stack
+stack = addon.blender.stack
 
 
 def core():
@@ -115,7 +115,7 @@ def edits_keep_the_cut():
     top_camera(2.0)
     obj = support.object_from_bmesh("Edited", support.grid(cuts=4, size=2.0))
     bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=4.0, render_dicing_rate=4.0)
-    cache = addon.live.cache_of(obj)
+    cache = addon.live.engine.cache_of(obj)
     builds = cache.plan_builds
     before = support.positions(shown(obj))
     middle = int(np.argmin(np.linalg.norm(support.positions(obj.data), axis=1)))
@@ -144,7 +144,7 @@ def camera_moves_cut_anew():
     bmesh.ops.create_grid(bm, x_segments=4, y_segments=4, size=1.0, calc_uvs=True)
     obj = support.object_from_bmesh("Approached", bm)
     bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=4.0, render_dicing_rate=4.0)
-    cache = addon.live.cache_of(obj)
+    cache = addon.live.engine.cache_of(obj)
     builds, far = cache.plan_builds, len(shown(obj).polygons)
     top_camera(1.2)
     bpy.context.view_layer.update()
@@ -197,7 +197,7 @@ def limit_surface_without_cracks():
     dense mesh of it, level 6 of the core's plan with the limit surface, verified against OpenSubdiv elsewhere) and
     its normals are the surface's; a nearer camera cuts finer."""
     top_camera(6.0)
-    obj, _ = support.creased_cube(addon.compat, weight=1.0)
+    obj, _ = support.creased_cube(support.blender_access(addon), weight=1.0)
     obj.rotation_euler = (0.3, 0.2, 0.1)
     bpy.ops.object.loop_subdivision_add(use_adaptive=True, rules='OPENSUBDIV', dicing_rate=2.0)
     support.shade_smooth(obj)
@@ -209,7 +209,7 @@ def limit_surface_without_cracks():
     cage = obj.data
     cage.calc_loop_triangles()
     triangles = support.read_array(cage.loop_triangles, "vertices", 3, np.int32)
-    crease_edges = support.edges(cage)[addon.compat.read_edge_creases(cage) > 0]
+    crease_edges = support.edges(cage)[addon.blender.creases.read_edge_creases(cage) > 0]
     plan = core().Plan(triangles, len(cage.vertices), 6, rules="opensubdiv", limit_surface=True,
                        crease_edges=np.ascontiguousarray(crease_edges, np.int32),
                        crease_sharpness=np.full(len(crease_edges), 10.0, np.float32))
@@ -221,7 +221,7 @@ def limit_surface_without_cracks():
     diagonal = support.bbox_diagonal(points)
     check(distance < 1e-4 * diagonal, f"every point on the limit surface: within {distance / diagonal:.1e} of the "
                                       "diagonal of a level-6 limit mesh")
-    normals = addon.compat.read_corner_normals(mesh).reshape(-1, 3, 3)
+    normals = addon.blender.shading.read_corner_normals(mesh).reshape(-1, 3, 3)
     loops = support.read_array(mesh.loops, "vertex_index", dtype=np.int32).reshape(-1, 3)
     # On a crease each side's normal is its face's: measure each corner against the surface normal nearest to its
     # triangle's middle, which lies on the corner's side.
@@ -295,7 +295,7 @@ def no_camera():
     scene.camera = None
     obj = support.object_from_bmesh("NoCamera", support.octahedron())
     bpy.ops.object.loop_subdivision_add(use_adaptive=True)
-    cache = addon.live.cache_of(obj)
+    cache = addon.live.engine.cache_of(obj)
     check(len(shown(obj).polygons) == 8 and cache is not None and "camera" in cache.error,
           f"the entry shows its input and says why: {cache.error if cache else None!r}")
     try:
@@ -318,11 +318,11 @@ sys.path.insert(0, {parent!r})
 import {package} as addon
 addon.register()
 blender_side = []
-estimate = addon.memory.estimate_output_bytes
+estimate = addon.model.memory.estimate_output_bytes
 def recorded(counts, core_bytes, **options):
     blender_side.append(estimate(counts, core_bytes, **options) - core_bytes)
     return blender_side[-1] + core_bytes
-addon.memory.estimate_output_bytes = recorded
+addon.model.memory.estimate_output_bytes = recorded
 
 def status(field):
     with open("/proc/self/status") as file:
@@ -339,7 +339,7 @@ bpy.ops.object.loop_subdivision_add(use_adaptive=True, {arguments})
 triangles = len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.polygons)
 obj.location.x += 0.0  # an edit that changes no rate: written in place
 bpy.context.view_layer.update()
-core = addon.live.cache_of(obj).output.tessellation.estimated_bytes
+core = addon.live.engine.cache_of(obj).output.tessellation.estimated_bytes
 print("PEAK", triangles, status("VmHWM") - held, blender_side[-1], core, flush=True)
 """
 
@@ -407,7 +407,7 @@ def core_refusal():
     top_camera(4.0, lens=50.0, resolution=1920, percentage=100)
     bpy.ops.mesh.primitive_monkey_add()
     obj = bpy.context.object
-    memory = addon.memory
+    memory = addon.model.memory
     estimate, available_bytes = memory.estimate_output_bytes, memory.available_bytes
     blender_side = []
 
@@ -420,7 +420,7 @@ def core_refusal():
     try:
         bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=8.0)
         made = len(shown(obj).polygons)
-        core = addon.live.cache_of(obj).output.tessellation.estimated_bytes
+        core = addon.live.engine.cache_of(obj).output.tessellation.estimated_bytes
         core_at_a_patch = memory.TESSELLATION_BYTES_PER_TRIANGLE * made * (1 + len(obj.data.uv_layers))
         bpy.ops.object.loop_subdivision_remove()
         # Free memory that leaves, after the reserve and Blender's side, room for the core at a patch's bytes a
@@ -431,7 +431,7 @@ def core_refusal():
             free += 1 << 20
         memory.available_bytes = lambda root="/": free
         bpy.ops.object.loop_subdivision_add(use_adaptive=True, dicing_rate=8.0)
-        error = addon.live.cache_of(obj).error
+        error = addon.live.engine.cache_of(obj).error
         need = memory.describe(blender_side[-1] + core, free, "")  # " needs about ...; ... are free, less ..."
         cage = len(obj.data.polygons)
         check(made > 100 * cage and core > core_at_a_patch and len(shown(obj).polygons) == cage

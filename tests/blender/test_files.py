@@ -29,7 +29,7 @@ import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
 check = support.Check("test_files")
-stack, ui, compat = addon.stack, addon.ui, addon.compat
+stack, ui, compat = addon.blender.stack, addon.ui.panel, support.blender_access(addon)
 
 
 def evaluated(obj):
@@ -150,7 +150,7 @@ def linked(folder):
         bpy.context.view_layer.update()
         faces = evaluated(prop)[1]
         cage = len(prop.data.polygons)
-        cache = addon.live.cache_of(prop)
+        cache = addon.live.engine.cache_of(prop)
         error = cache.error if cache is not None else ""
         if store:
             check(faces == 4 * cage and not error, f"linked with Store Result: the stored result shows ({faces} faces)")
@@ -328,10 +328,10 @@ def base_results_in_a_session(folder):
     rest = under('DISPLACE', "Rest")
     rest.modifiers[0].strength = 0.0
     bpy.ops.object.loop_subdivision_add(levels=1, render_levels=2)
-    addon.live.refresh_all(render=True)  # what each frame of a render does
+    addon.live.engine.refresh_all(render=True)  # what each frame of a render does
     triangles = sum(len(face.vertices) - 2 for face in rest.data.polygons)
     rendered = evaluated(rest)[1]
-    addon.live.refresh_all()
+    addon.live.engine.refresh_all()
     check(rendered == 16 * triangles, f"a rest state above: a render shows Render levels ({rendered} faces)")
     for method in ('BEAUTY', 'SHORTEST_DIAGONAL'):
         stacked = under('TRIANGULATE', f"Triangulated{method}")

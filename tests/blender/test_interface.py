@@ -17,7 +17,8 @@ import bpy  # noqa: E402
 import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
-stack, compat, ui, live, cage = addon.stack, addon.compat, addon.ui, addon.live, addon.cage
+stack, compat, ui = addon.blender.stack, support.blender_access(addon), addon.ui.panel
+live, cage = addon.live.engine, addon.subdivision.cage
 check = support.Check("test_interface")
 
 
@@ -131,7 +132,7 @@ def plurals():
     corner = bm.verts[0].co.copy()  # a triangle with one vertex where a corner of the cube is: one crack
     bm.faces.new((bm.verts.new(corner), bm.verts.new((3, 0, 0)), bm.verts.new((3, 1, 0))))
     obj = support.object_from_bmesh("Crack", bm)
-    cracks = addon.geometry.shared_positions(support.positions(obj.data))
+    cracks = addon.model.geometry.shared_positions(support.positions(obj.data))
     add_entry(obj)
     notes = notes_of(obj)
     expected = (f"{cracks} vertex shares a position" if cracks == 1 else f"{cracks} vertices share a position")

@@ -121,7 +121,7 @@ def viewport_faces(obj):
 def result_object(kind, obj):
     """The name of the object the entry's node group reads its result from (the add-on's helper)."""
     modifier = obj.modifiers[-1]
-    return None if kind == 'SUBSURF' else addon.compat.modifier_input(modifier, "Result").name
+    return None if kind == 'SUBSURF' else addon.blender.stack.modifier_input(modifier, "Result").name
 
 
 def save_and_reopen(path):
@@ -331,7 +331,7 @@ def legacy_file(base, folder):
     update()
     copy = duplicate(obj, linked=True)
     update()
-    owner_tag = addon.stack.OWNER_TAG
+    owner_tag = addon.blender.stack.OWNER_TAG
     for helper in [other for other in bpy.data.objects if owner_tag in other]:
         helper[owner_tag] = bpy.data.objects[helper[owner_tag]]  # as the earlier versions stored it
     copy_name = copy.name
@@ -383,7 +383,7 @@ def duplicated_entry_converted(base):
 
         result, printed = support.capture_output(convert, sys.stderr)
         what = "removed again" if removed else "kept"
-        helpers = [other.name for other in bpy.data.objects if addon.stack.is_helper(other)]
+        helpers = [other.name for other in bpy.data.objects if addon.blender.stack.is_helper(other)]
         check(result == {'FINISHED'} and len(obj.data.polygons) == faces and not obj.modifiers and not helpers,
               f"a duplicated entry ({what}), then Convert ▸ Mesh: the mesh is the subdivision, no helper stays")
         check("ERROR" not in printed, f"a duplicated entry ({what}), then Convert ▸ Mesh: no error on the console "

@@ -17,7 +17,7 @@ import numpy as np  # noqa: E402
 import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
-compat = addon.compat
+compat = support.blender_access(addon)
 check = support.Check("test_limit")
 NORMAL_TOLERANCE = 1e-3
 
@@ -56,7 +56,7 @@ def vertex_spread(mesh):
 
 def settings_as_blender():
     subsurf = bpy.types.SubsurfModifier.bl_rna.properties
-    for ours, where in ((addon.properties.LoopSubdivisionSettings.bl_rna.properties, "settings"),
+    for ours, where in ((addon.ui.properties.LoopSubdivisionSettings.bl_rna.properties, "settings"),
                         (bpy.ops.object.loop_subdivision_apply.get_rna_type().properties, "Apply"),
                         (bpy.ops.object.loop_subdivision_add.get_rna_type().properties, "Add")):
         for name in ("use_limit_surface", "uv_smooth"):
@@ -341,7 +341,7 @@ def modifier_settings():
     bpy.ops.object.loop_subdivision_add(levels=1, rules='OPENSUBDIV')
     settings = obj.loop_subdivision
     for name, value in (("use_limit_surface", False), ("uv_smooth", 'SMOOTH_ALL'), ("use_limit_surface", True)):
-        builds = addon.live.cache_of(obj).plan_builds
+        builds = addon.live.engine.cache_of(obj).plan_builds
         setattr(settings, name, value)
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         shown = (support.positions(mesh), support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2),
@@ -353,7 +353,7 @@ def modifier_settings():
                     twin.data.has_custom_normals)
         support.remove(twin)
         support.select_only(obj)
-        check(addon.live.cache_of(obj).plan_builds == builds + 1 and np.array_equal(shown[0], expected[0])
+        check(addon.live.engine.cache_of(obj).plan_builds == builds + 1 and np.array_equal(shown[0], expected[0])
               and np.array_equal(shown[1], expected[1]) and shown[2] == expected[2] == settings.use_limit_surface,
               f"modifier: {name} = {value!r} builds a new plan and shows what Apply writes")
     support.remove(obj)

@@ -27,11 +27,11 @@ import {os.path.basename(ADDON_DIR)} as addon
 addon.register()
 
 estimates = []
-estimate_bytes = addon.memory.estimate_bytes
+estimate_bytes = addon.model.memory.estimate_bytes
 def recorded(*arguments, **keywords):
     estimates.append(estimate_bytes(*arguments, **keywords))
     return estimates[-1]
-addon.memory.estimate_bytes = recorded
+addon.model.memory.estimate_bytes = recorded
 
 bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=5)
 obj = bpy.context.object
@@ -53,7 +53,7 @@ obj.data.update()
 bpy.context.evaluated_depsgraph_get()
 print("MEASURED", peak() - before, "ESTIMATED", max(estimates, default=0), "FACES", faces, flush=True)
 
-helper = addon.compat.modifier_input(obj.modifiers[-1], "Result")
+helper = addon.blender.stack.modifier_input(obj.modifiers[-1], "Result")
 vertices = helper.data.vertices
 sums = [sum(element.weight for element in vertices[index].groups) for index in range(0, len(vertices), 97)]
 print("GROUPS", len(helper.vertex_groups), "LEAST", min(sums), "MOST", max(sums), flush=True)

@@ -28,7 +28,7 @@ import sys, bpy
 sys.path.insert(0, {os.path.dirname(ADDON_DIR)!r})
 import {os.path.basename(ADDON_DIR)} as addon
 addon.register()
-live = addon.live
+live = addon.live.engine
 
 def faces(obj):
     return len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.polygons)
@@ -82,7 +82,7 @@ say("SURVIVED")
 """
 
 UNCHECKED = SCRIPT + """
-addon.memory.available_bytes = lambda root="/": None
+addon.model.memory.available_bytes = lambda root="/": None
 say("ASKING")
 bpy.ops.object.loop_subdivision_add(levels=5)
 say("SURVIVED")

@@ -22,7 +22,7 @@ import blender_test_support as support  # noqa: E402
 addon = support.load_addon()
 check = support.Check("test_modifier")
 ADDON_DIR = os.path.dirname(addon.__file__)
-stack = addon.stack
+stack = addon.blender.stack
 
 
 def evaluated(obj, entry_shown=True):
@@ -57,7 +57,7 @@ def add_entry(obj, **arguments):
 
 
 def plan_builds(obj):
-    return addon.live.cache_of(obj).plan_builds
+    return addon.live.engine.cache_of(obj).plan_builds
 
 
 # --- in the stack ---------------------------------------------------------------------------------------------------
@@ -74,7 +74,7 @@ def entry_in_stack():
         modifier.show_on_cage = True  # what the header's toggle sets
         _, printed = support.capture_output(lambda: bpy.context.evaluated_depsgraph_get().update())
         bpy.ops.object.mode_set(mode='OBJECT')
-    check(not modifier.show_on_cage and addon.live.ON_CAGE_REFUSAL in printed,
+    check(not modifier.show_on_cage and addon.live.status.ON_CAGE_REFUSAL in printed,
           "On Cage turned on in Edit Mode turns off again, the cage drawn as it is, and the add-on says why")
     positions, faces = evaluated(obj)
     check(faces == 4 * cage_faces, f"the evaluated mesh has Levels Viewport (1): {faces} faces")
@@ -152,7 +152,7 @@ def edits():
           and np.array_equal(after, applied(obj, levels=1)[0]),
           "moving a vertex in Object Mode updates the result with the same plan")
 
-    helper = addon.compat.modifier_input(obj.modifiers[-1], "Result")
+    helper = addon.blender.stack.modifier_input(obj.modifiers[-1], "Result")
     mesh_pointer = helper.data.as_pointer()
     for _ in range(3):
         bpy.context.view_layer.update()
@@ -168,21 +168,21 @@ def edits():
     check(plan_builds(obj) == builds and not np.array_equal(in_edit, after),
           "in Edit Mode a vertex move shows in the result, with the same plan")
     edit.faces.ensure_lookup_table()
-    old_plan = weakref.ref(addon.live.cache_of(obj).output.plan)
+    old_plan = weakref.ref(addon.live.engine.cache_of(obj).output.plan)
     old_gone_when_built = []
-    build_plan = addon.cage.Source.plan
+    build_plan = addon.subdivision.cage.Source.plan
 
     def watched_build(source, *arguments, **keywords):
         old_gone_when_built.append(old_plan() is None)
         return build_plan(source, *arguments, **keywords)
 
-    addon.cage.Source.plan = watched_build
+    addon.subdivision.cage.Source.plan = watched_build
     try:
         bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
         bmesh.update_edit_mesh(obj.data)
         _, faces = evaluated(obj)
     finally:
-        addon.cage.Source.plan = build_plan
+        addon.subdivision.cage.Source.plan = build_plan
     check(plan_builds(obj) == builds + 1 and faces == 4 * (len(obj.data.polygons) - 1),
           "in Edit Mode deleting a face builds a new plan")
     check(old_gone_when_built == [True],
@@ -225,7 +225,7 @@ def edit_mode_with_vertex_groups():
     bmesh.ops.delete(edit, geom=[edit.faces[0]], context='FACES_ONLY')
     bmesh.update_edit_mesh(obj.data)
     _, shown = evaluated(obj)
-    helper = addon.compat.modifier_input(obj.modifiers[-1], "Result")
+    helper = addon.blender.stack.modifier_input(obj.modifiers[-1], "Result")
     weights = {round(group.weight, 6) for vertex in helper.data.vertices for group in vertex.groups}
     check(shown == 4 * (faces - 1) and [group.name for group in helper.vertex_groups] == ["Weights"]
           and weights == {0.5} and all(len(vertex.groups) == 1 for vertex in helper.data.vertices),
@@ -299,7 +299,7 @@ def uv_edits():
 
 
 def corner_normals(mesh):
-    return addon.compat.read_corner_normals(mesh)
+    return addon.blender.shading.read_corner_normals(mesh)
 
 
 def animation():
@@ -363,13 +363,13 @@ def errors():
     good, _ = evaluated(obj)
     obj.data.vertices[1].co.x = float("nan")
     told = []
-    tell, addon.live._tell = addon.live._tell, told.append
+    tell, addon.live.status.tell = addon.live.status.tell, told.append
     try:
         obj.data.update()
         _, faces = evaluated(obj)
     finally:
-        addon.live._tell = tell
-    error = addon.live.cache_of(obj).error
+        addon.live.status.tell = tell
+    error = addon.live.engine.cache_of(obj).error
     check(faces == len(obj.data.polygons) and "non-finite" in error,
           f"a bad input passes through unchanged and the panel says why ({error})")
     check(told == [error] and error.startswith("Broken: ") and not error.startswith("Broken: Broken"),
@@ -377,7 +377,8 @@ def errors():
     obj.data.vertices[1].co.x = 0.0
     obj.data.update()
     _, faces = evaluated(obj)
-    check(faces == 4 * len(obj.data.polygons) and not addon.live.cache_of(obj).error, "fixed, it subdivides again")
+    check(faces == 4 * len(obj.data.polygons) and not addon.live.engine.cache_of(obj).error,
+          "fixed, it subdivides again")
     support.remove(obj)
 
 
@@ -398,10 +399,10 @@ def undo():
           "undo brings back level 1 and its result")
     bpy.ops.ed.undo()
     obj = bpy.data.objects["Undone"]
-    check(addon.stack.entry(obj) is None and evaluated(obj)[1] == cage_faces, "undo again removes the entry")
+    check(addon.blender.stack.entry(obj) is None and evaluated(obj)[1] == cage_faces, "undo again removes the entry")
     bpy.ops.ed.redo()
     obj = bpy.data.objects["Undone"]
-    check(addon.stack.entry(obj) is not None and evaluated(obj)[1] == 4 * cage_faces,
+    check(addon.blender.stack.entry(obj) is not None and evaluated(obj)[1] == 4 * cage_faces,
           "redo brings the entry back with its result")
     obj.data.vertices[0].co.z += 0.2
     obj.data.update()
@@ -418,7 +419,7 @@ def copies():
     linked.name = "Linked"
     bpy.context.scene.collection.objects.link(linked)
     linked.loop_subdivision.levels = 2
-    result = addon.compat.modifier_input
+    result = addon.blender.stack.modifier_input
     check(result(linked.modifiers[-1], "Result") != result(obj.modifiers[-1], "Result"),
           "a copied object gets a result of its own")
     check(evaluated(linked)[1] == 16 * len(obj.data.polygons) and evaluated(obj)[1] == 4 * len(obj.data.polygons),

@@ -128,7 +128,7 @@ def registration():
                                   "freed under the panels Blender made of it")
         cube = support.object_from_bmesh("Cube", support.cube("Cube"), triangulate=False)  # a note on its quads
         bpy.ops.object.loop_subdivision_add()
-        check(addon.stack.entry(cube) is not None, f"round {round_}: the add operator works")
+        check(addon.blender.stack.entry(cube) is not None, f"round {round_}: the add operator works")
         check(sub_panel_labels(cube), f"round {round_}: the part of the modifier panel draws the entry's settings")
         own, loaded = addon_imported_gpu()
         check(not own and not loaded, f"round {round_}: background mode does not import gpu (modules of the add-on "
@@ -148,7 +148,7 @@ def sub_panel_labels(obj):
 def fallback_panel():
     """A Blender whose Geometry Nodes modifier panel goes by another name still registers the add-on, with the
     settings in a panel of their own below the stack."""
-    panel = addon.ui.DATA_PT_loop_subdivision
+    panel = addon.ui.panel.DATA_PT_loop_subdivision
     saved = panel.bl_parent_id
     panel.bl_parent_id = "MOD_PT_NoSuchPanel"
     try:
@@ -187,7 +187,7 @@ def manifest():
 def without_keymaps():
     """Where there is no window manager (or no add-on key configuration: background mode in some builds) the add-on
     registers without keymap items, and unregisters cleanly."""
-    operators = addon.operators
+    operators = addon.ui.operators
     saved = operators.bpy
 
     class Context:

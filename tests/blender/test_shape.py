@@ -59,7 +59,8 @@ def creased_box():
     p = support.positions(obj.data)
     e = support.edges(obj.data)
     vertical = (np.abs(np.abs(p[:, 0]) - 1.0) < 1e-6) & (np.abs(np.abs(p[:, 1]) - 1.0) < 1e-6)
-    support.set_edge_creases(obj.data, np.flatnonzero(vertical[e[:, 0]] & vertical[e[:, 1]]), 1.0, addon.compat)
+    support.set_edge_creases(obj.data, np.flatnonzero(vertical[e[:, 0]] & vertical[e[:, 1]]), 1.0,
+                             support.blender_access(addon))
     return obj
 
 

@@ -13,7 +13,7 @@ import numpy as np  # noqa: E402
 import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
-compat = addon.compat
+compat = support.blender_access(addon)
 check = support.Check("test_tags")
 SMOOTH, DART, REGULAR, IRREGULAR, CORNER, CONE = range(6)
 

@@ -123,8 +123,9 @@ def as_the_core(obj):
     uvs = support.read_array(mesh.uv_layers["UVMap"].data, "uv", 2)[loops]
     for mode in ('NONE', 'PRESERVE_BOUNDARIES', 'SMOOTH_ALL'):
         for limit in (False, True):
+            uv_interpolation = addon.model.settings.core_name("uv_smooth", mode)
             expected = core.subdivide(support.positions(mesh), triangles, 2, rules="opensubdiv",
-                                      limit_surface=limit, uv_interpolation=addon.settings.core_name("uv_smooth", mode),
+                                      limit_surface=limit, uv_interpolation=uv_interpolation,
                                       face_varying=uvs)["face_varying"]
             result = ours(obj, 2, mode, limit)
             got = support.read_array(result.data.uv_layers["UVMap"].data, "uv", 2).reshape(-1, 3, 2)

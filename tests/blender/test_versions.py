@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
-compat = addon.compat
+compat = support.blender_access(addon)
 check = support.Check("test_versions")
 ADDON_DIR = os.path.dirname(addon.__file__)
 VERSION = bpy.app.version
@@ -237,7 +237,7 @@ def check_edits(label, obj):
         mesh.uv_layers[0].data, "uv", 2).tolist())]
     alone = [corner for corner, key in enumerate(keys) if keys.count(key) == 1]
     assert len(alone) >= EDITS // 2
-    builds = addon.live.cache_of(obj).plan_builds
+    builds = addon.live.engine.cache_of(obj).plan_builds
     failures = []
     for edit in range(EDITS):
         moves_vertex = edit % 2 == 0
@@ -255,12 +255,12 @@ def check_edits(label, obj):
         raised = raised.strip().splitlines()[-1] if "Traceback" in raised else ""
         worst, storage, length_error = custom_normal_error(obj)
         followed = not np.array_equal(edited_values(evaluated_mesh(obj), moves_vertex), before)
-        problem = (addon.live.cache_of(obj).error or raised or ("" if followed else "the result did not follow")
+        problem = (addon.live.engine.cache_of(obj).error or raised or ("" if followed else "the result did not follow")
                    or ("" if within(worst, storage, length_error)
                        else f"{worst:.3f} degrees, lengths within {length_error:.1e} of 1"))
         if problem:
             failures.append(f"edit {edit + 1} ({what}): {problem}")
-    builds = addon.live.cache_of(obj).plan_builds - builds
+    builds = addon.live.engine.cache_of(obj).plan_builds - builds
     check(not failures and builds == 0,
           f"{label}, modifier: {EDITS} edits in a row (a vertex, a UV), each followed in place ({builds} new plans), "
           f"still shaded with the cage's custom normals, nothing raised ({failures[:3] or 'none'})")
@@ -374,7 +374,7 @@ def save_normals(obj):
     np.save(os.path.join(folder, obj.name + ".npy"), normals.reshape(-1, 3))
 
 shown = [cage("Limit", True), cage("Plain", False)]
-addon.live.refresh_all()
+addon.live.engine.refresh_all()
 for obj in shown:
     save_normals(obj)
 bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "auto_smooth_34.blend"))
@@ -420,7 +420,7 @@ def file_from_34():
         check(worst <= ANGLE_TOLERANCE,
               f"{name}: shades as Blender 3.4 showed it (corner normals within {worst:.3f} degrees); modifiers "
               f"{[modifier.name for modifier in obj.modifiers]}")
-    helpers = [obj for obj in bpy.data.objects if obj.get(addon.stack.OWNER_TAG) is not None]
+    helpers = [obj for obj in bpy.data.objects if obj.get(addon.blender.stack.OWNER_TAG) is not None]
     carrying = {obj.name: [modifier.name for modifier in obj.modifiers] for obj in helpers if len(obj.modifiers)}
     check(len(helpers) == 2 and not carrying, f"the entries' hidden helpers carry no modifier ({carrying or 'none'})")
     shutil.rmtree(folder, ignore_errors=True)

@@ -18,7 +18,7 @@ import numpy as np  # noqa: E402
 import blender_test_support as support  # noqa: E402
 
 addon = support.load_addon()
-compat, live = addon.compat, addon.live
+compat, live = support.blender_access(addon), addon.live.engine
 check = support.Check("test_viewport_normals")
 
 

@@ -42,22 +42,22 @@ def steps():
     view.view_distance = 30.0
     yield SETTLE_SECONDS
     far = shown_triangles(obj)
-    builds = addon.live.cache_of(obj).plan_builds
+    builds = addon.live.engine.cache_of(obj).plan_builds
     view.view_distance = 4.0
     yield 0.05  # one read of the watcher at most: the view is still moving
     moving = shown_triangles(obj)
     yield SETTLE_SECONDS
     near = shown_triangles(obj)
     check(moving == far, f"while the view moves the last cut stays ({moving} triangles)")
-    check(near > 4 * far and addon.live.cache_of(obj).plan_builds == builds + 1,
+    check(near > 4 * far and addon.live.engine.cache_of(obj).plan_builds == builds + 1,
           f"once the view is still, the result is cut for it: {near} triangles from 4 units, {far} from 30")
     yield SETTLE_SECONDS
-    check(addon.live.cache_of(obj).plan_builds == builds + 1, "a still view is cut once")
+    check(addon.live.engine.cache_of(obj).plan_builds == builds + 1, "a still view is cut once")
     # Rolling the view about its axis changes no edge's depth or length on screen: the rates stay, and so does the
     # result.
     view.view_rotation = view.view_rotation @ Quaternion((0.0, 0.0, 1.0), 0.3)
     yield SETTLE_SECONDS
-    check(addon.live.cache_of(obj).plan_builds == builds + 1 and shown_triangles(obj) == near,
+    check(addon.live.engine.cache_of(obj).plan_builds == builds + 1 and shown_triangles(obj) == near,
           "a view change that changes no rate (a roll) cuts nothing again")
     scene = bpy.context.scene
     scene.camera.location = (0.0, -60.0, 0.0)
@@ -70,7 +70,7 @@ def steps():
     seen = []
 
     def during_render(*_):
-        helper = addon.stack.helper_of(obj, addon.stack.entry(obj), create=False)
+        helper = addon.blender.stack.helper_of(obj, addon.blender.stack.entry(obj), create=False)
         seen.append(len(helper.data.polygons))
 
     bpy.app.handlers.render_post.append(during_render)

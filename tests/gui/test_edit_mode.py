@@ -34,7 +34,7 @@ def steps():
     cube = bpy.data.objects["Cube"]
     support.select_only(cube)
     bpy.ops.object.loop_subdivision_add(levels=2)
-    modifier = addon.stack.entry(cube)
+    modifier = addon.blender.stack.entry(cube)
     area = view_3d()
     region = next(region for region in area.regions if region.type == 'WINDOW')
     with bpy.context.temp_override(window=window, area=area, region=region):

@@ -1,5 +1,5 @@
-"""The add-on's bpy-free helpers (addon/geometry.py and addon/settings.py), loaded by path with plain Python: no Blender
-needed."""
+"""The add-on's bpy-free model (addon/model/geometry.py and addon/model/settings.py), loaded by path with plain
+Python: no Blender needed."""
 import importlib.util
 import os
 
@@ -8,11 +8,11 @@ import pytest
 
 import _loopsub
 
-_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "geometry.py")
+_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "model", "geometry.py")
 _spec = importlib.util.spec_from_file_location("loop_subdivision_geometry", _PATH)
 geometry = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(geometry)
-_SETTINGS_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "settings.py")
+_SETTINGS_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "model", "settings.py")
 _settings_spec = importlib.util.spec_from_file_location("loop_subdivision_settings", _SETTINGS_PATH)
 settings = importlib.util.module_from_spec(_settings_spec)
 _settings_spec.loader.exec_module(settings)

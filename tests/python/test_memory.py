@@ -1,6 +1,6 @@
-"""The add-on's memory check (addon/memory.py), loaded by path with plain Python: what the process may still use, read
-from a fake /proc and /sys tree; the estimate of an update against the core's own and against measured peaks; the
-report's wording."""
+"""The add-on's memory check (addon/model/memory.py), loaded by path with plain Python: what the process may still
+use, read from a fake /proc and /sys tree; the estimate of an update against the core's own and against measured
+peaks; the report's wording."""
 import importlib.util
 import os
 
@@ -10,7 +10,7 @@ import pytest
 import _loopsub
 from conftest import icosahedron
 
-_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "memory.py")
+_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "model", "memory.py")
 _spec = importlib.util.spec_from_file_location("loop_subdivision_memory", _PATH)
 memory = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(memory)

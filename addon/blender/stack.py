@@ -17,25 +17,15 @@ live.py runs after each update, before saving and after loading; an entry added 
 import bpy
 import numpy as np
 
-from . import compat
+from . import mesh_arrays, node_group
+from .node_group import (BASE_INPUT_ATTRIBUTE, BASE_SOCKET, ENTRY_NAME, GROUP_TAG, GROUP_VERSION, GROUP_VERSIONS,
+                         RESULT_SOCKET, SOCKETS)
 
-ENTRY_NAME = "Loop Subdivision"
-GROUP_TAG = "loop_subdivision"  # on the node group: the version of its layout
-GROUP_VERSION = 3
-# 1: the helper's mesh alone (files saved before 2026-11-26); 2: no Base Result (before 2026-12-07).
-GROUP_VERSIONS = (1, 2, GROUP_VERSION)
 OWNER_TAG = "loop_subdivision_owner"  # on a helper: the name of the object whose entry it serves
 BASE_TAG = "loop_subdivision_base"  # on a helper of the Base Result
 BASE_COUNTS_TAG = "loop_subdivision_base_counts"  # on it: the points and faces of the mesh it was made from
 RESULT_TAG = "loop_subdivision_result"  # on a helper's mesh (and the meshes that replaced it): made by the add-on
-RESULT_SOCKET = "Result"
-# The subdivision of the object's own mesh, where the entry is not first (live.py): what Blender's own Apply of the
-# entry gives, since it evaluates the modifier on that mesh alone while the modifiers above stay, as Subdivision
-# Surface's Apply does. Its mesh keeps the positions it was made from in this point attribute (first points), by
-# which the node group knows that mesh when it is the input.
-BASE_SOCKET = "Base Result"
-BASE_INPUT_ATTRIBUTE = "loop_subdivision_input"
-SOCKETS = (RESULT_SOCKET, BASE_SOCKET)
+
 # A file saved without its results (the default; Object.loop_subdivision.store_result keeps them) points every entry
 # at one empty object of this name: where the add-on is missing the entry shows the cage, and its panel shows this
 # name in the Result field under the node group's name, "Loop Subdivision" (3.4 to 4.2; 4.3+ show a warning from the
@@ -43,114 +33,6 @@ SOCKETS = (RESULT_SOCKET, BASE_SOCKET)
 # (3.4.1: ten characters; a longer name was cut to "Enable t…").
 PLACEHOLDER_NAME = "Add-on off"
 PLACEHOLDER_TAG = "loop_subdivision_placeholder"
-
-
-def node_group():
-    """The shared node group of every entry, made when the file has none."""
-    group = next((group for group in bpy.data.node_groups if group.get(GROUP_TAG) == GROUP_VERSION), None)
-    if group is None:
-        group = bpy.data.node_groups.new(ENTRY_NAME, 'GeometryNodeTree')
-        # Blender expects a geometry input first: the cage, shown when there is no result.
-        compat.add_group_socket(group, 'INPUT', 'NodeSocketGeometry', "Geometry")
-        compat.add_group_socket(group, 'OUTPUT', 'NodeSocketGeometry', "Geometry")
-        _build_nodes(group)
-        group[GROUP_TAG] = GROUP_VERSION
-    return group
-
-
-def _build_nodes(group):
-    """The group's inputs (those it lacks) and nodes: the Result helper's mesh (Object Info, original space: the
-    helper's coordinates are the owner's), except
-
-    - where the input is the mesh the Base Result was made from (as many points, at the very positions it keeps): the
-      Base Result, without the attribute that keeps them. That is Blender's own Apply of an entry that is not first,
-      which evaluates the modifier on the object's own mesh alone while the modifiers above stay: the Result, made
-      from their output, would be baked into the mesh under them (a Mirror above: every face twice);
-    - where the Result helper has no mesh (no helper, or an empty one: a file saved without its result and opened
-      where the add-on is missing), the input, so that the object shows its cage, never nothing; from 4.3 a warning
-      in the modifier's panel says why (compat.add_warning)."""
-    for name in SOCKETS:
-        if not compat.has_group_input(group, name):
-            compat.add_group_socket(group, 'INPUT', 'NodeSocketObject', name)
-    group.nodes.clear()
-    nodes, links = group.nodes, group.links
-    group_input = nodes.new('NodeGroupInput')
-
-    def object_info(socket):
-        info = nodes.new('GeometryNodeObjectInfo')
-        info.transform_space = 'ORIGINAL'
-        links.new(group_input.outputs[socket], info.inputs["Object"])
-        return info
-
-    def feed(sockets, values):
-        """Links each of the sockets to its value's socket, or sets it to the value."""
-        for socket, value in zip(sockets, values):
-            if isinstance(value, bpy.types.NodeSocket):
-                links.new(value, socket)
-            else:
-                socket.default_value = value
-
-    def connect(node, names, values):
-        """Feeds node's inputs of these names (those its current data type shows) with values."""
-        feed(compat.enabled_sockets(node.inputs, *names), values)
-
-    def domain_size(geometry):
-        size = nodes.new('GeometryNodeAttributeDomainSize')
-        size.component = 'MESH'
-        links.new(geometry, size.inputs["Geometry"])
-        return size
-
-    def math(operation, *values):
-        """A Math node (1 for true, 0 for false where it compares): of the comparing nodes the one a file keeps
-        smallest (3 sockets to the Compare node's 13)."""
-        node = nodes.new('ShaderNodeMath')
-        node.operation = operation
-        feed(node.inputs, values)
-        return node.outputs["Value"]
-
-    def switch(condition, false, true):
-        node = nodes.new('GeometryNodeSwitch')
-        node.input_type = 'GEOMETRY'
-        connect(node, ("Switch", "False", "True"), (condition, false, true))
-        return compat.enabled_sockets(node.outputs, "Output")[0]
-
-    info, base = object_info(RESULT_SOCKET), object_info(BASE_SOCKET)
-    result_points = domain_size(info.outputs["Geometry"]).outputs["Point Count"]
-    missing = compat.add_warning(group, math('LESS_THAN', result_points, 0.5),
-                                 "The Loop Subdivision add-on is not enabled: the cage is shown")
-    shown = switch(missing, info.outputs["Geometry"], group_input.outputs["Geometry"])
-
-    # The input is the Base Result's mesh: as many points and faces as it was made from (the Base helper's location,
-    # see show_base), each point where the Base Result keeps it.
-    separate = nodes.new('ShaderNodeSeparateXYZ')
-    links.new(base.outputs["Location"], separate.inputs[0])
-    size = domain_size(group_input.outputs["Geometry"])
-    same_count = math('MULTIPLY', math('COMPARE', size.outputs["Point Count"], separate.outputs["X"], 0.5),
-                      math('COMPARE', size.outputs["Face Count"], separate.outputs["Y"], 0.5))
-    kept = nodes.new('GeometryNodeInputNamedAttribute')
-    kept.data_type = 'FLOAT_VECTOR'
-    connect(kept, ("Name",), (BASE_INPUT_ATTRIBUTE,))
-    sample = nodes.new('GeometryNodeSampleIndex')
-    sample.data_type, sample.domain = 'FLOAT_VECTOR', 'POINT'
-    connect(sample, ("Geometry", "Value", "Index"), (base.outputs["Geometry"],
-                                                    compat.enabled_sockets(kept.outputs, "Attribute")[0],
-                                                    nodes.new('GeometryNodeInputIndex').outputs["Index"]))
-    distance = nodes.new('ShaderNodeVectorMath')
-    distance.operation = 'DISTANCE'
-    links.new(nodes.new('GeometryNodeInputPosition').outputs["Position"], distance.inputs[0])
-    links.new(compat.enabled_sockets(sample.outputs, "Value")[0], distance.inputs[1])
-    farthest = nodes.new('GeometryNodeAttributeStatistic')
-    farthest.data_type, farthest.domain = 'FLOAT', 'POINT'
-    connect(farthest, ("Geometry", "Attribute"), (group_input.outputs["Geometry"], distance.outputs["Value"]))
-    same_positions = math('COMPARE', farthest.outputs["Max"], 0.0, 0.0)  # exactly
-    both = math('MULTIPLY', same_count, same_positions)
-    unmarked = nodes.new('GeometryNodeRemoveAttribute')
-    links.new(base.outputs["Geometry"], unmarked.inputs["Geometry"])
-    unmarked.inputs["Name"].default_value = BASE_INPUT_ATTRIBUTE
-    group_output = nodes.new('NodeGroupOutput')
-    links.new(switch(both, shown, unmarked.outputs["Geometry"]), group_output.inputs["Geometry"])
-    for column, node in enumerate(nodes):
-        node.location = (250 * (column % 6), -200 * (column // 6))
 
 
 def is_entry(modifier):
@@ -183,13 +65,13 @@ def _serves(helper, obj, socket):
         return True
     owner = bpy.data.objects.get(name) if isinstance(name, str) else None
     owner_entry = entry(owner) if owner is not None and owner != obj and owner.users else None
-    return owner_entry is None or compat.modifier_input(owner_entry, socket) != helper
+    return owner_entry is None or modifier_input(owner_entry, socket) != helper
 
 
 def helper_of(obj, modifier, create=True, socket=RESULT_SOCKET):
     """The object that carries this entry's result (or, at BASE_SOCKET, its Base Result); the object's unused helper
     of that kind, or a new one, when the entry has none of its own (None with create=False)."""
-    current = compat.modifier_input(modifier, socket)
+    current = modifier_input(modifier, socket)
     if current is not None and is_helper(current) and _serves(current, obj, socket):
         if current.get(OWNER_TAG) != obj.name and current.library is None:
             current[OWNER_TAG] = obj.name
@@ -207,22 +89,23 @@ def helper_of(obj, modifier, create=True, socket=RESULT_SOCKET):
         if base:
             helper[BASE_TAG] = True
     helper[OWNER_TAG] = obj.name
-    compat.set_modifier_input(modifier, socket, helper)
+    set_modifier_input(modifier, socket, helper)
     return helper
 
 
-def keep_base_input(helper, positions, faces):
-    """Marks the Base helper's mesh as made from a mesh with these vertex positions ((N, 3) float32), in its first
-    points (_build_nodes compares the input with them), and this many faces."""
-    mesh = helper.data
-    kept = np.zeros((len(mesh.vertices), 3), dtype=np.float32)
+def keep_base_input(helper, mesh):
+    """Marks the Base helper's mesh as made from `mesh` (the object's own): its vertex positions in the first points
+    (node_group.build_nodes compares the input with them), and its number of points and faces."""
+    positions = mesh_arrays.read_positions(mesh)
+    result = helper.data
+    kept = np.zeros((len(result.vertices), 3), dtype=np.float32)
     count = min(len(positions), len(kept))
     kept[:count] = positions[:count]
-    attribute = mesh.attributes.get(BASE_INPUT_ATTRIBUTE)
+    attribute = result.attributes.get(BASE_INPUT_ATTRIBUTE)
     if attribute is None:
-        attribute = mesh.attributes.new(BASE_INPUT_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
+        attribute = result.attributes.new(BASE_INPUT_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
     attribute.data.foreach_set("vector", kept.ravel())
-    helper[BASE_COUNTS_TAG] = (len(positions), faces)
+    helper[BASE_COUNTS_TAG] = (len(positions), len(mesh.polygons))
 
 
 def show_base(helper, shown):
@@ -258,7 +141,7 @@ def _in_use():
         for modifier in obj.modifiers:
             if is_entry(modifier):
                 for socket in SOCKETS:
-                    helper = compat.modifier_input(modifier, socket)
+                    helper = modifier_input(modifier, socket)
                     if helper is not None:
                         used.add(helper.name_full)
     return used
@@ -329,7 +212,7 @@ def migrate():
             owners.append(owner.name_full)
     for group in bpy.data.node_groups:
         if group.get(GROUP_TAG) in GROUP_VERSIONS and group.get(GROUP_TAG) != GROUP_VERSION and group.library is None:
-            _build_nodes(group)  # in place: its modifiers keep it
+            node_group.build_nodes(group)  # in place: its modifiers keep it
             group[GROUP_TAG] = GROUP_VERSION
     freed = 0
     for name in owners:
@@ -346,9 +229,9 @@ def migrate():
 def add(obj):
     """Adds an entry at the end of obj's stack, shown in Edit Mode too (as Subdivision Surface is)."""
     modifier = obj.modifiers.new(ENTRY_NAME, 'NODES')
-    modifier.node_group = node_group()
+    modifier.node_group = node_group.ensure()
     modifier.show_in_editmode = True
-    compat.hide_geometry_nodes_fields(modifier, SOCKETS)
+    node_group.hide_geometry_nodes_fields(modifier, SOCKETS)
     helper_of(obj, modifier)
     return modifier
 
@@ -359,7 +242,7 @@ _NODES_DEFAULT_NAME = "GeometryNodes"
 
 
 def tidy(obj):
-    """Every Loop Subdivision modifier of obj named as one, its helper's own fields hidden (compat): a duplicated
+    """Every Loop Subdivision modifier of obj named as one, its helper's own fields hidden (node_group): a duplicated
     entry comes named "GeometryNodes" in some versions, and entries of files saved before the fields were hidden
     show them. Changes nothing that is right already (the depsgraph handler runs this). Returns the renamed ones."""
     renamed = []
@@ -374,7 +257,7 @@ def tidy(obj):
             modifier.name = ENTRY_NAME  # Blender makes it unique in the stack ("Loop Subdivision.001")
             renamed.append(modifier)
         if modifier.node_group.library is None:
-            compat.hide_geometry_nodes_fields(modifier, SOCKETS)
+            node_group.hide_geometry_nodes_fields(modifier, SOCKETS)
     return renamed
 
 
@@ -390,7 +273,72 @@ def keep_off_cage(obj):
     return turned
 
 
+def local_entries():
+    """The objects of this file with a live entry, and their entries: a list made before any is changed (drop_base
+    removes objects)."""
+    return [(obj, modifier) for obj, modifier in ((obj, entry(obj)) for obj in bpy.data.objects)
+            if modifier is not None and obj.library is None and obj.users]
+
+
+def drop_base(obj, modifier):
+    """Takes the entry's Base Result away with its helper and mesh. Returns whether it had one."""
+    helper = helper_of(obj, modifier, create=False, socket=BASE_SOCKET)
+    if helper is None:
+        return False
+    set_modifier_input(modifier, BASE_SOCKET, None)
+    mesh = helper.data
+    bpy.data.objects.remove(helper)
+    if mesh is not None and mesh.users == 0:
+        bpy.data.meshes.remove(mesh)
+    return True
+
+
 def is_first(obj, modifier):
     """Whether the entry comes first among the modifiers that act in the viewport (what Blender's Apply checks)."""
     enabled = [other for other in obj.modifiers if other.show_viewport]
     return not enabled or enabled[0] == modifier
+
+
+def group_input_identifier(group, name):
+    """The key under which a Geometry Nodes modifier keeps the value of the group input called name."""
+    if hasattr(group, "interface"):
+        return group.interface.items_tree[name].identifier
+    return group.inputs[name].identifier
+
+
+def _modifier_input_values(modifier):
+    """Where a Geometry Nodes modifier keeps its inputs' values, and whether that is the RNA struct of releases after
+    5.0 (modifier_input)."""
+    values = getattr(getattr(modifier, "properties", None), "inputs", None)
+    return (values, True) if values is not None else (modifier, False)
+
+
+def modifier_input(modifier, name):
+    """The value a Geometry Nodes modifier gives its node group's input called name (None when unset). Up to 5.0
+    the values are ID properties of the modifier, under the socket's identifier (modifier[identifier]); a release
+    after 5.0 (5.2.3 has it, 5.0.1 does not) moved them to RNA structs generated per node group,
+    modifier.properties.inputs.<identifier>.value, and the modifier itself no longer takes ID properties
+    (modifier.get and modifier[identifier] raise "this type doesn't support IDProperties")."""
+    values, rna = _modifier_input_values(modifier)
+    key = group_input_identifier(modifier.node_group, name)
+    if rna:
+        socket = getattr(values, key, None)
+        return None if socket is None else socket.value
+    return values.get(key)
+
+
+def clear_input(modifier, name):
+    """The entry's input called name unset (where it is set: setting it is an update)."""
+    if modifier_input(modifier, name) is not None:
+        set_modifier_input(modifier, name, None)
+
+
+def set_modifier_input(modifier, name, value):
+    """Sets the value a Geometry Nodes modifier gives its node group's input called name (see modifier_input for
+    where each version keeps it)."""
+    values, rna = _modifier_input_values(modifier)
+    key = group_input_identifier(modifier.node_group, name)
+    if rna:
+        getattr(values, key).value = value
+    else:
+        values[key] = value

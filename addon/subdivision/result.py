@@ -7,10 +7,12 @@ object's mesh untouched.
 import bpy
 import numpy as np
 
-from . import adaptive, compat, geometry, memory, normals
+from ..blender import creases, mesh_arrays, shading
+from ..blender.mesh_arrays import add_attribute, fill_attribute
+from ..model import geometry, memory
+from . import adaptive, normals
 from .cage import Destination, Source, check_memory, check_object
-from .output import PlanOutput
-from .mesh_data import add_attribute, fill_attribute
+from .refinement import PlanOutput
 
 # Temporary name of a float point attribute on its way to becoming a vertex group.
 _GROUP_TRANSFER = "loop_subdivision_group_transfer"
@@ -62,9 +64,9 @@ def build_mesh(source, output, name):
         for material in mesh.materials:
             # An evaluated input lists evaluated copies of its materials, which a saved file cannot keep.
             new.materials.append(material.original if material is not None else None)
-        compat.copy_shading_settings(mesh, new)
-        if output.has_vertex_creases() or compat.has_vertex_creases(mesh):
-            compat.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
+        shading.copy_shading_settings(mesh, new)
+        if output.has_vertex_creases() or creases.has_vertex_creases(mesh):
+            creases.add_vertex_crease_layer(new)  # while the mesh is empty: cheap on every Blender version
         new_edges = _write_structure(new, output)
         # Each face's cage face, where face values differ between cage faces: a gather of a million entries or more.
         parents = (cage.triangle_polygons[output.parent_triangles]
@@ -73,9 +75,9 @@ def build_mesh(source, output, name):
         _write_creases(new, cage, output, options, new_edges)
         sharp = _write_edge_data(new, source, output, new_edges)
         source.blender_corners = normals.blender_normal_corners(source, output, new_edges, sharp, parents)
-        refined = output.refine(source, into=Destination(compat.position_array(new),
+        refined = output.refine(source, into=Destination(mesh_arrays.position_array(new),
                                                          normals.vertex_normal_destination(new, source, output)))
-        compat.write_positions(new, refined.vertex[:, vertex.columns["position"]])
+        mesh_arrays.write_positions(new, refined.vertex[:, vertex.columns["position"]])
         _add_value_layers(new, source)
         _write_values(new, source, refined)
         new.update()
@@ -92,7 +94,7 @@ def update_mesh(new, source, refined, blender_corners):
     """Writes new values into a result that build_mesh made from a source with the same plan and layout keys: the
     positions, point attributes, UVs, corner attributes and normals (what moving vertices in Edit Mode or animation
     changes). blender_corners: the source.blender_corners of that build."""
-    compat.write_positions(new, refined.vertex[:, source.vertex.columns["position"]])
+    mesh_arrays.write_positions(new, refined.vertex[:, source.vertex.columns["position"]])
     _write_values(new, source, refined)
     new.update()
     normals.write_normals(new, source, refined, blender_corners)
@@ -119,7 +121,7 @@ def _write_values(new, source, refined):
               geometry.from_refined(refined.vertex[:, vertex.columns["attribute", name]], data_type))
     for uv_name, uvs in zip(source.uv_names, refined.uvs):
         if uvs is not None:
-            compat.write_uvs(new, uv_name, uvs)
+            mesh_arrays.write_uvs(new, uv_name, uvs)
     for name, _, data_type in source.corner if refined.corners is not None else ():
         fill_attribute(new.attributes[name], data_type, refined.corners[:, :, corners.columns["attribute", name]])
 
@@ -134,7 +136,7 @@ def _write_structure(new, output):
     new.loops.add(3 * num_triangles)
     edges = output.write_edges(new)
     new.polygons.add(num_triangles)
-    compat.set_triangle_loops(new)
+    mesh_arrays.set_triangle_loops(new)
     new.update()
     return edges
 
@@ -149,7 +151,7 @@ def _write_face_data(new, source, parent_polygons):
         materials = source.materials[parent_polygons]
         if materials.any():
             add_attribute(new, "material_index", 'FACE', 'INT', materials)
-    compat.write_smooth(new, None if source.smooth.all() else source.smooth[parent_polygons])
+    mesh_arrays.write_smooth(new, None if source.smooth.all() else source.smooth[parent_polygons])
     for (name, domain, data_type), values in zip(source.face, source.face_values):
         add_attribute(new, name, domain, data_type, geometry.take_rows(values, parent_polygons))
 
@@ -158,14 +160,14 @@ def _write_creases(new, cage, output, options, new_edges):
     """The result's crease weights (output.creases): an edge crease layer where the cage has one (only its creased
     edges give creased ones), vertex creases where build_mesh added their layer. Nothing is worked out for a cage
     without creases."""
-    edge_layer, vertex_layer = cage.edge_weights.any(), compat.has_vertex_creases(new)
+    edge_layer, vertex_layer = cage.edge_weights.any(), creases.has_vertex_creases(new)
     if not edge_layer and not vertex_layer:
         return
     edge_weights, vertex_weights = output.creases(cage, options, new_edges)
     if edge_layer:
-        compat.write_edge_creases(new, edge_weights)
+        creases.write_edge_creases(new, edge_weights)
     if vertex_layer:
-        compat.write_vertex_creases(new, vertex_weights)
+        creases.write_vertex_creases(new, vertex_weights)
 
 
 def _write_edge_data(new, source, output, new_edges):
@@ -177,7 +179,7 @@ def _write_edge_data(new, source, output, new_edges):
     # As numpy's own index type once: np.take converts int32 indices on every call (a million and more here).
     parents = np.asarray(output.edge_parents(new_edges, source.cage), dtype=np.intp)
     inherited = {prop: geometry.inherit_edge_values(values, parents) for prop, values in flags.items()}
-    compat.write_edge_flags(new, inherited)
+    mesh_arrays.write_edge_flags(new, inherited)
     for (name, domain, data_type), values in zip(source.edge, source.edge_values):
         add_attribute(new, name, domain, data_type, geometry.inherit_edge_values(values, parents))
     return inherited.get("use_edge_sharp")

@@ -1,9 +1,10 @@
 """The result's normals: the cage's custom normals carried over, or the limit normals as custom normals, written the
-cheapest way each Blender version offers (compat.set_custom_normals; docs/addon.md, Normals).
+cheapest way each Blender version offers (shading.set_custom_normals; docs/addon.md, Normals).
 """
 import numpy as np
 
-from . import compat, geometry
+from ..blender import shading
+from ..model import geometry
 
 
 class BlenderCorners:
@@ -30,7 +31,7 @@ def blender_normal_corners(source, output, new_edges, sharp, parents):
     if not source.limit_normals:
         return None
     on_sharp = None
-    if sharp is not None and sharp.any() and compat.shades_sharp_edges(source.mesh):
+    if sharp is not None and sharp.any() and shading.shades_sharp_edges(source.mesh):
         vertices_on_sharp = np.zeros(output.num_vertices, dtype=bool)
         vertices_on_sharp[new_edges[sharp].ravel()] = True
         on_sharp = vertices_on_sharp[output.triangles]
@@ -42,9 +43,9 @@ def blender_normal_corners(source, output, new_edges, sharp, parents):
 def vertex_normal_destination(new, source, output):
     """The array write_limit_normals' cheapest case writes, for the core to evaluate into: where the limit normals
     become free normals one per vertex (4.5+, no corner keeping Blender's own normal (source.blender_corners, set
-    before), no fan split), the result's new "custom_normal" (compat.free_vertex_normal_array); else None."""
+    before), no fan split), the result's new "custom_normal" (shading.free_vertex_normal_array); else None."""
     if source.limit_normals and source.blender_corners is None and output.one_normal_per_vertex():
-        return compat.free_vertex_normal_array(new)
+        return shading.free_vertex_normal_array(new)
     return None
 
 
@@ -56,10 +57,10 @@ def write_normals(new, source, refined, blender_corners):
     if source.custom_normals:
         normals = np.array(refined.corners[:, :, source.corners.columns["normal"]], dtype=np.float32)
         geometry.normalize(normals)
-        if compat.HAS_FREE_NORMALS:
-            compat.set_custom_normals(new, normals, free=True)
+        if shading.HAS_FREE_NORMALS:
+            shading.set_custom_normals(new, normals, free=True)
         else:
-            compat.set_custom_normals(new, normals,
+            shading.set_custom_normals(new, normals,
                                       geometry.shared_vertex_normals(refined.triangles, normals, len(new.vertices)))
     elif source.limit_normals:
         write_limit_normals(new, refined, refined.vertex[:, source.vertex.columns["position"]], blender_corners)
@@ -67,19 +68,19 @@ def write_normals(new, source, refined, blender_corners):
 
 def write_limit_normals(new, refined, positions, blender_corners):
     """The limit normals of refined (cage.Refined; the result's positions) as custom normals, but Blender's own at
-    blender_corners (a BlenderCorners, or None). Free normals where the version has them (compat.HAS_FREE_NORMALS),
+    blender_corners (a BlenderCorners, or None). Free normals where the version has them (shading.HAS_FREE_NORMALS),
     which Blender shades with as they are: there a flat face's corners get its face normal, worked out here (Blender's
     own, Mesh.polygon_normals, follows the free normals of the update before in 4.5.15), and a corner on a marked
-    sharp edge the split normal Blender gives it of itself (compat.own_corner_normals; in tangent space, a zero vector
+    sharp edge the split normal Blender gives it of itself (shading.own_corner_normals; in tangent space, a zero vector
     there, Blender took 290 ms an update for 147,000 corners in 5.3). Before 4.5 tangent-space normals, a zero vector
     at those corners. One normal per vertex where no side splits a fan and no corner keeps Blender's normal (from
     vertices, tangent space would give a marked sharp edge's sides one normal)."""
     if blender_corners is not None and blender_corners.corners().all():
         return  # every face flat: Blender's own normals are the face normals
-    free = compat.HAS_FREE_NORMALS
+    free = shading.HAS_FREE_NORMALS
     vertex_normals = refined.vertex_normals() if blender_corners is None else None
     if vertex_normals is not None:
-        compat.set_custom_normals(new, None, vertex_normals, free=free)
+        shading.set_custom_normals(new, None, vertex_normals, free=free)
         return
     normals = refined.corner_normals()
     if blender_corners is not None:
@@ -88,7 +89,7 @@ def write_limit_normals(new, refined, positions, blender_corners):
         else:
             on_sharp, flat = blender_corners.on_sharp, blender_corners.flat
             if on_sharp is not None:
-                normals[on_sharp] = compat.own_corner_normals(new).reshape(normals.shape)[on_sharp]
+                normals[on_sharp] = shading.own_corner_normals(new).reshape(normals.shape)[on_sharp]
             if flat is not None:
                 normals[flat] = geometry.triangle_normals(positions, refined.triangles[flat])[:, None, :]
-    compat.set_custom_normals(new, normals, free=free)
+    shading.set_custom_normals(new, normals, free=free)

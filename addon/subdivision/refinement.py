@@ -5,7 +5,10 @@ refined values of a Source.
 """
 import numpy as np
 
-from . import compat, geometry, native, tags
+from .. import native
+from ..blender import mesh_arrays
+from ..model import geometry
+from . import tags
 from .cage import Destination, Refined
 
 
@@ -29,11 +32,11 @@ class PlanOutput:
     def write_edges(self, mesh):
         """The result's edges (E, 2), each triangle's (edge k joins its corners k and k + 1) and its corners' vertices
         into mesh, whose edges and corners are added: by the core into Blender's arrays in one pass where the version
-        lets it (compat.edge_arrays), else copied. Returns the edges."""
-        arrays = compat.edge_arrays(mesh)
+        lets it (mesh_arrays.edge_arrays), else copied. Returns the edges."""
+        arrays = mesh_arrays.edge_arrays(mesh)
         if arrays is None:
             edges, triangle_edges = native.run(self.plan.output_edges)
-            compat.write_edges(mesh, edges, triangle_edges, self.triangles)
+            mesh_arrays.write_edges(mesh, edges, triangle_edges, self.triangles)
             return edges
         edge_vertices, corner_edges, corner_vertices = arrays
         edges, _ = native.run(self.plan.output_edges, edge_vertices, corner_edges.reshape(-1, 3),
@@ -107,7 +110,7 @@ class TessellationOutput:
     def write_edges(self, mesh):
         """As PlanOutput.write_edges, copied."""
         edges, triangle_edges = self._output_edges()
-        compat.write_edges(mesh, edges, triangle_edges, self.triangles)
+        mesh_arrays.write_edges(mesh, edges, triangle_edges, self.triangles)
         return edges
 
     def edge_parents(self, edges, cage):

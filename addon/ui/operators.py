@@ -2,8 +2,11 @@
 import bpy
 from bpy.props import BoolProperty, IntProperty
 
-from . import adaptive, compat, live, result, settings, stack, tags
-from .native import LoopSubError
+from ..blender import interface, stack
+from ..live import engine
+from ..model import settings
+from ..native import LoopSubError
+from ..subdivision import adaptive, result, tags
 from .properties import bpy_property
 
 
@@ -58,8 +61,8 @@ class OBJECT_OT_loop_subdivision_add(bpy.types.Operator):
         for name, value in _overrides(self, _ADD_ARGUMENTS).items():
             setattr(own, name, value)
         stack.add(obj)
-        live.refresh(obj, context.evaluated_depsgraph_get())
-        cache = live.cache_of(obj)
+        engine.refresh(obj, context.evaluated_depsgraph_get())
+        cache = engine.cache_of(obj)
         if cache is not None and cache.error:
             self.report({'WARNING'}, cache.error)
         return {'FINISHED'}
@@ -205,7 +208,7 @@ class OBJECT_OT_loop_subdivision_set(bpy.types.Operator):
             value = own.levels + self.level if self.relative else self.level
             own.levels = max(levels.hard_min, min(levels.hard_max, value))
         if others or not ours:
-            arguments = compat.subdivision_set_arguments(level=self.level, relative=self.relative,
+            arguments = interface.subdivision_set_arguments(level=self.level, relative=self.relative,
                                                          ensure_modifier=self.ensure_modifier)
             try:
                 with context.temp_override(selected_editable_objects=others):

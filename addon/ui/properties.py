@@ -2,7 +2,8 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from . import live, settings
+from ..live import engine
+from ..model import settings
 
 _KINDS = {bool: BoolProperty, int: IntProperty, float: FloatProperty, str: StringProperty}
 
@@ -19,7 +20,7 @@ def bpy_property(setting, **changes):
 
 
 def _changed(self, context):
-    live.settings_changed(self.id_data)
+    engine.settings_changed(self.id_data)
 
 
 class LoopSubdivisionSettings(bpy.types.PropertyGroup):

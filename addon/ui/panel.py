@@ -5,7 +5,9 @@ import textwrap
 
 import bpy
 
-from . import compat, live, memory, stack
+from ..blender import interface, stack
+from ..live import engine
+from ..model import memory
 
 # Estimated width of a character of the interface font, and what a label's icon and the panel's margins take, in
 # pixels at a resolution scale of 1: enough to wrap notes at about the panel's width (as Blender's own panels do
@@ -59,7 +61,7 @@ def stored_bytes(obj, modifier):
     faces; the file compressed as the preferences say new files are."""
     settings = obj.loop_subdivision
     helper = stack.helper_of(obj, modifier, create=False)
-    cache = live.cache_of(obj)
+    cache = engine.cache_of(obj)
     shown = helper is not None and cache is not None and not cache.error
     if settings.use_adaptive:
         # Segments per edge go as one over the dicing rate, triangles as its square (up to Max Segments).
@@ -116,7 +118,7 @@ def _draw_settings(layout, obj, modifier, columns=None):
                       f"{memory.format_bytes(stored_bytes(obj, modifier))}",
               'INFO', columns)
 
-    cache = live.cache_of(obj)
+    cache = engine.cache_of(obj)
     if cache is not None and cache.error:
         _note(layout, cache.error, 'ERROR', columns)
     elif cache is not None:
@@ -149,7 +151,7 @@ class DATA_PT_loop_subdivision(bpy.types.Panel):
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     bl_context = "modifier"
-    bl_parent_id = compat.NODES_MODIFIER_PANEL
+    bl_parent_id = interface.NODES_MODIFIER_PANEL
     bl_options = {'HIDE_HEADER'}
     draw = _draw_entry
 
@@ -198,11 +200,11 @@ def register():
         except RuntimeError:  # no Geometry Nodes modifier panel by that name in this Blender
             bpy.utils.register_class(DATA_PT_loop_subdivision_settings)
             _panel = DATA_PT_loop_subdivision_settings
-    _button_target = compat.add_modifier_button(_add_button)
+    _button_target = interface.add_modifier_button(_add_button)
 
 
 def unregister():
-    compat.remove_modifier_button(_button_target, _add_button)
+    interface.remove_modifier_button(_button_target, _add_button)
     if _panel is DATA_PT_loop_subdivision_settings:  # a panel of its own: Blender forgets it safely
         bpy.utils.unregister_class(_panel)
     else:

@@ -8,10 +8,11 @@ tessellation is made again only where the rates change.
 import bpy
 import numpy as np
 
-from . import geometry, memory, native
+from .. import native
+from ..model import geometry, memory
+from ..native import LoopSubError
 from .cage import counted
-from .native import LoopSubError
-from .output import TessellationOutput
+from .refinement import TessellationOutput
 
 
 class View:

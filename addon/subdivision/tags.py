@@ -5,10 +5,10 @@ import dataclasses
 
 import numpy as np
 
-from . import geometry
+from ..blender.mesh_arrays import CREASE_TAG, VERTEX_TYPE_TAG, add_attribute
+from ..model import geometry
+from ..native import LoopSubError
 from .cage import Cage, cone_group_index, cone_vertices, read_vertex_groups
-from .mesh_data import CREASE_TAG, VERTEX_TYPE_TAG, add_attribute
-from .native import LoopSubError
 
 
 def _classifying(options):

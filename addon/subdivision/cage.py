@@ -4,9 +4,11 @@ the checks and notes an artist gets, and Source, everything one subdivision read
 import bpy
 import numpy as np
 
-from . import compat, geometry, memory, native
-from .mesh_data import CREASE_TAG, VERTEX_TYPE_TAG, read_array, read_attribute
-from .native import LoopSubError
+from .. import native
+from ..blender import creases, mesh_arrays, shading
+from ..blender.mesh_arrays import CREASE_TAG, VERTEX_TYPE_TAG, read_array, read_attribute
+from ..model import geometry, memory
+from ..native import LoopSubError
 
 
 class Topology:
@@ -38,11 +40,11 @@ class Cage(Topology):
 
     def __init__(self, mesh):
         num_vertices = len(mesh.vertices)
-        self.positions = compat.read_positions(mesh)
+        self.positions = mesh_arrays.read_positions(mesh)
         self.num_polygons = len(mesh.polygons)
         self.num_loops = len(mesh.loops)
-        loop_vertices, loop_edges = compat.read_corners(mesh)
-        self.triangle_loops, self.triangle_polygons, triangles = compat.read_loop_triangles(mesh, loop_vertices)
+        loop_vertices, loop_edges = mesh_arrays.read_corners(mesh)
+        self.triangle_loops, self.triangle_polygons, triangles = mesh_arrays.read_loop_triangles(mesh, loop_vertices)
         # A face of n corners is n - 2 of Blender's triangles: those not of three corners are those not of one
         # triangle, found without reading MeshPolygon.loop_total a face at a time.
         self.num_triangulated = int(np.count_nonzero(
@@ -51,10 +53,10 @@ class Cage(Topology):
         self._side_edges = None
         super().__init__(num_vertices,
                          triangles,
-                         compat.read_edge_vertices(mesh),
+                         mesh_arrays.read_edge_vertices(mesh),
                          geometry.edge_face_counts(loop_edges, len(mesh.edges)),
-                         compat.read_edge_creases(mesh),
-                         compat.read_vertex_creases(mesh))
+                         creases.read_edge_creases(mesh),
+                         creases.read_vertex_creases(mesh))
 
     def side_edges(self):
         """The mesh edge of each side of each triangle, -1 for diagonals (geometry.side_edges), worked out once."""
@@ -187,8 +189,8 @@ class Refined:
 
 class Destination:
     """A new result's own arrays that a refinement evaluates into, each None where it cannot: its positions (N_out,
-    3) (compat.position_array) and its free normals per vertex (N_out, 3) (compat.free_vertex_normal_array, made only
-    where the limit normals are one per vertex: normals.vertex_normal_destination). New arrays of their size would
+    3) (mesh_arrays.position_array) and its free normals per vertex (N_out, 3) (shading.free_vertex_normal_array, made
+    only where the limit normals are one per vertex: normals.vertex_normal_destination). New arrays of their size would
     cost a copy, and page faults inside Blender, which reuses little of its freed memory (docs/benchmark.md)."""
 
     def __init__(self, positions=None, vertex_normals=None):
@@ -284,7 +286,7 @@ class Source:
         # Handled on their own: positions, tags (recomputed), per-face material and shading, sharp edges, creases, UVs,
         # and (4.5+) seams and custom normals.
         skip = ({CREASE_TAG, VERTEX_TYPE_TAG, "position", "material_index", "sharp_face", "sharp_edge"}
-                | compat.crease_attribute_names() | compat.seam_and_normal_attribute_names()
+                | creases.crease_attribute_names() | mesh_arrays.seam_and_normal_attribute_names()
                 | {uv.name for uv in mesh.uv_layers})
         self.point, self.corner, self.face, self.edge, dropped = geometry.plan_attributes(
             [(a.name, a.domain, a.data_type) for a in mesh.attributes], skip)
@@ -302,7 +304,7 @@ class Source:
                                                         obj.name, f'attribute "{name}"', "vertex", "vertices"))
 
         # Edge data passes to the child edges on each cage edge: seam and sharp marks, edge attributes.
-        self.edge_flags = compat.read_edge_flags(mesh)
+        self.edge_flags = mesh_arrays.read_edge_flags(mesh)
         self.edge_values = [read_attribute(mesh.attributes[name], len(mesh.edges)) for name, _, _ in self.edge]
 
         # UV maps: face-varying layers with their own topology (a seam splits the value, not the vertex), refined as
@@ -321,14 +323,14 @@ class Source:
             self.corners.add(("attribute", name),
                              finite(read_attribute(mesh.attributes[name], cage.num_loops), obj.name,
                                     f'attribute "{name}"', "corner", "corners")[cage.triangle_loops])
-        self.custom_normals = compat.custom_normals_in_use(mesh)
+        self.custom_normals = shading.custom_normals_in_use(mesh)
         if self.custom_normals:
-            self.corners.add("normal", compat.read_corner_normals(mesh)[cage.triangle_loops])
+            self.corners.add("normal", shading.read_corner_normals(mesh)[cage.triangle_loops])
         # The result shades with the limit normals as custom normals, on smooth faces (normals.write_limit_normals).
         self.limit_normals = options.use_limit_surface and not self.custom_normals
         self.blender_corners = None  # result corners that keep Blender's own normal (build_mesh sets it)
 
-        self.materials, self.smooth = compat.read_face_materials_and_smooth(mesh)
+        self.materials, self.smooth = mesh_arrays.read_face_materials_and_smooth(mesh)
         self.face_values = [read_attribute(mesh.attributes[name], cage.num_polygons) for name, _, _ in self.face]
         if not known:
             self.messages += _normal_notes(obj.name, mesh, self)
