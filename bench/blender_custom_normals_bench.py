@@ -9,19 +9,18 @@ those written (tangent space stores them as 16-bit integers in each corner's nor
     blender --background --factory-startup --python bench/blender_custom_normals_bench.py
     build/bpy-5.2/bin/python tests/blender/run_in_bpy.py bench/blender_custom_normals_bench.py
 """
-import importlib.util
+import importlib
 import os
+import sys
 import time
 
 import bmesh
 import bpy
 import numpy as np
 
-# The add-on's version differences (its compat.py needs nothing else of the add-on).
-_spec = importlib.util.spec_from_file_location(
-    "compat", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "addon", "compat.py"))
-compat = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(compat)
+# The add-on's shading, as each version keeps normals (addon/blender/shading.py), from the checkout's package.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+shading = importlib.import_module("addon.blender.shading")
 
 bm = bmesh.new()
 bmesh.ops.create_grid(bm, x_segments=448, y_segments=448, size=1.0)
@@ -30,7 +29,7 @@ mesh = bpy.data.meshes.new("Grid")
 bm.to_mesh(mesh)
 bm.free()
 mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
-compat.shade_sharp_edges(mesh)  # up to 4.0 custom normals show only with Auto Smooth
+shading.shade_sharp_edges(mesh)  # up to 4.0 custom normals show only with Auto Smooth
 obj = bpy.data.objects.new("Grid", mesh)
 bpy.context.scene.collection.objects.link(obj)
 num_vertices, num_corners = len(mesh.vertices), len(mesh.loops)
@@ -45,10 +44,10 @@ corner_normals = np.ascontiguousarray(vertex_normals[corner_vertices])
 
 
 def shown_normals():
-    """The evaluated mesh's corner normals (compat.read_corner_normals)."""
+    """The evaluated mesh's corner normals (shading.read_corner_normals)."""
     depsgraph = bpy.context.evaluated_depsgraph_get()
     depsgraph.update()
-    return compat.read_corner_normals(obj.evaluated_get(depsgraph).data)
+    return shading.read_corner_normals(obj.evaluated_get(depsgraph).data)
 
 
 def best_ms(function, repeat=3):
@@ -85,6 +84,6 @@ def free(domain, values):
 print(f"Blender {bpy.app.version_string}: {num_corners:,} corners, {num_vertices:,} vertices")
 row("tangent space, per corner", lambda: mesh.normals_split_custom_set(corner_normals))
 row("tangent space, per vertex", lambda: mesh.normals_split_custom_set_from_vertices(vertex_normals))
-if bpy.app.version >= (4, 5, 0):
+if shading.HAS_FREE_NORMALS:
     row("free, point domain", free('POINT', vertex_normals))
     row("free, corner domain", free('CORNER', corner_normals))

@@ -35,7 +35,7 @@ import numpy as np
 
 from ..blender import mesh_arrays, stack
 from ..native import LoopSubError
-from ..subdivision import adaptive, cage, result
+from ..subdivision import adaptive, cage, refinement, result
 from ..subdivision.refinement import PlanOutput, TessellationOutput
 from . import activity, status
 
@@ -187,10 +187,10 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render, tell
         layout_key = source.layout_key()
         in_place = (cache.result == helper.data.name and _equal(cache.layout_key, layout_key)
                     and len(helper.data.vertices) == cache.output.num_vertices)
-        if in_place and _equal(cache.inputs, inputs):
+        if in_place and inputs.equals(cache.inputs):
             return
         if in_place:
-            refined = cache.output.refine(source, written=cache.inputs)
+            refined = refinement.refine(cache.output, source, written=cache.inputs)
             result.update_mesh(helper.data, source, refined, cache.blender_corners)
         else:
             old = helper.data

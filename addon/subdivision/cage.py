@@ -1,6 +1,8 @@
 """Reading what a subdivision needs from a mesh: the cage as the core sees it (triangles, edges, crease weights),
 the checks and notes an artist gets, and Source, everything one subdivision reads gathered once.
 """
+from typing import NamedTuple, Optional
+
 import bpy
 import numpy as np
 
@@ -155,51 +157,6 @@ def check_memory(source):
     available = memory.available_bytes()
     if not memory.fits(required, available):
         raise LoopSubError(memory.describe(required, available, f"Level {options.levels}"))
-
-
-class Refined:
-    """What a plan's evaluation gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
-    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the limit normals in the core's
-    compact form (None without the limit surface): normals (R, 3), row v vertex v's normal and, past N_out, those of
-    the sides of vertices whose fan a crease, corner or boundary splits, and normal_indices, a function giving the
-    row of each output corner (T_out, 3) (Plan.evaluate_with_limit_normals, docs/python.md), called only for corner
-    normals: a plan makes its indices on a first request (13 ms for 1.28 million triangles), and a result without
-    sides takes one normal per vertex; and the output triangles (the plan's). A
-    UV map or the corner channels left as the result holds them (Source.refine's written) are None. vertex_rows: False
-    where the normals' rows are not vertices (a tessellation's are its face points)."""
-
-    def __init__(self, vertex, uvs, corners, normals, normal_indices, triangles, vertex_rows=True):
-        self.vertex = vertex
-        self.uvs = uvs
-        self.corners = corners
-        self.normals = normals
-        self.normal_indices = normal_indices
-        self.triangles = triangles
-        self.vertex_rows = vertex_rows
-
-    def corner_normals(self):
-        """The limit normals per output corner, (T_out, 3, 3): a new array."""
-        return geometry.take_rows(self.normals, self.normal_indices())
-
-    def vertex_normals(self):
-        """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no crease
-        splits a fan: the core then gives one normal per vertex, a boundary vertex's its one side's); else None."""
-        return self.normals if self.vertex_rows and len(self.normals) == len(self.vertex) else None
-
-
-class Destination:
-    """A new result's own arrays that a refinement evaluates into, each None where it cannot: its positions (N_out,
-    3) (mesh_arrays.position_array) and its free normals per vertex (N_out, 3) (shading.free_vertex_normal_array, made
-    only where the limit normals are one per vertex: normals.vertex_normal_destination). New arrays of their size would
-    cost a copy, and page faults inside Blender, which reuses little of its freed memory (docs/benchmark.md)."""
-
-    def __init__(self, positions=None, vertex_normals=None):
-        self.positions = positions
-        self.vertex_normals = vertex_normals
-
-    def positions_for(self, vertex_width):
-        """Where vertex channels of this width go: the positions' array when they are positions alone."""
-        return self.positions if vertex_width == 3 else None
 
 
 class _Channels:
@@ -362,38 +319,22 @@ class Source:
 
     def inputs(self):
         """The values a refinement reads (for the live entry: equal inputs on the same plan, equal result)."""
-        return (self.vertex.packed(), self.corners.packed() if self.corners.parts else None,
-                *(values for _, values in self.uv_layers))
+        return Inputs(self.vertex.packed(), self.corners.packed() if self.corners.parts else None,
+                      tuple(values for _, values in self.uv_layers))
 
-    def refine(self, plan, written=None, into=None):
-        """Evaluates plan (built from this source's plan key) on the source's values: a Refined. written: the inputs
-        (Source.inputs) of the result it updates in place; the UV maps and corner channels whose values are still
-        those are not refined again (None in the Refined): the result holds them already, and playback moves only
-        positions. into: a Destination, the new result's own arrays, which the core evaluates into where the
-        positions are the only vertex channel and the limit normals are one per vertex (the Refined then holds
-        them)."""
-        def unchanged(index, values):  # index: the place of values in Source.inputs
-            return written is not None and np.array_equal(written[index], values)
 
-        into = into or Destination()
-        out = into.positions_for(self.vertex.width)
-        normals = None
-        if self.options.use_limit_surface:
-            # Positions come first among the vertex channels; the others are refined with the same limit weights.
-            vertex, normals = native.run(plan.evaluate_with_limit_normals, self.vertex.packed(), out,
-                                         into.vertex_normals)
-        else:
-            vertex = native.run(plan.evaluate, self.vertex.packed(), out)
-        uvs = [None if unchanged(2 + layer, values)
-               else geometry.take_rows(native.run(plan.evaluate_face_varying, values, layer=layer),
-                                       plan.face_varying_indices(layer))
-               for layer, (_, values) in enumerate(self.uv_layers)]
-        corners = None
-        if self.corners.parts:
-            values = self.corners.packed()
-            # The cage's custom normals are written on every update (update_mesh): in tangent space they are stored
-            # relative to the result's geometry, which may have moved. Free normals (4.5+) do not change when
-            # vertices move, nor does any corner value when only a UV does.
-            corners = (None if unchanged(1, values) and not self.custom_normals
-                       else native.run(plan.evaluate_face_varying, values))
-        return Refined(vertex, uvs, corners, normals, lambda: plan.corner_normal_indices, plan.triangles)
+class Inputs(NamedTuple):
+    """The values one refinement reads, by name: the vertex channels (V, C), the corner channels (T, 3, C) or None,
+    and each UV map's welded values."""
+    vertex: np.ndarray
+    corners: Optional[np.ndarray]
+    uvs: tuple
+
+    def equals(self, other):
+        return (other is not None and np.array_equal(self.vertex, other.vertex)
+                and _same(self.corners, other.corners) and len(self.uvs) == len(other.uvs)
+                and all(np.array_equal(a, b) for a, b in zip(self.uvs, other.uvs)))
+
+
+def _same(a, b):
+    return a is None and b is None or a is not None and b is not None and np.array_equal(a, b)

@@ -67,7 +67,7 @@ def write_normals(new, source, refined, blender_corners):
 
 
 def write_limit_normals(new, refined, positions, blender_corners):
-    """The limit normals of refined (cage.Refined; the result's positions) as custom normals, but Blender's own at
+    """The limit normals of refined (refinement.Refined; the result's positions) as custom normals, but Blender's own at
     blender_corners (a BlenderCorners, or None). Free normals where the version has them (shading.HAS_FREE_NORMALS),
     which Blender shades with as they are: there a flat face's corners get its face normal, worked out here (Blender's
     own, Mesh.polygon_normals, follows the free normals of the update before in 4.5.15), and a corner on a marked

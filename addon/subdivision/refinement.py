@@ -1,7 +1,7 @@
 """The structure of a result, whichever way it is cut: by levels (PlanOutput, the core's Plan) or by the camera
-(TessellationOutput, the core's Tessellation). result.build_mesh reads the same things of both: the triangles, the
-cage triangle each lies in, the edges, the cage edge each lies on, the crease weights the result inherits, and the
-refined values of a Source.
+(TessellationOutput, the core's Tessellation), and the one way a Source's values are refined on either (refine).
+result.build_mesh reads the same things of both: the triangles, the cage triangle each lies in, the edges, the cage
+edge each lies on, the crease weights the result inherits, and the refined values.
 """
 import numpy as np
 
@@ -9,7 +9,72 @@ from .. import native
 from ..blender import mesh_arrays
 from ..model import geometry
 from . import tags
-from .cage import Destination, Refined
+
+
+def refine(output, source, written=None, into=None):
+    """The Refined values of source on output (built from source's plan key). written: the Inputs of the result it
+    updates in place; the UV maps and corner channels whose values are still those are not refined again (None in the
+    Refined): the result holds them already, and playback moves only positions. into: a Destination, the new result's
+    own arrays, which the core evaluates into where it can (the Refined then holds them)."""
+    into = into or Destination()
+    vertex, normals = output.refine_vertices(source, into)
+    uvs = [None if written is not None and np.array_equal(written.uvs[layer], values)
+           else output.refine_uvs(values, layer)
+           for layer, (_, values) in enumerate(source.uv_layers)]
+    corners = None
+    if source.corners.parts:
+        values = source.corners.packed()
+        # The cage's custom normals are written on every update (update_mesh): in tangent space they are stored
+        # relative to the result's geometry, which may have moved. Free normals (4.5+) do not change when vertices
+        # move, nor does any corner value when only a UV does.
+        unchanged = written is not None and written.corners is not None and np.array_equal(written.corners, values)
+        corners = None if unchanged and not source.custom_normals else output.refine_corners(values)
+    return Refined(vertex, uvs, corners, normals, output.corner_normal_indices, output.triangles,
+                   output.normal_per_vertex_row)
+
+
+class Refined:
+    """What a refinement (refine) gives for one Source: the vertex channels (N_out, C), the UV maps per output corner
+    (one (T_out, 3, 2) array each), the linear corner channels (T_out, 3, C) or None, the normals in the output's
+    compact form (None without the limit surface): normals (R, 3), and normal_indices, a function giving the row of
+    each output corner (T_out, 3), called only for corner normals (a plan makes its indices on a first request);
+    vertex_rows: whether row v is vertex v's normal (a plan's: past N_out, the sides of vertices whose fan a crease,
+    corner or boundary splits; Plan.evaluate_with_limit_normals, docs/python.md), not a face point's (a
+    tessellation's); and the output triangles. A UV map or the corner channels left as the result holds them (refine's
+    written) are None."""
+
+    def __init__(self, vertex, uvs, corners, normals, normal_indices, triangles, vertex_rows=True):
+        self.vertex = vertex
+        self.uvs = uvs
+        self.corners = corners
+        self.normals = normals
+        self.normal_indices = normal_indices
+        self.triangles = triangles
+        self.vertex_rows = vertex_rows
+
+    def corner_normals(self):
+        """The limit normals per output corner, (T_out, 3, 3): a new array."""
+        return geometry.take_rows(self.normals, self.normal_indices())
+
+    def vertex_normals(self):
+        """The limit normals per output vertex, (N_out, 3), when all corners of each vertex take one normal (no crease
+        splits a fan: the core then gives one normal per vertex, a boundary vertex's its one side's); else None."""
+        return self.normals if self.vertex_rows and len(self.normals) == len(self.vertex) else None
+
+
+class Destination:
+    """A new result's own arrays that a refinement evaluates into, each None where it cannot: its positions (N_out,
+    3) (mesh_arrays.position_array) and its free normals per vertex (N_out, 3) (shading.free_vertex_normal_array, made
+    only where the limit normals are one per vertex: normals.vertex_normal_destination). New arrays of their size would
+    cost a copy, and page faults inside Blender, which reuses little of its freed memory (docs/benchmark.md)."""
+
+    def __init__(self, positions=None, vertex_normals=None):
+        self.positions = positions
+        self.vertex_normals = vertex_normals
+
+    def positions_for(self, vertex_width):
+        """Where vertex channels of this width go: the positions' array when they are positions alone."""
+        return self.positions if vertex_width == 3 else None
 
 
 class PlanOutput:
@@ -67,8 +132,29 @@ class PlanOutput:
         """Whether the limit normals are one per vertex (no crease, corner or boundary splits a fan)."""
         return self.plan.num_limit_normals == self.num_vertices
 
-    def refine(self, source, written=None, into=None):
-        return source.refine(self.plan, written, into)
+    # Limit normals in rows per vertex (and past them, per side of a split fan): Refined.vertex_normals.
+    normal_per_vertex_row = True
+
+    def refine_vertices(self, source, into):
+        """(the vertex channels (N_out, C), the limit normals or None): positions first among the channels, the others
+        refined with the same (limit) weights; into the Destination's arrays where it has them."""
+        out = into.positions_for(source.vertex.width)
+        if source.options.use_limit_surface:
+            return native.run(self.plan.evaluate_with_limit_normals, source.vertex.packed(), out, into.vertex_normals)
+        return native.run(self.plan.evaluate, source.vertex.packed(), out), None
+
+    def refine_uvs(self, values, layer):
+        """A UV map's values per output corner (T_out, 3, 2)."""
+        return geometry.take_rows(native.run(self.plan.evaluate_face_varying, values, layer=layer),
+                                  self.plan.face_varying_indices(layer))
+
+    def refine_corners(self, values):
+        """Corner channels (T, 3, C) per output corner, refined linearly per face."""
+        return native.run(self.plan.evaluate_face_varying, values)
+
+    def corner_normal_indices(self):
+        # The core makes them on a first request (13 ms for 1.28 million triangles): asked for corner normals only.
+        return self.plan.corner_normal_indices
 
     def refine_vertex_values(self, values):
         """Further vertex channels (V, C) of the cage, refined as the Refined's vertex channels are."""
@@ -160,34 +246,29 @@ class TessellationOutput:
         """False: the normals are one per face point (a point on a cage edge has one in each triangle beside it)."""
         return False
 
-    def refine(self, source, written=None, into=None):
-        """The Refined values of source on this tessellation: positions and normals on the limit surface, UV maps
-        refined by UV Smooth; the other channels linear in the cage triangles (written, into: as Source.refine's, the
-        UV maps and corner channels whose values are unchanged are left as the result holds them; positions alone go
-        into a Destination's)."""
-        def unchanged(index, values):
-            return written is not None and np.array_equal(written[index], values)
+    # Limit normals one per face point (a point on a cage edge has one in each triangle beside it).
+    normal_per_vertex_row = False
 
-        cage = source.cage
-        tessellation = self.tessellation
-        into = into or Destination()
-        points, normals = native.run(tessellation.evaluate, cage.positions, into.positions_for(source.vertex.width))
-
+    def refine_vertices(self, source, into):
+        """(the vertex channels (N_out, C), the normals per face point): positions and normals on the limit surface,
+        the other channels linear in the cage triangles; positions alone into the Destination's array."""
+        points, normals = native.run(self.tessellation.evaluate, source.cage.positions,
+                                     into.positions_for(source.vertex.width))
         vertex = points
         if source.vertex.width > 3:
             vertex = self.refine_vertex_values(source.vertex.packed())
             vertex[:, source.vertex.columns["position"]] = points
+        return vertex, normals
 
-        def per_corner(corner_values):
-            return geometry.take_rows(self._per_face_point(corner_values), tessellation.corner_face_points)
+    def refine_uvs(self, values, layer):
+        """A UV map's values per output corner (T_out, 3, 2), refined by UV Smooth on a mesh of its own cut by the
+        same rates."""
+        return geometry.take_rows(native.run(self.tessellation.evaluate_face_varying, values, layer=layer),
+                                  self.tessellation.corner_face_points)
 
-        uvs = [None if unchanged(2 + layer, values)
-               else geometry.take_rows(native.run(tessellation.evaluate_face_varying, values, layer=layer),
-                                       tessellation.corner_face_points)
-               for layer, (_, values) in enumerate(source.uv_layers)]
-        corners = None
-        if source.corners.parts:
-            values = source.corners.packed()
-            corners = None if unchanged(1, values) and not source.custom_normals else per_corner(values)
-        return Refined(vertex, uvs, corners, normals, lambda: tessellation.corner_face_points, self.triangles,
-                       vertex_rows=False)
+    def refine_corners(self, values):
+        """Corner channels (T, 3, C) per output corner, linear in each cage triangle."""
+        return geometry.take_rows(self._per_face_point(values), self.tessellation.corner_face_points)
+
+    def corner_normal_indices(self):
+        return self.tessellation.corner_face_points

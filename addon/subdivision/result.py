@@ -11,8 +11,8 @@ from ..blender import creases, mesh_arrays, shading
 from ..blender.mesh_arrays import add_attribute, fill_attribute
 from ..model import geometry, memory
 from . import adaptive, normals
-from .cage import Destination, Source, check_memory, check_object
-from .refinement import PlanOutput
+from .cage import Source, check_memory, check_object
+from .refinement import Destination, PlanOutput, refine
 
 # Temporary name of a float point attribute on its way to becoming a vertex group.
 _GROUP_TRANSFER = "loop_subdivision_group_transfer"
@@ -56,7 +56,7 @@ def subdivide(obj, options, progress, view=None):
 def build_mesh(source, output, name):
     """A new mesh data-block with the subdivision: geometry, face data, attributes, creases, UVs, normals, vertex
     groups, tags. output: its structure (output.PlanOutput or TessellationOutput), refined straight into the new
-    mesh's arrays where it can (cage.Destination). Sets source.blender_corners, which update_mesh takes."""
+    mesh's arrays where it can (refinement.Destination). Sets source.blender_corners, which update_mesh takes."""
     mesh, cage, options = source.mesh, source.cage, source.options
     vertex = source.vertex
     new = bpy.data.meshes.new(name)
@@ -75,7 +75,7 @@ def build_mesh(source, output, name):
         _write_creases(new, cage, output, options, new_edges)
         sharp = _write_edge_data(new, source, output, new_edges)
         source.blender_corners = normals.blender_normal_corners(source, output, new_edges, sharp, parents)
-        refined = output.refine(source, into=Destination(mesh_arrays.position_array(new),
+        refined = refine(output, source, into=Destination(mesh_arrays.position_array(new),
                                                          normals.vertex_normal_destination(new, source, output)))
         mesh_arrays.write_positions(new, refined.vertex[:, vertex.columns["position"]])
         _add_value_layers(new, source)

@@ -83,7 +83,7 @@ zip_path, package, user_dir, is_extension, name, version, tagline = sys.argv[sys
         faces = shown_faces()
         assert faces == 48, f"{step}: the entry is live again at the next update ({faces} faces)"
         draw = bpy.types.DATA_PT_loop_subdivision.draw
-        assert draw is sys.modules[module + ".ui"]._draw_entry, f"{step}: the panel draws with {draw}"
+        assert draw is sys.modules[module + ".ui.panel"]._draw_entry, f"{step}: the panel draws with {draw}"
     print("TURNED-OFF-ON-AND-UPDATED")
 """)
 
