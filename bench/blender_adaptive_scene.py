@@ -111,18 +111,19 @@ def main():
     scene.render.image_settings.file_format = 'PNG'
 
     evaluation = []
-    render_levels = addon.live._render_levels
+    render_levels = addon.live.render._render_levels
 
     def timed_render_levels():
         start = time.perf_counter()
         render_levels()
         evaluation.append(time.perf_counter() - start)
 
-    addon.live._render_levels = timed_render_levels
+    addon.live.render._render_levels = timed_render_levels
     triangles = []
 
     def count(*_):
-        triangles.append(sum(len(addon.stack.helper_of(obj, addon.stack.entry(obj), create=False).data.polygons)
+        stack = addon.blender.stack
+        triangles.append(sum(len(stack.helper_of(obj, stack.entry(obj), create=False).data.polygons)
                              for obj in objects))
 
     bpy.app.handlers.render_post.append(count)
@@ -143,7 +144,7 @@ def main():
             made = sum(evaluation)
             print(f"scene | {name} | {frame} | {triangles[0] if triangles else 0} | {made:.3f} | "
                   f"{total - made:.2f}")
-    addon.live._render_levels = render_levels
+    addon.live.render._render_levels = render_levels
 
 
 main()

@@ -85,7 +85,7 @@ def creased_box(cuts):
     def build(bm):
         bmesh.ops.create_cube(bm, size=2.0)
         bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=cuts, use_grid_fill=True)
-        crease, _ = addon.compat.bmesh_crease_layers(bm)
+        crease, _ = addon.blender.creases.bmesh_crease_layers(bm)
         for edge in bm.edges:
             a, b = (vertex.co for vertex in edge.verts)
             if all(sum(abs(abs(c) - 1.0) < 1e-6 for c in p) >= 2 for p in (a, b)) and \

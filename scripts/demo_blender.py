@@ -24,7 +24,8 @@ from mathutils import Matrix, Vector
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if REPO not in sys.path:
     sys.path.insert(0, REPO)
-from addon import compat, geometry  # noqa: E402  (the working tree's add-on: Blender's versions, the crease mapping)
+from addon.blender import creases  # noqa: E402  (the working tree's add-on: creases as each version keeps them)
+from addon.model import geometry  # noqa: E402  (the crease mapping)
 
 # Layout: every model is scaled so that its largest dimension is MODEL_SIZE, and the three stand SPACING apart on X.
 MODEL_SIZE = 2.0
@@ -85,7 +86,7 @@ def default_cage():
     bmesh.ops.create_cube(bm, size=2.0, calc_uvs=True)
     bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=1, use_grid_fill=True)
     bmesh.ops.poke(bm, faces=bm.faces[:])
-    edge_crease, vertex_crease = compat.bmesh_crease_layers(bm)
+    edge_crease, vertex_crease = creases.bmesh_crease_layers(bm)
     seam = {v for v in bm.verts if abs(v.co.z) < 1e-4}
     tuft = next(v for v in bm.verts if v.co.z > 0.999 and v.co.xy.length < 1e-4)
     for e in bm.edges:
@@ -147,7 +148,7 @@ def obj_cage(path):
         bm = bmesh.new()
         bm.from_mesh(mesh)
         bm.verts.ensure_lookup_table()
-        edge_crease, vertex_crease = compat.bmesh_crease_layers(bm)
+        edge_crease, vertex_crease = creases.bmesh_crease_layers(bm)
         for a, b, w in edges:
             e = bm.edges.get((bm.verts[a], bm.verts[b])) if max(a, b) < len(bm.verts) and min(a, b) >= 0 else None
             if e is None:
@@ -258,8 +259,8 @@ def tag_markers(cage, collection, mat):
     caption that says what is shown."""
     mesh = cage.data
     radius = 0.018 * MODEL_SIZE / cage.matrix_world.to_scale().x
-    edge_weights = compat.read_edge_creases(mesh)
-    vertex_weights = compat.read_vertex_creases(mesh)
+    edge_weights = creases.read_edge_creases(mesh)
+    vertex_weights = creases.read_vertex_creases(mesh)
     markers = []
     creased = [e for e in mesh.edges if edge_weights[e.index] > 0]
     if creased:
