@@ -113,121 +113,156 @@ Option parse_name(std::string_view flag, const std::string& text) {
     return value;
 }
 
-}  // namespace
+// The flags read so far, one argument at a time, and what they leave to check once all are read.
+class Parser {
+public:
+    explicit Parser(int argc, char** argv) : argc_(argc), argv_(argv) {}
 
-Command parse_command_line(int argc, char** argv) {
-    Command command;
-    std::vector<std::string> positional;
-    bool levels_given = false, camera_given = false;
-    LookAt look;
-    std::vector<std::string> camera_options;  // given without --camera, they would be ignored
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
-            positional.push_back(arg);
-            continue;
+    Command parse() {
+        for (i_ = 1; i_ < argc_; ++i_) {
+            std::string arg = argv_[i_];
+            if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
+                positional_.push_back(arg);
+                continue;
+            }
+            // Both "--flag value" and "--flag=value".
+            inline_value_.reset();
+            if (std::size_t eq = arg.find('='); eq != std::string::npos) {
+                inline_value_ = arg.substr(eq + 1);
+                arg.resize(eq);
+            }
+            flag_ = arg;
+            if (!read_camera_flag() && !read_option_flag()) throw UsageError("unknown option '" + flag_ + "'");
         }
-        // Both "--flag value" and "--flag=value".
-        std::optional<std::string> inline_value;
-        if (std::size_t eq = arg.find('='); eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        auto value = [&]() -> std::string {
-            if (inline_value) return *inline_value;
-            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-            return argv[++i];
-        };
-        auto no_value = [&] {
-            if (inline_value) throw UsageError(arg + " takes no value");
-        };
+        return finish();
+    }
 
-        if (arg == "--help") {
-            no_value();
-            command.help = true;
-        } else if (arg == "--levels") {
-            command.options.levels = int(parse_integer(arg, value(), 0, loopsub::kMaxLevels));
-            levels_given = true;
-        } else if (arg == "--tessellate") {
-            command.tessellate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
-        } else if (arg == "--camera") {
+private:
+    std::string value() {
+        if (inline_value_) return *inline_value_;
+        if (i_ + 1 >= argc_) throw UsageError(flag_ + " needs a value");
+        return argv_[++i_];
+    }
+    void no_value() const {
+        if (inline_value_) throw UsageError(flag_ + " takes no value");
+    }
+
+    // --camera and the flags that describe it; false for any other flag.
+    bool read_camera_flag() {
+        const std::string& arg = flag_;
+        if (arg == "--camera") {
             const std::vector<float> v = parse_floats(arg, value(), 6);
-            camera_given = true;
-            std::copy(v.begin(), v.begin() + 3, look.eye), std::copy(v.begin() + 3, v.end(), look.target);
-        } else if (arg == "--up") {
+            camera_given_ = true;
+            std::copy(v.begin(), v.begin() + 3, look_.eye), std::copy(v.begin() + 3, v.end(), look_.target);
+            return true;
+        }
+        if (arg == "--up") {
             const std::vector<float> v = parse_floats(arg, value(), 3);
-            std::copy(v.begin(), v.end(), look.up), camera_options.push_back(arg);
+            std::copy(v.begin(), v.end(), look_.up);
         } else if (arg == "--fov") {
-            look.fov_degrees = parse_floats(arg, value(), 1)[0], camera_options.push_back(arg);
-            if (!(look.fov_degrees >= 1.0f && look.fov_degrees <= 179.0f))
+            look_.fov_degrees = parse_floats(arg, value(), 1)[0];
+            if (!(look_.fov_degrees >= 1.0f && look_.fov_degrees <= 179.0f))
                 throw UsageError("--fov must be between 1 and 179 degrees");
         } else if (arg == "--viewport") {
             const std::string text = value();
-            look.width = int(parse_integer(arg, text.substr(0, text.find(',')), 1, 1 << 16));
-            look.height = int(parse_integer(
+            look_.width = int(parse_integer(arg, text.substr(0, text.find(',')), 1, 1 << 16));
+            look_.height = int(parse_integer(
                 arg, text.find(',') == std::string::npos ? "" : text.substr(text.find(',') + 1), 1, 1 << 16));
-            camera_options.push_back(arg);
         } else if (arg == "--dicing-rate") {
-            look.dicing_rate = parse_floats(arg, value(), 1)[0], camera_options.push_back(arg);
-            if (!(look.dicing_rate > 0.0f)) throw UsageError("--dicing-rate must be > 0");
+            look_.dicing_rate = parse_floats(arg, value(), 1)[0];
+            if (!(look_.dicing_rate > 0.0f)) throw UsageError("--dicing-rate must be > 0");
         } else if (arg == "--dicing-measure") {
-            const std::string text = value();
-            if (text != "length" && text != "deviation")
-                throw UsageError("--dicing-measure expects length or deviation, got '" + text + "'");
-            look.measure = text == "length" ? DicingMeasure::Length : DicingMeasure::Deviation;
-            camera_options.push_back(arg);
+            look_.measure = parse_name<DicingMeasure>(arg, value());
         } else if (arg == "--max-rate") {
-            look.max_rate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
-            camera_options.push_back(arg);
+            look_.max_rate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
+        } else {
+            return false;
+        }
+        camera_options_.push_back(arg);  // given without --camera, they would be ignored
+        return true;
+    }
+
+    // Every other flag; false for none of them.
+    bool read_option_flag() {
+        const std::string& arg = flag_;
+        Options& options = command_.options;
+        if (arg == "--help") {
+            no_value();
+            command_.help = true;
+        } else if (arg == "--levels") {
+            options.levels = int(parse_integer(arg, value(), 0, loopsub::kMaxLevels));
+            levels_given_ = true;
+        } else if (arg == "--tessellate") {
+            command_.tessellate = int(parse_integer(arg, value(), 1, loopsub::kMaxTessellationRate));
         } else if (arg == "--rules") {
-            command.options.rules = parse_name<Rules>(arg, value());
+            options.rules = parse_name<Rules>(arg, value());
         } else if (arg == "--crease-threshold") {
-            command.options.crease_threshold = parse_nonnegative_float(arg, value());
+            options.crease_threshold = parse_nonnegative_float(arg, value());
         } else if (arg == "--boundary") {
-            command.boundary = parse_name<Boundary>(arg, value());
+            command_.boundary = parse_name<Boundary>(arg, value());
         } else if (arg == "--limit") {
             no_value();
-            command.options.limit_surface = true;
+            options.limit_surface = true;
         } else if (arg == "--uv-interpolation") {
-            command.face_varying = parse_name<FaceVaryingInterpolation>(arg, value());
+            command_.face_varying = parse_name<FaceVaryingInterpolation>(arg, value());
         } else if (arg == "--crease-method") {
-            command.crease_method = parse_name<CreaseMethod>(arg, value());
+            command_.crease_method = parse_name<CreaseMethod>(arg, value());
         } else if (arg == "--threads") {
-            command.options.threads = int(parse_integer(arg, value(), 1, loopsub::kMaxThreads));
+            options.threads = int(parse_integer(arg, value(), 1, loopsub::kMaxThreads));
         } else if (arg == "--scalar") {
             no_value();
-            command.options.kernel = Kernel::Scalar;
+            options.kernel = Kernel::Scalar;
         } else if (arg == "--memory-limit-mb") {
-            command.options.memory_limit_bytes = std::uint64_t(parse_integer(arg, value(), 1, std::int64_t(1) << 40))
-                                                 << 20;
+            options.memory_limit_bytes = std::uint64_t(parse_integer(arg, value(), 1, std::int64_t(1) << 40)) << 20;
         } else if (arg == "--stats") {
             no_value();
-            command.stats = true;
+            command_.stats = true;
         } else {
-            throw UsageError("unknown option '" + arg + "'");
+            return false;
         }
+        return true;
     }
-    if (command.help) return command;
-    if (positional.size() != 2) {
-        throw UsageError("expected IN.obj and OUT.obj, got " + std::to_string(positional.size()) + " file argument(s)");
-    }
-    if (!camera_given && !camera_options.empty()) throw UsageError(camera_options.front() + " needs --camera");
-    if (int(levels_given) + int(command.tessellate > 0) + int(camera_given) > 1)
-        throw UsageError("--levels, --tessellate and --camera exclude each other");
-    if (!levels_given && command.tessellate == 0 && !camera_given)
-        throw UsageError("--levels N, --tessellate N or --camera is required");
-    if (camera_given) {
-        try {  // the core's check that the flags make a view, here: a wrong command line exits 2 before any reading
-            loopsub::look_at_camera(look.eye, look.target, look.up, look.fov_degrees, float(look.width),
-                                    float(look.height));
-        } catch (const loopsub::InputError&) {
-            throw UsageError("--camera: the eye, the target and --up must span a view");
+
+    // What the flags must make together: two files, one way to cut, a camera that sees.
+    Command finish() {
+        if (command_.help) return command_;
+        if (positional_.size() != 2) {
+            throw UsageError("expected IN.obj and OUT.obj, got " + std::to_string(positional_.size()) +
+                             " file argument(s)");
         }
-        command.camera = look;
+        if (!camera_given_ && !camera_options_.empty()) throw UsageError(camera_options_.front() + " needs --camera");
+        if (int(levels_given_) + int(command_.tessellate > 0) + int(camera_given_) > 1)
+            throw UsageError("--levels, --tessellate and --camera exclude each other");
+        if (!levels_given_ && command_.tessellate == 0 && !camera_given_)
+            throw UsageError("--levels N, --tessellate N or --camera is required");
+        if (camera_given_) {
+            try {  // the core's check that the flags make a view, here: a wrong command line exits 2 before any reading
+                loopsub::look_at_camera(look_.eye, look_.target, look_.up, look_.fov_degrees, float(look_.width),
+                                        float(look_.height));
+            } catch (const loopsub::InputError&) {
+                throw UsageError("--camera: the eye, the target and --up must span a view");
+            }
+            command_.camera = look_;
+        }
+        command_.input = positional_[0];
+        command_.output = positional_[1];
+        return command_;
     }
-    command.input = positional[0];
-    command.output = positional[1];
-    return command;
-}
+
+    const int argc_;
+    char** const argv_;
+    int i_ = 1;                                // the argument being read
+    std::string flag_;                         // its flag, without "=value"
+    std::optional<std::string> inline_value_;  // its "=value"
+    Command command_;
+    std::vector<std::string> positional_;
+    bool levels_given_ = false, camera_given_ = false;
+    LookAt look_;
+    std::vector<std::string> camera_options_;  // the camera's flags given
+};
+
+}  // namespace
+
+Command parse_command_line(int argc, char** argv) { return Parser(argc, argv).parse(); }
 
 }  // namespace loopsub::cli

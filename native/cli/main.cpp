@@ -32,20 +32,18 @@ std::FILE* stats_stream(const Command& command) {
     return command.output == "/dev/stdout" || command.output == "/proc/self/fd/1" ? stderr : stdout;
 }
 
-// Edges along which two faces run the same way, as a face wound against its neighbours (flipped) leaves them: the
-// rules make them infinitely sharp (docs/rules.md, Sharpness), where the artist most often wants the face turned.
-int edges_run_the_same_way(const std::vector<std::int32_t>& triangles) {
-    std::vector<std::uint64_t> directed;
-    directed.reserve(triangles.size());
-    for (std::size_t c = 0; c < triangles.size(); ++c) {
-        const std::size_t next = c % 3 == 2 ? c - 2 : c + 1;
-        directed.push_back(std::uint64_t(std::uint32_t(triangles[c])) << 32 | std::uint32_t(triangles[next]));
-    }
-    std::sort(directed.begin(), directed.end());
-    int count = 0;
-    for (std::size_t k = 1; k < directed.size(); ++k)
-        count += directed[k] == directed[k - 1] && (k == 1 || directed[k - 1] != directed[k - 2]);
-    return count;
+// The core's notes of the input (Plan::notes): the edges along which two faces run the same way, as a face wound
+// against its neighbours (flipped) leaves them: the rules make them infinitely sharp (docs/rules.md, Sharpness), where
+// the artist most often wants the face turned.
+void print_notes(const Command& command, const std::vector<loopsub::InputProblem>& notes) {
+    const auto same_way = std::count_if(notes.begin(), notes.end(), [](const loopsub::InputProblem& note) {
+        return note.kind == loopsub::InputProblem::Kind::RunsTheSameWay;
+    });
+    if (same_way > 0)
+        std::fprintf(stderr,
+                     "loopsub: note: %s: %d edge(s) along which two faces run the same way (a face wound against its "
+                     "neighbours), infinitely sharp\n",
+                     command.input.c_str(), int(same_way));
 }
 
 // The mesh the core reads: the input's, and its vt indices as the UV layer's topology (where a vertex's corners name
@@ -72,6 +70,7 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     }
     loopsub::FaceVaryingLayer uv_layer;
     const loopsub::Tessellation tessellation(with_uv_layer(in, uv_layer), options, rates);
+    print_notes(command, tessellation.notes());
     const auto planned = std::chrono::steady_clock::now();
     loopsub::obj::ObjMesh out;
     out.positions.resize(3 * std::size_t(tessellation.num_points()));
@@ -101,19 +100,14 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     }
 }
 
-int run(const Command& command) {
-    const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
+// The file's notes, then the refinement (or the tessellation) written out.
+int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
     if (in.polygons_triangulated > 0) {
         std::fprintf(stderr, "loopsub: note: %s: triangulated %d polygon(s) with more than 3 corners\n",
                      command.input.c_str(), in.polygons_triangulated);
     }
     for (const std::string& note : in.notes)
         std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
-    if (const int same_way = edges_run_the_same_way(in.triangles); same_way > 0)
-        std::fprintf(stderr,
-                     "loopsub: note: %s: %d edge(s) along which two faces run the same way (a face wound against its "
-                     "neighbours), infinitely sharp\n",
-                     command.input.c_str(), same_way);
 
     loopsub::Options options = command.options;
     // One evaluation follows: derived tables make the plan quicker and smaller, and cost that evaluation less than
@@ -131,6 +125,7 @@ int run(const Command& command) {
 
     loopsub::FaceVaryingLayer uv_layer;
     loopsub::Plan plan(with_uv_layer(in, uv_layer), options);
+    print_notes(command, plan.notes());
 
     loopsub::obj::ObjMesh out;
     out.positions.resize(std::size_t(plan.num_output_vertices()) * 3);
@@ -185,6 +180,17 @@ int run(const Command& command) {
                      plan.options().threads);
     }
     return 0;
+}
+
+// Reads the file, then refines it, the core's problems with the input said at their line of the file.
+int run(const Command& command) {
+    const loopsub::obj::ObjMesh in = loopsub::obj::read_obj(command.input);
+    try {
+        return refine(command, in);
+    } catch (const loopsub::InputError& e) {
+        if (!e.problem()) throw;
+        throw loopsub::InputError(loopsub::obj::locate(in, command.input, *e.problem()));
+    }
 }
 
 }  // namespace

@@ -27,11 +27,21 @@ struct ObjMesh : MeshData {
     std::vector<std::int32_t> triangle_normals;
     int polygons_triangulated = 0;   // faces with more than three corners, split by ear clipping
     std::vector<std::string> notes;  // what the reader skipped or filled in, one line per kind
+    // Where the elements the core reads came from, for locate(): per face of the file its line and its first triangle
+    // (face_first_triangle has one more: the number of triangles); per crease, corner and cone tag the line it is on.
+    std::vector<int> face_lines;
+    std::vector<std::int32_t> face_first_triangle;
+    std::vector<int> crease_lines, corner_lines, cone_lines;
 };
 
 // Throws InputError naming the file and line for anything it cannot read.
 ObjMesh read_obj(const std::string& path);
 ObjMesh parse_obj(const std::string& text, const std::string& name = "<string>");
+
+// The core's problem with a mesh read from the file `name` (InputError::problem), said at its line in the file's
+// words: "name:12: the face repeats vertex 3 ..." (OBJ's vertex numbers, a polygon rather than its triangles), "name:7:
+// crease 0-3 is not an edge of the mesh". Where the file has no line for it (a vertex's value), the core's message.
+std::string locate(const ObjMesh& mesh, const std::string& name, const InputProblem& problem);
 
 // Writes v, vt (if any), vn (if any), f and the tags. With threads > 1, the v, vt, vn and f lines are formatted in
 // chunks of 8,192 lines on that many threads (the caller among them) and written in order: the file's

@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string_view>
 #include <system_error>
-#include <unordered_set>
 
 #include "obj_file.h"
 #include "obj_io.h"
@@ -28,6 +28,12 @@ struct TaggedIndex {
     std::int64_t value;
     int line;
 };
+
+// A tag's vertex the mesh has not: "crease vertex 9 is out of range (4 vertices, tags count from 0)".
+std::string vertex_out_of_range(const char* tag, std::int64_t vertex, int num_vertices) {
+    return std::string(tag) + " vertex " + std::to_string(vertex) + " is out of range (" +
+           std::to_string(num_vertices) + " vertices, tags count from 0)";
+}
 
 constexpr const char* kNotPlainText = "the file is not plain text (it holds a NUL byte; save UTF-16 files as UTF-8)";
 
@@ -213,13 +219,17 @@ private:
             }
             vertices[corners++] = vertex;
         }
-        if (corners != 3 || vertices[0] == vertices[1] || vertices[1] == vertices[2] || vertices[2] == vertices[0]) {
-            return nullptr;
-        }
+        if (corners != 3) return nullptr;
         if (!with_uvs) ++faces_without_uvs_;
-        face_first_triangle_.push_back(mesh_.num_triangles());
+        start_face();
         add_triangle(vertices, with_uvs ? uvs : nullptr);
         return p == end_ ? p : p + 1;
+    }
+
+    // The face read from the current line starts at the next triangle.
+    void start_face() {
+        mesh_.face_first_triangle.push_back(mesh_.num_triangles());
+        mesh_.face_lines.push_back(line_);
     }
 
     // uvs: the triangle's three texture indices, or nullptr. Texture indices are kept only once a face has had them.
@@ -344,19 +354,9 @@ private:
         } else {
             face_triangles_ = {0, 1, 2};
         }
-        // A polygon may visit a vertex twice (around a hole, along the bridge to it) as long as no triangle does. The
-        // core refuses degenerate triangles too, but only the reader can say on which line the face is.
-        for (std::size_t t = 0; t < face_triangles_.size(); t += 3) {
-            const std::int32_t a = corner_vertices_[face_triangles_[t]], b = corner_vertices_[face_triangles_[t + 1]],
-                               c = corner_vertices_[face_triangles_[t + 2]];
-            if (a == b || b == c || c == a) {
-                fail("the face repeats vertex " + std::to_string((a == b || a == c ? a : b) + 1) +
-                     (corner_vertices_.size() == 3
-                          ? std::string(" (a degenerate face; every corner must be a different vertex)")
-                          : std::string(" and cannot be split into triangles that do not")));
-            }
-        }
-        face_first_triangle_.push_back(mesh_.num_triangles());
+        // A polygon may visit a vertex twice (around a hole, along the bridge to it) as long as no triangle does: the
+        // core refuses a degenerate triangle, and locate() says on which line its face is.
+        start_face();
         for (std::size_t t = 0; t < face_triangles_.size(); t += 3) {
             std::int32_t vertices[3], uvs[3];
             for (int k = 0; k < 3; ++k) {
@@ -368,147 +368,163 @@ private:
     }
 
     // OpenSubdiv's tag line: "t NAME I/F/S", then I integers, F floats and S strings.
-    void read_tag() {
-        std::string name(required_token("tag name"));
-        std::string_view counts = required_token("argument counts I/F/S");
-        int count[3] = {0, 0, 0};
-        {
-            const char* p = counts.data();
-            const char* end = p + counts.size();
-            for (int k = 0; k < 3; ++k) {
-                auto result = std::from_chars(p, end, count[k]);
-                bool separator_ok = k == 2 ? result.ptr == end : result.ptr < end && *result.ptr == '/';
-                if (result.ec != std::errc() || count[k] < 0 || !separator_ok) {
-                    fail("tag '" + name + "': expected argument counts like 2/1/0, got '" + std::string(counts) + "'");
-                }
-                p = result.ptr + 1;
-            }
-        }
+    struct Tag {
+        std::string name;
+        std::string_view counts;  // as written
         std::vector<std::int64_t> ints;
         std::vector<float> floats;
         std::vector<std::string> strings;
-        for (int k = 0; k < count[0]; ++k) ints.push_back(parse_integer(required_token("tag integer"), "tag integer"));
-        for (int k = 0; k < count[1]; ++k) floats.push_back(parse_float(required_token("tag value"), "tag value"));
-        for (int k = 0; k < count[2]; ++k) strings.emplace_back(required_token("tag string"));
+    };
+
+    void read_tag() {
+        const Tag tag = read_tag_arguments();
+        if (tag.name == "crease") return read_crease(tag);
+        if (tag.name == "corner") return read_corner(tag);
+        if (tag.name == "cone") return read_cone(tag);
+        if (tag.name == "interpolateboundary") return read_interpolate_boundary(tag);
+        if (tag.name == "facevaryinginterpolateboundary") return read_face_varying_interpolation(tag);
+        if (tag.name == "hole") return read_hole(tag);
+        if (tag.name == "creasemethod") return read_crease_method(tag);
+        // Ignoring a tag would silently change the surface.
+        fail("unsupported tag '" + tag.name +
+             "' (loopsub reads crease, corner, cone, hole, interpolateboundary, "
+             "facevaryinginterpolateboundary and creasemethod)");
+    }
+
+    // The name, the counts I/F/S and as many integers, floats and strings, to the end of the line.
+    Tag read_tag_arguments() {
+        Tag tag;
+        tag.name = std::string(required_token("tag name"));
+        tag.counts = required_token("argument counts I/F/S");
+        int count[3] = {0, 0, 0};
+        const char* p = tag.counts.data();
+        const char* end = p + tag.counts.size();
+        for (int k = 0; k < 3; ++k) {
+            auto result = std::from_chars(p, end, count[k]);
+            bool separator_ok = k == 2 ? result.ptr == end : result.ptr < end && *result.ptr == '/';
+            if (result.ec != std::errc() || count[k] < 0 || !separator_ok) {
+                fail("tag '" + tag.name + "': expected argument counts like 2/1/0, got '" + std::string(tag.counts) +
+                     "'");
+            }
+            p = result.ptr + 1;
+        }
+        for (int k = 0; k < count[0]; ++k)
+            tag.ints.push_back(parse_integer(required_token("tag integer"), "tag integer"));
+        for (int k = 0; k < count[1]; ++k) tag.floats.push_back(parse_float(required_token("tag value"), "tag value"));
+        for (int k = 0; k < count[2]; ++k) tag.strings.emplace_back(required_token("tag string"));
         expect_line_end();
+        return tag;
+    }
 
-        auto require_counts = [&](bool ok, const char* expected) {
-            if (!ok) fail("tag '" + name + "' expects " + expected + ", got " + std::string(counts));
-        };
-        // A tag with one value applies it to every element it names; otherwise each element has its own. A sharpness
-        // is refused here, where the line is known, as the core would refuse it by the tag's order.
-        auto value_for = [&](std::size_t element) { return floats.size() == 1 ? floats[0] : floats[element]; };
-        auto sharpness_for = [&](std::size_t element) {
-            const float sharpness = value_for(element);
-            if (!(sharpness >= 0.0f) || !std::isfinite(sharpness))
-                fail("tag '" + name + "' gives sharpness " + std::to_string(sharpness) +
-                     "; a sharpness is a finite number >= 0");
-            return sharpness;
-        };
+    void require_counts(const Tag& tag, bool ok, const char* expected) const {
+        if (!ok) fail("tag '" + tag.name + "' expects " + expected + ", got " + std::string(tag.counts));
+    }
 
-        if (name == "crease") {
-            std::size_t edges = ints.size() / 2;
-            require_counts(
-                edges > 0 && ints.size() % 2 == 0 && strings.empty() && (floats.size() == 1 || floats.size() == edges),
-                "vertex pairs and one sharpness or one per pair, as in 2/1/0");
-            for (std::size_t e = 0; e < edges; ++e) {
-                crease_indices_.push_back({ints[2 * e], line_});
-                crease_indices_.push_back({ints[2 * e + 1], line_});
-                mesh_.crease_sharpness.push_back(sharpness_for(e));
-            }
-        } else if (name == "corner") {
-            require_counts(!ints.empty() && strings.empty() && (floats.size() == 1 || floats.size() == ints.size()),
-                           "vertices and one sharpness or one per vertex, as in 1/1/0");
-            for (std::size_t k = 0; k < ints.size(); ++k) {
-                corner_indices_.push_back({ints[k], line_});
-                mesh_.corner_sharpness.push_back(sharpness_for(k));
-            }
-        } else if (name == "cone") {
-            require_counts(!ints.empty() && floats.empty() && strings.empty(), "vertices only, as in 1/0/0");
-            for (std::int64_t v : ints) cone_indices_.push_back({v, line_});
-        } else if (name == "interpolateboundary") {
-            require_counts(ints.size() == 1 && floats.empty() && strings.empty(), "one integer, as in 1/0/0");
-            // RenderMan's numbering.
-            switch (ints[0]) {
-                case 0: mesh_.boundary = Boundary::None; break;
-                case 1: mesh_.boundary = Boundary::EdgesAndCorners; break;
-                case 2: mesh_.boundary = Boundary::EdgesOnly; break;
-                default:
-                    fail("interpolateboundary " + std::to_string(ints[0]) +
-                         " is unknown; use 0 (none: boundary faces become holes), 1 (edges and corners) or 2 (edges "
-                         "only)");
-            }
-        } else if (name == "facevaryinginterpolateboundary") {
-            require_counts(ints.size() == 1 && floats.empty() && strings.empty(), "one integer, as in 1/0/0");
-            // OpenSubdiv's Sdc::Options::FVarLinearInterpolation, in its order.
-            if (ints[0] < 0 || ints[0] > 5)
-                fail("facevaryinginterpolateboundary " + std::to_string(ints[0]) +
-                     " is unknown; use 0 (smooth everywhere) to 5 (linear everywhere)");
-            mesh_.face_varying = FaceVaryingInterpolation(ints[0]);
-        } else if (name == "hole") {
-            require_counts(!ints.empty() && floats.empty() && strings.empty(), "faces only, as in 1/0/0");
-            for (std::int64_t f : ints) hole_indices_.push_back({f, line_});
-        } else if (name == "creasemethod") {
-            require_counts(ints.empty() && floats.empty() && strings.size() == 1, "one string, as in 0/0/1");
-            // The option's names, and "normal", what OpenSubdiv's shapes call the uniform method.
-            CreaseMethod method = CreaseMethod::Uniform;
-            if (strings[0] != "normal" && !parse_option(strings[0], method))
-                fail("creasemethod '" + strings[0] + "' is unknown; use chaikin, normal or uniform");
-            mesh_.crease_method = method;
-        } else {
-            // Ignoring a tag would silently change the surface.
-            fail("unsupported tag '" + name +
-                 "' (loopsub reads crease, corner, cone, hole, interpolateboundary, "
-                 "facevaryinginterpolateboundary and creasemethod)");
+    // A tag with one value applies it to every element it names; otherwise each element has its own. The core checks
+    // each sharpness, and locate() names the tag's line.
+    static float value_for(const Tag& tag, std::size_t element) {
+        return tag.floats.size() == 1 ? tag.floats[0] : tag.floats[element];
+    }
+
+    void read_crease(const Tag& tag) {
+        const std::size_t edges = tag.ints.size() / 2;
+        require_counts(tag,
+                       edges > 0 && tag.ints.size() % 2 == 0 && tag.strings.empty() &&
+                           (tag.floats.size() == 1 || tag.floats.size() == edges),
+                       "vertex pairs and one sharpness or one per pair, as in 2/1/0");
+        for (std::size_t e = 0; e < edges; ++e) {
+            crease_indices_.push_back({tag.ints[2 * e], line_});
+            crease_indices_.push_back({tag.ints[2 * e + 1], line_});
+            mesh_.crease_sharpness.push_back(value_for(tag, e));
+            mesh_.crease_lines.push_back(line_);
         }
     }
 
-    std::int32_t checked_vertex(const TaggedIndex& index, const char* tag) const {
-        if (index.value < 0 || index.value >= mesh_.num_vertices()) {
-            fail_at(index.line, std::string(tag) + " vertex " + std::to_string(index.value) + " is out of range (" +
-                                    std::to_string(mesh_.num_vertices()) + " vertices, tags count from 0)");
+    void read_corner(const Tag& tag) {
+        require_counts(tag,
+                       !tag.ints.empty() && tag.strings.empty() &&
+                           (tag.floats.size() == 1 || tag.floats.size() == tag.ints.size()),
+                       "vertices and one sharpness or one per vertex, as in 1/1/0");
+        for (std::size_t k = 0; k < tag.ints.size(); ++k) {
+            corner_indices_.push_back({tag.ints[k], line_});
+            mesh_.corner_sharpness.push_back(value_for(tag, k));
+            mesh_.corner_lines.push_back(line_);
         }
+    }
+
+    void read_cone(const Tag& tag) {
+        require_counts(tag, !tag.ints.empty() && tag.floats.empty() && tag.strings.empty(),
+                       "vertices only, as in 1/0/0");
+        for (std::int64_t v : tag.ints) {
+            cone_indices_.push_back({v, line_});
+            mesh_.cone_lines.push_back(line_);
+        }
+    }
+
+    void read_interpolate_boundary(const Tag& tag) {
+        require_counts(tag, tag.ints.size() == 1 && tag.floats.empty() && tag.strings.empty(),
+                       "one integer, as in 1/0/0");
+        // RenderMan's numbering.
+        switch (tag.ints[0]) {
+            case 0: mesh_.boundary = Boundary::None; break;
+            case 1: mesh_.boundary = Boundary::EdgesAndCorners; break;
+            case 2: mesh_.boundary = Boundary::EdgesOnly; break;
+            default:
+                fail("interpolateboundary " + std::to_string(tag.ints[0]) +
+                     " is unknown; use 0 (none: boundary faces become holes), 1 (edges and corners) or 2 (edges "
+                     "only)");
+        }
+    }
+
+    void read_face_varying_interpolation(const Tag& tag) {
+        require_counts(tag, tag.ints.size() == 1 && tag.floats.empty() && tag.strings.empty(),
+                       "one integer, as in 1/0/0");
+        // OpenSubdiv's Sdc::Options::FVarLinearInterpolation, in its order.
+        if (tag.ints[0] < 0 || tag.ints[0] > 5)
+            fail("facevaryinginterpolateboundary " + std::to_string(tag.ints[0]) +
+                 " is unknown; use 0 (smooth everywhere) to 5 (linear everywhere)");
+        mesh_.face_varying = FaceVaryingInterpolation(tag.ints[0]);
+    }
+
+    void read_hole(const Tag& tag) {
+        require_counts(tag, !tag.ints.empty() && tag.floats.empty() && tag.strings.empty(), "faces only, as in 1/0/0");
+        for (std::int64_t f : tag.ints) hole_indices_.push_back({f, line_});
+    }
+
+    void read_crease_method(const Tag& tag) {
+        require_counts(tag, tag.ints.empty() && tag.floats.empty() && tag.strings.size() == 1,
+                       "one string, as in 0/0/1");
+        // The option's names, and "normal", what OpenSubdiv's shapes call the uniform method.
+        CreaseMethod method = CreaseMethod::Uniform;
+        if (tag.strings[0] != "normal" && !parse_option(tag.strings[0], method))
+            fail("creasemethod '" + tag.strings[0] + "' is unknown; use chaikin, normal or uniform");
+        mesh_.crease_method = method;
+    }
+
+    // A tag's vertex as the core reads it. The core checks that it is one of the mesh's (locate() names the line);
+    // here only what 32 bits cannot hold is refused, in the same words.
+    std::int32_t tagged_vertex(const TaggedIndex& index, const char* tag) const {
+        if (index.value < std::numeric_limits<std::int32_t>::min() ||
+            index.value > std::numeric_limits<std::int32_t>::max())
+            fail_at(index.line, vertex_out_of_range(tag, index.value, mesh_.num_vertices()));
         return std::int32_t(index.value);
     }
 
-    static std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
-        if (a > b) std::swap(a, b);
-        return std::uint64_t(std::uint32_t(a)) << 32 | std::uint32_t(b);
-    }
-
     void check_tag_indices() {
-        for (const TaggedIndex& index : crease_indices_) mesh_.crease_edges.push_back(checked_vertex(index, "crease"));
+        for (const TaggedIndex& index : crease_indices_) mesh_.crease_edges.push_back(tagged_vertex(index, "crease"));
         for (const TaggedIndex& index : corner_indices_)
-            mesh_.corner_vertices.push_back(checked_vertex(index, "corner"));
-        for (const TaggedIndex& index : cone_indices_) mesh_.cone_vertices.push_back(checked_vertex(index, "cone"));
+            mesh_.corner_vertices.push_back(tagged_vertex(index, "corner"));
+        for (const TaggedIndex& index : cone_indices_) mesh_.cone_vertices.push_back(tagged_vertex(index, "cone"));
         // A hole names a face of the file: every triangle it was split into.
-        face_first_triangle_.push_back(mesh_.num_triangles());
-        const std::int64_t faces = std::int64_t(face_first_triangle_.size()) - 1;
+        mesh_.face_first_triangle.push_back(mesh_.num_triangles());
+        const std::int64_t faces = std::int64_t(mesh_.face_first_triangle.size()) - 1;
         for (const TaggedIndex& index : hole_indices_) {
             if (index.value < 0 || index.value >= faces)
                 fail_at(index.line, "hole face " + std::to_string(index.value) + " is out of range (" +
                                         std::to_string(faces) + " faces, tags count from 0)");
-            for (std::int32_t t = face_first_triangle_[std::size_t(index.value)];
-                 t < face_first_triangle_[std::size_t(index.value) + 1]; ++t)
+            for (std::int32_t t = mesh_.face_first_triangle[std::size_t(index.value)];
+                 t < mesh_.face_first_triangle[std::size_t(index.value) + 1]; ++t)
                 mesh_.hole_triangles.push_back(t);
-        }
-        if (mesh_.crease_edges.empty()) return;
-
-        // Only the tagged edges are looked up, so the scan costs one hash probe per triangle edge.
-        std::unordered_set<std::uint64_t> missing;
-        for (std::size_t k = 0; k < mesh_.crease_edges.size(); k += 2) {
-            missing.insert(edge_key(mesh_.crease_edges[k], mesh_.crease_edges[k + 1]));
-        }
-        const std::vector<std::int32_t>& tri = mesh_.triangles;
-        for (std::size_t t = 0; t < tri.size() && !missing.empty(); t += 3) {
-            for (int k = 0; k < 3; ++k) missing.erase(edge_key(tri[t + k], tri[t + (k + 1) % 3]));
-        }
-        for (std::size_t k = 0; k < mesh_.crease_edges.size(); k += 2) {
-            std::int32_t a = mesh_.crease_edges[k], b = mesh_.crease_edges[k + 1];
-            if (missing.count(edge_key(a, b))) {
-                fail_at(crease_indices_[k].line,
-                        "crease " + std::to_string(a) + "-" + std::to_string(b) + " is not an edge of the mesh");
-            }
         }
     }
 
@@ -525,10 +541,55 @@ private:
     bool any_uvs_ = false;                // some face so far had texture indices
     std::map<std::string, int> skipped_;  // statements read past, by keyword
     std::vector<TaggedIndex> crease_indices_, corner_indices_, cone_indices_, hole_indices_;
-    std::vector<std::int32_t> face_first_triangle_;  // per face read, its first triangle
 };
 
 }  // namespace
+
+std::string locate(const ObjMesh& mesh, const std::string& name, const InputProblem& problem) {
+    using Kind = InputProblem::Kind;
+    using Element = InputProblem::Element;
+    auto at = [&name](int line, const std::string& message) {
+        return name + ":" + std::to_string(line) + ": " + message;
+    };
+    const std::size_t k = std::size_t(problem.index);
+    auto tag_line = [&](const std::vector<int>& lines) { return k < lines.size() ? lines[k] : 0; };
+    const char* tag = problem.element == Element::CreaseEdge     ? "crease"
+                      : problem.element == Element::CornerVertex ? "corner"
+                                                                 : "cone";
+    const std::vector<int>& lines = problem.element == Element::CreaseEdge     ? mesh.crease_lines
+                                    : problem.element == Element::CornerVertex ? mesh.corner_lines
+                                                                               : mesh.cone_lines;
+    const bool tagged = problem.element == Element::CreaseEdge || problem.element == Element::CornerVertex ||
+                        problem.element == Element::Cone;
+    if (tagged && tag_line(lines) > 0) {
+        const int line = tag_line(lines);
+        if (problem.kind == Kind::VertexOutOfRange)
+            return at(line, vertex_out_of_range(tag, problem.refers_to, problem.other));
+        if (problem.kind == Kind::NotAnEdge)
+            return at(line, "crease " + std::to_string(problem.refers_to) + "-" + std::to_string(problem.other) +
+                                " is not an edge of the mesh");
+        if (problem.kind == Kind::BadSharpness)
+            return at(line, "tag '" + std::string(tag) + "' gives sharpness " + std::to_string(problem.value) +
+                                "; a sharpness is a finite number >= 0");
+        return at(line, problem.message());
+    }
+    if (problem.element == Element::Triangle && problem.layer < 0 && !mesh.face_lines.empty()) {
+        // The face the triangle was cut from: the last whose first triangle is not after it.
+        const auto& first = mesh.face_first_triangle;
+        const std::size_t face = std::size_t(
+            std::upper_bound(first.begin(), first.begin() + std::ptrdiff_t(mesh.face_lines.size()), problem.index) -
+            first.begin() - 1);
+        const bool polygon = first[face + 1] - first[face] > 1;
+        if (problem.kind == Kind::DegenerateTriangle)
+            return at(mesh.face_lines[face], "the face repeats vertex " + std::to_string(problem.refers_to + 1) +
+                                                 (polygon ? " and cannot be split into triangles that do not"
+                                                          : " (a degenerate face; every corner must be a different "
+                                                            "vertex)"));
+        return at(mesh.face_lines[face],
+                  "the face (triangle " + std::to_string(problem.index) + " of the mesh): " + problem.message());
+    }
+    return problem.message();
+}
 
 // A file is read in blocks of this size into one buffer (larger when a line is longer), and its whole lines are
 // handed to the reader block by block: reading it into a buffer of its own size cost more in first touches of fresh

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "loopsub/loopsub.h"
+
 namespace loopsub::python {
 
 namespace py = pybind11;
@@ -81,6 +83,17 @@ std::pair<py::array, int> read_vertex_values(py::handle values, const char* name
 
 // Values per triangle corner: (T, 3, C), or (T, 3) for one channel.
 std::pair<py::array, int> read_corner_values(py::handle values, const char* name, int num_triangles);
+
+// One of the option's names (loopsub::option_names), given as the keyword argument `keyword`; ValueError listing
+// them otherwise.
+template <typename Option>
+Option parse_name(const char* keyword, const std::string& text) {
+    Option value{};
+    if (!loopsub::parse_option(text, value))
+        throw py::value_error(std::string(keyword) + " must be " + loopsub::option_names<Option>().listed("'") +
+                              ", got '" + text + "'");
+    return value;
+}
 
 // The output array: `out` checked against the expected shape, or a new uninitialised array of that shape.
 py::array output_array(py::handle out, const std::vector<Dim>& dims, const py::array& input);

@@ -6,7 +6,8 @@
 //   * every input array must already be a numpy array of exactly the right dtype (float32 / int32), C-contiguous,
 //     aligned and of the right shape; it is then read in place. A wrong dtype raises TypeError, a wrong shape or
 //     layout ValueError, each naming the argument, what was expected and what was given;
-//   * loopsub::InputError becomes ValueError, loopsub::MemoryLimitError becomes MemoryError (with the size);
+//   * loopsub::InputError becomes InputError, a ValueError with its problem's attributes (problems.h),
+//     loopsub::MemoryLimitError becomes MemoryError (with the size);
 //   * arrays handed out by a Plan are read-only views of the plan's own memory whose base is the Plan object, so
 //     the plan lives as long as any of them does.
 #include <pybind11/pybind11.h>
@@ -16,6 +17,7 @@
 
 #include "loopsub/loopsub.h"
 #include "plan.h"
+#include "problems.h"
 #include "subdivide.h"
 #include "tessellation.h"
 
@@ -36,7 +38,7 @@ void translate_exception(std::exception_ptr p) {
         if (!exc) return;  // PyObject_CallFunction set its own error
         exc.attr("required_bytes") = e.required_bytes;
         PyErr_SetObject(PyExc_MemoryError, exc.ptr());
-    } catch (const loopsub::InputError& e) { PyErr_SetString(PyExc_ValueError, e.what()); }
+    } catch (const loopsub::InputError& e) { loopsub::python::set_input_error(e); }
 }
 
 constexpr const char* kModuleDoc = R"doc(Loop subdivision of triangle meshes with creases.
@@ -48,7 +50,8 @@ scheme: semi-sharp creases, vertex sharpness, Chaikin creasing, both boundary mo
 Arrays are numpy arrays used in place, never converted: vertex data is ``float32``, indices are
 ``int32``, every array C-contiguous. A wrong dtype raises ``TypeError``; a wrong shape or layout,
 invalid mesh or tag (index out of range, degenerate triangle, non-finite value, negative levels)
-raises ``ValueError``; a refinement past ``memory_limit_bytes`` raises ``MemoryError`` whose
+raises ``ValueError`` (the core's refusals: its subclass ``InputError``, which says where as attributes;
+``diagnose`` lists every problem at once); a refinement past ``memory_limit_bytes`` raises ``MemoryError`` whose
 ``required_bytes`` attribute says how much it would need. The GIL is released while the native
 code runs.
 
@@ -74,6 +77,7 @@ PYBIND11_MODULE(_loopsub, m) {
     options.disable_function_signatures();
     py::register_exception_translator(translate_exception);
 
+    loopsub::python::bind_problems(m);
     loopsub::python::bind_plan(m);
     loopsub::python::bind_subdivide(m);
     loopsub::python::bind_tessellation(m);

@@ -5,20 +5,11 @@
 #include <cstdint>
 
 #include "arguments.h"
+#include "problems.h"
 
 namespace loopsub::python {
 
 namespace {
-
-// One of the option's names (loopsub::option_names), given as the keyword argument `keyword`.
-template <typename Option>
-Option parse_name(const char* keyword, const std::string& text) {
-    Option value{};
-    if (!loopsub::parse_option(text, value))
-        throw py::value_error(std::string(keyword) + " must be " + loopsub::option_names<Option>().listed("'") +
-                              ", got '" + text + "'");
-    return value;
-}
 
 // `tags_arg` (K vertex pairs, or K vertices) and `sharpness_arg` (K values, or None) into `out`.
 void read_sharp_tags(py::handle tags_arg, const char* tags_name, bool pairs, py::handle sharpness_arg,
@@ -146,24 +137,11 @@ py::array evaluate_face_varying(py::object self, py::handle values, py::handle o
 
     const float* src = data_of<float>(in);
     float* dst = static_cast<float*>(result.mutable_data());
-    const std::size_t n = std::size_t(p.num_input_triangles) * 3 * std::size_t(channels);
-    std::size_t bad = n;
     {
         py::gil_scoped_release nogil;
-        // Linear interpolation would spread a NaN or an infinity silently: refuse it, as evaluate() does.
-        for (std::size_t i = 0; i < n; ++i)
-            if (!std::isfinite(src[i])) {
-                bad = i;
-                break;
-            }
-        if (bad == n) p.plan.evaluate_face_varying(src, dst, channels);  // const: safe next to evaluate()
-    }
-    if (bad != n) {
-        const std::size_t c = bad % std::size_t(channels), corner = bad / std::size_t(channels) % 3,
-                          t = bad / std::size_t(channels) / 3;
-        throw py::value_error("face-varying values must be finite: triangle " + std::to_string(t) + ", corner " +
-                              std::to_string(corner) + ", channel " + std::to_string(c) + " is " +
-                              std::to_string(src[bad]));
+        // The core refuses a non-finite value (InputError, at its triangle and corner): linear interpolation would
+        // spread it silently.
+        p.plan.evaluate_face_varying(src, dst, channels);  // const: safe next to evaluate()
     }
     return result;
 }
@@ -506,6 +484,11 @@ void bind_plan(py::module_& m) {
         .def_property_readonly(
             "rules", [](PyPlan& p) { return loopsub::option_name(p.plan.options().rules); },
             "The rule set: 'hoppe94' or 'opensubdiv'.")
+        .def_property_readonly(
+            "notes", [](PyPlan& p) { return notes_of(p.plan.notes()); },
+            "list: what the core's checks found to tell of the input that is no error, as diagnose() lists its notes: "
+            "each edge two triangles run along the same way (kind 'runs_the_same_way': triangle index, its side "
+            "corner, the other triangle other).")
         .def_property_readonly("num_input_vertices", [](PyPlan& p) { return p.plan.num_input_vertices(); })
         .def_property_readonly("num_input_triangles", [](PyPlan& p) { return p.num_input_triangles; })
         .def_property_readonly("num_output_vertices", [](PyPlan& p) { return p.plan.num_output_vertices(); })

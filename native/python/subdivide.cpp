@@ -56,87 +56,77 @@ py::object map_data(py::handle data, Eval eval) {
     return eval(data);
 }
 
-py::dict subdivide(py::handle positions, py::handle triangles, int levels, const OptionArgs& args,
-                   py::handle vertex_data, py::handle face_varying) {
-    py::array pos = require_array<float>(positions, "positions", {{-1, "N"}, {3, "3"}});
-    // Every array is checked before the (possibly long) topology work, so a bad argument fails fast.
-    py::array tris = require_array<std::int32_t>(triangles, "triangles", {{-1, "M"}, {3, "3"}});
-    const int n = checked_count(pos.shape(0), "number of vertices");
-    const int m = checked_count(tris.shape(0), "number of triangles");
-    auto check_vertex = [&](py::handle a, const std::string& name) { read_vertex_values(a, name.c_str(), n); };
-    auto check_corner = [&](py::handle a, const std::string& name) { read_corner_values(a, name.c_str(), m); };
-    auto check_all = [](py::handle data, const char* name, auto check) {
-        if (data.is_none()) return;
-        if (py::isinstance<py::dict>(data)) {
-            for (auto item : py::reinterpret_borrow<py::dict>(data))
-                check(item.second, std::string(name) + "[" + std::string(py::repr(item.first)) + "]");
-        } else {
-            check(data, name);
-        }
-    };
-    check_all(vertex_data, "vertex_data", check_vertex);
-    check_all(face_varying, "face_varying", check_corner);
-
-    // Per-corner face-varying arrays become layers: corners of a vertex with equal values (bit for bit, -0.0 and 0.0
-    // alike) share a value.
-    std::vector<py::array> corner_arrays;
-    if (!face_varying.is_none()) {
-        if (py::isinstance<py::dict>(face_varying)) {
-            for (auto item : py::reinterpret_borrow<py::dict>(face_varying))
-                corner_arrays.push_back(py::reinterpret_borrow<py::array>(item.second));
-        } else {
-            corner_arrays.push_back(py::reinterpret_borrow<py::array>(face_varying));
-        }
+// The arrays of vertex_data / face_varying in order, each with its name as a message gives it: "face_varying['uv']".
+struct Named {
+    py::array array;
+    std::string name;
+};
+std::vector<Named> named_arrays(py::handle data, const char* name) {
+    std::vector<Named> arrays;
+    if (data.is_none()) return arrays;
+    if (py::isinstance<py::dict>(data)) {
+        for (auto item : py::reinterpret_borrow<py::dict>(data))
+            arrays.push_back({py::reinterpret_borrow<py::array>(item.second),
+                              std::string(name) + "[" + std::string(py::repr(item.first)) + "]"});
+    } else {
+        arrays.push_back({py::reinterpret_borrow<py::array>(data), name});
     }
+    return arrays;
+}
+
+// Per-corner face-varying arrays welded into layers (numbered from first_layer), each checked first where its value's
+// place is still its corner (the core's check; InputError naming the argument). Corners of a vertex with equal values
+// (bit for bit, -0.0 and 0.0 alike) share a value.
+struct WeldedLayers {
+    std::vector<py::array> indices, values;
+};
+WeldedLayers weld_layers(const std::vector<Named>& corner_arrays, const py::array& tris, int n, int first_layer) {
+    const int m = int(tris.shape(0));
     // Only triangles a plan takes are welded: a vertex index out of range is the plan's to refuse, after the options,
     // as without face-varying data; until then a layer of one value holds each layer's place.
     const std::int32_t* corner_vertices = data_of<std::int32_t>(tris);
     const bool plan_takes_them = std::all_of(corner_vertices, corner_vertices + 3 * std::size_t(m),
                                              [n](std::int32_t v) { return v >= 0 && v < n; });
-    std::vector<py::array> welded, layer_values;
-    for (const py::array& a : corner_arrays) {
-        const std::size_t channels = a.ndim() == 3 ? std::size_t(a.shape(2)) : 1, corners = 3 * std::size_t(m);
-        const float* v = data_of<float>(a);
-        // Checked here, where the value's place is still its corner.
-        for (std::size_t i = 0; i < corners * channels; ++i)
-            if (!std::isfinite(v[i]))
-                throw py::value_error("face-varying values must be finite: triangle " +
-                                      std::to_string(i / channels / 3) + ", corner " +
-                                      std::to_string(i / channels % 3) + ", channel " + std::to_string(i % channels) +
-                                      " is " + std::to_string(v[i]));
+    WeldedLayers welded;
+    for (std::size_t k = 0; k < corner_arrays.size(); ++k) {
+        const py::array& a = corner_arrays[k].array;
+        const int channels = a.ndim() == 3 ? int(a.shape(2)) : 1;
+        const std::vector<loopsub::InputProblem> problems =
+            loopsub::diagnose_corner_values(data_of<float>(a), m, channels, first_layer + int(k));
+        if (!problems.empty()) throw loopsub::InputError(problems[0], corner_arrays[k].name + ": ");
         if (!plan_takes_them) {
-            welded.push_back(py::array(py::dtype::of<std::int32_t>(), {py::ssize_t(m), py::ssize_t(3)}));
-            std::fill_n(static_cast<std::int32_t*>(welded.back().mutable_data()), 3 * std::size_t(m), 0);
+            welded.indices.push_back(py::array(py::dtype::of<std::int32_t>(), {py::ssize_t(m), py::ssize_t(3)}));
+            std::fill_n(static_cast<std::int32_t*>(welded.indices.back().mutable_data()), 3 * std::size_t(m), 0);
             continue;
         }
         auto [indices, values] = weld_layer(tris, n, a);
-        welded.push_back(indices);
-        layer_values.push_back(values);
+        welded.indices.push_back(indices);
+        welded.values.push_back(values);
     }
-    const int first_welded = args.face_varying_indices.is_none() ? 0 : int(py::len(args.face_varying_indices));
-    py::object plan = py::cast(build_plan(tris, n, levels, args, welded));
-    const py::handle none = py::none();
-    auto eval_vertex = [&](py::handle a) { return evaluate(plan, a, none); };
-    std::size_t next_layer = 0;
-    auto eval_corner = [&](py::handle) {
-        // Refined per value, then spread to the output's corners.
-        PyPlan& q = plan.cast<PyPlan&>();
-        const int layer = first_welded + int(next_layer);
-        const py::array values = evaluate_layer(q, layer, layer_values[next_layer++], none);
-        const std::size_t channels = values.ndim() == 2 ? std::size_t(values.shape(1)) : 1;
-        const py::ssize_t t_out = q.plan.num_output_triangles();
-        std::vector<py::ssize_t> shape{t_out, 3};
-        if (values.ndim() == 2) shape.push_back(py::ssize_t(channels));
-        py::array result(py::dtype::of<float>(), shape);
-        const std::int32_t* indices = q.plan.output_face_varying_indices(layer);
-        const float* src = data_of<float>(values);
-        float* dst = static_cast<float*>(result.mutable_data());
-        for (py::ssize_t c = 0; c < 3 * t_out; ++c)
-            std::copy_n(src + std::size_t(indices[c]) * channels, channels, dst + c * channels);
-        return result;
-    };
+    return welded;
+}
 
+// A layer refined per value, then spread to the output's corners: (M_out, 3, C) or (M_out, 3).
+py::array refine_to_corners(PyPlan& q, int layer, const py::array& layer_values) {
+    const py::array values = evaluate_layer(q, layer, layer_values, py::none());
+    const std::size_t channels = values.ndim() == 2 ? std::size_t(values.shape(1)) : 1;
+    const py::ssize_t t_out = q.plan.num_output_triangles();
+    std::vector<py::ssize_t> shape{t_out, 3};
+    if (values.ndim() == 2) shape.push_back(py::ssize_t(channels));
+    py::array result(py::dtype::of<float>(), shape);
+    const std::int32_t* indices = q.plan.output_face_varying_indices(layer);
+    const float* src = data_of<float>(values);
+    float* dst = static_cast<float*>(result.mutable_data());
+    for (py::ssize_t c = 0; c < 3 * t_out; ++c)
+        std::copy_n(src + std::size_t(indices[c]) * channels, channels, dst + c * channels);
+    return result;
+}
+
+// The result dict of a plan: its positions (and normals), connectivity and tags, and the data refined.
+py::dict result_of(py::object plan, const py::array& pos, py::handle vertex_data, py::handle face_varying,
+                   int first_layer, const WeldedLayers& layers) {
     PyPlan& p = plan.cast<PyPlan&>();
+    const py::handle none = py::none();
     const py::ssize_t m_out = p.plan.num_output_triangles();
     py::dict r;
     if (p.plan.options().limit_surface) {
@@ -152,10 +142,32 @@ py::dict subdivide(py::handle positions, py::handle triangles, int levels, const
     r["crease_sharpness"] = tag_view(plan, &loopsub::Plan::output_crease_sharpness);
     r["corner_vertices"] = tag_view(plan, &loopsub::Plan::output_corner_vertices);
     r["corner_sharpness"] = tag_view(plan, &loopsub::Plan::output_corner_sharpness);
-    r["vertex_data"] = map_data(vertex_data, eval_vertex);
-    r["face_varying"] = map_data(face_varying, eval_corner);
+    r["vertex_data"] = map_data(vertex_data, [&](py::handle a) { return evaluate(plan, a, none); });
+    std::size_t next = 0;
+    r["face_varying"] = map_data(face_varying, [&](py::handle) {
+        const int layer = first_layer + int(next);
+        return refine_to_corners(p, layer, layers.values[next++]);
+    });
     r["plan"] = plan;
     return r;
+}
+
+py::dict subdivide(py::handle positions, py::handle triangles, int levels, const OptionArgs& args,
+                   py::handle vertex_data, py::handle face_varying) {
+    py::array pos = require_array<float>(positions, "positions", {{-1, "N"}, {3, "3"}});
+    // Every array is checked before the (possibly long) topology work, so a bad argument fails fast.
+    py::array tris = require_array<std::int32_t>(triangles, "triangles", {{-1, "M"}, {3, "3"}});
+    const int n = checked_count(pos.shape(0), "number of vertices");
+    const int m = checked_count(tris.shape(0), "number of triangles");
+    for (const Named& a : named_arrays(vertex_data, "vertex_data")) read_vertex_values(a.array, a.name.c_str(), n);
+    const std::vector<Named> corner_arrays = named_arrays(face_varying, "face_varying");
+    for (const Named& a : corner_arrays) read_corner_values(a.array, a.name.c_str(), m);
+
+    // Per-corner face-varying arrays become layers after the face_varying_indices given.
+    const int first_layer = args.face_varying_indices.is_none() ? 0 : int(py::len(args.face_varying_indices));
+    const WeldedLayers layers = weld_layers(corner_arrays, tris, n, first_layer);
+    py::object plan = py::cast(build_plan(tris, n, levels, args, layers.indices));
+    return result_of(plan, pos, vertex_data, face_varying, first_layer, layers);
 }
 
 constexpr const char* kSubdivideDoc =

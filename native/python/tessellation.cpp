@@ -152,8 +152,7 @@ pixels. Returns (edges (E, 2) int32, rates (E,) int32): every edge of the mesh o
 
 py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle world_to_clip, py::handle viewport,
                        double pixels, int max_rate, const std::string& measure, double offscreen_scale) {
-    if (measure != "length" && measure != "deviation")
-        throw py::value_error("measure must be 'length' or 'deviation', got '" + measure + "'");
+    const auto by = parse_name<loopsub::DicingMeasure>("measure", measure);
     py::array tris = require_array<std::int32_t>(triangles, "triangles", {{-1, "M"}, {3, "3"}});
     py::array points = require_array<float>(positions, "positions", {{-1, "N"}, {3, "3"}});
     py::array matrix = require_array<float>(world_to_clip, "world_to_clip", {{4, "4"}, {4, "4"}});
@@ -165,8 +164,6 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
     loopsub::Camera camera;
     std::copy_n(data_of<float>(matrix), 16, camera.world_to_clip);
     camera.viewport_width = float(size.first), camera.viewport_height = float(size.second);
-    const loopsub::DicingMeasure by =
-        measure == "length" ? loopsub::DicingMeasure::Length : loopsub::DicingMeasure::Deviation;
     loopsub::ScreenRates rates;
     {
         py::gil_scoped_release nogil;

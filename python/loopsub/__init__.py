@@ -7,12 +7,12 @@ docs/python.md.
 """
 import numpy as np
 
-from ._loopsub import (INFINITE_SHARPNESS, VERTEX_TYPES, InputTopology, Plan, Tessellation, best_kernel,
-                       option_names, screen_space_rates, weld_corner_values)
+from ._loopsub import (INFINITE_SHARPNESS, VERTEX_TYPES, InputError, InputTopology, Plan, Tessellation, best_kernel,
+                       diagnose, option_names, screen_space_rates, weld_corner_values)
 from ._loopsub import subdivide as _subdivide_strict
 
-__all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "InputTopology", "Plan", "Tessellation", "best_kernel",
-           "option_names", "screen_space_rates", "subdivide", "weld_corner_values"]
+__all__ = ["INFINITE_SHARPNESS", "VERTEX_TYPES", "InputError", "InputTopology", "Plan", "Tessellation", "best_kernel",
+           "diagnose", "option_names", "screen_space_rates", "subdivide", "weld_corner_values"]
 
 _INDEX_ARGUMENTS = ("crease_edges", "corner_vertices", "cone_vertices", "hole_triangles")
 _VALUE_ARGUMENTS = ("crease_sharpness", "corner_sharpness")

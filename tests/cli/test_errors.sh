@@ -81,6 +81,25 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nt crease 2/1/0 0 3 1\n' >"$
 run_cli 1 "$WORK/not_an_edge.obj" "$out" --levels 1
 expect_stderr "not_an_edge.obj:6: crease 0-3 is not an edge of the mesh"
 
+# What the core refuses, said at the line of the file: the face as the file has it (a polygon, its vertex numbered from
+# 1), the tag of a crease, corner or cone (its vertex numbered from 0), whatever way the mesh is cut.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n\nf 2 4 2 3\n' >"$WORK/degenerate_polygon.obj"
+for way in "--levels 1" "--tessellate 2" "--camera 0,0,5,0,0,0"; do
+  run_cli 1 "$WORK/degenerate_polygon.obj" "$out" $way
+  expect_stderr "loopsub: error: $WORK/degenerate_polygon.obj:7: the face repeats vertex 2 and cannot be split into triangles that do not"
+done
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 1\n\nt crease 4/1/0 1 2 2 9 1\n' >"$WORK/crease_vertex.obj"
+run_cli 1 "$WORK/crease_vertex.obj" "$out" --levels 1
+expect_stderr "loopsub: error: $WORK/crease_vertex.obj:7: crease vertex 9 is out of range (3 vertices, tags count from 0)"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt cone 1/0/0 0\nt corner 2/1/0 1 2 nan\n' >"$WORK/corner_nan.obj"
+run_cli 1 "$WORK/corner_nan.obj" "$out" --levels 1
+expect_stderr "loopsub: error: $WORK/corner_nan.obj:6: tag 'corner' gives sharpness nan; a sharpness is a finite number >= 0"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt cone 1/0/0 3\n' >"$WORK/cone_vertex.obj"
+run_cli 1 "$WORK/cone_vertex.obj" "$out" --levels 1 --rules hoppe94
+expect_stderr "loopsub: error: $WORK/cone_vertex.obj:5: cone vertex 3 is out of range (3 vertices, tags count from 0)"
+run_cli 2 "$good" "$out" --camera 0,0,5,0,0,0 --dicing-measure area
+expect_stderr "loopsub: error: --dicing-measure expects length or deviation, got 'area'"
+
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt interpolateboundary 1/0/0 7\n' >"$WORK/boundary_seven.obj"
 run_cli 1 "$WORK/boundary_seven.obj" "$out" --levels 1
 expect_stderr "boundary_seven.obj:5: interpolateboundary 7 is unknown"
@@ -148,8 +167,10 @@ f 4 3 6
 f 4 1 5
 f 1 4 6
 OBJ
-run_cli 0 "$WORK/flipped.obj" "$out" --levels 1
-expect_stderr "loopsub: note: $WORK/flipped.obj: 3 edge(s) along which two faces run the same way (a face wound against its neighbours), infinitely sharp"
+for way in "--levels 1" "--tessellate 2"; do
+  run_cli 0 "$WORK/flipped.obj" "$out" $way
+  expect_stderr "loopsub: note: $WORK/flipped.obj: 3 edge(s) along which two faces run the same way (a face wound against its neighbours), infinitely sharp"
+done
 
 # A negative sharpness and a directory for a file: named where they are.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 -1\n' >"$WORK/negative.obj"

@@ -39,11 +39,32 @@ std::string parse_error(const std::string& text) {
     return "";
 }
 
-void expect_error(const std::string& text, int line, const std::string& fragment) {
-    std::string message = parse_error(text);
+// The message of the core's refusal of the mesh `text` (named "bad.obj") reads, said where the file has it
+// (loopsub::obj::locate); a test failure when the file does not read or the core takes the mesh.
+std::string core_error(const std::string& text) {
+    const ObjMesh mesh = parse_obj(text, "bad.obj");
+    try {
+        loopsub::Plan(mesh.view(), loopsub::Options{});
+    } catch (const loopsub::InputError& e) {
+        if (e.problem()) return loopsub::obj::locate(mesh, "bad.obj", *e.problem());
+        ADD_FAILURE() << "an InputError without a problem: " << e.what();
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text;
+    return "";
+}
+
+void expect_message(const std::string& message, int line, const std::string& fragment) {
     std::string location = "bad.obj:" + std::to_string(line) + ": ";
     EXPECT_EQ(message.rfind(location, 0), 0u) << "expected the message to start with '" << location << "': " << message;
     EXPECT_NE(message.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << message;
+}
+
+void expect_error(const std::string& text, int line, const std::string& fragment) {
+    expect_message(parse_error(text), line, fragment);
+}
+void expect_core_error(const std::string& text, int line, const std::string& fragment) {
+    expect_message(core_error(text), line, fragment);
 }
 
 TEST(ObjRead, VerticesUvsAndEveryFaceForm) {
@@ -259,9 +280,20 @@ TEST(ObjReadErrors, MalformedStatements) {
     expect_error(mesh + "f 1 2 3a\n", 5, "3a");
     expect_error(mesh + "f 1 2 /3\n", 5, "vertex index");
     expect_error("vt 0 0\n" + mesh + "f 1/1 2 3/1\n", 6, "some corners");
-    expect_error(mesh + "f 1 2 3\nf 2 2 3\n", 6, "repeats vertex 2");
     expect_error(std::string("v 0 0 0\n\0v", 10), 2, "not plain text");
-    expect_error(mesh + "f 1 2 3 -4\n", 5, "repeats vertex 1");
+}
+
+// Degenerate faces read (the core refuses them), and the core's refusal names the face's line, in OBJ's numbering: a
+// triangle, and a polygon whose triangles would repeat a vertex.
+TEST(ObjReadErrors, TheCoresRefusalOfAFaceNamesItsLine) {
+    std::string mesh = kFourVertices;  // lines 1-4
+    EXPECT_EQ(parse_obj(mesh + "f 1 2 3\nf 2 2 3\n").triangles, (Indices{0, 1, 2, 1, 1, 2}));
+    expect_core_error(mesh + "f 1 2 3\nf 2 2 3\n", 6,
+                      "the face repeats vertex 2 (a degenerate face; every corner must be a different vertex)");
+    expect_core_error(mesh + "f 1 2 3 -4\n", 5,
+                      "the face repeats vertex 1 and cannot be split into triangles that do not");
+    // After a polygon of two triangles, the triangle of the next line is still the next face.
+    expect_core_error(mesh + "f 1 2 3 4\n\nf 3 3 1\n", 7, "the face repeats vertex 3 (a degenerate face");
 }
 
 TEST(ObjReadErrors, NonFiniteCoordinates) {
@@ -286,14 +318,24 @@ TEST(ObjReadErrors, MalformedTags) {
     expect_error(mesh + "t creasemethod 0/0/0\n", 7, "one string");
 }
 
+// The core checks the tags' vertices and sharpness; its refusal names the tag's line.
 TEST(ObjReadErrors, TagIndicesNameTheTagsLine) {
     std::string mesh = std::string(kFourVertices) + "f 1 2 3\nf 1 3 4\n";  // lines 1-6
-    expect_error(mesh + "t crease 2/1/0 0 4 3\n", 7, "crease vertex 4 is out of range");
-    expect_error(mesh + "t crease 2/1/0 -1 0 3\n", 7, "crease vertex -1 is out of range");
-    expect_error(mesh + "t corner 1/1/0 9 1\n", 7, "corner vertex 9 is out of range");
-    expect_error(mesh + "t corner 1/1/0 1 1\nt cone 1/0/0 -2\n", 8, "cone vertex -2 is out of range");
+    expect_core_error(mesh + "t crease 2/1/0 0 4 3\n", 7,
+                      "crease vertex 4 is out of range (4 vertices, tags count from 0)");
+    expect_core_error(mesh + "t crease 2/1/0 -1 0 3\n", 7, "crease vertex -1 is out of range");
+    expect_core_error(mesh + "t corner 1/1/0 9 1\n", 7, "corner vertex 9 is out of range");
+    expect_core_error(mesh + "t corner 1/1/0 1 1\nt cone 1/0/0 -2\n", 8, "cone vertex -2 is out of range");
+    // The second crease of a tag of two on line 8.
+    expect_core_error(mesh + "t crease 2/1/0 0 1 3\nt crease 4/1/0 0 1 2 9 1\n", 8, "crease vertex 9 is out of range");
     // 1-3 is a diagonal that no triangle has.
-    expect_error(mesh + "t crease 2/1/0 0 1 3\n\nt crease 2/1/0 1 3 3\n", 9, "crease 1-3 is not an edge of the mesh");
+    expect_core_error(mesh + "t crease 2/1/0 0 1 3\n\nt crease 2/1/0 1 3 3\n", 9,
+                      "crease 1-3 is not an edge of the mesh");
+    expect_core_error(mesh + "t crease 2/1/0 0 1 -1\n", 7,
+                      "tag 'crease' gives sharpness -1.000000; a sharpness is a finite number >= 0");
+    expect_core_error(mesh + "t corner 1/1/0 0 1\nt corner 1/1/0 2 nan\n", 8, "tag 'corner' gives sharpness nan");
+    // What 32 bits cannot hold the reader refuses itself, in the same words.
+    expect_error(mesh + "t cone 1/0/0 5000000000\n", 7, "cone vertex 5000000000 is out of range (4 vertices");
 }
 
 TEST(ObjReadErrors, MissingFile) {
@@ -478,11 +520,14 @@ TEST(ObjPeerShapes, LoadWithTheirTags) {
 
     // loop_nonman_edges holds degenerate triangles (OpenSubdiv accepts them, loopsub does not): the first is on
     // line 193, "f 46/59 46/59 49/62".
+    const ObjMesh nonmanifold = loopsub::obj::read_obj(dir + "/loop_nonman_edges.obj");
     try {
-        loopsub::obj::read_obj(dir + "/loop_nonman_edges.obj");
-        ADD_FAILURE() << "loop_nonman_edges.obj read without an error";
+        loopsub::Plan(nonmanifold.view(), loopsub::Options{});
+        ADD_FAILURE() << "loop_nonman_edges.obj planned without an error";
     } catch (const loopsub::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("loop_nonman_edges.obj:193: the face repeats vertex 46"),
+        ASSERT_NE(e.problem(), nullptr);
+        EXPECT_NE(loopsub::obj::locate(nonmanifold, "loop_nonman_edges.obj", *e.problem())
+                      .find("loop_nonman_edges.obj:193: the face repeats vertex 46"),
                   std::string::npos)
             << e.what();
     }

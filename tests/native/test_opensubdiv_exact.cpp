@@ -19,6 +19,7 @@
 
 #include "loopsub/loopsub.h"
 #include "mesh_gen.h"
+#include "obj_io.h"
 #include "osd_reference.h"
 
 namespace loopsub::testing {
@@ -558,11 +559,20 @@ TEST(PeerShapes, AllShapesAreListed) {
 // shape without them; the file itself must be refused by name and line, not subdivided into garbage.
 TEST(PeerShapes, DegenerateFacesAreRefusedWithTheirLine) {
     SKIP_WITHOUT_PEER_SHAPES();
+    // Read, then refused by the core; the CLI's words (loopsub::obj::locate) name the first face's line.
+    const obj::ObjMesh file = obj::read_obj(std::string(LOOPSUB_PEER_SHAPES) + "/loop_nonman_edges.obj");
     try {
-        peer_shape("loop_nonman_edges.obj");
-        FAIL() << "loop_nonman_edges.obj was read although faces 193, 238, 283, 294 repeat a vertex";
+        Plan plan(file.view(), Options{});
+        FAIL() << "loop_nonman_edges.obj was planned although faces 193, 238, 283, 294 repeat a vertex";
     } catch (const InputError& error) {
-        EXPECT_NE(std::string(error.what()).find("loop_nonman_edges.obj:193"), std::string::npos) << error.what();
+        ASSERT_NE(error.problem(), nullptr) << error.what();
+        const std::string located = obj::locate(file, "loop_nonman_edges.obj", *error.problem());
+        EXPECT_NE(located.find("loop_nonman_edges.obj:193"), std::string::npos) << located;
+        // Every degenerate triangle is listed, the four of those faces.
+        const auto problems = diagnose(file.view());
+        EXPECT_EQ(std::count_if(problems.begin(), problems.end(),
+                                [](const InputProblem& p) { return p.kind == InputProblem::Kind::DegenerateTriangle; }),
+                  4);
     }
     // What remains is still the non-manifold shape the peer meant to test.
     const TestMesh mesh = peer_shape("loop_nonman_edges.obj", true);

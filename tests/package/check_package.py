@@ -23,6 +23,10 @@ def check(condition, what):
 check("site-packages" in loopsub.__file__ and loopsub._loopsub.__name__ == "loopsub._loopsub",
       f"import loopsub finds the installed package ({loopsub.__file__}), the native module inside it")
 
+check(issubclass(loopsub.InputError, ValueError) and loopsub.InputError is loopsub._loopsub.InputError
+      and loopsub.diagnose is loopsub._loopsub.diagnose,
+      "the core's InputError (a ValueError) and diagnose are the package's")
+
 positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64) + 0.1
 triangles = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]], dtype=np.int64)
 creases = np.array([[0, 1]], dtype=np.int64)

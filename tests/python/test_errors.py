@@ -70,7 +70,8 @@ def test_non_finite_vertex_data_and_face_varying(mesh, value):
         _loopsub.subdivide(p, t, 1, vertex_data=data)
     uv = np.zeros((4, 3, 2), np.float32)
     uv[3, 2, 1] = value
-    with pytest.raises(ValueError, match="triangle 3, corner 2, channel 1"):
+    with pytest.raises(ValueError, match=r"face_varying: triangle 3, corner 2 \(face-varying layer 0\) has a "
+                                         r"non-finite value \((nan|inf)\) in channel 1"):
         _loopsub.subdivide(p, t, 1, face_varying=uv)
 
 

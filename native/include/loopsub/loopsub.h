@@ -28,10 +28,70 @@
 
 namespace loopsub {
 
-// Invalid input: the message says what and where (index, value).
+// What is wrong with an input (or worth telling of it), as data: its kind, the element it is in (`element`, `index`
+// and, of a triangle, `corner`) and the numbers its message gives, so that a front end can say where in its own words
+// (an OBJ line, a Blender polygon, a UV map's name). diagnose() lists them; an InputError carries the one it met.
+// A field a kind does not use is -1 (value and limit: 0).
+struct InputProblem {
+    enum class Kind : std::uint8_t {
+        VertexOutOfRange,    // element `index` (a triangle: at `corner`) refers to vertex `refers_to`; the mesh has
+                             // `other` vertices
+        TriangleOutOfRange,  // hole `index` refers to triangle `refers_to`; the mesh has `other` triangles
+        ValueOutOfRange,     // corner `corner` of triangle `index` in face-varying layer `layer` refers to value
+                             // `refers_to`; the layer has `other` values
+        DegenerateTriangle,  // triangle `index` repeats vertex `refers_to`, at `corner` and a corner before it
+        NotAnEdge,           // crease edge `index`, from vertex `refers_to` to `other`, is no edge of the mesh
+        BadSharpness,        // crease edge or corner vertex `index` has sharpness `value`: negative or not finite
+        NonFiniteValue,      // vertex, face-varying value (of `layer`) or triangle `index` (at `corner`) has `value`
+                             // in channel `channel`
+        ValueTooLarge,       // the same with `value` beyond +-`limit`, which keeps sums of up to `other` values finite
+        // A note, no error: triangle `index` runs along its edge `corner` (from that corner to the next) the same way
+        // as triangle `other` does, as a face wound against its neighbours leaves it; the rules make the edge
+        // infinitely sharp (docs/rules.md, Sharpness).
+        RunsTheSameWay
+    };
+    enum class Element : std::uint8_t {
+        Vertex,            // MeshView::num_vertices: a vertex's values
+        Triangle,          // MeshView::triangles (a corner of one: `corner`)
+        CreaseEdge,        // MeshView::crease_edges and crease_sharpness
+        CornerVertex,      // MeshView::corner_vertices and corner_sharpness
+        Cone,              // MeshView::cone_vertices
+        Hole,              // MeshView::hole_triangles
+        FaceVaryingValue,  // a value of face-varying layer `layer`
+    };
+    Kind kind = Kind::VertexOutOfRange;
+    Element element = Element::Vertex;
+    int index = -1;
+    int corner = -1;
+    int refers_to = -1;
+    int other = -1;
+    int layer = -1;
+    int channel = -1;
+    float value = 0.0f;
+    float limit = 0.0f;
+
+    bool is_note() const { return kind == Kind::RunsTheSameWay; }
+    // The message an InputError gives, in the core's numbering: "triangle 2 is degenerate: it repeats vertex 5".
+    std::string message() const;
+};
+
+// The names a front end gives kinds and elements, as the Python module does (InputError.kind): "vertex_out_of_range",
+// "crease_edge".
+const char* problem_name(InputProblem::Kind kind);
+const char* problem_name(InputProblem::Element element);
+
+// Invalid input: the message says what and where (index, value). Where the data is at fault (not the call: a null
+// pointer, a channel count), problem() says it as data.
 class InputError : public std::invalid_argument {
 public:
     using std::invalid_argument::invalid_argument;
+    // what(): `context` (such as "evaluate_face_varying: "), then problem.message().
+    explicit InputError(const InputProblem& problem, const std::string& context = "");
+    const InputProblem* problem() const { return has_problem_ ? &problem_ : nullptr; }
+
+private:
+    InputProblem problem_;
+    bool has_problem_ = false;
 };
 
 // The requested refinement would need more memory than Options::memory_limit_bytes allows.
@@ -331,6 +391,11 @@ public:
     // Options::face_varying says. Throws InputError on a non-finite input value.
     void evaluate_face_varying(const float* in, float* out, int num_channels) const;
 
+    // What the checks of the input found worth telling that is no error (InputProblem::is_note: the edges two
+    // triangles run along the same way, each once, as diagnose() lists them), found in one pass over the input's
+    // corners as the plan builds its base level.
+    const std::vector<InputProblem>& notes() const;
+
     // The kernel the plan actually uses (Auto resolved against the CPU).
     Kernel kernel() const;
 
@@ -346,6 +411,21 @@ public:
 private:
     std::unique_ptr<PlanImpl> impl_;
 };
+
+// Every problem of a mesh and its tags a Plan would refuse (InputProblem, in the order a Plan meets them: the holes,
+// the triangles, the creases, corners and cones, the face-varying layers' value indices, then the creases that are no
+// edge), each once, then the notes (edges two triangles run along the same way). With vertex_values (positions or
+// any per-vertex channels; num_vertices of them), their non-finite values too (a value too large to refine depends on
+// the plan: Plan::evaluate reports it). The topology's problems are looked for only where the triangles have none,
+// as it is built from them. A view no plan could read (a negative count, a null array) throws InputError, as a Plan
+// does. Plan(mesh, options) checks the same with the same code, and throws the first problem.
+std::vector<InputProblem> diagnose(const MeshView& mesh, ChannelsView<const float> vertex_values = {});
+
+// The non-finite values among per-corner values (num_channels floats per corner of each triangle, as
+// weld_corner_values and Plan::evaluate_face_varying take them): NonFiniteValue problems at a triangle's corner, in
+// order, `layer` set to the caller's number for these values (-1: none). The check evaluate_face_varying makes.
+std::vector<InputProblem> diagnose_corner_values(const float* values, int num_triangles, int num_channels,
+                                                 int layer = -1);
 
 const char* kernel_name(Kernel kernel);
 Kernel best_kernel();  // the widest kernel this CPU runs
@@ -363,8 +443,8 @@ struct OptionNames {
 };
 
 // One table for each of Rules (hoppe94 opensubdiv), Boundary (edges edges-and-corners none), CreaseMethod (uniform
-// chaikin), FaceVaryingInterpolation (none corners corners-plus1 corners-plus2 boundaries all) and LevelTables (auto
-// stored derived).
+// chaikin), FaceVaryingInterpolation (none corners corners-plus1 corners-plus2 boundaries all), LevelTables (auto
+// stored derived) and DicingMeasure (length deviation; loopsub/tessellation.h).
 template <typename Option>
 OptionNames option_names();
 
@@ -392,8 +472,9 @@ bool parse_option(std::string_view name, Option& value) {
 // where they differ each keeps its own (a seam). In the manner of meshoptimizer's vertex remap, in two steps:
 //
 // weld_corner_values writes each corner's value index into corner_value_indices (3 * num_triangles) and returns the
-// number of values. triangles: 3 * num_triangles vertex indices in [0, num_vertices) (InputError otherwise);
-// corner_values: num_channels floats per corner, 3 * num_triangles * num_channels in all. Values are numbered vertex
+// number of values. triangles: 3 * num_triangles vertex indices in [0, num_vertices) (InputError otherwise, its
+// problem VertexOutOfRange); corner_values: num_channels floats per corner, 3 * num_triangles * num_channels in all
+// (a NaN welds with itself, bit for bit: diagnose_corner_values finds them first). Values are numbered vertex
 // by vertex, and within a vertex in the order of their first corner: the numbers change only where corners join or
 // leave a value, not when values move. Linear in the number of corners.
 int weld_corner_values(std::int32_t* corner_value_indices, const std::int32_t* triangles, int num_triangles,

@@ -135,6 +135,8 @@ public:
     void evaluate_face_varying(int layer, const float* values, int channels, float* out) const;
     // The refinement levels whose control points and limit the points are made from.
     int levels() const;
+    // The input's notes, as Plan::notes gives them.
+    const std::vector<InputProblem>& notes() const;
     // What this read of its input mesh alone, for a tessellation of the same mesh at other rates.
     InputTopology input_topology() const;
     // Bytes the memory check counted against Options::memory_limit_bytes: the result's arrays, the plans of the input

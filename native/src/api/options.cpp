@@ -2,6 +2,7 @@
 #include <iterator>
 
 #include "loopsub/loopsub.h"
+#include "loopsub/tessellation.h"
 
 namespace loopsub {
 
@@ -15,11 +16,13 @@ constexpr const char* kCreaseMethods[] = {"uniform", "chaikin"};
 constexpr const char* kFaceVaryingInterpolations[] = {"none",          "corners",    "corners-plus1",
                                                       "corners-plus2", "boundaries", "all"};
 constexpr const char* kLevelTables[] = {"auto", "stored", "derived"};
+constexpr const char* kDicingMeasures[] = {"length", "deviation"};
 static_assert(std::size(kRules) == std::size_t(Rules::OpenSubdiv) + 1 &&
                   std::size(kBoundaries) == std::size_t(Boundary::None) + 1 &&
                   std::size(kCreaseMethods) == std::size_t(CreaseMethod::Chaikin) + 1 &&
                   std::size(kFaceVaryingInterpolations) == std::size_t(FaceVaryingInterpolation::All) + 1 &&
-                  std::size(kLevelTables) == std::size_t(LevelTables::Derived) + 1,
+                  std::size(kLevelTables) == std::size_t(LevelTables::Derived) + 1 &&
+                  std::size(kDicingMeasures) == std::size_t(DicingMeasure::Deviation) + 1,
               "a name for every value of each option");
 
 template <std::size_t N>
@@ -33,6 +36,7 @@ OptionNames table_of(Boundary) { return table(kBoundaries); }
 OptionNames table_of(CreaseMethod) { return table(kCreaseMethods); }
 OptionNames table_of(FaceVaryingInterpolation) { return table(kFaceVaryingInterpolations); }
 OptionNames table_of(LevelTables) { return table(kLevelTables); }
+OptionNames table_of(DicingMeasure) { return table(kDicingMeasures); }
 
 }  // namespace
 
@@ -56,5 +60,6 @@ template OptionNames option_names<Boundary>();
 template OptionNames option_names<CreaseMethod>();
 template OptionNames option_names<FaceVaryingInterpolation>();
 template OptionNames option_names<LevelTables>();
+template OptionNames option_names<DicingMeasure>();
 
 }  // namespace loopsub

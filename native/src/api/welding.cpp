@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "base/input_checks.h"
 #include "loopsub/loopsub.h"
 
 namespace loopsub {
@@ -37,16 +38,12 @@ int weld_corner_values(std::int32_t* corner_value_indices, const std::int32_t* t
         throw InputError("weld_corner_values: " + std::to_string(num_corners) +
                          " corners are more than 32-bit indices can number");
 
+    // Vertex indices in range: the counting sort below relies on them.
+    detail::check_triangles(triangles, num_triangles, num_vertices, false, detail::ThrowFirst{});
+
     // The corners grouped by vertex, each vertex's in corner order (a counting sort).
     std::vector<std::int32_t> vertex_start(std::size_t(num_vertices) + 1, 0);
-    for (std::size_t c = 0; c < num_corners; ++c) {
-        const std::int32_t v = triangles[c];
-        if (v < 0 || v >= num_vertices)
-            throw InputError("triangle " + std::to_string(c / 3) + " refers to vertex " + std::to_string(v) +
-                             ", outside 0.." + std::to_string(num_vertices - 1) + " (the mesh has " +
-                             std::to_string(num_vertices) + " vertices)");
-        ++vertex_start[std::size_t(v) + 1];
-    }
+    for (std::size_t c = 0; c < num_corners; ++c) ++vertex_start[std::size_t(triangles[c]) + 1];
     std::partial_sum(vertex_start.begin(), vertex_start.end(), vertex_start.begin());
     std::vector<std::int32_t> corners_by_vertex(num_corners);
     {

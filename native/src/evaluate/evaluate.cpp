@@ -204,7 +204,7 @@ void Plan::evaluate_face_varying(int layer, ChannelsView<const float> in, Channe
     if ((in.data == nullptr && plan.num_input_values > 0) || (out.data == nullptr && plan.counts.back() > 0))
         fail("evaluate_face_varying: missing (null) data");
     detail::validate_vertex_values(in, plan.num_input_values, largest_refinable(p), p.max_summed_terms,
-                                   "face-varying value");
+                                   InputProblem::Element::FaceVaryingValue, layer);
     if (plan.counts[0] == 0) return;
     std::vector<const detail::LevelStencils*>& passes = p.frame.passes;
     passes.clear();

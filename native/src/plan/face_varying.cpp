@@ -102,18 +102,8 @@ SpecialVertex copy_of(Index x) {
 FaceVaryingBuilder::FaceVaryingBuilder(const MeshView& mesh, int layer, const Options& options, const LevelState& base)
     : options_(options),
       skip_level_before_last_(options.levels >= 2 && !options.limit_surface && options.face_varying != Mode::All) {
-    const FaceVaryingLayer& input = mesh.face_varying[layer];
-    const std::string name = "face-varying layer " + std::to_string(layer);
-    if (input.num_values < 0)
-        fail(name + " has a negative number of values (" + std::to_string(input.num_values) + ")");
-    if (input.corner_values == nullptr && mesh.num_triangles > 0) fail(name + " has no (null) corner values");
+    const FaceVaryingLayer& input = mesh.face_varying[layer];  // checked with the mesh (validate_mesh)
     const std::size_t corners = 3 * std::size_t(mesh.num_triangles);
-    for (std::size_t c = 0; c < corners; ++c) {
-        const Index value = input.corner_values[c];
-        if (value < 0 || value >= input.num_values)
-            fail(name + ": corner " + std::to_string(c % 3) + " of triangle " + std::to_string(c / 3) +
-                 " refers to value " + std::to_string(value) + ", outside 0.." + std::to_string(input.num_values - 1));
-    }
     plan_.num_input_values = input.num_values;
 
     // One layer vertex per (vertex, value) pair: a value index the caller shares between vertices becomes one

@@ -80,6 +80,7 @@ const std::vector<std::int32_t>& Plan::output_sharp_edge_indices() const {
 }
 Kernel Plan::kernel() const { return impl_->kernel; }
 double Plan::topology_ms() const { return impl_->topology_ms; }
+const std::vector<InputProblem>& Plan::notes() const { return impl_->notes; }
 double Plan::last_evaluate_ms() const { return impl_->frame.evaluate_ms; }
 
 const std::vector<std::int32_t>& Plan::level_edges(int level) const {

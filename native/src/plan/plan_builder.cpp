@@ -21,12 +21,6 @@ namespace {
 // builds them, but the count is kept so that Auto switches where it is documented (a result of about 20 M triangles).
 constexpr std::uint64_t kDeriveAboveBytes = std::uint64_t(128) << 20;
 
-Index find_edge(const Topology& t, Index a, Index b) {
-    for (Index k = t.vertex_edge_offsets[a]; k < t.vertex_edge_offsets[a + 1]; ++k)
-        if (t.other_end(t.vertex_edges[k], a) == b) return t.vertex_edges[k];
-    return -1;
-}
-
 // A level done with (its child planned): its edge list becomes its tables' edge ends, and its offsets their ring
 // offsets where hand_over_tables left them to it (a level whose child derives its neighbourhoods from it keeps them);
 // moved, not copied (docs/benchmark.md, "Measurements behind the code").
@@ -163,14 +157,13 @@ LevelState PlanBuilder::base_level() {
     const Topology& t = level.topology;
 
     std::vector<float> edge_tag(t.num_edges(), 0.0f);
-    for (int k = 0; k < mesh_.num_crease_edges; ++k) {
-        const Index a = mesh_.crease_edges[2 * k], b = mesh_.crease_edges[2 * k + 1];
-        const Index e = a == b ? -1 : find_edge(t, a, b);
-        if (e < 0)
-            fail("crease edge " + std::to_string(k) + " (" + std::to_string(a) + ", " + std::to_string(b) +
-                 ") is not an edge of the mesh");
+    check_crease_edges(t, mesh_, ThrowFirst{}, [&](int k, Index e) {
         edge_tag[e] = mesh_.crease_sharpness[k];  // a repeated tag overrides, as in OpenSubdiv
-    }
+    });
+    check_windings(t, [this](const InputProblem& note) {
+        plan_.notes.push_back(note);
+        return true;
+    });
     if (mesh_.num_holes > 0) {
         plan_.holes.assign(mesh_.num_triangles, 0);
         for (int k = 0; k < mesh_.num_holes; ++k) plan_.holes[mesh_.hole_triangles[k]] = 1;

@@ -62,6 +62,7 @@ struct PlanImpl {
     std::vector<detail::LargeVector<VertexType>> level_vertex_types;
     std::vector<std::pair<Index, VertexType>> last_level_types;
     double topology_ms = 0.0;
+    std::vector<InputProblem> notes;  // Plan::notes: what the input's checks found to tell, no error
 
     // What an evaluation writes besides its output, kept for the next (Plan::evaluate is not reentrant).
     struct Frame {

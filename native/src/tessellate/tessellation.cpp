@@ -854,6 +854,7 @@ int Tessellation::num_face_points() const { return int(impl_->samples.size()); }
 const std::int32_t* Tessellation::corner_face_points() const { return impl_->corner_face_points.data(); }
 const float* Tessellation::face_point_parameters() const { return impl_->parameters.data(); }
 int Tessellation::levels() const { return impl_->levels; }
+const std::vector<InputProblem>& Tessellation::notes() const { return impl_->input->plan->notes(); }
 
 Tessellation::Edges Tessellation::output_edges() const {
     const std::vector<std::int32_t>& corners = impl_->triangles;

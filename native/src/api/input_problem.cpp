@@ -1,0 +1,87 @@
+// What an InputProblem is called and says: the one place its words are chosen (the checks that find problems are in
+// base/input_checks.h).
+#include <iterator>
+#include <string>
+
+#include "base/common.h"
+#include "loopsub/loopsub.h"
+
+namespace loopsub {
+
+namespace {
+
+using Kind = InputProblem::Kind;
+using Element = InputProblem::Element;
+
+// Each list in its enum's order.
+constexpr const char* kKindNames[] = {"vertex_out_of_range", "triangle_out_of_range", "value_out_of_range",
+                                      "degenerate_triangle", "not_an_edge",           "bad_sharpness",
+                                      "non_finite_value",    "value_too_large",       "runs_the_same_way"};
+constexpr const char* kElementNames[] = {"vertex", "triangle", "crease_edge",       "corner_vertex",
+                                         "cone",   "hole",     "face_varying_value"};
+static_assert(std::size(kKindNames) == std::size_t(Kind::RunsTheSameWay) + 1 &&
+                  std::size(kElementNames) == std::size_t(Element::FaceVaryingValue) + 1,
+              "a name for every kind and element");
+
+// An element in a message: "crease edge 3", "face-varying value 7 of layer 1".
+std::string element_words(const InputProblem& p) {
+    static constexpr const char* kWords[] = {"vertex", "triangle", "crease edge",       "corner",
+                                             "cone",   "hole",     "face-varying value"};
+    std::string text = kWords[int(p.element)] + (" " + std::to_string(p.index));
+    if (p.element == Element::FaceVaryingValue && p.layer >= 0) text += " of layer " + std::to_string(p.layer);
+    return text;
+}
+
+std::string range(int count) { return "0.." + std::to_string(count - 1); }
+
+std::string value_place(const InputProblem& p) {
+    if (p.element != Element::Triangle) return element_words(p);
+    return "triangle " + std::to_string(p.index) + ", corner " + std::to_string(p.corner) +
+           (p.layer >= 0 ? " (face-varying layer " + std::to_string(p.layer) + ")" : std::string());
+}
+
+}  // namespace
+
+const char* problem_name(InputProblem::Kind kind) { return kKindNames[int(kind)]; }
+const char* problem_name(InputProblem::Element element) { return kElementNames[int(element)]; }
+
+std::string InputProblem::message() const {
+    using detail::shortest;
+    const std::string at = element_words(*this);
+    switch (kind) {
+        case Kind::VertexOutOfRange:
+            return at + " refers to vertex " + std::to_string(refers_to) + ", outside " + range(other) +
+                   " (the mesh has " + std::to_string(other) + " vertices)";
+        case Kind::TriangleOutOfRange:
+            return at + " refers to triangle " + std::to_string(refers_to) + ", outside " + range(other);
+        case Kind::ValueOutOfRange:
+            return "face-varying layer " + std::to_string(layer) + ": corner " + std::to_string(corner) +
+                   " of triangle " + std::to_string(index) + " refers to value " + std::to_string(refers_to) +
+                   ", outside " + range(other);
+        case Kind::DegenerateTriangle:
+            return at + " is degenerate: it repeats vertex " + std::to_string(refers_to) +
+                   " (every corner must be a different vertex)";
+        case Kind::NotAnEdge:
+            return at + " (" + std::to_string(refers_to) + ", " + std::to_string(other) +
+                   ") is not an edge of the mesh";
+        case Kind::BadSharpness:
+            return at + " has sharpness " + std::to_string(value) + "; it must be a finite number >= 0";
+        case Kind::NonFiniteValue:
+            return value_place(*this) + " has a non-finite value (" + shortest(value) + ") in channel " +
+                   std::to_string(channel);
+        case Kind::ValueTooLarge:
+            return value_place(*this) + " has a value too large to refine (" + shortest(value) + ") in channel " +
+                   std::to_string(channel) + ": sums of up to " + std::to_string(other) +
+                   " values must stay finite, so values are limited to +-" + shortest(limit);
+        case Kind::RunsTheSameWay:
+            return "triangles " + std::to_string(other) + " and " + std::to_string(index) +
+                   " run along an edge the same way (edge " + std::to_string(corner) + " of triangle " +
+                   std::to_string(index) + "), as a face wound against its neighbours does: it is infinitely sharp";
+    }
+    return at;
+}
+
+InputError::InputError(const InputProblem& problem, const std::string& context)
+    : std::invalid_argument(context + problem.message()), problem_(problem), has_problem_(true) {}
+
+}  // namespace loopsub
