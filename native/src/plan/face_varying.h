@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "plan/level_state.h"
+#include "rules/face_varying_rules.h"
 #include "rules/rule_set.h"
 #include "tables/limit_tables.h"
 #include "tables/stencils.h"
@@ -86,14 +87,8 @@ public:
     FaceVaryingPlan finish();
 
 private:
-    // A value's class on the current level (OpenSubdiv's FVarLevel::ValueTag, reduced to what the masks read). No
-    // member initialisers: the tags of a level are sized uninitialised and written in parts (Tag{} is all false).
-    struct Tag {
-        bool mismatch;    // its vertex has a seam, or the mode makes it linear: the seam rules apply
-        bool crease;      // follows the seam as a B-spline; otherwise (mismatched) it stays where it is
-        bool semi_sharp;  // held while semi-sharp features around it decay, then a crease
-        bool dep_sharp;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
-    };
+    // A value's class on the current level (rules/face_varying_rules.h).
+    using Tag = FaceVaryingTag;
     // A part's own lists for its walks around values (the parts of a level run at once on the plan's threads).
     struct Walk {
         std::vector<Index> edges, inner, around;
@@ -142,12 +137,6 @@ private:
     void plan_edge_points(const VertexNeighbourhood& vertex_level, const SpecialsByTarget<SpecialEdge>& special_edge,
                           bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
                           std::vector<SpecialEdge>& out) const;
-    // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and
-    // whose own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the
-    // features inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
-    template <typename InnerSemi>
-    static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges,
-                                    InnerSemi inner_semi);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
     void plan_limit_points(const LimitTables& limit, const SpecialsByTarget<SpecialVertex>& special_vertex,
                            const SpecialsByTarget<RingWeightedVertex>& ring_weighted, const SpecialVertex* held,
