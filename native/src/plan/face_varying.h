@@ -108,6 +108,10 @@ private:
     // `parts` parts.
     void inherit_mapping(const Topology& t, const VertexNeighbourhood& vertex_level, int parts);
     void classify_base(const LevelState& base);
+    // What the seam rules read of base vertex v (`values` on it; its sharpness left 0) and of value x's span
+    // (face_varying_rules.h).
+    FaceVaryingVertex seam_vertex(const Topology& t, Index v, int values, bool non_manifold) const;
+    FaceVaryingSpan span_of(Index x, const LevelState& base, bool disjoint, Walk& walk) const;
     // The layer's current level as the queries below read it: its own arrays, or its parent's where it is not built.
     VertexNeighbourhood layer() const {
         return VertexNeighbourhood(values_, values_built_ ? nullptr : &parent_values_);
@@ -134,15 +138,27 @@ private:
                            const SpecialsByTarget<SpecialVertex>& special_vertex,
                            const TransientVector<Tag>& child_tags, Index x0, Index x1, std::vector<SpecialVertex>& out,
                            Walk& walk) const;
+    // The weight of a released value's hold, from the features that decayed in its span or its sibling's.
+    float hold_weight(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
+                      const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index x,
+                      Walk& walk) const;
     void plan_edge_points(const VertexNeighbourhood& vertex_level, const SpecialsByTarget<SpecialEdge>& special_edge,
                           bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
                           std::vector<SpecialEdge>& out) const;
+    // plan_level's last step: the layer's next level, this level's arrays handed to its tables `s`.
+    void refine_values(const Topology& t, const VertexNeighbourhood& vertex_level, LevelStencils& s,
+                       bool planned_further, bool child_not_built, int parts);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
     void plan_limit_points(const LimitTables& limit, const SpecialsByTarget<SpecialVertex>& special_vertex,
                            const SpecialsByTarget<RingWeightedVertex>& ring_weighted, const SpecialVertex* held,
                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
-    // Where a value held on the last level goes: held until its features are spent, then along its seam.
+    // Where a value held on the last level goes: held until its features are spent, then along its seam; its steps
+    // (face_varying_limit.cpp): a held value, the hold at its vertex, gathered, then refined one level at a time.
     void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
+    struct Held;
+    struct HeldVertex;
+    void gather_held(Index v, const LevelState& last, HeldVertex& at, std::vector<Held>& held, Walk& walk) const;
+    void hold_one_level(const RuleSet& rules, HeldVertex& at, Held* first, Held* last) const;
 
     Options options_;
     FaceVaryingPlan plan_;

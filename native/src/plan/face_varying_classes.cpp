@@ -11,8 +11,8 @@
 
 namespace loopsub::detail {
 
-// Vtr::FVarLevel::completeTopologyFromFaceValues: which values follow the seam rules, and how; the vertices in parts,
-// each writing its own values' tags.
+// Vtr::FVarLevel::completeTopologyFromFaceValues: which values follow the seam rules, and how (face_varying_rules.h);
+// the vertices in parts, each writing its own values' tags.
 void FaceVaryingBuilder::classify_base(const LevelState& base) {
     const Mode mode = options_.face_varying;
     tags_.assign(values_.num_vertices, Tag{});
@@ -28,73 +28,54 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
     TransientVector<Index> offsets, at_vertex;
     group_by_vertex(vertex_of_.data(), vertex_of_.size(), t.num_vertices, offsets, at_vertex,
                     parts_for(vertex_of_.size()));
-
-    const bool linear_b = linear_boundaries(mode), dependent = dependent_sharpness(mode),
-               plus2 = mode == Mode::CornersPlus2;
-    const bool sharp_darts = plus2 || linear_b, sharp_fan_corners = mode != Mode::None;
-    struct Span {
-        int faces = 0, infinite = 0, semi = 0;
-        bool disjoint = false;
-    };
     const int parts = parts_for(std::size_t(values_.num_vertices));
     run_levels(parts, 1, [&](int, int part, int) {
         Walk walk;
-        std::vector<Span> spans;
+        std::vector<FaceVaryingSpan> spans;
+        std::vector<Tag> tags;
         const auto [v0, v1] = part_of(t.num_vertices, part, parts);
         for (int v = v0; v < v1; ++v) {
             const int n = offsets[v + 1] - offsets[v];
             if (n == 0) continue;
             const Index* values = at_vertex.data() + offsets[v];
-            bool boundary = false, seam = false;
-            int face_corners = 0;
-            for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
-                const Index e = t.vertex_edges[k];
-                boundary |= t.edge_face_count(e) == 1;
-                seam |= split_[e] != 0;
-                face_corners += t.edge_face_count(e);
-            }
-            const bool one_face_corner = boundary && face_corners == 2;
-            const bool mismatched =
-                seam || (linear_b && boundary) ||
-                (one_face_corner && mode != Mode::None && options_.boundary != Boundary::EdgesAndCorners) ||
-                (vertex_non_manifold[v] && n >= 2);
-            if (!mismatched) continue;
-            for (int i = 0; i < n; ++i) tags_[values[i]].mismatch = true;
-            if (vertex_non_manifold[v]) continue;  // every value stays
-
-            spans.assign(n, Span{});
-            for (int i = 0; i < n; ++i) {
-                const Index x = values[i];
-                Span& span = spans[i];
-                for (Index e : edges_at(x, walk)) span.faces += values_.edge_face_count(e);
-                span.faces /= 2;
-                inner_edges(x, walk.inner, walk);
-                for (Index e : walk.inner) {
-                    const float sharpness = base.edge_sharpness(e);
-                    span.infinite += is_infinite(sharpness);
-                    span.semi += is_semi_sharp(sharpness);
-                }
-                span.disjoint = value_non_manifold[x] != 0;  // its faces are not one fan, or a seam ends inside it
-            }
-            const float vertex_sharpness = base.vertex_sharpness(v);
-            bool all_sharp = linear_b || is_infinite(vertex_sharpness) || (dependent && n > 2) ||
-                             (sharp_darts && n == 1 && !boundary);
-            bool sharpen_dependent = false;
-            if (!all_sharp && dependent && n == 2) {
-                all_sharp = spans[0].infinite || spans[1].infinite || spans[0].disjoint || spans[1].disjoint;
-                if (plus2) all_sharp |= spans[0].faces == 1 || spans[1].faces == 1;
-                sharpen_dependent = (spans[0].semi > 0) != (spans[1].semi > 0);
-            }
-            for (int i = 0; i < n; ++i) {
-                Tag& tag = tags_[values[i]];
-                const Span& span = spans[i];
-                if (span.disjoint || all_sharp || span.infinite > 0 || (span.faces == 1 && sharp_fan_corners)) continue;
-                if (span.semi > 0 || is_semi_sharp(vertex_sharpness)) tag.semi_sharp = true;
-                else if (sharpen_dependent) tag.semi_sharp = tag.dep_sharp = true;
-                else tag.crease = true;
-            }
+            FaceVaryingVertex vertex = seam_vertex(t, v, n, vertex_non_manifold[v] != 0);
+            if (!face_varying_mismatched(mode, options_.boundary, vertex)) continue;
+            vertex.sharpness = base.vertex_sharpness(v);  // a search among the features: only where it is read
+            spans.assign(n, FaceVaryingSpan{});
+            if (!vertex.non_manifold)  // where the rules read no span
+                for (int i = 0; i < n; ++i)
+                    spans[i] = span_of(values[i], base, value_non_manifold[values[i]] != 0, walk);
+            tags.resize(n);
+            face_varying_base_tags(mode, vertex, spans.data(), tags.data());
+            for (int i = 0; i < n; ++i) tags_[values[i]] = tags[i];
         }
     });
+}
+
+FaceVaryingVertex FaceVaryingBuilder::seam_vertex(const Topology& t, Index v, int values, bool non_manifold) const {
+    bool boundary = false, seam = false;
+    int face_corners = 0;
+    for (Index k = t.vertex_edge_offsets[v]; k < t.vertex_edge_offsets[v + 1]; ++k) {
+        const Index e = t.vertex_edges[k];
+        boundary |= t.edge_face_count(e) == 1;
+        seam |= split_[e] != 0;
+        face_corners += t.edge_face_count(e);
+    }
+    return {values, seam, boundary, boundary && face_corners == 2, non_manifold, 0.0f};
+}
+
+FaceVaryingSpan FaceVaryingBuilder::span_of(Index x, const LevelState& base, bool disjoint, Walk& walk) const {
+    FaceVaryingSpan span;
+    for (Index e : edges_at(x, walk)) span.faces += values_.edge_face_count(e);
+    span.faces /= 2;  // each face of the span has two of x's edges
+    inner_edges(x, walk.inner, walk);
+    for (Index e : walk.inner) {
+        const float sharpness = base.edge_sharpness(e);
+        span.infinite += is_infinite(sharpness);
+        span.semi += is_semi_sharp(sharpness);
+    }
+    span.disjoint = disjoint;
+    return span;
 }
 
 // Vtr::FVarRefinement::reclassifySemisharpValues at vertices [v0, v1) whose values are mismatched.
@@ -116,7 +97,7 @@ void FaceVaryingBuilder::release_values(const LevelState& level, const LevelStat
         const bool parent_semi =
             is_semi_sharp(level.vertex_sharpness(v)) ||
             std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(level.edge_sharpness(e)); });
-        if (!parent_semi || is_sharp(child.vertex_sharpness(v))) continue;
+        if (!face_varying_may_release(parent_semi, child.vertex_sharpness(v))) continue;
         const bool child_semi_edges =
             std::any_of(around.begin(), around.end(), [&](Index e) { return is_semi_sharp(child_sharpness_at(e, v)); });
         walk.value_tags.clear();

@@ -1,6 +1,7 @@
 // One level of a face-varying layer: its value points and edge points beside the vertex plan's masks, the children's
 // tags, and the layer's next level (built, or read through this one where the level before the last is not built).
 #include <algorithm>
+#include <cassert>
 #include <vector>
 
 #include "base/parallel.h"
@@ -64,6 +65,17 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     join_in_parts(
         outputs, [](const PartOutput& out) -> const std::vector<SpecialEdge>& { return out.edges; }, s.special_edges);
 
+    refine_values(t, vertex_level, s, planned_further, child_not_built, parts);
+    tags_ = std::move(child_tags);
+    plan_.counts.push_back(values_.num_vertices);
+}
+
+// The layer's next level: refined (faces only where nothing is planned on it), or not built where it is the level
+// before the last (then read through this one, which keeps its offsets and edges); this level's arrays go to its
+// tables `s`, and its maps to the next level's.
+void FaceVaryingBuilder::refine_values(const Topology& t, const VertexNeighbourhood& vertex_level, LevelStencils& s,
+                                       bool planned_further, bool child_not_built, int parts) {
+    const int nx = values_.num_vertices, ne = this->layer().num_edges();
     Topology child_values;
     if (!values_built_) {
         // The level before the last: its tables from its parent, and the last level's faces with them.
@@ -93,8 +105,6 @@ void FaceVaryingBuilder::plan_level(const LevelState& level, const Topology* lev
     }
     values_built_ = !child_not_built;
     values_ = std::move(child_values);
-    tags_ = std::move(child_tags);
-    plan_.counts.push_back(values_.num_vertices);
 }
 
 // Value points of values [x0, x1), in value order.
@@ -105,7 +115,6 @@ void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelS
                                            const SpecialsByTarget<SpecialVertex>& special_vertex,
                                            const TransientVector<Tag>& child_tags, Index x0, Index x1,
                                            std::vector<SpecialVertex>& out, Walk& walk) const {
-    auto child_sharpness_at = [&](Index e, Index v) { return child.edge_sharpness(vertex_level.child_edge_at(e, v)); };
     for (Index x = x0; x < x1; ++x) {
         const Tag& tag = tags_[x];
         const Index v = vertex_of_[x];
@@ -115,33 +124,36 @@ void FaceVaryingBuilder::plan_value_points(const LevelState& level, const LevelS
             continue;
         }
         Index ends[2];
-        if (!child_tags[x].crease || !seam_ends(x, ends, walk)) {
+        if (!face_varying_follows_seam(child_tags[x], [&] { return seam_ends(x, ends, walk); })) {
             out.push_back(staying_value(x));
             continue;
         }
-        VertexMask mask = crease_vertex_mask();
-        if (tag.semi_sharp) {
-            // The weight of the held position, from the features that decayed this level: the value's own span,
-            // or its sibling's when it was held for the sibling.
-            Index span = x;
-            if (tag.dep_sharp)
-                for (Index k = offsets[v]; k < offsets[v + 1]; ++k)
-                    if (at_vertex[k] != x) span = at_vertex[k];
-            inner_edges(span, walk.inner, walk);
-            walk.parent_edges.clear();
-            walk.child_edges.clear();
-            for (Index e : walk.inner) {
-                walk.parent_edges.push_back(level.edge_sharpness(e));
-                walk.child_edges.push_back(child_sharpness_at(e, v));
-            }
-            const float w =
-                transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
-                                  walk.parent_edges.data(), walk.child_edges.data(), int(walk.inner.size()));
-            mask = blend(corner_vertex_mask(), w, mask);  // held (a corner) by w, the seam's crease the rest
-        }
+        const double hold = tag.semi_sharp ? hold_weight(level, child, vertex_level, offsets, at_vertex, x, walk) : 0.0;
+        const VertexMask mask = face_varying_seam_mask(tag.semi_sharp, hold);
         out.push_back(
             {x, ends[0], ends[1], float(mask.self), float(mask.ring), float(mask.crease), float(mask.crease)});
     }
+}
+
+// The weight of value x's held position as it is released, Sdc's transition weight of the features that decayed this
+// level in its weight span (face_varying_weight_span: its own, or its sibling's where it was held for the sibling).
+float FaceVaryingBuilder::hold_weight(const LevelState& level, const LevelState& child,
+                                      const VertexNeighbourhood& vertex_level, const TransientVector<Index>& offsets,
+                                      const TransientVector<Index>& at_vertex, Index x, Walk& walk) const {
+    const Index v = vertex_of_[x];
+    const Index* values = at_vertex.data() + offsets[v];
+    const int n = offsets[v + 1] - offsets[v];
+    assert(!tags_[x].dep_sharp || n == 2);  // the rules hold a value for its sibling only between two
+    const Index span = values[face_varying_weight_span(tags_[x], int(std::find(values, values + n, x) - values), n)];
+    inner_edges(span, walk.inner, walk);
+    walk.parent_edges.clear();
+    walk.child_edges.clear();
+    for (Index e : walk.inner) {
+        walk.parent_edges.push_back(level.edge_sharpness(e));
+        walk.child_edges.push_back(child.edge_sharpness(vertex_level.child_edge_at(e, v)));
+    }
+    return transition_weight(options_.crease_method, level.vertex_sharpness(v), child.vertex_sharpness(v),
+                             walk.parent_edges.data(), walk.child_edges.data(), int(walk.inner.size()));
 }
 
 // Edge points of layer edges [e0, e1): midpoints along seams, the edge's own mask elsewhere. Their children on a seam
@@ -157,10 +169,10 @@ void FaceVaryingBuilder::plan_edge_points(const VertexNeighbourhood& vertex_leve
     const Index* edge_of = edge_of_.data();
     const std::uint8_t* seam = split_.data();
     Tag* edge_child_tags = child_tags.data() + values_.num_vertices;
-    const Tag on_seam{true, !linear_boundaries(mode), false, false};
+    const Tag on_seam = face_varying_midpoint_tag(mode);
     for (Index e = e0; e < e1; ++e) {
         const Index edge = edge_of[e];
-        const bool split = seam[edge] || mode == Mode::All;
+        const bool split = face_varying_edge_on_seam(mode, seam[edge] != 0);
         if (planned_further) edge_child_tags[e] = split ? on_seam : Tag{};
         if (split) {
             const EdgeMask mask = crease_edge_mask();  // the midpoint
