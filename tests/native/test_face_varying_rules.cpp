@@ -246,4 +246,24 @@ TEST(FaceVaryingRules, LimitsGoWhereTheValuesRun) {
     EXPECT_DOUBLE_EQ(held.end_a + held.end_b + held.ring, 0.0);
 }
 
+// Not OpenSubdiv's own rule but how a tessellation's layer mesh states each class to the vertex rules
+// (docs/rules.md, "Tessellation"); the layers it makes are checked against Bfr's face-varying surfaces
+// (TessellationLayerAgainstBfr).
+TEST(FaceVaryingRules, ATessellationsLayerMeshCarriesTheTagsEachClassKeeps) {
+    using loopsub::detail::face_varying_layer_tag;
+    const float inf = loopsub::kInfiniteSharpness;
+    // Stays: an infinitely sharp corner, whatever its vertex.
+    EXPECT_EQ(face_varying_layer_tag(FaceVaryingValueClass::Stays, 0.0f, true, false).sharpness, inf);
+    EXPECT_FALSE(face_varying_layer_tag(FaceVaryingValueClass::Stays, 0.0f, true, false).cone);
+    // Without a seam: the vertex's corner sharpness and cone, and a corner of one face the boundary rule keeps.
+    EXPECT_EQ(face_varying_layer_tag(FaceVaryingValueClass::Vertex, 2.5f, false, false).sharpness, 2.5f);
+    EXPECT_TRUE(face_varying_layer_tag(FaceVaryingValueClass::Vertex, 0.0f, true, false).cone);
+    EXPECT_EQ(face_varying_layer_tag(FaceVaryingValueClass::Vertex, 0.0f, false, true).sharpness, inf);
+    // Held: the vertex's sharpness, no cone; on a seam: nothing.
+    EXPECT_EQ(face_varying_layer_tag(FaceVaryingValueClass::Held, 2.5f, true, true).sharpness, 2.5f);
+    EXPECT_FALSE(face_varying_layer_tag(FaceVaryingValueClass::Held, 2.5f, true, true).cone);
+    EXPECT_EQ(face_varying_layer_tag(FaceVaryingValueClass::Seam, 2.5f, true, true).sharpness, 0.0f);
+    EXPECT_FALSE(face_varying_layer_tag(FaceVaryingValueClass::Seam, 2.5f, true, true).cone);
+}
+
 }  // namespace

@@ -50,4 +50,16 @@ VertexMask face_varying_seam_mask(bool held, double hold_weight) {
 
 LimitMask face_varying_held_limit_mask(bool released) { return released ? crease_limit_mask() : corner_limit_mask(); }
 
+FaceVaryingLayerTag face_varying_layer_tag(FaceVaryingValueClass value_class, float vertex_corner_sharpness,
+                                           bool vertex_cone, bool vertex_kept_corner) {
+    switch (value_class) {
+        case FaceVaryingValueClass::Stays: return {kInfiniteSharpness, false};
+        case FaceVaryingValueClass::Vertex:
+            return {vertex_kept_corner ? kInfiniteSharpness : vertex_corner_sharpness, vertex_cone};
+        case FaceVaryingValueClass::Held: return {vertex_corner_sharpness, false};
+        case FaceVaryingValueClass::Seam: break;
+    }
+    return {0.0f, false};
+}
+
 }  // namespace loopsub::detail

@@ -145,4 +145,16 @@ FaceVaryingLimit face_varying_limit(FaceVaryingInterpolation mode, const FaceVar
 // A value held past the last level: its seam's limit once released, the corner's where it is held for good.
 LimitMask face_varying_held_limit_mask(bool released);
 
+// The tags a value carries on a tessellation's layer mesh (its input level as a mesh of its own, whose seams are its
+// boundary and whose crease rule is the seams' B-spline), so that the mesh's own rules refine it as its class says:
+// a value that stays is an infinitely sharp corner; one without a seam takes its vertex's tags (its corner sharpness,
+// its cone, and a corner of one face that VTX_BOUNDARY_EDGE_AND_CORNER keeps); one held by semi-sharp features takes
+// its vertex's sharpness (its span's edges carry theirs); one on a seam none.
+struct FaceVaryingLayerTag {
+    float sharpness;  // as a corner tag: 0 for none
+    bool cone;
+};
+FaceVaryingLayerTag face_varying_layer_tag(FaceVaryingValueClass value_class, float vertex_corner_sharpness,
+                                           bool vertex_cone, bool vertex_kept_corner);
+
 }  // namespace loopsub::detail

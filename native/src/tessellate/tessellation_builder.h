@@ -41,6 +41,15 @@ public:
 
 private:
     using Kind = TessellationImpl::Kind;
+    // build's steps (tessellation_builder.cpp): the result's points (the input's vertices, the edges' and the
+    // triangles' inner points), face points and triangles, as the first pass counts them.
+    struct ResultCounts {
+        std::int64_t points, samples, triangles;
+    };
+    ResultCounts sides_and_bands(const KeptInput& input, const EdgeRates& edges, std::vector<Sides>& sides,
+                                 std::vector<std::int64_t>& face_first);
+    void join_band(int f, const Sides& s);  // input triangle f, no patch of the input, joins its band
+    std::uint64_t check_budget(const KeptInput& input, const ResultCounts& counts);  // the build's bytes
     // Input triangle f's points numbered, its samples and its triangles (tessellation_builder.cpp).
     void add_face(int f, const Sides& s, std::int64_t face_first);
     // Where each point takes its position from (tessellation_samples.cpp).

@@ -66,6 +66,85 @@ private:
 // sample (docs/benchmark.md, "The tessellation's frame").
 void copy_point(const float* from, float* to) { to[0] = from[0], to[1] = from[1], to[2] = from[2]; }
 
+constexpr int kPoints = detail::kPatchPoints;
+
+// Each band's plans on its vertices' positions: the limit points and normals, and the control points.
+void evaluate_bands(const TessellationImpl& d, const float* positions) {
+    for (const TessellationImpl::Band& b : d.bands) {
+        b.positions.resize(3 * b.vertices.size());
+        for (std::size_t v = 0; v < b.vertices.size(); ++v)
+            copy_point(positions + 3 * std::size_t(b.vertices[v]), &b.positions[3 * v]);
+        const ChannelsView<const float> in = interleaved(b.positions.data(), 3);
+        b.limit_points.resize(3 * std::size_t(b.limit->num_output_vertices()));
+        b.limit_normals.resize(3 * std::size_t(b.limit->num_limit_normals()));
+        b.limit->evaluate(in, interleaved(b.limit_points.data(), 3), Plan::LimitNormals{b.limit_normals.data()});
+        if (b.control) {
+            b.control_points.resize(3 * std::size_t(b.control->num_output_vertices()) + 1);
+            b.control->evaluate(in, interleaved(b.control_points.data(), 3));
+        }
+    }
+}
+
+// An input triangle that is a patch: its 12 points for the patch kernel, over its block of weights; the positions of
+// the points it places copied out, but for its inner points: its own, one after the other, written in place.
+void place_patch_face(const TessellationImpl& d, std::size_t f, const float* positions, float* points, float* normals,
+                      std::vector<float>& scratch) {
+    const std::int32_t* patch = &d.input_patch_points[std::size_t(d.face_patch[f]) * kPoints];
+    alignas(16) float x[kPoints][4] = {};  // a phantom's point is zero, with zero weights
+    for (int i = 0; i < kPoints; ++i)
+        if (patch[i] >= 0) copy_point(positions + 3 * std::size_t(patch[i]), x[i]);
+    std::size_t sample = std::size_t(d.face_first_sample[f]);
+    for (int part = 0; part < TessellationImpl::kParts; ++part) {
+        const std::int32_t b = d.face_blocks[TessellationImpl::kParts * f + std::size_t(part)];
+        if (b < 0) continue;
+        const TessellationImpl::Block& block = d.blocks[std::size_t(b)];
+        float* part_normals = normals ? normals + 3 * sample : scratch.data() + 3 * std::size_t(block.count);
+        if (part == TessellationImpl::kInnerPart) {
+            const std::int32_t first_point = d.sample_point[sample];
+            for (int q = 0; q < block.count; ++q) assert(d.sample_point[sample + std::size_t(q)] == first_point + q);
+            d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride,
+                           points + 3 * std::size_t(first_point), part_normals);
+            sample += std::size_t(block.count);
+            continue;
+        }
+        d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), part_normals);
+        for (int q = 0; q < block.count; ++q, ++sample)
+            if (const std::int32_t point = d.sample_point[sample]; point >= 0)
+                copy_point(&scratch[3 * std::size_t(q)], points + 3 * std::size_t(point));
+    }
+}
+
+// A face point through its band's plans: a limit point and normal, or a patch's or a stencil's sums over the control
+// points; its point written where it places one.
+void place_sample(const TessellationImpl& d, std::size_t s, float* points, float* normals) {
+    const TessellationImpl::Sample& sample = d.samples[s];
+    const TessellationImpl::Band& band = d.bands[sample.band];
+    const float* x = band.control_points.data();
+    float p[3], n[3];
+    if (sample.kind == Kind::Vertex) {
+        copy_point(&band.limit_points[3 * std::size_t(sample.a)], p);
+        copy_point(&band.limit_normals[3 * std::size_t(sample.b)], n);
+    } else {
+        PointSums sums;
+        if (sample.kind == Kind::Patch) {
+            const std::int32_t* patch = &d.patch_points[std::size_t(sample.a) * kPoints];
+            const float* w = &d.patch_weights[std::size_t(sample.b) * 3 * kPoints];
+            for (int i = 0; i < kPoints; ++i)
+                if (patch[i] >= 0) sums.add(x + 3 * std::size_t(patch[i]), w[i], w[kPoints + i], w[2 * kPoints + i]);
+        } else {
+            const std::size_t first = std::size_t(d.stencil_offsets[std::size_t(sample.a)]),
+                              last = std::size_t(d.stencil_offsets[std::size_t(sample.a) + 1]);
+            for (std::size_t i = first; i < last; ++i) {
+                const float* w = &d.stencil_weights[3 * i];
+                sums.add(x + 3 * std::size_t(d.stencil_points[i]), w[0], w[1], w[2]);
+            }
+        }
+        sums.finish(p, n);
+    }
+    if (const std::int32_t point = d.sample_point[s]; point >= 0) copy_point(p, points + 3 * std::size_t(point));
+    if (normals) copy_point(n, normals + 3 * s);
+}
+
 }  // namespace
 
 void Tessellation::evaluate_face_varying(int layer, const float* values, int channels, float* out) const {
@@ -116,80 +195,7 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         if (!(std::fabs(positions[i]) <= kLargest))
             throw InputError("tessellation: position " + std::to_string(i / 3) + " is not finite or larger than " +
                              std::to_string(kLargest));
-    for (const TessellationImpl::Band& b : d.bands) {
-        b.positions.resize(3 * b.vertices.size());
-        for (std::size_t v = 0; v < b.vertices.size(); ++v)
-            copy_point(positions + 3 * std::size_t(b.vertices[v]), &b.positions[3 * v]);
-        const ChannelsView<const float> in = interleaved(b.positions.data(), 3);
-        b.limit_points.resize(3 * std::size_t(b.limit->num_output_vertices()));
-        b.limit_normals.resize(3 * std::size_t(b.limit->num_limit_normals()));
-        b.limit->evaluate(in, interleaved(b.limit_points.data(), 3), Plan::LimitNormals{b.limit_normals.data()});
-        if (b.control) {
-            b.control_points.resize(3 * std::size_t(b.control->num_output_vertices()) + 1);
-            b.control->evaluate(in, interleaved(b.control_points.data(), 3));
-        }
-    }
-    constexpr int kPoints = detail::kPatchPoints;
-    auto write = [&](std::size_t s, const float* p, const float* n) {
-        if (const std::int32_t point = d.sample_point[s]; point >= 0) copy_point(p, points + 3 * std::size_t(point));
-        if (normals) copy_point(n, normals + 3 * s);
-    };
-    // An input triangle that is a patch: its 12 points for the patch kernel, over its block of weights; the positions
-    // of the points it places copied out, but for its inner points: its own, one after the other, written in place.
-    auto place_patch_face = [&](std::size_t f, std::vector<float>& scratch) {
-        const std::int32_t* patch = &d.input_patch_points[std::size_t(d.face_patch[f]) * kPoints];
-        alignas(16) float x[kPoints][4] = {};  // a phantom's point is zero, with zero weights
-        for (int i = 0; i < kPoints; ++i)
-            if (patch[i] >= 0) copy_point(positions + 3 * std::size_t(patch[i]), x[i]);
-        std::size_t sample = std::size_t(d.face_first_sample[f]);
-        for (int part = 0; part < TessellationImpl::kParts; ++part) {
-            const std::int32_t b = d.face_blocks[TessellationImpl::kParts * f + std::size_t(part)];
-            if (b < 0) continue;
-            const TessellationImpl::Block& block = d.blocks[std::size_t(b)];
-            float* part_normals = normals ? normals + 3 * sample : scratch.data() + 3 * std::size_t(block.count);
-            if (part == TessellationImpl::kInnerPart) {
-                const std::int32_t first_point = d.sample_point[sample];
-                for (int q = 0; q < block.count; ++q)
-                    assert(d.sample_point[sample + std::size_t(q)] == first_point + q);
-                d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride,
-                               points + 3 * std::size_t(first_point), part_normals);
-                sample += std::size_t(block.count);
-                continue;
-            }
-            d.patch_kernel(x, &d.block_weights[block.first], block.count, block.stride, scratch.data(), part_normals);
-            for (int q = 0; q < block.count; ++q, ++sample)
-                if (const std::int32_t point = d.sample_point[sample]; point >= 0)
-                    copy_point(&scratch[3 * std::size_t(q)], points + 3 * std::size_t(point));
-        }
-    };
-    auto place = [&](std::size_t s) {
-        const TessellationImpl::Sample& sample = d.samples[s];
-        const TessellationImpl::Band& band = d.bands[sample.band];
-        const float* x = band.control_points.data();
-        float p[3], n[3];
-        if (sample.kind == Kind::Vertex) {
-            copy_point(&band.limit_points[3 * std::size_t(sample.a)], p);
-            copy_point(&band.limit_normals[3 * std::size_t(sample.b)], n);
-        } else {
-            PointSums sums;
-            if (sample.kind == Kind::Patch) {
-                const std::int32_t* patch = &d.patch_points[std::size_t(sample.a) * kPoints];
-                const float* w = &d.patch_weights[std::size_t(sample.b) * 3 * kPoints];
-                for (int i = 0; i < kPoints; ++i)
-                    if (patch[i] >= 0)
-                        sums.add(x + 3 * std::size_t(patch[i]), w[i], w[kPoints + i], w[2 * kPoints + i]);
-            } else {
-                const std::size_t first = std::size_t(d.stencil_offsets[std::size_t(sample.a)]),
-                                  last = std::size_t(d.stencil_offsets[std::size_t(sample.a) + 1]);
-                for (std::size_t i = first; i < last; ++i) {
-                    const float* w = &d.stencil_weights[3 * i];
-                    sums.add(x + 3 * std::size_t(d.stencil_points[i]), w[0], w[1], w[2]);
-                }
-            }
-            sums.finish(p, n);
-        }
-        write(s, p, n);
-    };
+    evaluate_bands(d, positions);
     // Each part's scratch takes the largest block once: resized block by block, it was zeroed again for every face.
     std::size_t largest_block = 0;
     for (const TessellationImpl::Block& block : d.blocks)
@@ -199,11 +205,11 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
         std::vector<float> scratch(6 * largest_block);
         for (std::size_t f = first; f < last; ++f) {
             if (d.face_patch[f] >= 0) {
-                place_patch_face(f, scratch);
+                place_patch_face(d, f, positions, points, normals, scratch);
                 continue;
             }
             for (std::size_t s = std::size_t(d.face_first_sample[f]); s < std::size_t(d.face_first_sample[f + 1]); ++s)
-                place(s);
+                place_sample(d, s, points, normals);
         }
     });
 }
