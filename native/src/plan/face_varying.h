@@ -11,7 +11,10 @@
 //   * values on a seam follow Options::face_varying: corners stay, the rest runs along the seam as a uniform cubic
 //     B-spline (1, 6, 1) / 8 with midpoints on the seam's edges, semi-sharp features blending in as they decay.
 // The classification at the base level and its inheritance follow OpenSubdiv 3.5 (Vtr::FVarLevel), so that
-// values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying.
+// values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying; the seam rules themselves are
+// rules/face_varying_rules.h's. FaceVaryingBuilder's code, one role a file: face_varying_values.cpp (the values and
+// their maps), face_varying_walks.cpp, face_varying_classes.cpp (the facts the rules read, the tags),
+// face_varying_level.cpp, face_varying_limit.cpp.
 #pragma once
 
 #include <algorithm>
