@@ -42,7 +42,7 @@ void FaceVaryingBuilder::classify_base(const LevelState& base) {
             if (!face_varying_mismatched(mode, options_.boundary, vertex)) continue;
             vertex.sharpness = base.vertex_sharpness(v);  // a search among the features: only where it is read
             spans.assign(n, FaceVaryingSpan{});
-            if (!vertex.non_manifold)  // where the rules read no span
+            if (!vertex.non_manifold)  // else every value stays, whatever its span
                 for (int i = 0; i < n; ++i)
                     spans[i] = span_of(values[i], base, value_non_manifold[values[i]] != 0, walk);
             tags.resize(n);
