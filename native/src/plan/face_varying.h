@@ -11,7 +11,10 @@
 //   * values on a seam follow Options::face_varying: corners stay, the rest runs along the seam as a uniform cubic
 //     B-spline (1, 6, 1) / 8 with midpoints on the seam's edges, semi-sharp features blending in as they decay.
 // The classification at the base level and its inheritance follow OpenSubdiv 3.5 (Vtr::FVarLevel), so that
-// values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying.
+// values equal Far::PrimvarRefiner::InterpolateFaceVarying / LimitFaceVarying; the seam rules themselves are
+// rules/face_varying_rules.h's. FaceVaryingBuilder's code, one role a file: face_varying_values.cpp (the values and
+// their maps), face_varying_walks.cpp, face_varying_classes.cpp (the facts the rules read, the tags),
+// face_varying_level.cpp, face_varying_limit.cpp.
 #pragma once
 
 #include <algorithm>
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "plan/level_state.h"
+#include "rules/face_varying_rules.h"
 #include "rules/rule_set.h"
 #include "tables/limit_tables.h"
 #include "tables/stencils.h"
@@ -86,14 +90,8 @@ public:
     FaceVaryingPlan finish();
 
 private:
-    // A value's class on the current level (OpenSubdiv's FVarLevel::ValueTag, reduced to what the masks read). No
-    // member initialisers: the tags of a level are sized uninitialised and written in parts (Tag{} is all false).
-    struct Tag {
-        bool mismatch;    // its vertex has a seam, or the mode makes it linear: the seam rules apply
-        bool crease;      // follows the seam as a B-spline; otherwise (mismatched) it stays where it is
-        bool semi_sharp;  // held while semi-sharp features around it decay, then a crease
-        bool dep_sharp;   // held for its sibling's semi-sharp features (CORNERS_PLUS1/2, two values)
-    };
+    // A value's class on the current level (rules/face_varying_rules.h).
+    using Tag = FaceVaryingTag;
     // A part's own lists for its walks around values (the parts of a level run at once on the plan's threads).
     struct Walk {
         std::vector<Index> edges, inner, around;
@@ -113,6 +111,10 @@ private:
     // `parts` parts.
     void inherit_mapping(const Topology& t, const VertexNeighbourhood& vertex_level, int parts);
     void classify_base(const LevelState& base);
+    // What the seam rules read of base vertex v (`values` on it; its sharpness left 0) and of value x's span
+    // (face_varying_rules.h).
+    FaceVaryingVertex seam_vertex(const Topology& t, Index v, int values, bool non_manifold) const;
+    FaceVaryingSpan span_of(Index x, const LevelState& base, bool disjoint, Walk& walk) const;
     // The layer's current level as the queries below read it: its own arrays, or its parent's where it is not built.
     VertexNeighbourhood layer() const {
         return VertexNeighbourhood(values_, values_built_ ? nullptr : &parent_values_);
@@ -139,21 +141,27 @@ private:
                            const SpecialsByTarget<SpecialVertex>& special_vertex,
                            const TransientVector<Tag>& child_tags, Index x0, Index x1, std::vector<SpecialVertex>& out,
                            Walk& walk) const;
+    // The weight of a released value's hold, from the features that decayed in its span or its sibling's.
+    float hold_weight(const LevelState& level, const LevelState& child, const VertexNeighbourhood& vertex_level,
+                      const TransientVector<Index>& offsets, const TransientVector<Index>& at_vertex, Index x,
+                      Walk& walk) const;
     void plan_edge_points(const VertexNeighbourhood& vertex_level, const SpecialsByTarget<SpecialEdge>& special_edge,
                           bool planned_further, Index e0, Index e1, TransientVector<Tag>& child_tags,
                           std::vector<SpecialEdge>& out) const;
-    // Vtr::FVarRefinement::reclassifySemisharpValues at a vertex whose semi-sharp features decay on this level and
-    // whose own sharpness is spent on the next: held values (`child_tags` of its n values) turn into creases once the
-    // features inside their spans are spent (`inner_semi(i)`: one is still semi-sharp on the next level).
-    template <typename InnerSemi>
-    static void release_held_values(Mode mode, Tag* const* child_tags, int n, bool child_semi_edges,
-                                    InnerSemi inner_semi);
+    // plan_level's last step: the layer's next level, this level's arrays handed to its tables `s`.
+    void refine_values(const Topology& t, const VertexNeighbourhood& vertex_level, LevelStencils& s,
+                       bool planned_further, bool child_not_built, int parts);
     // The limit points of values [x0, x1) but the `held` ones (sorted), from the vertex plan's limit masks by vertex.
     void plan_limit_points(const LimitTables& limit, const SpecialsByTarget<SpecialVertex>& special_vertex,
                            const SpecialsByTarget<RingWeightedVertex>& ring_weighted, const SpecialVertex* held,
                            std::size_t num_held, Index x0, Index x1, PartOutput& out) const;
-    // Where a value held on the last level goes: held until its features are spent, then along its seam.
+    // Where a value held on the last level goes: held until its features are spent, then along its seam; its steps
+    // (face_varying_limit.cpp): a held value, the hold at its vertex, gathered, then refined one level at a time.
     void plan_held_limits(const LevelState& last, const RuleSet& rules, LevelStencils& s) const;
+    struct Held;
+    struct HeldVertex;
+    void gather_held(Index v, const LevelState& last, HeldVertex& at, std::vector<Held>& held, Walk& walk) const;
+    void hold_one_level(const RuleSet& rules, HeldVertex& at, Held* first, Held* last) const;
 
     Options options_;
     FaceVaryingPlan plan_;

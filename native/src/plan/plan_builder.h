@@ -76,6 +76,17 @@ private:
     // `parent`: the last level's, or its grandparent where the limit's rings come from it
     // (LimitTables::from_grandparent).
     void plan_limit(LevelState& last, const Topology& parent);
+    // plan_limit's steps: the feature vertices visited (a part's findings: LimitVisit), their masks, their sides.
+    struct LimitVisit;
+    void visit_limit_vertices(const LevelState& level, const VertexNeighbourhood& around, bool sides_in_visit,
+                              LargeVector<VertexType>& types, std::vector<LimitVisit>& visited);
+    std::vector<std::pair<Index, Index>> plan_limit_masks(const std::vector<LimitVisit>& visited,
+                                                          const VertexNeighbourhood& around,
+                                                          const LargeVector<VertexType>& types, LevelStencils& s) const;
+    std::vector<Index> plan_limit_sides(std::vector<LimitVisit>& visited, bool sides_in_visit,
+                                        const VertexNeighbourhood& around,
+                                        const std::vector<std::pair<Index, Index>>& infinite_at,
+                                        const LargeVector<VertexType>& types, Index nv);
     void plan_limit_rings(Topology& grandparent);
     Spent spend(const LevelState& level, const VertexNeighbourhood& around, const FeatureVertex& vertex,
                 std::vector<Index>& far_edges, std::vector<float>& far_sharpness) const;
