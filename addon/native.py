@@ -12,7 +12,17 @@ import numpy as np
 
 
 class LoopSubError(Exception):
-    """A problem the artist can act on; the message is shown as a Blender report."""
+    """A problem the artist can act on; the message is shown as a Blender report. problem: where the core's checks
+    refused the input, what they found (an InputError's attributes: kind, element, index, ...), else None."""
+
+    def __init__(self, message, problem=None):
+        super().__init__(message)
+        self.problem = problem
+
+
+def _refused(error):
+    """The LoopSubError of an error the core raised."""
+    return LoopSubError(str(error), error if getattr(error, "kind", None) is not None else None)
 
 
 # Where the module is loaded from: a copy in this folder (Blender's temporary folder of the session, which it empties
@@ -84,7 +94,7 @@ def build_plan(triangles, num_vertices, levels, options, tags, cone_vertices, fa
                            **tags, **options.plan_keywords())
     # The bindings raise ValueError/TypeError for bad input, RuntimeError/MemoryError for limits.
     except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
-        raise LoopSubError(str(error)) from error
+        raise _refused(error) from error
 
 
 def build_tessellation(triangles, num_vertices, rates, options, tags, cone_vertices, face_varying_indices=(),
@@ -121,9 +131,21 @@ def estimate_plan_bytes(vertices, edges, triangles, levels, vertex_channels=3):
     return run(load().estimate_plan_bytes, vertices, triangles, levels, vertex_channels, edges)
 
 
+def diagnose(triangles, num_vertices, **values):
+    """Everything the core's checks find in these triangles and values (positions: per-vertex channels; face_varying:
+    per-corner values), errors first, then notes: the items of _loopsub.diagnose (kind, element, index, corner,
+    layer, channel, ...)."""
+    return run(load().diagnose, triangles, num_vertices, **values)
+
+
+def refusal(problem):
+    """The LoopSubError of a problem diagnose listed, as the core would raise it."""
+    return LoopSubError(problem.message, problem)
+
+
 def run(call, *args, **keywords):
     """Calls a plan method, turning the core's errors into LoopSubError."""
     try:
         return call(*args, **keywords)
     except (ValueError, TypeError, RuntimeError, MemoryError, OverflowError) as error:
-        raise LoopSubError(str(error)) from error
+        raise _refused(error) from error

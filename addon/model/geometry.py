@@ -97,21 +97,6 @@ def take_rows(values, indices):
     return np.take(values, indices, axis=0)
 
 
-def degenerate_triangles(triangles):
-    t = triangles
-    return np.flatnonzero((t[:, 0] == t[:, 1]) | (t[:, 1] == t[:, 2]) | (t[:, 2] == t[:, 0]))
-
-
-def edges_run_the_same_way(triangles):
-    """How many edges two triangles run along the same way, as a face wound against its neighbours (flipped) leaves
-    them: the rules make them infinitely sharp (docs/rules.md, Sharpness)."""
-    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    n = int(t.max(initial=0)) + 1
-    directed = np.sort((t * n + np.roll(t, -1, axis=1)).ravel())
-    repeated = directed[1:][directed[1:] == directed[:-1]]
-    return len(np.unique(repeated))
-
-
 def duplicate_triangles(triangles):
     """Pairs (first, later) of triangles with the same three vertices, in any order, in the order of the later one.
 

@@ -124,6 +124,6 @@ def tessellate(source, edge_rates, reuse=None):
     except LoopSubError as error:
         core_bytes = getattr(error.__cause__, "required_bytes", None)
         if not isinstance(error.__cause__, MemoryError) or core_bytes is None:
-            raise
+            raise source.explain(error) from error
         raise budget.refusal(core_bytes) from error
     return TessellationOutput(tessellation, cage, options)

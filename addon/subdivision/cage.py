@@ -36,6 +36,10 @@ class Topology:
         return native.build_plan(self.triangles, self.num_vertices, levels, options, self.tags(options), cones,
                                  face_varying_indices)
 
+    def diagnose(self, **values):
+        """What the core finds wrong with these triangles and values (native.diagnose), errors first, then notes."""
+        return native.diagnose(self.triangles, self.num_vertices, **values)
+
 
 class Cage(Topology):
     """The control mesh as the core sees it: Blender's triangulation of its faces, and its crease weights."""
@@ -67,31 +71,30 @@ class Cage(Topology):
                                                    self.edge_vertices)
         return self._side_edges
 
-    def validate(self, name, topology=True):
-        """The checks that give a clearer message here than the core's own; topology=False skips those that depend on
-        the triangles alone (for triangles already checked)."""
+    def validate(self, name):
+        """What the add-on refuses besides the core's checks (explain says those in the artist's words)."""
         if not len(self.triangles):
             raise LoopSubError(f"{name} has no faces to subdivide")
-        finite(self.positions, name, "the position", "vertex", "vertices")
-        if not topology:
-            return
-        degenerate = geometry.degenerate_triangles(self.triangles)
-        if len(degenerate):
-            face = self.triangle_polygons[degenerate[0]]
-            raise LoopSubError(f"{name}: face {face} repeats a vertex "
-                               f"({counted(len(degenerate), 'degenerate triangle')}); "
-                               "Mesh ▸ Clean Up ▸ Degenerate Dissolve can fix it")
 
 
-def finite(values, name, what, element, elements):
-    """values, rows of one element each (a vertex, a corner), where all are finite numbers; else a LoopSubError that
-    names the first element that is not, as the artist finds it (the Spreadsheet's index): "Hero: UV map "UVMap" has
-    a non-finite value at corner 37 (1 such corner)". The core would refuse it too, but by its own numbering."""
-    if np.isfinite(values).all():  # at once: numpy's all along rows of three is many times slower
-        return values
-    bad = np.flatnonzero(~np.isfinite(values.reshape(len(values), -1)).all(axis=1))
-    raise LoopSubError(f"{name}: {what} has a non-finite value at {element} {bad[0]} "
-                       f"({counted(len(bad), 'such ' + element, 'such ' + elements)})")
+def explain(error, name, cage, source=None):
+    """A LoopSubError of the core's checks in the artist's words: where the core names a triangle, a vertex or a value
+    of a layer by its own numbering (its InputError's attributes), the face, vertex or corner as the Spreadsheet
+    shows it, what holds the value (the position, an attribute, a UV map), and how many such there are (the core's
+    diagnose counts them): "Hero: UV map "UVMap" has a non-finite value at corner 37 (1 such corner)". Other errors
+    as they are."""
+    problem = error.problem
+    kind = getattr(problem, "kind", None)
+    if kind == "degenerate_triangle":
+        found = sum(item.kind == kind for item in cage.diagnose())
+        return LoopSubError(f"{name}: face {cage.triangle_polygons[problem.index]} repeats a vertex "
+                            f"({counted(found, 'degenerate triangle')}); "
+                            "Mesh ▸ Clean Up ▸ Degenerate Dissolve can fix it")
+    if kind == "non_finite_value" and source is not None:
+        what, element, elements, index, found = source.locate(problem)
+        return LoopSubError(f"{name}: {what} has a non-finite value at {element} {index} "
+                            f"({counted(found, 'such ' + element, 'such ' + elements)})")
+    return error
 
 
 def counted(count, singular, plural=None):
@@ -167,6 +170,10 @@ class _Channels:
         self.columns = {}
         self.width = 0
 
+    def key_of(self, column):
+        """The key of the array packed at this column."""
+        return next(key for key, columns in self.columns.items() if columns.start <= column < columns.stop)
+
     def add(self, key, values):
         self.columns[key] = slice(self.width, self.width + values.shape[-1])
         self.width += values.shape[-1]
@@ -174,6 +181,11 @@ class _Channels:
 
     def packed(self):
         return np.ascontiguousarray(np.concatenate(self.parts, axis=-1), dtype=np.float32)
+
+
+def _holder(key):
+    """What holds a channel, as the artist names it."""
+    return {"position": "the position", "normal": "the custom normals"}.get(key) or f'attribute "{key[1]}"'
 
 
 def _notes(name, cage):
@@ -192,17 +204,21 @@ def _notes(name, cage):
         notes.append(('WARNING', f"{name}: faces {first} and {second} lie on the same three vertices "
                                  f"({counted(len(duplicates), 'such pair')}); their edges are non-manifold and "
                                  "stay sharp, as in Subdivision Surface"))
-    flipped = geometry.edges_run_the_same_way(cage.triangles)
-    if flipped:
-        notes.append(('WARNING', f"{name}: {counted(flipped, 'edge')} {'joins' if flipped == 1 else 'join'} faces "
-                                 "that face opposite ways and stay sharp (Mesh ▸ Normals ▸ Recalculate Outside "
-                                 "turns them)"))
     cracks = geometry.shared_positions(cage.positions)
     if cracks:
         notes.append(('WARNING', f"{name}: {counted(cracks, 'vertex', 'vertices')} "
                                  f"{'shares' if cracks == 1 else 'share'} a position with another; the cracks "
                                  "stay open (Merge by Distance welds them)"))
     return notes
+
+
+def core_notes(name, notes):
+    """What the core's checks tell of a cage that subdivides (a Plan's notes, or diagnose's), in the artist's words."""
+    flipped = sum(note.kind == "runs_the_same_way" for note in notes)
+    if not flipped:
+        return []
+    return [('WARNING', f"{name}: {counted(flipped, 'edge')} {'joins' if flipped == 1 else 'join'} faces that face "
+                        "opposite ways and stay sharp (Mesh ▸ Normals ▸ Recalculate Outside turns them)")]
 
 
 def _normal_notes(name, mesh, source):
@@ -233,7 +249,8 @@ class Source:
         self.options = options
         self.cage = cage = Cage(mesh)
         known = checked_triangles is not None and np.array_equal(cage.triangles, checked_triangles)
-        cage.validate(obj.name, topology=not known)
+        cage.validate(obj.name)
+        self.name = obj.name
         self.messages = [] if known else _notes(obj.name, cage)
         self.group_names = [group.name for group in obj.vertex_groups]
         self.group_weights = read_vertex_groups(mesh, len(self.group_names))
@@ -257,8 +274,7 @@ class Source:
         self.vertex = _Channels()
         self.vertex.add("position", cage.positions)
         for name, _, _ in self.point:
-            self.vertex.add(("attribute", name), finite(read_attribute(mesh.attributes[name], cage.num_vertices),
-                                                        obj.name, f'attribute "{name}"', "vertex", "vertices"))
+            self.vertex.add(("attribute", name), read_attribute(mesh.attributes[name], cage.num_vertices))
 
         # Edge data passes to the child edges on each cage edge: seam and sharp marks, edge attributes.
         self.edge_flags = mesh_arrays.read_edge_flags(mesh)
@@ -268,8 +284,7 @@ class Source:
         # UV Smooth says, to the limit with the limit surface.
         self.uv_names = [uv.name for uv in mesh.uv_layers]
         self.uv_layers = [native.weld_corner_values(cage.triangles, cage.num_vertices,
-                                                    finite(read_array(uv.data, "uv", cage.num_loops, 2, np.float32),
-                                                           obj.name, f'UV map "{uv.name}"', "corner", "corners")
+                                                    read_array(uv.data, "uv", cage.num_loops, 2, np.float32)
                                                     [cage.triangle_loops])
                           for uv in mesh.uv_layers]
 
@@ -277,9 +292,8 @@ class Source:
         # shades with them (they then take the place of the limit normals).
         self.corners = _Channels()
         for name, _, _ in self.corner:
-            self.corners.add(("attribute", name),
-                             finite(read_attribute(mesh.attributes[name], cage.num_loops), obj.name,
-                                    f'attribute "{name}"', "corner", "corners")[cage.triangle_loops])
+            values = read_attribute(mesh.attributes[name], cage.num_loops)
+            self.corners.add(("attribute", name), values[cage.triangle_loops])
         self.custom_normals = shading.custom_normals_in_use(mesh)
         if self.custom_normals:
             self.corners.add("normal", shading.read_corner_normals(mesh)[cage.triangle_loops])
@@ -314,8 +328,37 @@ class Source:
                 self.cage.vertex_weights)
 
     def plan(self, levels=None):
-        return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones,
-                              [indices for indices, _ in self.uv_layers])
+        try:
+            return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones,
+                                  [indices for indices, _ in self.uv_layers])
+        except LoopSubError as error:
+            raise self.explain(error) from error
+
+    def explain(self, error):
+        return explain(error, self.name, self.cage, self)
+
+    def locate(self, problem):
+        """Where a non-finite value the core found (an InputError's attributes) is, in the artist's words: (what holds
+        it, the element's noun singular and plural, the element's index in Blender, how many elements have one)."""
+        cage = self.cage
+        if problem.element == "vertex":  # the vertex channels: positions, point attributes
+            key = self.vertex.key_of(problem.channel)
+            values = np.ascontiguousarray(self.vertex.packed()[:, self.vertex.columns[key]])
+            found = {item.index for item in cage.diagnose(positions=values) if item.kind == problem.kind}
+            return _holder(key), "vertex", "vertices", problem.index, len(found)
+        if problem.element == "face_varying_value":  # a UV map's welded values
+            indices, values = self.uv_layers[problem.layer]
+            triangle, corner = np.argwhere(indices == problem.index)[0]
+            per_corner = values[indices]
+            what = f'UV map "{self.uv_names[problem.layer]}"'
+        else:  # a triangle's corner: the corner channels
+            triangle, corner = problem.index, problem.corner
+            key = self.corners.key_of(problem.channel)
+            per_corner = self.corners.packed()[:, :, self.corners.columns[key]]
+            what = _holder(key)
+        found = {(item.index, item.corner) for item in cage.diagnose(face_varying=np.ascontiguousarray(per_corner))
+                 if item.kind == problem.kind}
+        return what, "corner", "corners", int(cage.triangle_loops[triangle, corner]), len(found)
 
     def inputs(self):
         """The values a refinement reads (for the live entry: equal inputs on the same plan, equal result)."""

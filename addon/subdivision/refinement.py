@@ -6,6 +6,7 @@ edge each lies on, the crease weights the result inherits, and the refined value
 import numpy as np
 
 from .. import native
+from ..native import LoopSubError
 from ..blender import mesh_arrays
 from ..model import geometry
 from . import tags
@@ -17,18 +18,22 @@ def refine(output, source, written=None, into=None):
     Refined): the result holds them already, and playback moves only positions. into: a Destination, the new result's
     own arrays, which the core evaluates into where it can (the Refined then holds them)."""
     into = into or Destination()
-    vertex, normals = output.refine_vertices(source, into)
-    uvs = [None if written is not None and np.array_equal(written.uvs[layer], values)
-           else output.refine_uvs(values, layer)
-           for layer, (_, values) in enumerate(source.uv_layers)]
-    corners = None
-    if source.corners.parts:
-        values = source.corners.packed()
-        # The cage's custom normals are written on every update (update_mesh): in tangent space they are stored
-        # relative to the result's geometry, which may have moved. Free normals (4.5+) do not change when vertices
-        # move, nor does any corner value when only a UV does.
-        unchanged = written is not None and written.corners is not None and np.array_equal(written.corners, values)
-        corners = None if unchanged and not source.custom_normals else output.refine_corners(values)
+    try:
+        vertex, normals = output.refine_vertices(source, into)
+        uvs = [None if written is not None and np.array_equal(written.uvs[layer], values)
+               else output.refine_uvs(values, layer)
+               for layer, (_, values) in enumerate(source.uv_layers)]
+        corners = None
+        if source.corners.parts:
+            values = source.corners.packed()
+            # The cage's custom normals are written on every update (update_mesh): in tangent space they are stored
+            # relative to the result's geometry, which may have moved. Free normals (4.5+) do not change when
+            # vertices move, nor does any corner value when only a UV does.
+            unchanged = (written is not None and written.corners is not None
+                         and np.array_equal(written.corners, values))
+            corners = None if unchanged and not source.custom_normals else output.refine_corners(values)
+    except LoopSubError as error:
+        raise source.explain(error) from error
     return Refined(vertex, uvs, corners, normals, output.corner_normal_indices, output.triangles,
                    output.normal_per_vertex_row)
 
@@ -135,6 +140,11 @@ class PlanOutput:
     # Limit normals in rows per vertex (and past them, per side of a split fan): Refined.vertex_normals.
     normal_per_vertex_row = True
 
+    @property
+    def notes(self):
+        """What the core's checks tell of the cage (Plan.notes: the edges two faces run along the same way)."""
+        return self.plan.notes
+
     def refine_vertices(self, source, into):
         """(the vertex channels (N_out, C), the limit normals or None): positions first among the channels, the others
         refined with the same (limit) weights; into the Destination's arrays where it has them."""
@@ -170,6 +180,8 @@ class TessellationOutput:
 
     def __init__(self, tessellation, cage, options):
         self.tessellation = tessellation
+        # What the core's checks tell of the cage (as a Plan's notes).
+        self.notes = [item for item in cage.diagnose() if item.is_note]
         self.cage = cage
         self.options = options
         self.triangles = tessellation.triangles
@@ -251,7 +263,13 @@ class TessellationOutput:
 
     def refine_vertices(self, source, into):
         """(the vertex channels (N_out, C), the normals per face point): positions and normals on the limit surface,
-        the other channels linear in the cage triangles; positions alone into the Destination's array."""
+        the other channels linear in the cage triangles; positions alone into the Destination's array. The channels
+        interpolated here, which the core does not evaluate, pass its checks first (native.refusal)."""
+        values = {"face_varying": source.corners.packed()} if source.corners.parts else {}
+        problems = [item for item in source.cage.diagnose(positions=source.vertex.packed(), **values)
+                    if not item.is_note]
+        if problems:
+            raise native.refusal(problems[0])
         points, normals = native.run(self.tessellation.evaluate, source.cage.positions,
                                      into.positions_for(source.vertex.width))
         vertex = points

@@ -8,7 +8,7 @@ import numpy as np
 from ..blender.mesh_arrays import CREASE_TAG, VERTEX_TYPE_TAG, add_attribute
 from ..model import geometry
 from ..native import LoopSubError
-from .cage import Cage, cone_group_index, cone_vertices, read_vertex_groups
+from .cage import Cage, cone_group_index, cone_vertices, explain, read_vertex_groups
 
 
 def _classifying(options):
@@ -62,4 +62,7 @@ def tag_object(obj, options):
     cage.validate(obj.name)
     cone_index = cone_group_index(obj, options)
     weights = read_vertex_groups(obj.data, cone_index + 1) if cone_index is not None else None
-    write_tags(obj.data, cage, options, cone_vertices(weights, cone_index))
+    try:
+        write_tags(obj.data, cage, options, cone_vertices(weights, cone_index))
+    except LoopSubError as error:
+        raise explain(error, obj.name, cage) from error

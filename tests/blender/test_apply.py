@@ -354,6 +354,29 @@ def bad_meshes():
                  'BadAttribute: attribute "wetness" has a non-finite value at vertex 2 (1 such vertex)', levels=1)
     support.remove(obj)
 
+    obj = uv_cube("BadCorners")
+    shade = obj.data.attributes.new("shade", 'FLOAT_COLOR', 'CORNER')
+    shade.data[7].color = (0.5, float("nan"), 0.5, 1.0)
+    shade.data[9].color = (float("nan"), 0.5, 0.5, 1.0)
+    expect_error(obj, "corner values that are not finite",
+                 'BadCorners: attribute "shade" has a non-finite value at corner 7 (2 such corners)', levels=1)
+    support.remove(obj)
+
+    # Adaptive Subdivision interpolates attributes itself: they pass the core's checks all the same.
+    obj = uv_cube("BadAdaptive")
+    wetness = obj.data.attributes.new("wetness", 'FLOAT', 'POINT')
+    wetness.data[4].value = float("nan")
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    bpy.context.scene.collection.objects.link(camera)
+    camera.location = (0.0, -8.0, 0.0)
+    camera.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    bpy.context.scene.camera = camera
+    expect_error(obj, "an attribute value that is not finite, with Adaptive Subdivision",
+                 'BadAdaptive: attribute "wetness" has a non-finite value at vertex 4 (1 such vertex)',
+                 use_adaptive=True)
+    bpy.data.objects.remove(camera)
+    support.remove(obj)
+
     obj = uv_cube("Infinite")
     obj.data.vertices[3].co.x = 3.4028235e38  # what Blender stores for an infinite coordinate typed in
     expect_error(obj, "a coordinate whose refinement would overflow", "too large to refine", levels=1)

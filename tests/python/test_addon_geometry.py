@@ -83,20 +83,8 @@ def test_lookup_edges_either_direction():
     assert geometry.lookup_edges(table[:0], query, 4).tolist() == [-1] * 4
 
 
-def test_edges_run_the_same_way():
-    """A closed octahedron wound consistently has none; one face turned gives its three edges; a face doubled the same
-    way gives its own three."""
-    octahedron = np.array([[4, 0, 1], [1, 0, 5], [4, 1, 2], [2, 1, 5], [4, 2, 3], [3, 2, 5], [4, 3, 0], [0, 3, 5]])
-    assert geometry.edges_run_the_same_way(octahedron) == 0
-    flipped = octahedron.copy()
-    flipped[0] = flipped[0][::-1]
-    assert geometry.edges_run_the_same_way(flipped) == 3
-    assert geometry.edges_run_the_same_way(np.concatenate([octahedron, octahedron[:1]])) == 3
-
-
-def test_degenerate_and_duplicate_triangles():
+def test_duplicate_triangles():
     triangles = np.array([[0, 1, 2], [2, 1, 0], [1, 1, 3], [0, 2, 3], [3, 0, 2]], np.int32)
-    assert geometry.degenerate_triangles(triangles).tolist() == [2]
     assert geometry.duplicate_triangles(triangles).tolist() == [[0, 1], [3, 4]]
     # Three on the same vertices: both later ones are paired with the first; none without triangles.
     assert geometry.duplicate_triangles(triangles[[3, 0, 4, 1, 3]]).tolist() == [[0, 2], [1, 3], [0, 4]]
