@@ -182,7 +182,7 @@ def _write(cache, obj, evaluated, mesh, helper, options, depsgraph, render, tell
             # rotated in Edit Mode; rates traded between edges).
             cache.plan_key, cache.inputs, cache.layout_key = plan_key, None, None
             cache.plan_builds += 1
-            cache.messages = source.messages + cage.core_notes(obj.name, cache.output.notes)
+            cache.messages = source.messages
         inputs = source.inputs()
         layout_key = source.layout_key()
         in_place = (cache.result == helper.data.name and _equal(cache.layout_key, layout_key)

@@ -11,7 +11,7 @@ import numpy as np
 from .. import native
 from ..model import geometry, memory
 from ..native import LoopSubError
-from .cage import counted
+from .cage import core_notes, counted
 from .refinement import TessellationOutput
 
 
@@ -126,4 +126,6 @@ def tessellate(source, edge_rates, reuse=None):
         if not isinstance(error.__cause__, MemoryError) or core_bytes is None:
             raise source.explain(error) from error
         raise budget.refusal(core_bytes) from error
-    return TessellationOutput(tessellation, cage, options)
+    output = TessellationOutput(tessellation, cage, options)
+    source.messages = source.messages + core_notes(source.name, output.notes)
+    return output

@@ -328,11 +328,14 @@ class Source:
                 self.cage.vertex_weights)
 
     def plan(self, levels=None):
+        """The plan of this source's cage and settings; what the core's checks tell of the cage joins its messages."""
         try:
-            return self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones,
+            plan = self.cage.plan(self.options, self.options.levels if levels is None else levels, self.cones,
                                   [indices for indices, _ in self.uv_layers])
         except LoopSubError as error:
             raise self.explain(error) from error
+        self.messages = self.messages + core_notes(self.name, plan.notes)
+        return plan
 
     def explain(self, error):
         return explain(error, self.name, self.cage, self)

@@ -140,11 +140,6 @@ class PlanOutput:
     # Limit normals in rows per vertex (and past them, per side of a split fan): Refined.vertex_normals.
     normal_per_vertex_row = True
 
-    @property
-    def notes(self):
-        """What the core's checks tell of the cage (Plan.notes: the edges two faces run along the same way)."""
-        return self.plan.notes
-
     def refine_vertices(self, source, into):
         """(the vertex channels (N_out, C), the limit normals or None): positions first among the channels, the others
         refined with the same (limit) weights; into the Destination's arrays where it has them."""

@@ -11,7 +11,7 @@ from ..blender import creases, mesh_arrays, shading
 from ..blender.mesh_arrays import add_attribute, fill_attribute
 from ..model import geometry, memory
 from . import adaptive, normals
-from .cage import Source, check_memory, check_object, core_notes
+from .cage import Source, check_memory, check_object
 from .refinement import Destination, PlanOutput, refine
 
 # Temporary name of a float point attribute on its way to becoming a vertex group.
@@ -50,8 +50,7 @@ def subdivide(obj, options, progress, view=None):
     progress(2)
     new = build_mesh(source, output, obj.data.name)
     locks = [group.lock_weight for group in obj.vertex_groups]
-    messages = source.messages + core_notes(obj.name, output.notes)
-    return Result(new, messages, source.group_names, locks, obj.vertex_groups.active_index)
+    return Result(new, source.messages, source.group_names, locks, obj.vertex_groups.active_index)
 
 
 def build_mesh(source, output, name):
