@@ -46,16 +46,6 @@ def copy_shading_settings(source, target):
         target[key] = value.original if isinstance(value, bpy.types.ID) else value
 
 
-def smooth_by_angle(mesh, angle):
-    """Smooth shading, split where faces meet at more than angle (radians): Auto Smooth up to 4.0, sharp edges set
-    from the angle from 4.1 on."""
-    if hasattr(mesh, "use_auto_smooth"):
-        mesh.use_auto_smooth = True
-        mesh.auto_smooth_angle = angle
-    else:
-        mesh.set_sharp_from_angle(angle=angle)
-
-
 def shades_sharp_edges(mesh):
     """Whether custom split normals and marked sharp edges show in the mesh's shading: with Auto Smooth up to 4.0,
     always from 4.1."""
