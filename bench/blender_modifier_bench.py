@@ -42,13 +42,6 @@ args, _ = parser.parse_known_args(argv)
 addon = support.load_addon()
 
 
-def clear():
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    for mesh in list(bpy.data.meshes):
-        bpy.data.meshes.remove(mesh)
-
-
 def mesh_object(name, build, triangulate=True):
     """A cage shaded smooth, as artists shade what they subdivide: flat faces stay flat through both subdivisions,
     and with the limit surface only smooth ones get the limit normals. Triangulated, so that Subdivision Surface sees
@@ -141,7 +134,7 @@ def apply_rows(name, build, levels, triangulate=True):
             if round_index >= 0:
                 samples[kind].append(seconds)
             vertices[kind] = len(obj.data.vertices)
-            clear()
+            support.clear_scene()
     rows = {kind: (median(samples[kind]), vertices[kind]) for kind, _ in kinds}
     for kind, (seconds, vertices) in rows.items():
         ratio = ""
@@ -178,7 +171,7 @@ def edit_rows(name, build, levels, use_limit_surface=True):
             if step:  # the first evaluation builds the plan / Blender's subdivision topology
                 samples.append(seconds)
         results[kind] = median(samples), len(obj.evaluated_get(depsgraph).data.vertices)
-        clear()
+        support.clear_scene()
     (ours, n_ours), (theirs, n_theirs) = results["Loop"], results["Subdivision Surface"]
     limit = "limit on " if use_limit_surface else "limit off"
     print(f"edit   {name:<28} level {levels}, {limit}: Loop {ours * 1e3:8.1f} ms ({n_ours:,} vertices)   "
@@ -216,13 +209,13 @@ def playback_rows(name, build, levels, frames=24, use_limit_surface=True):
                 shown_positions(obj)
             samples.append(frames / (time.perf_counter() - started))
         results[kind] = median(samples)
-        clear()
+        support.clear_scene()
     limit = "limit on " if use_limit_surface else "limit off"
     print(f"play   {name:<28} level {levels}, {limit}: Loop {results['Loop']:6.1f} fps   "
           f"Subdivision Surface {results['Subdivision Surface']:6.1f} fps")
 
 
-clear()
+support.clear_scene()
 print(f"Blender {bpy.app.version_string}, medians of {args.repeat}")
 rows = [
     (apply_rows, "grid 200x200 (80,000 tris)", grid(200), 2, {}),
