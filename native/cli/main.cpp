@@ -12,7 +12,7 @@
 #include "command_line.h"
 #include "loopsub/loopsub.h"
 #include "loopsub/tessellation.h"
-#include "obj_io.h"
+#include "obj/obj_io.h"
 
 namespace {
 
