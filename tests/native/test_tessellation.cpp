@@ -653,15 +653,28 @@ TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
     EXPECT_EQ(tessellation.num_triangles(), expected);
 }
 
+// An icosahedron with a UV layer that has a seam; view() carries the layer.
+struct IcosahedronWithLayer {
+    IcosahedronWithLayer() : mesh(icosahedron()) {
+        add_uvs_with_seam(mesh);
+        layer = {mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    }
+    MeshView view() const {
+        MeshView with_layer = mesh.view();
+        with_layer.face_varying = &layer, with_layer.num_face_varying = 1;
+        return with_layer;
+    }
+    TestMesh mesh;
+    FaceVaryingLayer layer;
+};
+
 // The memory limit is one budget for everything a tessellation holds: its result, the plans of the triangles that are
 // no patch (an icosahedron has no regular vertex: all of it), each face-varying layer's own cut. A limit one byte below
 // what it counted refuses it; a limit that covers the result but not the plans did not, before.
 TEST(Tessellation, OneMemoryBudgetCoversItsPlansAndLayers) {
-    TestMesh mesh = icosahedron();
-    add_uvs_with_seam(mesh);
-    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
-    MeshView with_layer = mesh.view();
-    with_layer.face_varying = &layer, with_layer.num_face_varying = 1;
+    const IcosahedronWithLayer icosahedron_with_layer;
+    const TestMesh& mesh = icosahedron_with_layer.mesh;
+    const MeshView with_layer = icosahedron_with_layer.view();
     TessellationRates rates;
     rates.uniform_rate = 32;  // level 5
     const Options options = options_for(mesh);
@@ -895,15 +908,11 @@ TEST(TessellationChecks, RatedEdgesAreNotAnEdgeAndRateOutOfRange) {
 
 // A frame's positions and a layer's values: NonFiniteValue and ValueTooLarge at their vertex or value and channel.
 TEST(TessellationChecks, PositionsAndLayerValuesAreNonFiniteOrTooLarge) {
-    TestMesh mesh = icosahedron();
-    add_uvs_with_seam(mesh);
-    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
-    MeshView view = mesh.view();
-    view.face_varying = &layer, view.num_face_varying = 1;
+    const IcosahedronWithLayer icosahedron_with_layer;
+    const TestMesh& mesh = icosahedron_with_layer.mesh;
     TessellationRates rates;
     rates.uniform_rate = 3;
-    Options options = options_for(mesh);
-    const Tessellation tessellation(view, options, rates);
+    const Tessellation tessellation(icosahedron_with_layer.view(), options_for(mesh), rates);
     std::vector<float> points(3 * std::size_t(tessellation.num_points()));
     std::vector<float> positions = mesh.positions;
     positions[3 * 7 + 2] = std::numeric_limits<float>::infinity();
