@@ -24,6 +24,7 @@ from mathutils import Matrix, Vector
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if REPO not in sys.path:
     sys.path.insert(0, REPO)
+from addon import native  # noqa: E402  (the working tree's built core module: its OBJ reader)
 from addon.blender import creases  # noqa: E402  (the working tree's add-on: creases as each version keeps them)
 from addon.model import geometry  # noqa: E402  (the crease mapping)
 
@@ -107,30 +108,18 @@ def default_cage():
 
 
 def crease_weight(sharpness):
-    """Blender's crease weight for an OpenSubdiv sharpness (a tag's text), inverting Blender's own s = 10·c² as the
-    add-on does."""
+    """Blender's crease weight for an OpenSubdiv sharpness, inverting Blender's own s = 10·c² as the add-on does."""
     return float(geometry.sharpness_to_crease(float(sharpness)))
 
 
 def read_obj_tags(path):
-    """OpenSubdiv's tags in the project's OBJ files (`t crease 2/1/0 A B S`, `t corner 1/1/0 V S`,
-    `t interpolateboundary 1/0/0 M`, 0-based vertex indices), which Blender's importer skips."""
-    edges, corners, boundary = [], [], None
-    with open(path, encoding="utf-8", errors="replace") as f:
-        for number, line in enumerate(f, 1):
-            fields = line.split()
-            if len(fields) < 2 or fields[0] != "t":
-                continue
-            try:
-                if fields[1] == "crease":
-                    edges.append((int(fields[3]), int(fields[4]), crease_weight(fields[5])))
-                elif fields[1] == "corner":
-                    corners.append((int(fields[3]), crease_weight(fields[4])))
-                elif fields[1] == "interpolateboundary":
-                    # RenderMan numbering: 1 is edges and corners, 2 (and no tag) edges only.
-                    boundary = 'KEEP_CORNERS' if fields[3] == "1" else 'SMOOTH'
-            except (IndexError, ValueError):
-                raise RuntimeError(f"{path}:{number}: cannot read the tag '{line.strip()}'") from None
+    """OpenSubdiv's tags in the file (`t crease`, `t corner`, `t interpolateboundary`), which Blender's importer
+    skips, as the project's own OBJ reader reads them (the core module's read_obj, the command line's reader): crease
+    edges (a, b, Blender's crease weight), corner vertices (v, weight) and the boundary rule, or None."""
+    obj = native.load().read_obj(path)
+    edges = [(int(a), int(b), crease_weight(s)) for (a, b), s in zip(obj["crease_edges"], obj["crease_sharpness"])]
+    corners = [(int(v), crease_weight(s)) for v, s in zip(obj["corner_vertices"], obj["corner_sharpness"])]
+    boundary = {None: None, "edges-and-corners": 'KEEP_CORNERS'}.get(obj["boundary"], 'SMOOTH')
     return edges, corners, boundary
 
 

@@ -12,7 +12,7 @@
 #include "command_line.h"
 #include "loopsub/loopsub.h"
 #include "loopsub/tessellation.h"
-#include "obj_io.h"
+#include "obj/obj_io.h"
 
 namespace {
 
@@ -100,15 +100,18 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     }
 }
 
-// The file's notes, then the refinement (or the tessellation) written out.
-int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
+// What the reader skipped or filled in, and the polygons it split.
+void print_file_notes(const Command& command, const loopsub::obj::ObjMesh& in) {
     if (in.polygons_triangulated > 0) {
         std::fprintf(stderr, "loopsub: note: %s: triangulated %d polygon(s) with more than 3 corners\n",
                      command.input.c_str(), in.polygons_triangulated);
     }
     for (const std::string& note : in.notes)
         std::fprintf(stderr, "loopsub: note: %s: %s\n", command.input.c_str(), note.c_str());
+}
 
+// The options: each rule the command line's, else the file's tag, else the default.
+loopsub::Options options_of(const Command& command, const loopsub::obj::ObjMesh& in) {
     loopsub::Options options = command.options;
     // One evaluation follows: derived tables make the plan quicker and smaller, and cost that evaluation less than
     // they save (docs/benchmark.md, "Stored or derived tables").
@@ -117,12 +120,43 @@ int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
     options.crease_method = command.crease_method.value_or(in.crease_method.value_or(loopsub::CreaseMethod::Uniform));
     options.face_varying =
         command.face_varying.value_or(in.face_varying.value_or(loopsub::FaceVaryingInterpolation::CornersOnly));
+    return options;
+}
 
-    if (command.tessellate > 0 || command.camera) {
-        tessellate(command, in, options);
-        return 0;
+// The limit positions and the compact normals as the vn, each corner naming its own: one vn per normal some corner
+// uses (a vertex whose corners all take their sides' normals has an unused one of its own), in the plan's order.
+void evaluate_with_normals(loopsub::Plan& plan, const loopsub::obj::ObjMesh& in, loopsub::obj::ObjMesh& out) {
+    std::vector<float> normals(std::size_t(plan.num_limit_normals()) * 3);
+    plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3),
+                  loopsub::Plan::LimitNormals{normals.data()});
+    const std::int32_t* index = plan.corner_normal_indices();
+    std::vector<std::int32_t> number(std::size_t(plan.num_limit_normals()), -1);
+    for (std::size_t c = 0; c < out.triangles.size(); ++c) number[std::size_t(index[c])] = 0;
+    for (std::size_t k = 0; k < number.size(); ++k) {
+        if (number[k] < 0) continue;
+        number[k] = std::int32_t(out.normals.size() / 3);
+        out.normals.insert(out.normals.end(), &normals[3 * k], &normals[3 * k] + 3);
     }
+    out.triangle_normals.resize(out.triangles.size());
+    for (std::size_t c = 0; c < out.triangles.size(); ++c) out.triangle_normals[c] = number[std::size_t(index[c])];
+}
 
+// The output's tags, and the rules that shaped it, so that refining it again continues the same surface.
+void carry_tags(const Command& command, const loopsub::Plan& plan, const loopsub::obj::ObjMesh& in,
+                loopsub::obj::ObjMesh& out) {
+    out.crease_edges = plan.output_crease_edges();
+    out.crease_sharpness = plan.output_crease_sharpness();
+    out.corner_vertices = plan.output_corner_vertices();
+    out.corner_sharpness = plan.output_corner_sharpness();
+    // Old vertices keep their indices at every level, so the cone tags carry over unchanged.
+    out.cone_vertices = in.cone_vertices;
+    out.boundary = command.boundary ? command.boundary : in.boundary;
+    out.crease_method = command.crease_method ? command.crease_method : in.crease_method;
+    out.face_varying = command.face_varying ? command.face_varying : in.face_varying;
+}
+
+// --levels: the plan's positions (with --limit, and its normals), UVs and tags written out.
+void subdivide(const Command& command, const loopsub::obj::ObjMesh& in, const loopsub::Options& options) {
     loopsub::FaceVaryingLayer uv_layer;
     loopsub::Plan plan(with_uv_layer(in, uv_layer), options);
     print_notes(command, plan.notes());
@@ -131,25 +165,8 @@ int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
     out.positions.resize(std::size_t(plan.num_output_vertices()) * 3);
     const std::int32_t* triangles = plan.output_triangles();
     out.triangles.assign(triangles, triangles + std::size_t(plan.num_output_triangles()) * 3);
-    if (options.limit_surface) {
-        std::vector<float> normals(std::size_t(plan.num_limit_normals()) * 3);
-        plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3),
-                      loopsub::Plan::LimitNormals{normals.data()});
-        // The compact normals as the vn, each corner naming its own: one vn per normal some corner uses (a vertex whose
-        // corners all take their sides' normals has an unused one of its own), in the plan's order.
-        const std::int32_t* index = plan.corner_normal_indices();
-        std::vector<std::int32_t> number(std::size_t(plan.num_limit_normals()), -1);
-        for (std::size_t c = 0; c < out.triangles.size(); ++c) number[std::size_t(index[c])] = 0;
-        for (std::size_t k = 0; k < number.size(); ++k) {
-            if (number[k] < 0) continue;
-            number[k] = std::int32_t(out.normals.size() / 3);
-            out.normals.insert(out.normals.end(), &normals[3 * k], &normals[3 * k] + 3);
-        }
-        out.triangle_normals.resize(out.triangles.size());
-        for (std::size_t c = 0; c < out.triangles.size(); ++c) out.triangle_normals[c] = number[std::size_t(index[c])];
-    } else {
-        plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
-    }
+    if (options.limit_surface) evaluate_with_normals(plan, in, out);
+    else plan.evaluate(loopsub::interleaved(in.positions.data(), 3), loopsub::interleaved(out.positions.data(), 3));
     const double evaluate_ms = plan.last_evaluate_ms();
 
     if (!in.triangle_uvs.empty()) {
@@ -158,17 +175,7 @@ int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
         const std::int32_t* uv_indices = plan.output_face_varying_indices(0);
         out.triangle_uvs.assign(uv_indices, uv_indices + out.triangles.size());
     }
-
-    out.crease_edges = plan.output_crease_edges();
-    out.crease_sharpness = plan.output_crease_sharpness();
-    out.corner_vertices = plan.output_corner_vertices();
-    out.corner_sharpness = plan.output_corner_sharpness();
-    // Old vertices keep their indices at every level, so the cone tags carry over unchanged.
-    out.cone_vertices = in.cone_vertices;
-    // The rules that shaped the output go with it, so that refining it again continues the same surface.
-    out.boundary = command.boundary ? command.boundary : in.boundary;
-    out.crease_method = command.crease_method ? command.crease_method : in.crease_method;
-    out.face_varying = command.face_varying ? command.face_varying : in.face_varying;
+    carry_tags(command, plan, in, out);
     loopsub::obj::write_obj(command.output, out, options.threads);
 
     if (command.stats) {
@@ -179,6 +186,14 @@ int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
                      plan.num_output_vertices(), plan.num_output_triangles(), loopsub::kernel_name(plan.kernel()),
                      plan.options().threads);
     }
+}
+
+// The file's notes, then the refinement (or the tessellation) written out.
+int refine(const Command& command, const loopsub::obj::ObjMesh& in) {
+    print_file_notes(command, in);
+    const loopsub::Options options = options_of(command, in);
+    if (command.tessellate > 0 || command.camera) tessellate(command, in, options);
+    else subdivide(command, in, options);
     return 0;
 }
 

@@ -1,6 +1,7 @@
 // The Python module `_loopsub`: numpy in, numpy out, no copies, the GIL released while the core runs. Its parts:
 // arguments.h checks the arrays handed in, plan.h binds the Plan and its options, subdivide.h the one-shot call and
-// its welding of per-corner values; here are the module itself, its errors and its constants.
+// its welding of per-corner values, read_obj.h the command line's OBJ reader; here are the module itself, its errors
+// and its constants.
 //
 // Conventions, so that Blender (and anyone else) gets errors instead of silent conversions:
 //   * every input array must already be a numpy array of exactly the right dtype (float32 / int32), C-contiguous,
@@ -18,6 +19,7 @@
 #include "loopsub/loopsub.h"
 #include "plan.h"
 #include "problems.h"
+#include "read_obj.h"
 #include "subdivide.h"
 #include "tessellation.h"
 
@@ -81,6 +83,7 @@ PYBIND11_MODULE(_loopsub, m) {
     loopsub::python::bind_plan(m);
     loopsub::python::bind_subdivide(m);
     loopsub::python::bind_tessellation(m);
+    loopsub::python::bind_obj(m);
 
     m.def(
         "best_kernel", [] { return loopsub::kernel_name(loopsub::best_kernel()); },

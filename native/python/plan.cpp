@@ -421,9 +421,55 @@ py::array evaluate_layer(PyPlan& p, int layer, py::handle values, py::handle out
     return result;
 }
 
-void bind_plan(py::module_& m) {
-    py::class_<PyPlan>(m, "Plan", kPlanDoc)
-        .def(py::init([](py::handle triangles, long long num_vertices,
+namespace {
+
+py::tuple output_edges(PyPlan& p, py::handle edge_vertices_out, py::handle triangle_edges_out,
+                       py::handle triangles_out) {
+    const std::vector<Dim> edge_dims{{num_output_edges(p), "E_out"}, {2, "2"}};
+    const std::vector<Dim> triangle_dims{{p.plan.num_output_triangles(), "M_out"}, {3, "3"}};
+    auto array = [](py::handle out, const char* name, const std::vector<Dim>& dims) {
+        if (out.is_none()) return py::array(py::array_t<std::int32_t>({dims[0].size, dims[1].size}));
+        return require_array<std::int32_t>(out, name, dims, /*writeable=*/true);
+    };
+    py::array edge_vertices = array(edge_vertices_out, "edge_vertices", edge_dims);
+    py::array triangle_edges = array(triangle_edges_out, "triangle_edges", triangle_dims);
+    const bool copy_triangles = !triangles_out.is_none();
+    py::array triangles = copy_triangles ? array(triangles_out, "triangles", triangle_dims) : py::array();
+    if (overlaps(edge_vertices, triangle_edges) ||
+        (copy_triangles && (overlaps(triangles, edge_vertices) || overlaps(triangles, triangle_edges))))
+        throw py::value_error("edge_vertices, triangle_edges and triangles must not share memory");
+    auto* ends = static_cast<std::int32_t*>(edge_vertices.mutable_data());
+    auto* sides = static_cast<std::int32_t*>(triangle_edges.mutable_data());
+    auto* corners = copy_triangles ? static_cast<std::int32_t*>(triangles.mutable_data()) : nullptr;
+    {
+        py::gil_scoped_release nogil;
+        p.plan.output_edges(ends, sides, corners);
+    }
+    return py::make_tuple(edge_vertices, triangle_edges);
+}
+
+py::array output_edge_parents(PyPlan& p, py::handle side_edges_in, py::handle parents_out) {
+    const std::vector<Dim> side_dims{{p.num_input_triangles, "M"}, {3, "3"}};
+    const py::array side_edges = require_array<std::int32_t>(side_edges_in, "side_edges", side_dims);
+    const std::vector<Dim> parent_dims{{num_output_edges(p), "E_out"}};
+    py::array parents = parents_out.is_none() ? py::array(py::array_t<std::int32_t>(parent_dims[0].size))
+                                              : require_array<std::int32_t>(parents_out, "parents", parent_dims, true);
+    if (overlaps(parents, side_edges)) throw py::value_error("side_edges and parents must not share memory");
+    const auto* sides = static_cast<const std::int32_t*>(side_edges.data());
+    auto* out = static_cast<std::int32_t*>(parents.mutable_data());
+    {
+        py::gil_scoped_release nogil;
+        p.plan.output_edge_parents(sides, out);
+    }
+    return parents;
+}
+
+using PlanClass = py::class_<PyPlan>;
+
+// Construction from the mesh and options, and the evaluations: vertex values, positions with their normals (per corner
+// or compact), face-varying layers.
+void bind_evaluation(PlanClass& plan) {
+    plan.def(py::init([](py::handle triangles, long long num_vertices,
                          int levels LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
                  return build_plan(triangles, num_vertices, levels,
                                    OptionArgs{LOOPSUB_FOR_EACH_OPTION(LOOPSUB_OPTION_VALUE)});
@@ -469,8 +515,12 @@ void bind_plan(py::module_& m) {
             "evaluate_face_varying(values, layer=layer)'s result) at each corner of each output triangle.")
         .def_property_readonly(
             "num_face_varying_layers", [](PyPlan& p) { return int(p.layer_values.size()); },
-            "Number of face-varying layers (face_varying_indices given to the Plan).")
-        .def_property_readonly(
+            "Number of face-varying layers (face_varying_indices given to the Plan).");
+}
+
+// What the plan was built with and its counts, its timings, its notes and its repr.
+void bind_properties(PlanClass& plan) {
+    plan.def_property_readonly(
             "limit_surface", [](PyPlan& p) { return p.plan.options().limit_surface; },
             "Whether the last level is put on the limit surface.")
         .def_property_readonly(
@@ -508,7 +558,19 @@ void bind_plan(py::module_& m) {
                 return p.plan.last_evaluate_ms();
             },
             "Milliseconds the last evaluate() spent in the core.")
-        .def_property_readonly(
+        .def("__repr__", [](PyPlan& p) {
+            return "<_loopsub.Plan rules=" + std::string(loopsub::option_name(p.plan.options().rules)) +
+                   " levels=" + std::to_string(p.plan.levels()) +
+                   " vertices=" + std::to_string(p.plan.num_input_vertices()) + "->" +
+                   std::to_string(p.plan.num_output_vertices()) +
+                   " triangles=" + std::to_string(p.num_input_triangles) + "->" +
+                   std::to_string(p.plan.num_output_triangles()) + ">";
+        });
+}
+
+// The output mesh: its triangles, their parents and the output's tags (read-only views of the plan's memory).
+void bind_output_mesh(PlanClass& plan) {
+    plan.def_property_readonly(
             "triangles",
             [](py::object self) {
                 auto& p = self.cast<PyPlan&>();
@@ -551,8 +613,38 @@ void bind_plan(py::module_& m) {
             "sharp_edge_indices",
             [](py::object self) { return tag_view(self, &loopsub::Plan::output_sharp_edge_indices); },
             "(S,) int32: sharp_edges as numbers of output_edges()'s edges, for plans of at least one level "
-            "(read-only view).")
+            "(read-only view).");
+}
+
+// The output's edges as the last split numbers them, and the input edges they lie on.
+void bind_output_edges(PlanClass& plan) {
+    plan.def_property_readonly(
+            "num_output_edges", [](PyPlan& p) { return num_output_edges(p); },
+            "int: the output's edges, as output_edges() gives them. ValueError for a plan of no levels or with "
+            "holes.")
         .def(
+            "output_edges", &output_edges, py::arg("edge_vertices") = py::none(),
+            py::arg("triangle_edges") = py::none(), py::arg("triangles") = py::none(),
+            "output_edges(edge_vertices=None, triangle_edges=None, triangles=None)\n\n(edge_vertices (E_out, 2) "
+            "int32, triangle_edges (M_out, 3) int32): the output's edges as the last split numbers them (the halves of "
+            "edge e of level levels - 1 are 2e and 2e + 1, the edges inside its face f are 2E + 3f + k), and each "
+            "output triangle's edges (edge k joins corners k and k + 1): a mesh without an edge search. Written into "
+            "the arrays given (C-contiguous, writeable int32 of those shapes, apart in memory: a mesh's own arrays, "
+            "say), else into new ones. Given triangles ((M_out, 3) int32, the same rules), the output triangles are "
+            "copied there in the same pass (a mesh's corner vertices). ValueError for a plan of no levels or with "
+            "holes.")
+        .def(
+            "output_edge_parents", &output_edge_parents, py::arg("side_edges"), py::arg("parents") = py::none(),
+            "output_edge_parents(side_edges, parents=None)\n\n(E_out,) int32: for each output edge (output_edges()' "
+            "order), the number of the input edge it lies on, -1 inside an input triangle. side_edges (M, 3) int32: "
+            "per input triangle, the caller's number of its edge k (from corner k to k + 1), -1 for none (a diagonal "
+            "the caller's triangulation added); an edge given several numbers takes the greatest. Written into parents "
+            "when given (C-contiguous, writeable). ValueError for a plan of no levels or with holes.");
+}
+
+// The levels: each one's edges, vertex count and vertex classes.
+void bind_levels(PlanClass& plan) {
+    plan.def(
             "level_edges",
             [](py::object self, int level) {
                 auto& p = self.cast<PyPlan&>();
@@ -565,70 +657,6 @@ void bind_plan(py::module_& m) {
             py::arg("level"),
             "level_edges(level)\n\n(E, 2) int32: the edges of level L; edge k becomes vertex level_num_vertices(L) + k "
             "of level L+1.")
-        .def_property_readonly(
-            "num_output_edges", [](PyPlan& p) { return num_output_edges(p); },
-            "int: the output's edges, as output_edges() gives them. ValueError for a plan of no levels or with "
-            "holes.")
-        .def(
-            "output_edges",
-            [](PyPlan& p, py::handle edge_vertices_out, py::handle triangle_edges_out, py::handle triangles_out) {
-                const std::vector<Dim> edge_dims{{num_output_edges(p), "E_out"}, {2, "2"}};
-                const std::vector<Dim> triangle_dims{{p.plan.num_output_triangles(), "M_out"}, {3, "3"}};
-                auto array = [](py::handle out, const char* name, const std::vector<Dim>& dims) {
-                    if (out.is_none()) return py::array(py::array_t<std::int32_t>({dims[0].size, dims[1].size}));
-                    return require_array<std::int32_t>(out, name, dims, /*writeable=*/true);
-                };
-                py::array edge_vertices = array(edge_vertices_out, "edge_vertices", edge_dims);
-                py::array triangle_edges = array(triangle_edges_out, "triangle_edges", triangle_dims);
-                const bool copy_triangles = !triangles_out.is_none();
-                py::array triangles = copy_triangles ? array(triangles_out, "triangles", triangle_dims) : py::array();
-                if (overlaps(edge_vertices, triangle_edges) ||
-                    (copy_triangles && (overlaps(triangles, edge_vertices) || overlaps(triangles, triangle_edges))))
-                    throw py::value_error("edge_vertices, triangle_edges and triangles must not share memory");
-                auto* ends = static_cast<std::int32_t*>(edge_vertices.mutable_data());
-                auto* sides = static_cast<std::int32_t*>(triangle_edges.mutable_data());
-                auto* corners = copy_triangles ? static_cast<std::int32_t*>(triangles.mutable_data()) : nullptr;
-                {
-                    py::gil_scoped_release nogil;
-                    p.plan.output_edges(ends, sides, corners);
-                }
-                return py::make_tuple(edge_vertices, triangle_edges);
-            },
-            py::arg("edge_vertices") = py::none(), py::arg("triangle_edges") = py::none(),
-            py::arg("triangles") = py::none(),
-            "output_edges(edge_vertices=None, triangle_edges=None, triangles=None)\n\n(edge_vertices (E_out, 2) "
-            "int32, triangle_edges (M_out, 3) int32): the output's edges as the last split numbers them (the halves of "
-            "edge e of level levels - 1 are 2e and 2e + 1, the edges inside its face f are 2E + 3f + k), and each "
-            "output triangle's edges (edge k joins corners k and k + 1): a mesh without an edge search. Written into "
-            "the arrays given (C-contiguous, writeable int32 of those shapes, apart in memory: a mesh's own arrays, "
-            "say), else into new ones. Given triangles ((M_out, 3) int32, the same rules), the output triangles are "
-            "copied there in the same pass (a mesh's corner vertices). ValueError for a plan of no levels or with "
-            "holes.")
-        .def(
-            "output_edge_parents",
-            [](PyPlan& p, py::handle side_edges_in, py::handle parents_out) {
-                const std::vector<Dim> side_dims{{p.num_input_triangles, "M"}, {3, "3"}};
-                const py::array side_edges = require_array<std::int32_t>(side_edges_in, "side_edges", side_dims);
-                const std::vector<Dim> parent_dims{{num_output_edges(p), "E_out"}};
-                py::array parents = parents_out.is_none()
-                                        ? py::array(py::array_t<std::int32_t>(parent_dims[0].size))
-                                        : require_array<std::int32_t>(parents_out, "parents", parent_dims, true);
-                if (overlaps(parents, side_edges))
-                    throw py::value_error("side_edges and parents must not share memory");
-                const auto* sides = static_cast<const std::int32_t*>(side_edges.data());
-                auto* out = static_cast<std::int32_t*>(parents.mutable_data());
-                {
-                    py::gil_scoped_release nogil;
-                    p.plan.output_edge_parents(sides, out);
-                }
-                return parents;
-            },
-            py::arg("side_edges"), py::arg("parents") = py::none(),
-            "output_edge_parents(side_edges, parents=None)\n\n(E_out,) int32: for each output edge (output_edges()' "
-            "order), the number of the input edge it lies on, -1 inside an input triangle. side_edges (M, 3) int32: "
-            "per input triangle, the caller's number of its edge k (from corner k to k + 1), -1 for none (a diagonal "
-            "the caller's triangulation added); an edge given several numbers takes the greatest. Written into parents "
-            "when given (C-contiguous, writeable). ValueError for a plan of no levels or with holes.")
         .def(
             "level_num_vertices",
             [](PyPlan& p, int level) {
@@ -654,16 +682,10 @@ void bind_plan(py::module_& m) {
             "level_vertex_types(level)\n\n(N_L,) uint8: the class of each vertex of level L (0 <= L <= levels) as used "
             "to "
             "reposition it; for L = levels, the output's classes (as a deeper plan or the limit uses them: what to tag "
-            "the result with). Names in VERTEX_TYPES (read-only view).")
-        .def("__repr__", [](PyPlan& p) {
-            return "<_loopsub.Plan rules=" + std::string(loopsub::option_name(p.plan.options().rules)) +
-                   " levels=" + std::to_string(p.plan.levels()) +
-                   " vertices=" + std::to_string(p.plan.num_input_vertices()) + "->" +
-                   std::to_string(p.plan.num_output_vertices()) +
-                   " triangles=" + std::to_string(p.num_input_triangles) + "->" +
-                   std::to_string(p.plan.num_output_triangles()) + ">";
-        });
+            "the result with). Names in VERTEX_TYPES (read-only view).");
+}
 
+void bind_option_names(py::module_& m) {
     m.def(
         "option_names",
         [] {
@@ -682,6 +704,18 @@ void bind_plan(py::module_& m) {
         },
         "option_names()\n\nThe values each option of Plan() and subdivide() takes, by keyword: a new dict of tuples of "
         "names, e.g. {'rules': ('hoppe94', 'opensubdiv'), ...}.");
+}
+
+}  // namespace
+
+void bind_plan(py::module_& m) {
+    PlanClass plan(m, "Plan", kPlanDoc);
+    bind_evaluation(plan);
+    bind_properties(plan);
+    bind_output_mesh(plan);
+    bind_output_edges(plan);
+    bind_levels(plan);
+    bind_option_names(m);
 }
 
 }  // namespace loopsub::python

@@ -27,20 +27,18 @@ void set_attributes(py::handle target, const loopsub::InputProblem* p) {
     target.attr("index") = p ? index_or_none(p->index) : none;
     target.attr("corner") = p ? index_or_none(p->corner) : none;
     // A vertex out of range may be negative itself: refers_to is given as is wherever the kind names one.
-    const bool refers = p && p->kind != loopsub::InputProblem::Kind::BadSharpness &&
-                        p->kind != loopsub::InputProblem::Kind::NonFiniteValue &&
-                        p->kind != loopsub::InputProblem::Kind::ValueTooLarge &&
-                        p->kind != loopsub::InputProblem::Kind::RunsTheSameWay;
+    using Kind = loopsub::InputProblem::Kind;
+    const bool has_value = p && (p->kind == Kind::BadSharpness || p->kind == Kind::NonFiniteValue ||
+                                 p->kind == Kind::ValueTooLarge || p->kind == Kind::RateOutOfRange);
+    const bool refers = p && p->kind != Kind::RunsTheSameWay && (!has_value || p->kind == Kind::RateOutOfRange);
     target.attr("refers_to") = refers ? py::object(py::int_(p->refers_to)) : none;
     target.attr("other") = p ? index_or_none(p->other) : none;
     target.attr("layer") = p ? index_or_none(p->layer) : none;
-    target.attr("channel") = p ? index_or_none(p->channel) : none;
-    const bool has_value = p && (p->kind == loopsub::InputProblem::Kind::BadSharpness ||
-                                 p->kind == loopsub::InputProblem::Kind::NonFiniteValue ||
-                                 p->kind == loopsub::InputProblem::Kind::ValueTooLarge);
+    target.attr("channel") =
+        p && p->element != loopsub::InputProblem::Element::Camera ? index_or_none(p->channel) : none;
     target.attr("value") = has_value ? py::object(py::float_(p->value)) : none;
-    target.attr("limit") =
-        p && p->kind == loopsub::InputProblem::Kind::ValueTooLarge ? py::object(py::float_(p->limit)) : none;
+    const bool has_limit = p && (p->kind == Kind::ValueTooLarge || p->kind == Kind::RateOutOfRange);
+    target.attr("limit") = has_limit ? py::object(py::float_(p->limit)) : none;
 }
 
 // A problem as Python sees it: a plain object with the attributes, its message and whether it is a note.
@@ -119,23 +117,26 @@ all None where the call itself is at fault, such as a wrong number of channels):
 
 kind : str
     ``"vertex_out_of_range"``, ``"triangle_out_of_range"`` (a hole), ``"value_out_of_range"`` (a face-varying
-    layer's value index), ``"degenerate_triangle"``, ``"not_an_edge"`` (a crease), ``"bad_sharpness"``,
-    ``"non_finite_value"``, ``"value_too_large"`` or, as a note of ``diagnose``, ``"runs_the_same_way"``.
+    layer's value index), ``"degenerate_triangle"``, ``"not_an_edge"`` (a crease, or an edge given a rate),
+    ``"bad_sharpness"``, ``"non_finite_value"``, ``"value_too_large"``, ``"rate_out_of_range"`` (a
+    ``Tessellation``'s ``edge_rates``) or, as a note of ``diagnose``, ``"runs_the_same_way"``.
 element : str
     What ``index`` numbers: ``"vertex"``, ``"triangle"``, ``"crease_edge"``, ``"corner_vertex"``, ``"cone"``,
-    ``"hole"`` or ``"face_varying_value"``.
+    ``"hole"``, ``"face_varying_value"``, ``"rated_edge"`` (a row of a ``Tessellation``'s ``edges`` and
+    ``edge_rates``) or ``"camera"`` (an entry of ``screen_space_rates``' ``world_to_clip``, row-major).
 index, corner : int
     The element, and of a triangle the corner (0-2) where it applies.
 refers_to : int
     The vertex, triangle or value the element names (out of range; for a degenerate triangle the repeated vertex;
-    for a crease that is no edge its first vertex).
+    for a crease or a rated edge its first vertex).
 other : int
-    The count the index was out of, the crease's second vertex, or the triangle a note's triangle shares its edge
-    with; of ``value_too_large``, how many values a sum adds.
+    The count the index was out of, the crease's or rated edge's second vertex, or the triangle a note's triangle
+    shares its edge with; of ``value_too_large``, how many values a sum adds.
 layer, channel : int
     The face-varying layer and the channel of a value.
 value, limit : float
-    The sharpness or value at fault, and the bound a value too large passed.
+    The sharpness, value or rate at fault, and the bound a value too large or a rate passed (a rate's largest,
+    4096).
 problem : SimpleNamespace or None
     The same attributes with ``message`` and ``is_note``, as ``diagnose`` lists them.
 )doc";

@@ -177,58 +177,56 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
     return py::make_tuple(edges, edge_rates);
 }
 
-}  // namespace
+py::tuple output_edges(PyTessellation& p) {
+    loopsub::Tessellation::Edges edges;
+    {
+        py::gil_scoped_release nogil;
+        edges = p.tessellation.output_edges();
+    }
+    py::array_t<std::int32_t> edge_vertices({py::ssize_t(edges.edge_vertices.size() / 2), py::ssize_t(2)});
+    py::array_t<std::int32_t> triangle_edges({py::ssize_t(edges.triangle_edges.size() / 3), py::ssize_t(3)});
+    std::copy(edges.edge_vertices.begin(), edges.edge_vertices.end(), edge_vertices.mutable_data());
+    std::copy(edges.triangle_edges.begin(), edges.triangle_edges.end(), triangle_edges.mutable_data());
+    return py::make_tuple(edge_vertices, triangle_edges);
+}
 
-void bind_tessellation(py::module_& m) {
-    m.def("screen_space_rates", &screen_rates, kScreenRatesDoc, py::arg("positions"), py::arg("triangles"),
-          py::arg("world_to_clip"), py::arg("viewport"), py::arg("pixels") = 1.0, py::arg("max_rate") = 64,
-          py::arg("measure") = "length", py::arg("offscreen_scale") = 4.0);
-    py::class_<loopsub::InputTopology>(
-        m, "InputTopology",
-        "What a Tessellation read of its input mesh alone (Tessellation.input_topology), "
-        "for one of the same mesh at other rates: Tessellation(..., reuse=). It holds "
-        "nothing of the result.");
-    py::class_<PyTessellation>(m, "Tessellation", kDoc)
-        .def(py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges,
-                         py::handle edge_rates, py::object reuse, const std::string& uv_interpolation,
-                         py::object face_varying_indices LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
-                 OptionArgs args;
+using TessellationClass = py::class_<PyTessellation>;
+
+// Construction from the mesh, its rates and options (and an earlier cut's input topology).
+void bind_construction(TessellationClass& tessellation) {
+    tessellation.def(
+        py::init([](py::handle triangles, long long num_vertices, int rate, py::handle edges, py::handle edge_rates,
+                    py::object reuse, const std::string& uv_interpolation,
+                    py::object face_varying_indices LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_PARAMETER)) {
+            OptionArgs args;
 #define LOOPSUB_OPTION_ASSIGN(type, keyword, default_value) args.keyword = keyword;
-                 LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ASSIGN)
+            LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ASSIGN)
 #undef LOOPSUB_OPTION_ASSIGN
-                 args.uv_interpolation = uv_interpolation;
-                 args.face_varying_indices = face_varying_indices;
-                 return build(triangles, num_vertices, rate, edges, edge_rates, reuse, args);
-             }),
-             py::arg("triangles"), py::arg("num_vertices"), py::arg("rate") = 1, py::kw_only(),
-             py::arg("edges") = py::none(), py::arg("edge_rates") = py::none(), py::arg("reuse") = py::none(),
-             py::arg("uv_interpolation") = OptionArgs{}.uv_interpolation,
-             py::arg("face_varying_indices") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG))
+            args.uv_interpolation = uv_interpolation;
+            args.face_varying_indices = face_varying_indices;
+            return build(triangles, num_vertices, rate, edges, edge_rates, reuse, args);
+        }),
+        py::arg("triangles"), py::arg("num_vertices"), py::arg("rate") = 1, py::kw_only(),
+        py::arg("edges") = py::none(), py::arg("edge_rates") = py::none(), py::arg("reuse") = py::none(),
+        py::arg("uv_interpolation") = OptionArgs{}.uv_interpolation,
+        py::arg("face_varying_indices") = py::none() LOOPSUB_FOR_EACH_MESH_OPTION(LOOPSUB_OPTION_ARG));
+}
+
+// The frame: the points and normals for new positions, a face-varying layer's values at the face points.
+void bind_evaluation(TessellationClass& tessellation) {
+    tessellation
+        .def("evaluate", &evaluate_points, kEvaluateDoc, py::arg("positions"), py::arg("out") = py::none(),
+             py::arg("normals") = py::none())
         .def("evaluate_face_varying", &face_varying_at_face_points, kEvaluateLayerDoc, py::arg("values"),
              py::arg("layer") = 0, py::arg("out") = py::none())
         .def_property_readonly(
             "num_face_varying_layers", [](PyTessellation& p) { return int(p.layer_values.size()); },
-            "int: the face-varying layers given.")
-        .def(
-            "output_edges",
-            [](PyTessellation& p) {
-                loopsub::Tessellation::Edges edges;
-                {
-                    py::gil_scoped_release nogil;
-                    edges = p.tessellation.output_edges();
-                }
-                py::array_t<std::int32_t> edge_vertices({py::ssize_t(edges.edge_vertices.size() / 2), py::ssize_t(2)});
-                py::array_t<std::int32_t> triangle_edges(
-                    {py::ssize_t(edges.triangle_edges.size() / 3), py::ssize_t(3)});
-                std::copy(edges.edge_vertices.begin(), edges.edge_vertices.end(), edge_vertices.mutable_data());
-                std::copy(edges.triangle_edges.begin(), edges.triangle_edges.end(), triangle_edges.mutable_data());
-                return py::make_tuple(edge_vertices, triangle_edges);
-            },
-            "output_edges()\n\n(edge_vertices (E, 2) int32, triangle_edges (T, 3) int32): the triangles' edges, each "
-            "once, and each triangle's edges (edge k joins corners k and k + 1), as Plan.output_edges: a mesh "
-            "without an edge search. New arrays.")
-        .def("evaluate", &evaluate_points, kEvaluateDoc, py::arg("positions"), py::arg("out") = py::none(),
-             py::arg("normals") = py::none())
+            "int: the face-varying layers given.");
+}
+
+// The result: its counts, its triangles and face points (read-only views of its memory) and its edges.
+void bind_result(TessellationClass& tessellation) {
+    tessellation
         .def_property_readonly(
             "num_points", [](PyTessellation& p) { return p.tessellation.num_points(); }, "int: points of the result.")
         .def_property_readonly(
@@ -272,7 +270,32 @@ void bind_tessellation(py::module_& m) {
                 return plan_view(t.face_point_parameters(), {t.num_face_points(), 2}, self);
             },
             "(num_face_points, 2) float32: each face point's (u, v) in its triangle, corner 0 + u (corner 1 - "
-            "corner 0) + v (corner 2 - corner 0) (read-only view).");
+            "corner 0) + v (corner 2 - corner 0) (read-only view).")
+        .def("output_edges", &output_edges,
+             "output_edges()\n\n(edge_vertices (E, 2) int32, triangle_edges (T, 3) int32): the triangles' edges, each "
+             "once, and each triangle's edges (edge k joins corners k and k + 1), as Plan.output_edges: a mesh "
+             "without an edge search. New arrays.");
+}
+
+void bind_screen_space_rates(py::module_& m) {
+    m.def("screen_space_rates", &screen_rates, kScreenRatesDoc, py::arg("positions"), py::arg("triangles"),
+          py::arg("world_to_clip"), py::arg("viewport"), py::arg("pixels") = 1.0, py::arg("max_rate") = 64,
+          py::arg("measure") = "length", py::arg("offscreen_scale") = 4.0);
+}
+
+}  // namespace
+
+void bind_tessellation(py::module_& m) {
+    bind_screen_space_rates(m);
+    py::class_<loopsub::InputTopology>(
+        m, "InputTopology",
+        "What a Tessellation read of its input mesh alone (Tessellation.input_topology), "
+        "for one of the same mesh at other rates: Tessellation(..., reuse=). It holds "
+        "nothing of the result.");
+    TessellationClass tessellation(m, "Tessellation", kDoc);
+    bind_construction(tessellation);
+    bind_evaluation(tessellation);
+    bind_result(tessellation);
 }
 
 }  // namespace loopsub::python

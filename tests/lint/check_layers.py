@@ -1,8 +1,9 @@
 """The layers of native/src (docs/architecture.md, "Layers") include only the layers below them: a lower layer that
 included a higher one would tie the rules to a mesh, the kernels to the builder, and so on. Each header included
 by folder ("rules/rule_set.h") is checked against the table; an include without a folder must name a file of the
-including layer. The front ends (native/cli, native/python, bench) use the public API (loopsub/) and, the CLI, the
-core's threads (base/): none reaches into a layer that only the core should know. The helpers the tests share with
+including layer. The front ends (native/cli, native/python, bench) use the public API (loopsub/) and, the CLI and the
+module, the OBJ reader and writer they share (native/obj, included as "obj/obj_io.h"), which uses the core's threads
+(base/): none reaches into a layer that only the core should know. The helpers the tests share with
 the benchmark (tests/support, included as "support/NAME.h") are held to the public API too, so that the benchmark
 reaches the core through them no more than itself. Prints one line per breach and `N passed, N failed`.
 
@@ -27,8 +28,9 @@ MAY_INCLUDE = {
 # Which layers of native/src each front end (a folder of the repository) may include besides its own files and the
 # public API; "support" is not a layer but the tests' shared helpers (tests/support), public API only themselves.
 FRONT_ENDS = {
-    "native/cli": {"base"},  # the core's team of threads writes the OBJ's lines
-    "native/python": set(),
+    "native/obj": {"base"},  # the OBJ reader and writer; the core's team of threads writes the OBJ's lines
+    "native/cli": {"obj"},
+    "native/python": {"obj"},  # read_obj: the command line's OBJ reader
     "bench": {"support"},
     "tests/support": {"support"},
 }

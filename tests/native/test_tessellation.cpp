@@ -7,9 +7,11 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "bfr_reference.h"
 #include "loopsub/tessellation.h"
@@ -651,15 +653,28 @@ TEST(ScreenRates, AnEdgeIsCutIntoItsLengthOnScreenInSegments) {
     EXPECT_EQ(tessellation.num_triangles(), expected);
 }
 
+// An icosahedron with a UV layer that has a seam; view() carries the layer.
+struct IcosahedronWithLayer {
+    IcosahedronWithLayer() : mesh(icosahedron()) {
+        add_uvs_with_seam(mesh);
+        layer = {mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
+    }
+    MeshView view() const {
+        MeshView with_layer = mesh.view();
+        with_layer.face_varying = &layer, with_layer.num_face_varying = 1;
+        return with_layer;
+    }
+    TestMesh mesh;
+    FaceVaryingLayer layer;
+};
+
 // The memory limit is one budget for everything a tessellation holds: its result, the plans of the triangles that are
 // no patch (an icosahedron has no regular vertex: all of it), each face-varying layer's own cut. A limit one byte below
 // what it counted refuses it; a limit that covers the result but not the plans did not, before.
 TEST(Tessellation, OneMemoryBudgetCoversItsPlansAndLayers) {
-    TestMesh mesh = icosahedron();
-    add_uvs_with_seam(mesh);
-    const FaceVaryingLayer layer{mesh.triangle_uvs.data(), int(mesh.uvs.size() / 2)};
-    MeshView with_layer = mesh.view();
-    with_layer.face_varying = &layer, with_layer.num_face_varying = 1;
+    const IcosahedronWithLayer icosahedron_with_layer;
+    const TestMesh& mesh = icosahedron_with_layer.mesh;
+    const MeshView with_layer = icosahedron_with_layer.view();
     TessellationRates rates;
     rates.uniform_rate = 32;  // level 5
     const Options options = options_for(mesh);
@@ -806,10 +821,12 @@ TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {
     rates.uniform_rate = 2;
     const std::int32_t not_an_edge[2] = {0, 0}, zero[1] = {0};
     rates.edges = not_an_edge, rates.rates = zero, rates.num_edges = 1;
-    refuses(mesh.view(), options, rates, "a rate for edge (0, 0), which no triangle has");
+    refuses(mesh.view(), options, rates, "rated edge 0 (0, 0) is not an edge of the mesh");
     const std::int32_t edge[2] = {mesh.triangles[0], mesh.triangles[1]};
     rates.edges = edge;
-    refuses(mesh.view(), options, rates, "the rate of edge");
+    refuses(mesh.view(), options, rates,
+            "rated edge 0 (" + std::to_string(edge[0]) + ", " + std::to_string(edge[1]) +
+                ") has rate 0; a rate must be between 1 and 4096");
     rates.num_edges = 0;
     Options no_boundary = options;
     no_boundary.boundary = Boundary::None;
@@ -830,6 +847,129 @@ TEST(Tessellation, RefusesBadRatesAndUnsupportedInput) {
     MeshView broken = mesh.view();
     broken.num_vertices = 3;  // the triangles name vertices past it: the plan's own check
     EXPECT_THROW(Tessellation(broken, options, rates), InputError);
+}
+
+// --- The tessellation's checks of the caller's data, as InputProblems ---------------------------------------------
+
+// The problem `call` throws, its message what() gives after `context`; a test failure where it throws none.
+template <typename Call>
+InputProblem problem_of(Call&& call, const std::string& context) {
+    try {
+        call();
+        ADD_FAILURE() << "no InputError";
+    } catch (const InputError& error) {
+        if (error.problem()) {
+            EXPECT_EQ(std::string(error.what()), context + error.problem()->message());
+            return *error.problem();
+        }
+        ADD_FAILURE() << "an InputError without a problem: " << error.what();
+    }
+    return {};
+}
+
+// Rated edges: the first that is no edge of the mesh or whose rate is out of range, with its index, its ends and
+// (out of range) its rate and the largest.
+TEST(TessellationChecks, RatedEdgesAreNotAnEdgeAndRateOutOfRange) {
+    TestMesh mesh = icosahedron();
+    const Options options = options_for(mesh);
+    const std::int32_t a = mesh.triangles[0], b = mesh.triangles[1], c = mesh.triangles[2];
+    const std::int32_t edges[6] = {a, b, b, c, a, a}, good_rates[3] = {3, 5, 2}, bad_rates[3] = {3, 4097, 2};
+    TessellationRates rates;
+    rates.uniform_rate = 2, rates.edges = edges, rates.rates = good_rates, rates.num_edges = 3;
+    // The third names no edge (a, a).
+    InputProblem p = problem_of([&] { Tessellation(mesh.view(), options, rates); }, "tessellation: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::NotAnEdge);
+    EXPECT_EQ(p.element, InputProblem::Element::RatedEdge);
+    EXPECT_EQ(p.index, 2);
+    EXPECT_EQ(p.refers_to, a);
+    EXPECT_EQ(p.other, a);
+    EXPECT_STREQ(problem_name(p.element), "rated_edge");
+    // The second's rate comes first.
+    rates.rates = bad_rates;
+    p = problem_of([&] { Tessellation(mesh.view(), options, rates); }, "tessellation: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::RateOutOfRange);
+    EXPECT_EQ(p.element, InputProblem::Element::RatedEdge);
+    EXPECT_EQ(p.index, 1);
+    EXPECT_EQ(p.refers_to, b);
+    EXPECT_EQ(p.other, c);
+    EXPECT_EQ(p.value, 4097.0f);
+    EXPECT_EQ(p.limit, float(kMaxTessellationRate));
+    EXPECT_STREQ(problem_name(p.kind), "rate_out_of_range");
+    // Sound, the rates are taken.
+    rates.num_edges = 2, rates.rates = good_rates;
+    EXPECT_GT(Tessellation(mesh.view(), options, rates).num_points(), 0);
+    // An argument, not data: a plain InputError.
+    rates.uniform_rate = 0;
+    try {
+        Tessellation(mesh.view(), options, rates);
+        ADD_FAILURE() << "a uniform rate of 0 accepted";
+    } catch (const InputError& error) { EXPECT_EQ(error.problem(), nullptr); }
+}
+
+// A frame's positions and a layer's values: NonFiniteValue and ValueTooLarge at their vertex or value and channel.
+TEST(TessellationChecks, PositionsAndLayerValuesAreNonFiniteOrTooLarge) {
+    const IcosahedronWithLayer icosahedron_with_layer;
+    const TestMesh& mesh = icosahedron_with_layer.mesh;
+    TessellationRates rates;
+    rates.uniform_rate = 3;
+    const Tessellation tessellation(icosahedron_with_layer.view(), options_for(mesh), rates);
+    std::vector<float> points(3 * std::size_t(tessellation.num_points()));
+    std::vector<float> positions = mesh.positions;
+    positions[3 * 7 + 2] = std::numeric_limits<float>::infinity();
+    InputProblem p =
+        problem_of([&] { tessellation.evaluate(positions.data(), points.data(), nullptr); }, "tessellation: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::NonFiniteValue);
+    EXPECT_EQ(p.element, InputProblem::Element::Vertex);
+    EXPECT_EQ(p.index, 7);
+    EXPECT_EQ(p.channel, 2);
+    positions[3 * 7 + 2] = std::numeric_limits<float>::max() / 2;
+    p = problem_of([&] { tessellation.evaluate(positions.data(), points.data(), nullptr); }, "tessellation: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::ValueTooLarge);
+    EXPECT_EQ(p.index, 7);
+    EXPECT_EQ(p.limit, std::numeric_limits<float>::max() / 64);
+    std::vector<float> uvs = mesh.uvs, out(2 * std::size_t(tessellation.num_face_points()));
+    uvs[2 * 5 + 1] = std::numeric_limits<float>::quiet_NaN();
+    p = problem_of([&] { tessellation.evaluate_face_varying(0, uvs.data(), 2, out.data()); }, "tessellation: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::NonFiniteValue);
+    EXPECT_EQ(p.element, InputProblem::Element::FaceVaryingValue);
+    EXPECT_EQ(p.index, 5);
+    EXPECT_EQ(p.layer, 0);
+    EXPECT_EQ(p.channel, 1);
+}
+
+// screen_space_rates: the camera's matrix (its entry), the triangles' vertices and the positions.
+TEST(TessellationChecks, ScreenRatesCheckTheCameraTrianglesAndPositions) {
+    MeshData mesh;
+    mesh.positions = {-0.5f, 0, -2, 0.5f, 0, -2, 0, 0.5f, -2};
+    mesh.triangles = {0, 1, 2};
+    Camera camera = camera_down_z();
+    camera.world_to_clip[6] = std::numeric_limits<float>::quiet_NaN();
+    auto rates = [&](const MeshView& view, const float* positions) {
+        screen_space_rates(view, positions, camera, 1.0f, 64);
+    };
+    InputProblem p = problem_of([&] { rates(mesh.view(), mesh.positions.data()); }, "screen_space_rates: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::NonFiniteValue);
+    EXPECT_EQ(p.element, InputProblem::Element::Camera);
+    EXPECT_EQ(p.index, 6);
+    EXPECT_STREQ(problem_name(p.element), "camera");
+    EXPECT_EQ(p.message(), "the camera's world_to_clip entry 6 (row 1, column 2) has a non-finite value (nan)");
+    camera = camera_down_z();
+    MeshView out_of_range = mesh.view();
+    out_of_range.num_vertices = 2;
+    p = problem_of([&] { rates(out_of_range, mesh.positions.data()); }, "screen_space_rates: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::VertexOutOfRange);
+    EXPECT_EQ(p.element, InputProblem::Element::Triangle);
+    EXPECT_EQ(p.index, 0);
+    EXPECT_EQ(p.corner, 2);
+    EXPECT_EQ(p.refers_to, 2);
+    EXPECT_EQ(p.other, 2);
+    std::vector<float> positions = mesh.positions;
+    positions[4] = -std::numeric_limits<float>::infinity();
+    p = problem_of([&] { rates(mesh.view(), positions.data()); }, "screen_space_rates: ");
+    EXPECT_EQ(p.kind, InputProblem::Kind::NonFiniteValue);
+    EXPECT_EQ(p.element, InputProblem::Element::Vertex);
+    EXPECT_EQ(p.index, 1);
+    EXPECT_EQ(p.channel, 1);
 }
 
 }  // namespace

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import _loopsub
-from conftest import tetrahedron
+from conftest import icosahedron, tetrahedron
 
 
 def raised(call, *args, **kwargs):
@@ -104,6 +104,60 @@ def test_value_too_large():
     error = raised(_loopsub.subdivide, p, t, 1)
     assert (error.kind, error.element, error.index, error.channel) == ("value_too_large", "vertex", 1, 0)
     assert error.value == np.float32(3e38) and 0 < error.limit < 3e38 and error.other > 0
+
+
+def test_a_tessellations_rated_edges():
+    """A Tessellation's edges and edge_rates: the first row that names no edge of the mesh, or whose rate is outside
+    1..4096, with its row, its ends and the rate."""
+    positions, triangles = icosahedron()
+    a, b, c = (int(v) for v in triangles[0])
+    edges = np.array([[a, b], [b, c], [a, a]], np.int32)
+    error = raised(_loopsub.Tessellation, triangles, len(positions), 2, edges=edges,
+                   edge_rates=np.array([3, 5, 2], np.int32))
+    assert (error.kind, error.element, error.index, error.refers_to, error.other) == \
+        ("not_an_edge", "rated_edge", 2, a, a)
+    error = raised(_loopsub.Tessellation, triangles, len(positions), 2, edges=edges,
+                   edge_rates=np.array([3, 0, 2], np.int32))
+    assert (error.kind, error.element, error.index, error.refers_to, error.other) == \
+        ("rate_out_of_range", "rated_edge", 1, b, c)
+    assert (error.value, error.limit, error.channel) == (0.0, 4096.0, None)
+    assert str(error) == f"tessellation: rated edge 1 ({b}, {c}) has rate 0; a rate must be between 1 and 4096"
+    assert raised(_loopsub.Tessellation, triangles, len(positions), 0).problem is None  # an argument, not data
+
+
+def test_a_tessellations_positions_and_layer_values():
+    positions, triangles = icosahedron()
+    uv_indices = np.arange(60, dtype=np.int32).reshape(20, 3)
+    tessellation = _loopsub.Tessellation(triangles, len(positions), 3, face_varying_indices=[uv_indices])
+    bad = positions.copy()
+    bad[4, 1] = np.inf
+    error = raised(tessellation.evaluate, bad)
+    assert (error.kind, error.element, error.index, error.channel) == ("non_finite_value", "vertex", 4, 1)
+    bad[4, 1] = 3e38
+    error = raised(tessellation.evaluate, bad)
+    assert (error.kind, error.element, error.index, error.channel) == ("value_too_large", "vertex", 4, 1)
+    assert error.limit == np.float32(np.finfo(np.float32).max / 64)
+    uvs = np.zeros((60, 2), np.float32)
+    uvs[33, 0] = np.nan
+    error = raised(tessellation.evaluate_face_varying, uvs)
+    assert (error.kind, error.element, error.index, error.layer, error.channel) == \
+        ("non_finite_value", "face_varying_value", 33, 0, 0)
+
+
+def test_screen_space_rates_camera_triangles_and_positions():
+    positions, triangles = icosahedron()
+    camera = np.eye(4, dtype=np.float32)
+    camera[3, 2] = np.nan
+    error = raised(_loopsub.screen_space_rates, positions, triangles, camera, (100, 100))
+    assert (error.kind, error.element, error.index, error.channel, error.refers_to) == \
+        ("non_finite_value", "camera", 14, None, None)
+    assert str(error) == ("screen_space_rates: the camera's world_to_clip entry 14 (row 3, column 2) has a "
+                          "non-finite value (nan)")
+    bad = triangles.copy()
+    bad[5, 2] = 12
+    error = raised(_loopsub.screen_space_rates, positions, bad, np.eye(4, dtype=np.float32), (100, 100))
+    assert (error.kind, error.element, error.index, error.corner, error.refers_to, error.other) == \
+        ("vertex_out_of_range", "triangle", 5, 2, 12, 12)
 
 
 def test_errors_of_the_call_have_no_problem():

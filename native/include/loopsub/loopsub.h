@@ -40,15 +40,19 @@ struct InputProblem {
         ValueOutOfRange,     // corner `corner` of triangle `index` in face-varying layer `layer` refers to value
                              // `refers_to`; the layer has `other` values
         DegenerateTriangle,  // triangle `index` repeats vertex `refers_to`, at `corner` and a corner before it
-        NotAnEdge,           // crease edge `index`, from vertex `refers_to` to `other`, is no edge of the mesh
+        NotAnEdge,           // crease edge or rated edge `index`, from vertex `refers_to` to `other`, is no edge of the
+                             // mesh
         BadSharpness,        // crease edge or corner vertex `index` has sharpness `value`: negative or not finite
         NonFiniteValue,      // vertex, face-varying value (of `layer`) or triangle `index` (at `corner`) has `value`
-                             // in channel `channel`
+                             // in channel `channel`; or the camera's world_to_clip entry `index` has `value`
         ValueTooLarge,       // the same with `value` beyond +-`limit`, which keeps sums of up to `other` values finite
         // A note, no error: triangle `index` runs along its edge `corner` (from that corner to the next) the same way
         // as triangle `other` does, as a face wound against its neighbours leaves it; the rules make the edge
         // infinitely sharp (docs/rules.md, Sharpness).
-        RunsTheSameWay
+        RunsTheSameWay,
+        // A tessellation's rated edge `index`, from vertex `refers_to` to `other`, has rate `value`, outside 1..`limit`
+        // (kMaxTessellationRate, loopsub/tessellation.h).
+        RateOutOfRange,
     };
     enum class Element : std::uint8_t {
         Vertex,            // MeshView::num_vertices: a vertex's values
@@ -58,6 +62,8 @@ struct InputProblem {
         Cone,              // MeshView::cone_vertices
         Hole,              // MeshView::hole_triangles
         FaceVaryingValue,  // a value of face-varying layer `layer`
+        RatedEdge,         // TessellationRates::edges and rates (loopsub/tessellation.h): an edge given a rate
+        Camera,            // Camera::world_to_clip (loopsub/tessellation.h): `index` is its entry, row-major
     };
     Kind kind = Kind::VertexOutOfRange;
     Element element = Element::Vertex;

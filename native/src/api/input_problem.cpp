@@ -14,22 +14,37 @@ using Kind = InputProblem::Kind;
 using Element = InputProblem::Element;
 
 // Each list in its enum's order.
-constexpr const char* kKindNames[] = {"vertex_out_of_range", "triangle_out_of_range", "value_out_of_range",
-                                      "degenerate_triangle", "not_an_edge",           "bad_sharpness",
-                                      "non_finite_value",    "value_too_large",       "runs_the_same_way"};
-constexpr const char* kElementNames[] = {"vertex", "triangle", "crease_edge",       "corner_vertex",
-                                         "cone",   "hole",     "face_varying_value"};
-static_assert(std::size(kKindNames) == std::size_t(Kind::RunsTheSameWay) + 1 &&
-                  std::size(kElementNames) == std::size_t(Element::FaceVaryingValue) + 1,
+constexpr const char* kKindNames[] = {
+    "vertex_out_of_range", "triangle_out_of_range", "value_out_of_range", "degenerate_triangle", "not_an_edge",
+    "bad_sharpness",       "non_finite_value",      "value_too_large",    "runs_the_same_way",   "rate_out_of_range"};
+constexpr const char* kElementNames[] = {"vertex", "triangle",           "crease_edge", "corner_vertex", "cone",
+                                         "hole",   "face_varying_value", "rated_edge",  "camera"};
+static_assert(std::size(kKindNames) == std::size_t(Kind::RateOutOfRange) + 1 &&
+                  std::size(kElementNames) == std::size_t(Element::Camera) + 1,
               "a name for every kind and element");
 
-// An element in a message: "crease edge 3", "face-varying value 7 of layer 1".
+// An element in a message: "crease edge 3", "face-varying value 7 of layer 1", "the camera's world_to_clip entry 7
+// (row 1, column 3)".
 std::string element_words(const InputProblem& p) {
-    static constexpr const char* kWords[] = {"vertex", "triangle", "crease edge",       "corner",
-                                             "cone",   "hole",     "face-varying value"};
+    static constexpr const char* kWords[] = {"vertex",
+                                             "triangle",
+                                             "crease edge",
+                                             "corner",
+                                             "cone",
+                                             "hole",
+                                             "face-varying value",
+                                             "rated edge",
+                                             "the camera's world_to_clip entry"};
     std::string text = kWords[int(p.element)] + (" " + std::to_string(p.index));
     if (p.element == Element::FaceVaryingValue && p.layer >= 0) text += " of layer " + std::to_string(p.layer);
+    if (p.element == Element::Camera)
+        text += " (row " + std::to_string(p.index / 4) + ", column " + std::to_string(p.index % 4) + ")";
     return text;
+}
+
+// "in channel 2", where the element has channels (a camera's matrix entry has none).
+std::string channel_words(const InputProblem& p) {
+    return p.element == Element::Camera ? std::string() : " in channel " + std::to_string(p.channel);
 }
 
 std::string range(int count) { return "0.." + std::to_string(count - 1); }
@@ -67,8 +82,7 @@ std::string InputProblem::message() const {
         case Kind::BadSharpness:
             return at + " has sharpness " + std::to_string(value) + "; it must be a finite number >= 0";
         case Kind::NonFiniteValue:
-            return value_place(*this) + " has a non-finite value (" + shortest(value) + ") in channel " +
-                   std::to_string(channel);
+            return value_place(*this) + " has a non-finite value (" + shortest(value) + ")" + channel_words(*this);
         case Kind::ValueTooLarge:
             return value_place(*this) + " has a value too large to refine (" + shortest(value) + ") in channel " +
                    std::to_string(channel) + ": sums of up to " + std::to_string(other) +
@@ -77,6 +91,9 @@ std::string InputProblem::message() const {
             return "triangles " + std::to_string(other) + " and " + std::to_string(index) +
                    " run along an edge the same way (edge " + std::to_string(corner) + " of triangle " +
                    std::to_string(index) + "), as a face wound against its neighbours does: it is infinitely sharp";
+        case Kind::RateOutOfRange:
+            return at + " (" + std::to_string(refers_to) + ", " + std::to_string(other) + ") has rate " +
+                   shortest(value) + "; a rate must be between 1 and " + shortest(limit);
     }
     return at;
 }

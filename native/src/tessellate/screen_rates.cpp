@@ -7,9 +7,11 @@
 #include <utility>
 #include <vector>
 
+#include "base/input_checks.h"
 #include "loopsub/tessellation.h"
 #include "rules/rules.h"
 #include "tessellate/level_patches.h"
+#include "tessellate/tessellation_rates.h"
 
 namespace loopsub {
 
@@ -163,6 +165,33 @@ bool reaches_view(const Clip& p, const Clip& q, const Clip& mid) {
     return std::max(px, qx) >= -1.0 && std::min(px, qx) <= 1.0 && std::max(py, qy) >= -1.0 && std::min(py, qy) <= 1.0;
 }
 
+// The arguments of screen_space_rates that are no data of the mesh or the camera's matrix: plain InputErrors, as a
+// plan's options.
+void validate_screen_arguments(float pixels, int max_rate, float offscreen_scale, const Camera& camera) {
+    if (!(pixels > 0.0f) || !std::isfinite(pixels))
+        fail("pixels must be a positive number, got " + std::to_string(pixels));
+    detail::validate_rate_argument(max_rate, "max_rate", "screen_space_rates: ");
+    if (!(offscreen_scale >= 1.0f) || !std::isfinite(offscreen_scale))
+        fail("offscreen_scale must be at least 1, got " + std::to_string(offscreen_scale));
+    if (!(camera.viewport_width > 0.0f) || !(camera.viewport_height > 0.0f) || !std::isfinite(camera.viewport_width) ||
+        !std::isfinite(camera.viewport_height))
+        fail("the viewport must have a positive size");
+}
+
+// The mesh's triangles, the positions and the camera's matrix, by the core's checks (base/input_checks.h): the
+// first problem thrown as an InputError that carries it.
+void check_screen_input(const MeshView& mesh, const float* positions, const Camera& camera) {
+    if (mesh.num_vertices < 0 || mesh.num_triangles < 0 || (mesh.num_triangles > 0 && !mesh.triangles))
+        fail("no triangles");
+    if (mesh.num_vertices > 0 && !positions) fail("positions are missing (null)");
+    const detail::ThrowFirst report{"screen_space_rates: "};
+    detail::check_values({camera.world_to_clip, 1, 1, 1}, 16, InputProblem::Element::Camera, -1, 0.0f, 0, report);
+    detail::check_triangles(mesh.triangles, mesh.num_triangles, mesh.num_vertices, false, report);
+    // A deviation reads the neighbours' positions too.
+    detail::check_values(interleaved(positions, 3), mesh.num_vertices, InputProblem::Element::Vertex, -1, 0.0f, 0,
+                         report);
+}
+
 }  // namespace
 
 Camera look_at_camera(const float eye[3], const float target[3], const float up[3], float fov_degrees, float width,
@@ -209,28 +238,8 @@ TessellationRates ScreenRates::view() const {
 ScreenRates screen_space_rates(const MeshView& mesh, const float* positions, const Camera& camera, float pixels,
                                int max_rate, DicingMeasure measure, float offscreen_scale) {
     const bool by_deviation = measure == DicingMeasure::Deviation;
-    if (!(pixels > 0.0f) || !std::isfinite(pixels))
-        fail("pixels must be a positive number, got " + std::to_string(pixels));
-    if (max_rate < 1 || max_rate > kMaxTessellationRate)
-        fail("max_rate must be between 1 and " + std::to_string(kMaxTessellationRate) + ", got " +
-             std::to_string(max_rate));
-    if (!(offscreen_scale >= 1.0f) || !std::isfinite(offscreen_scale))
-        fail("offscreen_scale must be at least 1, got " + std::to_string(offscreen_scale));
-    if (!(camera.viewport_width > 0.0f) || !(camera.viewport_height > 0.0f) || !std::isfinite(camera.viewport_width) ||
-        !std::isfinite(camera.viewport_height))
-        fail("the viewport must have a positive size");
-    for (float m : camera.world_to_clip)
-        if (!std::isfinite(m)) fail("world_to_clip must be finite");
-    if (mesh.num_triangles < 0 || (mesh.num_triangles > 0 && !mesh.triangles)) fail("no triangles");
-    for (int c = 0; c < 3 * mesh.num_triangles; ++c)
-        if (mesh.triangles[c] < 0 || mesh.triangles[c] >= mesh.num_vertices)
-            fail("triangle corner " + std::to_string(c) + " names vertex " + std::to_string(mesh.triangles[c]) +
-                 ", not in 0.." + std::to_string(mesh.num_vertices - 1));
-    for (int c = 0; c < 3 * mesh.num_triangles; ++c) {  // a deviation reads the neighbours' positions too
-        const float* p = positions + 3 * std::size_t(mesh.triangles[c]);
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-            fail("the position of vertex " + std::to_string(mesh.triangles[c]) + " is not finite");
-    }
+    validate_screen_arguments(pixels, max_rate, offscreen_scale, camera);
+    check_screen_input(mesh, positions, camera);
     // By deviation each corner's edge is wanted too.
     const detail::SortedEdges edges =
         by_deviation ? detail::sorted_edges(mesh.triangles, mesh.num_triangles)

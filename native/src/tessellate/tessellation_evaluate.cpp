@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 
+#include "base/input_checks.h"
 #include "base/parallel.h"
 #include "tessellate/tessellation_data.h"
 
@@ -67,6 +68,11 @@ private:
 void copy_point(const float* from, float* to) { to[0] = from[0], to[1] = from[1], to[2] = from[2]; }
 
 constexpr int kPoints = detail::kPatchPoints;
+
+// A patch sums 12 weighted points, its derivatives' weights up to about 6 in all: inputs below the float maximum over
+// 64 keep every sum finite (the bound a plan puts as max / (summed terms + 1)).
+constexpr int kPositionSummedTerms = 63;
+constexpr float kLargestPosition = std::numeric_limits<float>::max() / float(kPositionSummedTerms + 1);
 
 // Each band's plans on its vertices' positions: the limit points and normals, and the control points.
 void evaluate_bands(const TessellationImpl& d, const float* positions) {
@@ -155,9 +161,11 @@ void Tessellation::evaluate_face_varying(int layer, const float* values, int cha
     if (channels < 1) throw InputError("tessellation: at least one face-varying channel is needed");
     const TessellationImpl::Layer& l = d.layers[std::size_t(layer)];
     const std::size_t c = std::size_t(channels);
-    for (std::size_t i = 0; i < std::size_t(l.num_values) * c; ++i)
-        if (!std::isfinite(values[i]))
-            throw InputError("tessellation: face-varying value " + std::to_string(i / c) + " is not finite");
+    // Finite; where the layer's surface places them as positions, within its bound too (else its own check would
+    // name a vertex of the layer's mesh, not the caller's value).
+    detail::check_values(interleaved(values, channels), l.num_values, InputProblem::Element::FaceVaryingValue, layer,
+                         l.surface ? kLargestPosition : 0.0f, kPositionSummedTerms,
+                         detail::ThrowFirst{"tessellation: "});
     const std::size_t num_face_points = d.samples.size();
     if (!l.surface) {
         for (std::size_t f = 0; f < num_face_points; ++f) {
@@ -188,13 +196,8 @@ void Tessellation::evaluate_face_varying(int layer, const float* values, int cha
 void Tessellation::evaluate(const float* positions, float* points, float* normals) const {
     const TessellationImpl& d = *impl_;
     const std::size_t num_faces = d.face_patch.size();
-    // A patch sums 12 weighted points, its derivatives' weights up to about 6 in all: inputs below the float maximum
-    // over 64 keep every sum finite.
-    constexpr float kLargest = std::numeric_limits<float>::max() / 64.0f;
-    for (std::size_t i = 0; i < 3 * std::size_t(d.num_input_vertices); ++i)
-        if (!(std::fabs(positions[i]) <= kLargest))
-            throw InputError("tessellation: position " + std::to_string(i / 3) + " is not finite or larger than " +
-                             std::to_string(kLargest));
+    detail::check_values(interleaved(positions, 3), d.num_input_vertices, InputProblem::Element::Vertex, -1,
+                         kLargestPosition, kPositionSummedTerms, detail::ThrowFirst{"tessellation: "});
     evaluate_bands(d, positions);
     // Each part's scratch takes the largest block once: resized block by block, it was zeroed again for every face.
     std::size_t largest_block = 0;

@@ -5,34 +5,25 @@
 
 namespace loopsub::detail {
 
-namespace {
-
-// what(): the rate's name, made only for the error.
-template <typename Name>
-int rate_in_range(int rate, Name what) {
+void validate_rate_argument(int rate, const char* name, const char* context) {
     if (rate < 1 || rate > kMaxTessellationRate)
-        tessellation_fail(what() + " must be between 1 and " + std::to_string(kMaxTessellationRate) + ", got " +
-                          std::to_string(rate));
-    return rate;
+        throw InputError(std::string(context) + name + " must be between 1 and " +
+                         std::to_string(kMaxTessellationRate) + ", got " + std::to_string(rate));
 }
 
-}  // namespace
+void validate_rates_view(const TessellationRates& rates) {
+    if (rates.num_edges < 0) tessellation_fail("num_edges must not be negative");
+    if (rates.num_edges > 0 && (rates.edges == nullptr || rates.rates == nullptr))
+        tessellation_fail("edges or rates are missing (null) but num_edges is " + std::to_string(rates.num_edges));
+}
 
 EdgeRates edges_with_rates(const KeptInput& input, int num_vertices, const TessellationRates& rates) {
+    validate_rate_argument(rates.uniform_rate, "uniform_rate", "tessellation: ");
+    validate_rates_view(rates);
     EdgeRates edges;
-    const int uniform = rate_in_range(rates.uniform_rate, [] { return std::string("uniform_rate"); });
-    edges.rates.assign(input.edges.keys.size(), uniform);
-    if (rates.num_edges < 0) tessellation_fail("num_edges must not be negative");
-    for (int k = 0; k < rates.num_edges; ++k) {
-        const std::int32_t a = rates.edges[2 * k], b = rates.edges[2 * k + 1];
-        // screen_space_rates gives the edges in this order: then the k-th is the one.
-        const int e = std::size_t(k) < input.edges.keys.size() && input.edges.keys[std::size_t(k)] == edge_key(a, b)
-                          ? k
-                          : input.find_edge(a, b);
-        auto name = [a, b] { return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")"; };
-        if (e < 0) tessellation_fail("a rate for " + name() + ", which no triangle has");
-        edges.rates[std::size_t(e)] = rate_in_range(rates.rates[k], [&] { return "the rate of " + name(); });
-    }
+    edges.rates.assign(input.edges.keys.size(), rates.uniform_rate);
+    check_rated_edges(input, rates, ThrowFirst{"tessellation: "},
+                      [&edges](int, int e, int rate) { edges.rates[std::size_t(e)] = rate; });
     std::int64_t next = num_vertices;
     for (int rate : edges.rates) edges.first_point.push_back(next), next += rate - 1;
     return edges;
