@@ -5,7 +5,7 @@
 import bpy
 import numpy as np
 
-from .mesh_arrays import read_named_attribute, write_named_attribute
+from .mesh_arrays import write_named_attribute
 
 USES_CREASE_ATTRIBUTES = bpy.app.version >= (4, 0, 0)
 
@@ -16,18 +16,21 @@ EDGE_CREASE_ATTRIBUTE = "crease_edge"
 VERTEX_CREASE_ATTRIBUTE = "crease_vert"
 
 
-def _read_crease_layer(layers, count):
-    """Blender 3.x: the first crease layer's values, zeros when there is none."""
+def _read_creases(mesh, attribute, layers, count):
+    """The values of the crease attribute (4.0 on) or of the first of the mesh's crease layers of that name (3.x),
+    zeros where the mesh has none."""
     values = np.zeros(count, dtype=np.float32)
-    if len(layers):
-        layers[0].data.foreach_get("value", values)
+    if USES_CREASE_ATTRIBUTES:
+        source = mesh.attributes.get(attribute)
+    else:
+        source = next(iter(getattr(mesh, layers)), None)
+    if source is not None:
+        source.data.foreach_get("value", values)
     return values
 
 
 def read_edge_creases(mesh):
-    if USES_CREASE_ATTRIBUTES:
-        return read_named_attribute(mesh, EDGE_CREASE_ATTRIBUTE, len(mesh.edges))
-    return _read_crease_layer(mesh.edge_creases, len(mesh.edges))
+    return _read_creases(mesh, EDGE_CREASE_ATTRIBUTE, "edge_creases", len(mesh.edges))
 
 
 def write_edge_creases(mesh, values):
@@ -45,9 +48,7 @@ def has_vertex_creases(mesh):
 
 
 def read_vertex_creases(mesh):
-    if USES_CREASE_ATTRIBUTES:
-        return read_named_attribute(mesh, VERTEX_CREASE_ATTRIBUTE, len(mesh.vertices))
-    return _read_crease_layer(mesh.vertex_creases, len(mesh.vertices))
+    return _read_creases(mesh, VERTEX_CREASE_ATTRIBUTE, "vertex_creases", len(mesh.vertices))
 
 
 def add_vertex_crease_layer(mesh):
