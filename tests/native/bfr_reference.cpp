@@ -18,9 +18,10 @@ using namespace OpenSubdiv;
 
 namespace {
 
+// holes: whether the mesh may have hole tags (where only the faces with a surface are asked for).
 std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, FaceVaryingInterpolation interpolation,
-                                                   bool face_varying) {
-    if (!mesh.hole_triangles.empty()) throw std::runtime_error("bfr: meshes without holes only");
+                                                   bool face_varying, bool holes = false) {
+    if (!holes && !mesh.hole_triangles.empty()) throw std::runtime_error("bfr: meshes without holes only");
     return osd_topology_refiner(face_varying ? mesh.view_with_uvs() : mesh.view(),
                                 sdc_options(mesh.boundary, mesh.crease_method, interpolation));
 }
@@ -169,9 +170,18 @@ void over_points(const Far::TopologyRefiner& refiner, bool face_varying, const s
 
 }  // namespace
 
+std::vector<bool> bfr_faces_with_surface(const TestMesh& mesh) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner =
+        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false, true);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner);
+    std::vector<bool> out(std::size_t(mesh.num_triangles()));
+    for (int f = 0; f < mesh.num_triangles(); ++f) out[std::size_t(f)] = factory.FaceHasLimitSurface(f);
+    return out;
+}
+
 BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points) {
     const std::unique_ptr<Far::TopologyRefiner> refiner =
-        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false);
+        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false, true);
     BfrLimit out;
     out.positions.assign(3 * points.size(), 0.0);
     out.normals.assign(3 * points.size(), 0.0);
@@ -192,7 +202,7 @@ BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points)
 
 std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::vector<BfrPoint>& points,
                                               FaceVaryingInterpolation mode) {
-    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, mode, true);
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, mode, true, true);
     std::vector<double> out(2 * points.size(), 0.0);
     over_points(
         *refiner, true, points, std::vector<double>(mesh.uvs.begin(), mesh.uvs.end()), 2,

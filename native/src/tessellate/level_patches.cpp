@@ -35,9 +35,11 @@ SortedEdges sorted_edges(const std::int32_t* triangles, int num_triangles) {
     return edges;
 }
 
-LevelPatches::LevelPatches(const Plan& plan)
-    : triangles_(plan.output_triangles()), types_(plan.level_vertex_types(plan.levels()).data()) {
-    const int num_triangles = plan.num_output_triangles(), num_vertices = plan.num_output_vertices();
+LevelPatches::LevelPatches(const Plan& plan, const std::int32_t* triangles_given, int num_triangles_given)
+    : triangles_(triangles_given != nullptr ? triangles_given : plan.output_triangles()),
+      types_(plan.level_vertex_types(plan.levels()).data()) {
+    const int num_triangles = triangles_given != nullptr ? num_triangles_given : plan.num_output_triangles(),
+              num_vertices = plan.num_output_vertices();
     const std::int32_t* triangles = triangles_;
     const VertexType* types = types_;
     const std::vector<std::int32_t>& sharp_edges = plan.output_sharp_edges();

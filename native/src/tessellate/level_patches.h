@@ -62,7 +62,9 @@ class LevelPatches {
 public:
     // The last level of a plan: its triangles, the sharp edges its rules see (with their sharpness), the vertices with
     // a sharpness of their own, and the classes of its vertices at the next refinement. The plan must outlive this.
-    explicit LevelPatches(const Plan& plan);
+    // triangles: the level's every triangle where the plan left some out (a plan of no levels with holes: the input's
+    // triangles, which shape the surface whether or not they have one); they must outlive this too.
+    explicit LevelPatches(const Plan& plan, const std::int32_t* triangles = nullptr, int num_triangles = 0);
 
     // The regular patch of face, or false where the face is none.
     bool find_patch(int face, Patch& out) const;

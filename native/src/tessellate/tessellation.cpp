@@ -26,9 +26,6 @@ namespace loopsub {
 Tessellation::Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates,
                            const InputTopology& reuse)
     : impl_(std::make_unique<TessellationImpl>()) {
-    if (mesh.num_holes > 0) detail::tessellation_fail("holes are not supported");
-    if (options.boundary == Boundary::None)
-        detail::tessellation_fail("Boundary::None is not supported (it makes holes)");
     impl_->threads = std::max(1, options.threads);
     impl_->patch_kernel = detail::kernel_functions(detail::resolve_kernel(options.kernel)).patch;
     MeshView surface = mesh;

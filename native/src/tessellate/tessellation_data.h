@@ -41,6 +41,8 @@ struct TessellationImpl {
     static constexpr int kInnerPart = kParts - 1;  // a triangle's own points, numbered one after the other
     std::vector<std::int32_t> face_first_sample, face_patch, face_blocks;
     std::vector<std::int32_t> input_patch_points;  // 12 per patch of the input's own points
+    // The input's vertices of no triangle with a surface (loose, or of triangles without one): their input positions.
+    std::vector<std::int32_t> lone_vertices;
     // A block per part of a pattern, its rate and its patch's shape, shared by every triangle that has the same: its
     // samples, its stride and where its weights start.
     struct Block {

@@ -196,6 +196,8 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
             throw InputError("tessellation: position " + std::to_string(i / 3) + " is not finite or larger than " +
                              std::to_string(kLargest));
     evaluate_bands(d, positions);
+    for (const std::int32_t v : d.lone_vertices)
+        copy_point(positions + 3 * std::size_t(v), points + 3 * std::size_t(v));
     // Each part's scratch takes the largest block once: resized block by block, it was zeroed again for every face.
     std::size_t largest_block = 0;
     for (const TessellationImpl::Block& block : d.blocks)
