@@ -485,6 +485,52 @@ TEST_P(TessellationLayerAgainstBfr, LayersAreBfrsFaceVaryingSurfaces) {
 INSTANTIATE_TEST_SUITE_P(Shapes, TessellationLayerAgainstBfr, ::testing::ValuesIn(layer_shapes()),
                          case_name<LayerCase>);
 
+// An interior vertex of valence 2 has its two faces on the same three vertices (a pillow), and so has every level's
+// vertex there: the two edges between its neighbours, one inside each face, share their ends. A regular patch beside
+// it walks its rings by the split's edges, not their ends (which took those edges for one of four faces, and the patch
+// for irregular: 8e-4 of the diagonal off at rate 3). The truth, computed by OpenSubdiv alone: Far's uniform
+// refinement 8 levels down, at the limit (far_refined_limit, linear inside the last level: 7 levels down is within
+// 2e-6 of 9). Bfr agrees with it at every rate. The pillow's surface folds onto its own plane: its normals are no
+// test.
+TEST(Tessellation, AtAnInteriorVertexOfValenceTwoNonDyadicRatesAreTheRefinedLimit) {
+    TestMesh pillow;
+    pillow.positions = {0, 0, 0, 1, 0.1f, 0.2f, 0.2f, 1, -0.1f};
+    pillow.triangles = {0, 1, 2, 0, 2, 1};
+    // The same pillow on an icosahedron's vertex (a vertex of two fans, so a corner), its other corner apart.
+    TestMesh attached = icosahedron();
+    const std::int32_t v = attached.num_vertices(), b = v + 1, apex = attached.triangles[0];
+    const float* at = &attached.positions[3 * std::size_t(apex)];
+    attached.positions.insert(attached.positions.end(),
+                              {at[0] + 0.6f, at[1] + 0.2f, at[2] + 0.3f, at[0] + 0.1f, at[1] + 0.7f, at[2] - 0.2f});
+    attached.triangles.insert(attached.triangles.end(), {v, apex, b, v, b, apex});
+    for (const TestMesh* mesh : {&pillow, &attached}) {
+        const double diagonal = bounding_box_diagonal(mesh->positions);
+        for (int rate : {3, 4, 6}) {
+            const TessellationRates rates{rate};
+            const Tessellation tessellation(mesh->view(), options_for(*mesh), rates);
+            std::vector<float> points(3 * std::size_t(tessellation.num_points()));
+            tessellation.evaluate(mesh->positions.data(), points.data(), nullptr);
+            const auto [asked, point_of] = face_points_of(tessellation);
+            const std::vector<double> expected = far_refined_limit(*mesh, asked, 8);
+            const BfrLimit bfr = bfr_evaluate(*mesh, asked);
+            double worst = 0.0, bfr_worst = 0.0;
+            for (std::size_t fp = 0; fp < asked.size(); ++fp) {
+                double d2 = 0.0, bfr_d2 = 0.0;
+                for (std::size_t c = 0; c < 3; ++c) {
+                    d2 += std::pow(points[3 * std::size_t(point_of[fp]) + c] - expected[3 * fp + c], 2);
+                    bfr_d2 += std::pow(bfr.positions[3 * fp + c] - expected[3 * fp + c], 2);
+                }
+                worst = std::max(worst, std::sqrt(d2) / diagonal);
+                bfr_worst = std::max(bfr_worst, std::sqrt(bfr_d2) / diagonal);
+            }
+            const std::string where = (mesh == &pillow ? "pillow" : "pillow on an icosahedron") +
+                                      std::string(", rate ") + std::to_string(rate);
+            EXPECT_LE(worst, 2e-6) << where;
+            EXPECT_LE(bfr_worst, 2e-6) << where << ": Bfr";
+        }
+    }
+}
+
 // On a closed mesh every edge of the result has exactly two triangles and V - E + F stays the input's: no crack,
 // whatever the rates, and each point on an input edge is one point.
 TEST(Tessellation, ClosedMeshesStayClosedForAnyRates) {

@@ -81,7 +81,13 @@ private:
     bool crease_corner(int corner, bool counter_clockwise, std::int32_t fan[4]) const;
     bool crease_vertex(int corner, std::int32_t back[4], std::int32_t on[4]) const;
 
+    const Plan& plan_;
     const std::int32_t* triangles_;
+    // Each triangle's edges as the plan's split numbers them (Plan::output_edges), made on the first walk that needs
+    // them: next to an interior vertex of valence 2, two edges of a refined level join the same two vertices (the
+    // edges inside the two faces at the vertex), which their ends alone cannot tell apart.
+    bool has_edges_;
+    mutable std::vector<std::int32_t> triangle_edges_;
     // Each vertex's corners; a smooth vertex's put in counter-clockwise order by smooth_corner, once a face asks, with
     // each corner's place among them. Not for two threads at once.
     std::vector<std::int32_t> offsets_;
