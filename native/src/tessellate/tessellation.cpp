@@ -63,7 +63,7 @@ int Tessellation::levels() const { return impl_->levels; }
 const std::vector<InputProblem>& Tessellation::notes() const { return impl_->input->plan->notes(); }
 
 Tessellation::Edges Tessellation::output_edges() const {
-    const std::vector<std::int32_t>& corners = impl_->triangles;
+    const auto& corners = impl_->triangles;
     const std::size_t num_points = std::size_t(impl_->num_points);
     // Each side of each triangle, under its smaller end: a side already there under that end is an edge found again.
     // A point's sides are few (its valence), so a bucket is searched linearly.
