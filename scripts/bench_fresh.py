@@ -7,12 +7,13 @@ Python rows: a fresh `/usr/bin/python3` per run imports numpy and the package `l
 the mesh from .npy files and times the first call only, inside the process; the warm column is the same call in one
 process, the median of `--warm` calls after `--warmups` untimed ones. CLI rows: `build/loopsub IN.obj OUT.obj ...
 --threads 1 --stats` as a whole process, the wall time from outside and the CLI's own `--stats` (plan + evaluation),
-whose warm column is the Python row of the same work. Peak resident memory, minor page faults and user / kernel
-time come from `os.wait4` for each child; the Python rows also give the first call's own share (from `getrusage`
-inside the child). Meshes: the benchmarks' icosphere (5,120 triangles, made here as tests/support/meshes.cpp makes
-it) and assimp's WusonOBJ.obj (3,732 triangles, Debian's assimp-testmodels), each with the UV layer of
-tests/support's add_uvs_with_seam for the UV rows, and written to an OBJ of v and f lines for the CLI. Prints two
-markdown tables. docs/benchmark.md, "Fresh processes
+whose warm column is the Python row of the same work; beside each --tessellate row, Bfr's one-shot job at the same
+rate (build/loopsub_bfr_job, bench/bfr_job.cpp) as a whole process too. Peak resident memory, minor page faults and
+user / kernel time come from `os.wait4` for each child; the Python rows also give the first call's own share (from
+`getrusage` inside the child). Meshes: the benchmarks' icosphere (5,120 triangles, made here as
+tests/support/meshes.cpp makes it) and assimp's WusonOBJ.obj (3,732 triangles, Debian's assimp-testmodels), each with
+the UV layer of tests/support's add_uvs_with_seam for the UV rows, and written to an OBJ of v and f lines for the CLI.
+Prints markdown tables. docs/benchmark.md, "Fresh processes
 and first touches", has the numbers of a run.
 """
 import argparse
@@ -214,7 +215,19 @@ def cli_row(args, obj, out_dir, flags):
         stats = dict(word.split("=", 1) for word in text.split())
         runs.append({"wall_ms": wall, "core_ms": float(stats["topology_ms"]) + float(stats["evaluate_ms"]),
                      "topology_ms": float(stats["topology_ms"]), "evaluate_ms": float(stats["evaluate_ms"]),
+                     "write_ms": float(stats.get("write_ms", "nan")),
                      "triangles_out": int(stats["triangles_out"]), "process": usage_fields(usage)})
+    return runs
+
+
+def bfr_row(args, obj, rate):
+    """Bfr's one-shot tessellation (bench/bfr_job.cpp) as a whole process, each run beside none of ours."""
+    runs = []
+    for _ in range(args.runs):
+        wall, text, usage = run_child([args.bfr_job, obj, str(rate)])
+        stats = dict(word.split("=", 1) for word in text.split())
+        runs.append({"wall_ms": wall, "core_ms": float(stats["factory_ms"]) + float(stats["evaluate_ms"]),
+                     "process": usage_fields(usage)})
     return runs
 
 
@@ -236,6 +249,8 @@ def main():
     parser.add_argument("--only", default="", help="rows whose name matches this regular expression")
     parser.add_argument("--python", default="/usr/bin/python3")
     parser.add_argument("--cli", default=os.path.join(ROOT, "build", "loopsub"))
+    parser.add_argument("--bfr-job", default=os.path.join(ROOT, "build", "loopsub_bfr_job"),
+                        help="Bfr's one-shot tessellation, against the CLI's --tessellate rows (bench/bfr_job.cpp)")
     parser.add_argument("--module-dir", default=os.path.join(ROOT, "build", "native"),
                         help="where the built _loopsub module is (default build/native)")
     parser.add_argument("--wuson", default=next((p for p in WUSON_CANDIDATES if os.path.exists(p)), None),
@@ -309,6 +324,10 @@ def measure(args, modules, work):
         results["cli"].append({"row": row, "runs": runs, "warm_ms": warm_of[(name, kind, level)],
                                "warm_row": KIND_NAMES[kind]})
         print(f"  {row}: wall {med_best([r['wall_ms'] for r in runs])} ms", file=sys.stderr)
+        if kind == "tessellate" and os.path.exists(args.bfr_job):
+            bfr = bfr_row(args, os.path.join(mesh_dirs[name][0], "in.obj"), level)
+            results.setdefault("bfr", []).append({"row": f"{name} rate {level}", "runs": runs, "bfr": bfr})
+            print(f"  {name} Bfr job rate {level}: wall {med_best([r['wall_ms'] for r in bfr])} ms", file=sys.stderr)
 
     print(f"\n{time.strftime('%Y-%m-%d %H:%M')}, {platform.node()}, {os.cpu_count()} cores, transparent huge pages "
           f"{_thp()}, {args.runs} fresh processes a row, warm: median of {args.warm} after {args.warmups}; "
@@ -346,6 +365,19 @@ def measure(args, modules, work):
                   f"| {statistics.median(core) / r['warm_ms']:.1f}x "
                   f"| {statistics.median(x['process']['maxrss_mb'] for x in runs):.0f} "
                   f"| {statistics.median(x['process']['minflt'] for x in runs):,.0f} | {kernel_share(user, system)} |")
+    if results.get("bfr"):
+        print("\n| One-shot tessellation, whole process | loopsub wall ms | its tessellation + evaluation "
+              "| its OBJ write | Bfr's job wall ms | Bfr's factory + evaluation | Bfr / loopsub, whole "
+              "| Bfr / loopsub, the work |")
+        print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+        for r in results["bfr"]:
+            ours, bfr = r["runs"], r["bfr"]
+            wall, core = [x["wall_ms"] for x in ours], [x["core_ms"] for x in ours]
+            bfr_wall, bfr_core = [x["wall_ms"] for x in bfr], [x["core_ms"] for x in bfr]
+            print(f"| {r['row']} | {med_best(wall)} | {med_best(core)} "
+                  f"| {med_best([x['write_ms'] for x in ours])} | {med_best(bfr_wall)} | {med_best(bfr_core)} "
+                  f"| {statistics.median(bfr_wall) / statistics.median(wall):.2f}x "
+                  f"| {statistics.median(bfr_core) / statistics.median(core):.2f}x |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -72,31 +73,39 @@ void tessellate(const Command& command, const loopsub::obj::ObjMesh& in, const l
     const loopsub::Tessellation tessellation(with_uv_layer(in, uv_layer), options, rates);
     print_notes(command, tessellation.notes());
     const auto planned = std::chrono::steady_clock::now();
-    loopsub::obj::ObjMesh out;
-    out.positions.resize(3 * std::size_t(tessellation.num_points()));
-    out.normals.resize(3 * std::size_t(tessellation.num_face_points()));
-    tessellation.evaluate(in.positions.data(), out.positions.data(), out.normals.data());
+    // A one-shot job: the points and normals in arrays the evaluation fills (in huge pages, not zeroed first), the
+    // faces written straight from the tessellation's arrays (not copied into an ObjMesh).
+    const std::size_t num_points = std::size_t(tessellation.num_points()),
+                      num_face_points = std::size_t(tessellation.num_face_points());
+    loopsub::obj::OutputFloats points, normals;
+    points.resize(3 * num_points), normals.resize(3 * num_face_points);
+    tessellation.evaluate(in.positions.data(), points.data(), normals.data());
     const auto evaluated = std::chrono::steady_clock::now();
-    const std::size_t corners = 3 * std::size_t(tessellation.num_triangles());
-    out.triangles.assign(tessellation.triangles(), tessellation.triangles() + corners);
-    out.triangle_normals.assign(tessellation.corner_face_points(), tessellation.corner_face_points() + corners);
+    loopsub::obj::ObjLines lines;
+    lines.positions = points.data(), lines.num_positions = num_points;
+    lines.normals = normals.data(), lines.num_normals = num_face_points;
+    lines.triangles = tessellation.triangles(), lines.num_triangles = std::size_t(tessellation.num_triangles());
+    lines.triangle_normals = tessellation.corner_face_points();
+    std::vector<float> uvs;
     if (!in.triangle_uvs.empty()) {
-        out.uvs.resize(2 * std::size_t(tessellation.num_face_points()));
-        tessellation.evaluate_face_varying(0, in.uvs.data(), 2, out.uvs.data());
-        out.triangle_uvs = out.triangle_normals;
+        uvs.resize(2 * num_face_points);
+        tessellation.evaluate_face_varying(0, in.uvs.data(), 2, uvs.data());
+        lines.uvs = uvs.data(), lines.num_uvs = num_face_points;
+        lines.triangle_uvs = lines.triangle_normals;
     }
-    loopsub::obj::write_obj(command.output, out, options.threads);
+    loopsub::obj::write_obj(command.output, loopsub::obj::ObjMesh(), lines, options.threads);
+    const auto written = std::chrono::steady_clock::now();
     if (command.stats) {
         using ms = std::chrono::duration<double, std::milli>;
-        std::fprintf(
-            stats_stream(command),
-            "topology_ms=%.3f evaluate_ms=%.3f rate=%d levels=%d vertices_in=%d triangles_in=%d vertices_out=%d "
-            "triangles_out=%d threads=%d\n",
-            ms(planned - started).count(), ms(evaluated - planned).count(),
-            command.camera ? (screen.rates.empty() ? 1 : *std::max_element(screen.rates.begin(), screen.rates.end()))
-                           : command.tessellate,
-            tessellation.levels(), in.num_vertices(), in.num_triangles(), tessellation.num_points(),
-            tessellation.num_triangles(), options.threads);
+        std::fprintf(stats_stream(command),
+                     "topology_ms=%.3f evaluate_ms=%.3f write_ms=%.3f rate=%d levels=%d vertices_in=%d triangles_in=%d "
+                     "vertices_out=%d triangles_out=%d threads=%d\n",
+                     ms(planned - started).count(), ms(evaluated - planned).count(), ms(written - evaluated).count(),
+                     command.camera
+                         ? (screen.rates.empty() ? 1 : *std::max_element(screen.rates.begin(), screen.rates.end()))
+                         : command.tessellate,
+                     tessellation.levels(), in.num_vertices(), in.num_triangles(), tessellation.num_points(),
+                     tessellation.num_triangles(), options.threads);
     }
 }
 

@@ -7,10 +7,13 @@
 //   t cone 1/0/0 V                vertex V is a cone (Hoppe94 rules)
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "base/large_allocator.h"
 #include "loopsub/loopsub.h"
 
 namespace loopsub::obj {
@@ -43,9 +46,25 @@ ObjMesh parse_obj(const std::string& text, const std::string& name = "<string>")
 // crease 0-3 is not an edge of the mesh". Where the file has no line for it (a vertex's value), the core's message.
 std::string locate(const ObjMesh& mesh, const std::string& name, const InputProblem& problem);
 
+// Arrays of a one-shot job's output (the CLI's points and normals), filled by the core before they are written: in
+// huge pages where the system gives them, and not zeroed first (the core's allocator for large arrays).
+using OutputFloats = loopsub::detail::LargeVector<float>;
+
+// The arrays the v, vt, vn and f lines are written from: an ObjMesh's own (of), or a caller's that need no copy into
+// one (a tessellation's triangles and the face points at their corners). Null triangle_uvs / triangle_normals: none.
+struct ObjLines {
+    const float *positions = nullptr, *uvs = nullptr, *normals = nullptr;  // 3, 2 and 3 per line
+    std::size_t num_positions = 0, num_uvs = 0, num_normals = 0;
+    const std::int32_t *triangles = nullptr, *triangle_uvs = nullptr, *triangle_normals = nullptr;  // 3 per triangle
+    std::size_t num_triangles = 0;
+    static ObjLines of(const ObjMesh& mesh);
+};
+
 // Writes v, vt (if any), vn (if any), f and the tags. With threads > 1, the v, vt, vn and f lines are formatted in
 // chunks of 8,192 lines on that many threads (the caller among them) and written in order: the file's
 // bytes are the same for any number. Up to 16 chunks a thread are held (about 0.25 MB of text each).
 void write_obj(const std::string& path, const ObjMesh& mesh, int threads = 1);
+// The same with the v, vt, vn and f lines from `lines`, the tags from `mesh`.
+void write_obj(const std::string& path, const ObjMesh& mesh, const ObjLines& lines, int threads = 1);
 
 }  // namespace loopsub::obj

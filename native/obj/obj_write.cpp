@@ -88,21 +88,20 @@ private:
 };
 
 // The v, vt, vn and f lines, numbered from 0 in the order they are written: first to last - 1 formatted at out.
-char* format_lines(char* out, const ObjMesh& mesh, std::size_t first, std::size_t last) {
+char* format_lines(char* out, const ObjLines& mesh, std::size_t first, std::size_t last) {
     std::size_t start = 0;  // of the current kind of line
     // The lines of this kind in [first, last), each by line(out, k) with k counted within the kind.
     auto lines = [&](std::size_t count, const auto& line) {
         for (std::size_t k = std::max(first, start); k < std::min(last, start + count); ++k) out = line(out, k - start);
         start += count;
     };
-    lines(mesh.positions.size() / 3,
+    lines(mesh.num_positions,
           [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "v "), &mesh.positions[3 * k]); });
-    lines(mesh.uvs.size() / 2,
-          [&](char* p, std::size_t k) { return put_floats<2>(put_text(p, "vt "), &mesh.uvs[2 * k]); });
-    lines(mesh.normals.size() / 3,
+    lines(mesh.num_uvs, [&](char* p, std::size_t k) { return put_floats<2>(put_text(p, "vt "), &mesh.uvs[2 * k]); });
+    lines(mesh.num_normals,
           [&](char* p, std::size_t k) { return put_floats<3>(put_text(p, "vn "), &mesh.normals[3 * k]); });
-    const bool with_uvs = !mesh.triangle_uvs.empty(), with_normals = !mesh.triangle_normals.empty();
-    lines(mesh.triangles.size() / 3, [&](char* p, std::size_t k) {
+    const bool with_uvs = mesh.triangle_uvs != nullptr, with_normals = mesh.triangle_normals != nullptr;
+    lines(mesh.num_triangles, [&](char* p, std::size_t k) {
         p = put_text(p, "f");
         for (std::size_t c = 3 * k; c < 3 * k + 3; ++c) {
             *p++ = ' ';
@@ -124,14 +123,13 @@ char* format_lines(char* out, const ObjMesh& mesh, std::size_t first, std::size_
 // (the core's team, parallel.h) format chunks of consecutive lines in rounds, eight chunks per thread: one of them
 // first writes the previous round's chunks, in order, while the others start on this round's, then helps them. Two
 // rounds of chunks are in memory at a time, each chunk a 1 MiB buffer holding about 0.25 MB of text.
-void write_lines(Writer& out, const ObjMesh& mesh, int threads) {
+void write_lines(Writer& out, const ObjLines& mesh, int threads) {
     constexpr std::size_t kChunkLines = 1 << 13;  // times kLongestLine: 1 MiB
     struct Chunk {
         std::unique_ptr<char[]> text;  // room for kChunkLines lines, made by the caller when first needed
         std::size_t size = 0;
     };
-    const std::size_t lines =
-        mesh.positions.size() / 3 + mesh.uvs.size() / 2 + mesh.normals.size() / 3 + mesh.triangles.size() / 3;
+    const std::size_t lines = mesh.num_positions + mesh.num_uvs + mesh.num_normals + mesh.num_triangles;
     const std::size_t chunks = (lines + kChunkLines - 1) / kChunkLines;
     threads =
         int(std::clamp<std::size_t>(chunks, 1, std::size_t(std::max(threads, 1))));  // a small file: the caller alone
@@ -179,12 +177,27 @@ void write_lines(Writer& out, const ObjMesh& mesh, int threads) {
 
 }  // namespace
 
+ObjLines ObjLines::of(const ObjMesh& mesh) {
+    ObjLines lines;
+    lines.positions = mesh.positions.data(), lines.num_positions = mesh.positions.size() / 3;
+    lines.uvs = mesh.uvs.data(), lines.num_uvs = mesh.uvs.size() / 2;
+    lines.normals = mesh.normals.data(), lines.num_normals = mesh.normals.size() / 3;
+    lines.triangles = mesh.triangles.data(), lines.num_triangles = mesh.triangles.size() / 3;
+    lines.triangle_uvs = mesh.triangle_uvs.empty() ? nullptr : mesh.triangle_uvs.data();
+    lines.triangle_normals = mesh.triangle_normals.empty() ? nullptr : mesh.triangle_normals.data();
+    return lines;
+}
+
 void write_obj(const std::string& path, const ObjMesh& mesh, int threads) {
+    write_obj(path, mesh, ObjLines::of(mesh), threads);
+}
+
+void write_obj(const std::string& path, const ObjMesh& mesh, const ObjLines& lines, int threads) {
     File file(std::fopen(path.c_str(), "wb"));
     if (!file) throw std::runtime_error(path + ": cannot open for writing");
     Writer out(file.get(), path);
 
-    write_lines(out, mesh, threads);
+    write_lines(out, lines, threads);
     for (std::size_t e = 0; e < mesh.crease_sharpness.size(); ++e) {
         char* p = put_text(out.line(), "t crease 2/1/0 ");
         p = put_int(p, mesh.crease_edges[2 * e]);

@@ -115,8 +115,12 @@ reuse : InputTopology, optional
 Face-varying layers (``face_varying_indices``, as Plan's) are refined by ``uv_interpolation``:
 ``evaluate_face_varying`` gives their values at every face point.
 
-Raises ``ValueError`` for a rate out of range, an edge no triangle has, holes or
-boundary="none", and as Plan for a bad mesh or layer.
+With boundary="none" the triangles a Plan leaves out (the faces at an untagged boundary edge's
+ends) shape the surface around them but get no triangles or face points; an input vertex of none
+but them keeps its number and its input position.
+
+Raises ``ValueError`` for a rate out of range, an edge no triangle has, and as Plan for a bad
+mesh or layer.
 )doc";
 
 constexpr const char* kEvaluateDoc = R"doc(evaluate(positions, out=None, normals=None)

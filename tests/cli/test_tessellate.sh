@@ -55,6 +55,53 @@ sys.exit(0 if match(points_a, points_b, 3) and match(sorted(set(corners_a)), sor
 PY
 done
 
+# --boundary none: the faces at a boundary edge not tagged sharp have no limit surface and are left out, with the
+# points inside their edges and themselves (the input's vertices stay, those of no face with a surface where they
+# are); at rate 4 the points the faces use are those --levels 2 --limit --boundary none's faces use.
+awk 'BEGIN {
+  n = 6
+  for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v %d %g %d\n", i, 0.1 * ((i * 7 + j * 3) % 5), j
+  for (j = 0; j < n; j++) for (i = 0; i < n; i++) {
+    a = j * (n + 1) + i + 1; c = a + n + 1
+    printf "f %d %d %d\nf %d %d %d\n", a, c + 1, c, a, a + 1, c + 1
+  }
+}' >"$WORK/open.obj"
+for in in "$WORK/open.obj" "$SHAPES/loop_pole8.obj"; do
+  for rate in 3 5; do
+    run_cli 0 "$in" "$WORK/none.obj" --tessellate "$rate" --boundary none --rules opensubdiv
+    counts=$(python3 - "$in" "$rate" <<'PY'
+import sys
+from collections import Counter
+faces = [[int(c.split("/")[0]) for c in line.split()[1:]] for line in open(sys.argv[1]) if line.startswith("f ")]
+vertices = sum(1 for line in open(sys.argv[1]) if line.startswith("v "))
+edges = Counter(tuple(sorted((f[k], f[(k + 1) % 3]))) for f in faces for k in range(3))
+boundary = {v for e, n in edges.items() if n == 1 for v in e}
+kept = [f for f in faces if not boundary & set(f)]
+kept_edges = {tuple(sorted((f[k], f[(k + 1) % 3]))) for f in kept for k in range(3)}
+r = int(sys.argv[2])
+print(vertices + len(kept_edges) * (r - 1) + len(kept) * (r - 1) * (r - 2) // 2, len(kept) * r * r)
+PY
+)
+    check_valid_obj "$WORK/none.obj" $counts
+  done
+  run_cli 0 "$in" "$WORK/none4.obj" --tessellate 4 --boundary none --rules opensubdiv
+  run_cli 0 "$in" "$WORK/none_l2.obj" --levels 2 --limit --boundary none --rules opensubdiv
+  python3 - "$WORK/none4.obj" "$WORK/none_l2.obj" <<'PY' || fail "$in: --tessellate 4 --boundary none is not --levels 2"
+import sys
+def used_points(path):
+    v, used = [], set()
+    for line in open(path):
+        if line.startswith("v "):
+            v.append(tuple(float(x) for x in line.split()[1:4]))
+        elif line.startswith("f "):
+            used.update(int(c.split("/")[0]) - 1 for c in line.split()[1:])
+    return [v[i] for i in used]
+a, b = used_points(sys.argv[1]), used_points(sys.argv[2])
+near = all(any(max(abs(x - y) for x, y in zip(p, q)) <= 1e-5 for q in b) for p in a)
+sys.exit(0 if len(a) == len(b) > 0 and near else 1)
+PY
+done
+
 run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 0
 expect_stderr "--tessellate must be >= 1, got 0"
 run_cli 2 "$SHAPES/loop_cube.obj" "$WORK/x.obj" --tessellate 4097

@@ -7,6 +7,7 @@
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyRefiner.h>
 
 #include "mesh_gen.h"
@@ -18,9 +19,10 @@ using namespace OpenSubdiv;
 
 namespace {
 
+// holes: whether the mesh may have hole tags (where only the faces with a surface are asked for).
 std::unique_ptr<Far::TopologyRefiner> base_refiner(const TestMesh& mesh, FaceVaryingInterpolation interpolation,
-                                                   bool face_varying) {
-    if (!mesh.hole_triangles.empty()) throw std::runtime_error("bfr: meshes without holes only");
+                                                   bool face_varying, bool holes = false) {
+    if (!holes && !mesh.hole_triangles.empty()) throw std::runtime_error("bfr: meshes without holes only");
     return osd_topology_refiner(face_varying ? mesh.view_with_uvs() : mesh.view(),
                                 sdc_options(mesh.boundary, mesh.crease_method, interpolation));
 }
@@ -169,9 +171,18 @@ void over_points(const Far::TopologyRefiner& refiner, bool face_varying, const s
 
 }  // namespace
 
+std::vector<bool> bfr_faces_with_surface(const TestMesh& mesh) {
+    const std::unique_ptr<Far::TopologyRefiner> refiner =
+        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false, true);
+    const Bfr::RefinerSurfaceFactory<> factory(*refiner);
+    std::vector<bool> out(std::size_t(mesh.num_triangles()));
+    for (int f = 0; f < mesh.num_triangles(); ++f) out[std::size_t(f)] = factory.FaceHasLimitSurface(f);
+    return out;
+}
+
 BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points) {
     const std::unique_ptr<Far::TopologyRefiner> refiner =
-        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false);
+        base_refiner(mesh, FaceVaryingInterpolation::CornersOnly, false, true);
     BfrLimit out;
     out.positions.assign(3 * points.size(), 0.0);
     out.normals.assign(3 * points.size(), 0.0);
@@ -192,7 +203,7 @@ BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points)
 
 std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::vector<BfrPoint>& points,
                                               FaceVaryingInterpolation mode) {
-    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, mode, true);
+    const std::unique_ptr<Far::TopologyRefiner> refiner = base_refiner(mesh, mode, true, true);
     std::vector<double> out(2 * points.size(), 0.0);
     over_points(
         *refiner, true, points, std::vector<double>(mesh.uvs.begin(), mesh.uvs.end()), 2,
@@ -204,6 +215,83 @@ std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::v
             const double uv[2] = {points[i].u, points[i].v};
             surface.Evaluate(uv, patch_points.data(), descriptor, &out[2 * i]);
         });
+    return out;
+}
+
+}  // namespace loopsub::testing
+
+namespace loopsub::testing {
+
+namespace {
+
+template <int N>
+struct Values {
+    double x[N];
+    void Clear() { std::fill(x, x + N, 0.0); }
+    void AddWithWeight(const Values& src, double weight) {
+        for (int k = 0; k < N; ++k) x[k] += weight * src.x[k];
+    }
+};
+
+}  // namespace
+
+std::vector<double> far_refined_limit(const TestMesh& mesh, const std::vector<BfrPoint>& points, int levels) {
+    using Point = Values<3>;
+    std::vector<std::int32_t> corner_values(mesh.triangles.size());
+    for (std::size_t c = 0; c < corner_values.size(); ++c) corner_values[c] = std::int32_t(c);
+    const FaceVaryingLayer layer{corner_values.data(), int(corner_values.size())};
+    MeshView view = mesh.view();
+    view.face_varying = &layer, view.num_face_varying = 1;
+    const std::unique_ptr<Far::TopologyRefiner> refiner =
+        osd_topology_refiner(view, sdc_options(mesh.boundary, mesh.crease_method, FaceVaryingInterpolation::All));
+    Far::TopologyRefiner::UniformOptions uniform(levels);
+    uniform.fullTopologyInLastLevel = true;
+    refiner->RefineUniform(uniform);
+    const Far::PrimvarRefinerReal<double> primvar(*refiner);
+    std::vector<Point> vertices(std::size_t(mesh.num_vertices())), places(corner_values.size()), next;
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+        for (std::size_t k = 0; k < 3; ++k) vertices[v].x[k] = mesh.positions[3 * v + k];
+    const double corner_uv[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+    for (std::size_t c = 0; c < places.size(); ++c)
+        places[c] = Point{{double(c / 3), corner_uv[c % 3][0], corner_uv[c % 3][1]}};
+    for (int level = 1; level <= levels; ++level) {
+        next.assign(std::size_t(refiner->GetLevel(level).GetNumVertices()), Point{});
+        Point* out = next.data();
+        primvar.Interpolate(level, vertices.data(), out);
+        std::swap(vertices, next);
+        next.assign(std::size_t(refiner->GetLevel(level).GetNumFVarValues(0)), Point{});
+        out = next.data();
+        primvar.InterpolateFaceVarying(level, places.data(), out, 0);
+        std::swap(places, next);
+    }
+    std::vector<Point> limit(vertices.size());
+    primvar.Limit(vertices, limit);
+    // The last level's triangles by base face.
+    const Far::TopologyLevel& last = refiner->GetLevel(levels);
+    std::vector<std::vector<int>> by_face(std::size_t(mesh.num_triangles()));
+    for (int t = 0; t < last.GetNumFaces(); ++t)
+        by_face[std::size_t(std::lround(places[std::size_t(last.GetFaceFVarValues(t, 0)[0])].x[0]))].push_back(t);
+    std::vector<double> out(3 * points.size(), 0.0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        double best = -1e300, weights[3] = {};
+        int found = -1;
+        for (int t : by_face[std::size_t(points[i].face)]) {
+            const auto values = last.GetFaceFVarValues(t, 0);
+            const double* a = places[std::size_t(values[0])].x + 1;
+            const double* b = places[std::size_t(values[1])].x + 1;
+            const double* c = places[std::size_t(values[2])].x + 1;
+            const double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            const double wb = ((points[i].u - a[0]) * (c[1] - a[1]) - (points[i].v - a[1]) * (c[0] - a[0])) / det;
+            const double wc = ((b[0] - a[0]) * (points[i].v - a[1]) - (b[1] - a[1]) * (points[i].u - a[0])) / det;
+            const double w[3] = {1.0 - wb - wc, wb, wc};
+            const double least = std::min({w[0], w[1], w[2]});
+            if (least > best) best = least, found = t, std::copy(w, w + 3, weights);
+        }
+        if (found < 0) throw std::runtime_error("far_refined_limit: a face without triangles");
+        const auto corners = last.GetFaceVertices(found);
+        for (int k = 0; k < 3; ++k)
+            for (std::size_t x = 0; x < 3; ++x) out[3 * i + x] += weights[k] * limit[std::size_t(corners[k])].x[x];
+    }
     return out;
 }
 

@@ -28,10 +28,22 @@ struct BfrPoint {
     double u, v;
 };
 
-// The true limit surface at points of the mesh's faces (grouped by face for speed), its tags, boundary and crease
-// method as Bfr reads them: positions and unit normals per point (normals: 3 per point, not per corner). Bfr's surface
-// near irregular vertices is an approximation, here at its finest (2^-10 of a face).
+// The true limit surface at points of the mesh's faces (grouped by face for speed), its tags, holes, boundary and
+// crease method as Bfr reads them: positions and unit normals per point (normals: 3 per point, not per corner). Bfr's
+// surface near irregular vertices is an approximation, here at its finest (2^-10 of a face). Faces with a limit
+// surface only (bfr_faces_with_surface).
 BfrLimit bfr_evaluate(const TestMesh& mesh, const std::vector<BfrPoint>& points);
+
+// A third reference, Bfr's patches left out: the limit surface at points of the mesh's faces from Far's uniform
+// refinement, `levels` levels down (PrimvarRefiner::Interpolate, then Limit at the last level), between the limit
+// points of the corners of the last level's triangle that holds the point (linear there: off by O(4^-levels) of a
+// face's size). Each point's place in the refinement comes from a face-varying channel that Far refines linearly,
+// each base corner its own value: (face, u, v). 3 positions per point.
+std::vector<double> far_refined_limit(const TestMesh& mesh, const std::vector<BfrPoint>& points, int levels);
+
+// Per face of the mesh, whether Bfr gives it a limit surface (Bfr::SurfaceFactory::FaceHasLimitSurface: no hole tag,
+// and under Boundary::None no corner on a boundary edge that is not infinitely sharp).
+std::vector<bool> bfr_faces_with_surface(const TestMesh& mesh);
 
 // The limit of the mesh's UVs (its face-varying layer, interpolated by `mode`) at points of its faces: 2 per point.
 std::vector<double> bfr_evaluate_face_varying(const TestMesh& mesh, const std::vector<BfrPoint>& points,

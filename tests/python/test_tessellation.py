@@ -117,6 +117,18 @@ def test_views_keep_the_tessellation_alive_and_out_is_written_in_place():
     assert triangles_view.max() < len(out)
 
 
+def test_boundary_none_leaves_out_the_faces_a_plan_leaves_out():
+    """boundary="none": the triangles a plan leaves out get no triangles, as the plan decides."""
+    positions, triangles = grid(6, seed=4, height=0.2)
+    plan = _loopsub.Plan(triangles, len(positions), 1, rules="opensubdiv", boundary="none")
+    tessellation = _loopsub.Tessellation(triangles, len(positions), 3, rules="opensubdiv", boundary="none")
+    assert 0 < len(tessellation.triangles) < 9 * len(triangles)
+    assert set(tessellation.parent_triangles.tolist()) == set(plan.parent_triangles.tolist())
+    assert len(tessellation.triangles) == 9 * len(set(plan.parent_triangles.tolist()))
+    points, _ = tessellation.evaluate(positions)
+    assert np.isfinite(points).all()
+
+
 def test_bad_input_raises():
     positions, triangles = icosahedron()
     with pytest.raises(ValueError, match="uniform_rate must be between 1 and 4096, got 0"):
@@ -129,8 +141,6 @@ def test_bad_input_raises():
     with pytest.raises(TypeError, match="edge_rates must have dtype int32"):
         _loopsub.Tessellation(triangles, len(positions), 2, edges=np.array([[0, 11]], np.int32),
                               edge_rates=np.array([2.0]))
-    with pytest.raises(ValueError, match="Boundary::None"):
-        _loopsub.Tessellation(triangles, len(positions), 2, boundary="none")
     tessellation = _loopsub.Tessellation(triangles, len(positions), 2)
     with pytest.raises(ValueError, match=r"positions must have shape \(N=12, 3\)"):
         tessellation.evaluate(positions[:5])

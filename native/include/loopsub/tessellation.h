@@ -88,10 +88,15 @@ private:
 
 class Tessellation {
 public:
-    // The mesh as for Plan (no holes, Boundary::EdgesOnly or EdgesAndCorners); of options, the rules, boundary, crease
-    // method, crease threshold, face-varying interpolation, kernel, threads and memory limit count (the levels are the
-    // ones the rates need). A face's inner rate is the largest of its edges'. Throws InputError for bad input,
-    // MemoryLimitError past the memory limit.
+    // The mesh as for Plan; of options, the rules, boundary, crease method, crease threshold, face-varying
+    // interpolation, kernel, threads and memory limit count (the levels are the ones the rates need). A face's inner
+    // rate is the largest of its edges'. Throws InputError for bad input, MemoryLimitError past the memory limit.
+    //
+    // The triangles without a limit surface (hole tags, and with Boundary::None those a plan takes out of the surface:
+    // the faces at the ends of a boundary edge not tagged infinitely sharp) shape the surface around them, as in a
+    // plan, but are not cut: they have no triangles and no face points, and their edges and insides no points (an
+    // edge of a triangle with a surface has its points). The input's vertices keep their numbers; one of no triangle
+    // with a surface (or of none at all) is given its input position by evaluate().
     //
     // reuse: an earlier tessellation's input_topology(), of the same mesh at other rates (a camera's last). It is
     // taken where its triangles, tags and rules are this mesh's, and made anew where they are not; the result is the

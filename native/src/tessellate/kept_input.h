@@ -13,9 +13,10 @@
 namespace loopsub {
 
 // What a build reads of the input mesh alone, whatever the rates: the limit plan of no levels (it checks the mesh and
-// the options, and classifies the input's vertices), the input triangles that are regular patches, the edges. Kept
-// (InputTopology) for one of the same mesh at other rates, which takes it where the triangles, tags and rules are the
-// same. Read only once made: tessellations on other threads may share it.
+// the options, classifies the input's vertices and, as with any plan, decides which triangles have no limit surface:
+// hole tags, and under Boundary::None the faces at an untagged boundary edge's ends), the input triangles that are
+// regular patches, the edges. Kept (InputTopology) for one of the same mesh at other rates, which takes it where the
+// triangles, tags and rules are the same. Read only once made: tessellations on other threads may share it.
 struct KeptInput {
     KeptInput(const MeshView& mesh, const Options& options)
         : mesh_(copy_of(mesh)),
@@ -26,11 +27,20 @@ struct KeptInput {
         Options input = options;
         input.limit_surface = true, input.levels = 0;
         plan = std::make_unique<Plan>(mesh, input);
-        patches = std::make_unique<detail::LevelPatches>(*plan);
+        // The plan's output leaves out the triangles without a surface; the patches read every triangle, which all
+        // shape the surface.
+        patches = std::make_unique<detail::LevelPatches>(*plan, mesh_.triangles.data(), mesh.num_triangles);
+        if (plan->num_output_triangles() < mesh.num_triangles) {
+            has_surface.assign(std::size_t(mesh.num_triangles), 0);
+            const std::int32_t* parents = plan->output_parent_triangles();
+            for (int t = 0; t < plan->num_output_triangles(); ++t) has_surface[std::size_t(parents[t])] = 1;
+            for (int f = 0; f < mesh.num_triangles; ++f)
+                if (!has_surface[std::size_t(f)]) holes.push_back(f);
+        }
         face_patch.assign(std::size_t(mesh.num_triangles), -1);
         for (int f = 0; f < mesh.num_triangles; ++f) {  // every face asked now, so that nothing is ordered later
             detail::Patch patch;
-            if (!patches->find_patch(f, patch)) continue;
+            if (!surface(f) || !patches->find_patch(f, patch)) continue;
             face_patch[std::size_t(f)] = std::int32_t(patch_list.size());
             patch_list.push_back(patch);
         }
@@ -48,7 +58,8 @@ struct KeptInput {
                same(mesh_.crease_sharpness, mesh.crease_sharpness, mesh.num_crease_edges) &&
                same(mesh_.corner_vertices, mesh.corner_vertices, mesh.num_corners) &&
                same(mesh_.corner_sharpness, mesh.corner_sharpness, mesh.num_corners) &&
-               same(mesh_.cone_vertices, mesh.cone_vertices, mesh.num_cones) && options.rules == rules_ &&
+               same(mesh_.cone_vertices, mesh.cone_vertices, mesh.num_cones) &&
+               same(mesh_.hole_triangles, mesh.hole_triangles, mesh.num_holes) && options.rules == rules_ &&
                options.boundary == boundary_ && options.crease_method == crease_method_ &&
                options.crease_threshold == crease_threshold_;
     }
@@ -58,16 +69,22 @@ struct KeptInput {
         return at != edges.keys.end() && *at == detail::edge_key(a, b) ? int(at - edges.keys.begin()) : -1;
     }
 
+    // Whether input triangle f has a limit surface (the plan wrote it).
+    bool surface(int f) const { return has_surface.empty() || has_surface[std::size_t(f)]; }
+    bool surface_everywhere() const { return has_surface.empty(); }
+
     std::unique_ptr<Plan> plan;
     std::unique_ptr<detail::LevelPatches> patches;
-    std::vector<std::int32_t> face_patch;  // per input triangle, its patch in patch_list, or -1
+    std::vector<std::uint8_t> has_surface;  // per input triangle; empty where every one has
+    std::vector<std::int32_t> holes;        // the input triangles without a surface, in order
+    std::vector<std::int32_t> face_patch;   // per input triangle, its patch in patch_list, or -1
     std::vector<detail::Patch> patch_list;
     detail::SortedEdges edges;
 
 private:
     struct Kept {  // the mesh's triangles and tags
         int num_vertices = 0;
-        std::vector<std::int32_t> triangles, crease_edges, corner_vertices, cone_vertices;
+        std::vector<std::int32_t> triangles, crease_edges, corner_vertices, cone_vertices, hole_triangles;
         std::vector<float> crease_sharpness, corner_sharpness;
     };
     static Kept copy_of(const MeshView& mesh) {
@@ -82,6 +99,7 @@ private:
         copy(kept.corner_vertices, mesh.corner_vertices, mesh.num_corners);
         copy(kept.corner_sharpness, mesh.corner_sharpness, mesh.num_corners);
         copy(kept.cone_vertices, mesh.cone_vertices, mesh.num_cones);
+        copy(kept.hole_triangles, mesh.hole_triangles, mesh.num_holes);
         return kept;
     }
     Kept mesh_;

@@ -35,9 +35,13 @@ SortedEdges sorted_edges(const std::int32_t* triangles, int num_triangles) {
     return edges;
 }
 
-LevelPatches::LevelPatches(const Plan& plan)
-    : triangles_(plan.output_triangles()), types_(plan.level_vertex_types(plan.levels()).data()) {
-    const int num_triangles = plan.num_output_triangles(), num_vertices = plan.num_output_vertices();
+LevelPatches::LevelPatches(const Plan& plan, const std::int32_t* triangles_given, int num_triangles_given)
+    : plan_(plan),
+      triangles_(triangles_given != nullptr ? triangles_given : plan.output_triangles()),
+      has_edges_(triangles_given == nullptr && plan.levels() > 0),
+      types_(plan.level_vertex_types(plan.levels()).data()) {
+    const int num_triangles = triangles_given != nullptr ? num_triangles_given : plan.num_output_triangles(),
+              num_vertices = plan.num_output_vertices();
     const std::int32_t* triangles = triangles_;
     const VertexType* types = types_;
     const std::vector<std::int32_t>& sharp_edges = plan.output_sharp_edges();
@@ -74,14 +78,31 @@ int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
     const int f = corner / 3, i = corner % 3, v = triangles_[corner];
     // Counter-clockwise the next face shares the edge to the corner's previous vertex, and has it next.
     const int shared = triangles_[3 * f + (counter_clockwise ? (i + 2) % 3 : (i + 1) % 3)];
-    int found = -1;
+    int found = -1, candidates = 0;
     for (const std::int32_t* c = corners_begin(v); c != corners_end(v); ++c) {
         const int g = *c / 3, j = *c % 3;
         if (triangles_[3 * g + (counter_clockwise ? (j + 1) % 3 : (j + 2) % 3)] != shared) continue;
-        if (found >= 0) return -1;  // a non-manifold edge
-        found = *c;
+        found = *c, ++candidates;
     }
-    return found;
+    if (candidates < 2) return found;
+    // Several faces run along v and `shared` that way: a non-manifold edge, or two edges with these ends (input
+    // levels have none); the face across this edge by the split's numbering, if one is.
+    if (!has_edges_) return -1;
+    if (triangle_edges_.empty()) {
+        std::vector<std::int32_t> edge_vertices(2 * std::size_t(plan_.num_output_edges()));
+        triangle_edges_.resize(3 * std::size_t(plan_.num_output_triangles()));
+        plan_.output_edges(edge_vertices.data(), triangle_edges_.data());
+    }
+    // The edge from the corner's previous vertex to it (counter-clockwise), or from it to its next.
+    const std::int32_t edge = triangle_edges_[3 * std::size_t(f) + std::size_t(counter_clockwise ? (i + 2) % 3 : i)];
+    found = -1, candidates = 0;
+    for (const std::int32_t* c = corners_begin(v); c != corners_end(v); ++c) {
+        const int g = *c / 3, j = *c % 3;
+        if (g == f || triangles_[3 * g + (counter_clockwise ? (j + 1) % 3 : (j + 2) % 3)] != shared) continue;
+        if (triangle_edges_[3 * std::size_t(g) + std::size_t(counter_clockwise ? j : (j + 2) % 3)] != edge) continue;
+        found = *c, ++candidates;
+    }
+    return candidates == 1 ? found : -1;
 }
 
 // ring: the six neighbours counter-clockwise from the corner's next vertex. The six faces around a vertex share its

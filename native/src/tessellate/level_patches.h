@@ -62,7 +62,9 @@ class LevelPatches {
 public:
     // The last level of a plan: its triangles, the sharp edges its rules see (with their sharpness), the vertices with
     // a sharpness of their own, and the classes of its vertices at the next refinement. The plan must outlive this.
-    explicit LevelPatches(const Plan& plan);
+    // triangles: the level's every triangle where the plan left some out (a plan of no levels with holes: the input's
+    // triangles, which shape the surface whether or not they have one); they must outlive this too.
+    explicit LevelPatches(const Plan& plan, const std::int32_t* triangles = nullptr, int num_triangles = 0);
 
     // The regular patch of face, or false where the face is none.
     bool find_patch(int face, Patch& out) const;
@@ -79,7 +81,13 @@ private:
     bool crease_corner(int corner, bool counter_clockwise, std::int32_t fan[4]) const;
     bool crease_vertex(int corner, std::int32_t back[4], std::int32_t on[4]) const;
 
+    const Plan& plan_;
     const std::int32_t* triangles_;
+    // Each triangle's edges as the plan's split numbers them (Plan::output_edges), made on the first walk that needs
+    // them: next to an interior vertex of valence 2, two edges of a refined level join the same two vertices (the
+    // edges inside the two faces at the vertex), which their ends alone cannot tell apart.
+    bool has_edges_;
+    mutable std::vector<std::int32_t> triangle_edges_;
     // Each vertex's corners; a smooth vertex's put in counter-clockwise order by smooth_corner, once a face asks, with
     // each corner's place among them. Not for two threads at once.
     std::vector<std::int32_t> offsets_;

@@ -182,11 +182,7 @@ const LocalRefiner::Fans& LocalRefiner::fans(std::int32_t v) {
     f.sharpness = vertex_sharpness(v, int(f.edges.size()), edge_faces, f.fins);
     f.corner_forever = is_infinite(f.sharpness) || (f.fins == 2 && f.sharp > 2);
     f.keeps_semi_sharp = f.semi_sharp > 0 && (!f.corner_forever || rules_->decay_reads_other_edges());
-    // With Boundary::None a boundary edge's tag decides which faces leave the surface: there, untagged vertices only.
-    f.reducible = options_.boundary != Boundary::None ||
-                  (corner_tags_.count(v) == 0 && std::none_of(f.edges.begin(), f.edges.end(), [&](const Fans::Edge& e) {
-                       return crease_tags_.count(edge_key(v, e.end)) != 0;
-                   }));
+    f.reducible = true;
     return f;
 }
 

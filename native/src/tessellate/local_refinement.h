@@ -15,8 +15,8 @@
 // counts as a sharp edge, kept where it makes the vertex a corner. The semi-sharp edges at the vertex are kept with
 // their fans wherever the vertex's rule on some level, or the blend where it changes, or Chaikin's decay of the
 // edges kept, reads them (all but a corner on every level under uniform decay). Tags elsewhere on a fan left out shape
-// nothing kept, and those on the fans kept are kept with them. Under Boundary::None, where a boundary edge's tag
-// decides which faces leave the surface, untagged vertices only.
+// nothing kept, and those on the fans kept are kept with them. (Under Boundary::None the tessellation refines with
+// EdgesOnly's rules, the same but for the faces that leave the surface, which the input's plan decided.)
 //
 // The neighbourhood is refined by a Plan of its own, on the unit vectors (one channel per vertex), so that the refined
 // points come out as weights over the level's points; the result is a stencil, made once per mesh and rates. What the

@@ -26,9 +26,6 @@ namespace loopsub {
 Tessellation::Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates,
                            const InputTopology& reuse)
     : impl_(std::make_unique<TessellationImpl>()) {
-    if (mesh.num_holes > 0) detail::tessellation_fail("holes are not supported");
-    if (options.boundary == Boundary::None)
-        detail::tessellation_fail("Boundary::None is not supported (it makes holes)");
     impl_->threads = std::max(1, options.threads);
     impl_->patch_kernel = detail::kernel_functions(detail::resolve_kernel(options.kernel)).patch;
     MeshView surface = mesh;
@@ -66,7 +63,7 @@ int Tessellation::levels() const { return impl_->levels; }
 const std::vector<InputProblem>& Tessellation::notes() const { return impl_->input->plan->notes(); }
 
 Tessellation::Edges Tessellation::output_edges() const {
-    const std::vector<std::int32_t>& corners = impl_->triangles;
+    const auto& corners = impl_->triangles;
     const std::size_t num_points = std::size_t(impl_->num_points);
     // Each side of each triangle, under its smaller end: a side already there under that end is an edge found again.
     // A point's sides are few (its valence), so a bucket is searched linearly.

@@ -13,6 +13,9 @@ void TessellationBuilder::build(const TessellationRates& rates, const std::share
     d_.input = kept && kept->made_for(mesh_, options_) ? kept : std::make_shared<const KeptInput>(mesh_, options_);
     const KeptInput& input = *d_.input;
     options_.limit_surface = true;  // the bands' limit plans (their levels set each)
+    // The input's plan decided which triangles have a surface; the bands' plans refine every triangle they hold (all
+    // shape the surface), under the same rules: Boundary::None's are EdgesOnly's but for those faces.
+    if (options_.boundary == Boundary::None) options_.boundary = Boundary::EdgesOnly;
     const EdgeRates edges = edges_with_rates(input, mesh_.num_vertices, rates);
     d_.num_input_vertices = mesh_.num_vertices;
     std::vector<Sides> sides(std::size_t(mesh_.num_triangles));
@@ -32,8 +35,17 @@ void TessellationBuilder::build(const TessellationRates& rates, const std::share
     d_.parent_triangles.reserve(std::size_t(counts.triangles));
     d_.parameters.reserve(2 * std::size_t(counts.samples));
     subface_patch_.assign(std::size_t(1) << 2 * d_.levels, kUnknown);
-    for (int f = 0; f < mesh_.num_triangles; ++f) add_face(f, sides[std::size_t(f)], face_first[std::size_t(f)]);
+    for (int f = 0; f < mesh_.num_triangles; ++f) {
+        if (input.surface(f)) {
+            add_face(f, sides[std::size_t(f)], face_first[std::size_t(f)]);
+            continue;
+        }
+        d_.face_first_sample.push_back(std::int32_t(d_.samples.size()));  // no samples, no blocks
+        d_.face_blocks.insert(d_.face_blocks.end(), TessellationImpl::kParts, -1);
+    }
     d_.face_first_sample.push_back(std::int32_t(d_.samples.size()));
+    for (std::int32_t v = 0; v < mesh_.num_vertices; ++v)  // of no triangle with a surface: stays where it is
+        if (!placed_[std::size_t(v)]) d_.lone_vertices.push_back(v);
     d_.estimated_bytes = refinement_bytes_.peak;
 }
 
@@ -42,11 +54,11 @@ void TessellationBuilder::build(const TessellationRates& rates, const std::share
 TessellationBuilder::ResultCounts TessellationBuilder::sides_and_bands(const KeptInput& input, const EdgeRates& edges,
                                                                        std::vector<Sides>& sides,
                                                                        std::vector<std::int64_t>& face_first) {
-    ResultCounts counts{
-        edges.first_point.empty() ? mesh_.num_vertices : edges.first_point.back() + edges.rates.back() - 1, 0, 0};
+    ResultCounts counts{edges.end_point, 0, 0};
     d_.face_patch.assign(std::size_t(mesh_.num_triangles), -1);
     face_band_.assign(std::size_t(mesh_.num_triangles), -1);
     for (int f = 0; f < mesh_.num_triangles; ++f) {
+        if (!input.surface(f)) continue;  // no points, samples or triangles
         Sides& s = sides[std::size_t(f)];
         for (int k = 0; k < 3; ++k) {
             const std::int32_t a = mesh_.triangles[3 * f + k], b = mesh_.triangles[3 * f + (k + 1) % 3];

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "base/large_allocator.h"
 #include "kernels/kernels.h"
 #include "loopsub/tessellation.h"
 
@@ -21,8 +22,11 @@ struct TessellationImpl {
     int threads = 1;
     int num_input_vertices = 0;
     std::int64_t num_points = 0;
-    std::vector<std::int32_t> triangles, parent_triangles, corner_face_points;
-    std::vector<float> parameters;  // (u, v) per face point
+    // The result's arrays, tens of megabytes at high rates: sized once (reserved from the first pass's counts) in huge
+    // pages and written once, without being zeroed first (LargeVector), which a one-shot job (the CLI) paid for in
+    // page faults and passes over memory.
+    detail::LargeVector<std::int32_t> triangles, parent_triangles, corner_face_points;
+    detail::LargeVector<float> parameters;  // (u, v) per face point
     // A sample per face point, the normals' rows. In a triangle that is a patch of the input, its triangle's blocks
     // of weights (below) say everything. Elsewhere: at a vertex of the level, the limit plan's point and normal row;
     // in a regular patch of the level, the patch and the weights at its place there; else a stencil of its own.
@@ -32,8 +36,8 @@ struct TessellationImpl {
         std::uint8_t band;  // Vertex, Patch, Stencil: whose plans (below)
         std::int32_t a, b;  // Vertex: vertex, normal row; Patch: patch, weights; Stencil: stencil; InputPatch: none
     };
-    std::vector<Sample> samples;
-    std::vector<std::int32_t> sample_point;  // the point a sample places, -1 where an earlier sample places it
+    detail::LargeVector<Sample> samples;
+    detail::LargeVector<std::int32_t> sample_point;  // the point a sample places, -1 where an earlier sample places it
     // Per input triangle: its first sample (and one more), and its patch among input_patch_points (-1: through the
     // plans, on the submesh) with the blocks of weights of its points (kernels.h, PatchFn), one per part of its
     // pattern: its corners, each edge's points, its inner points (-1: none).
@@ -41,6 +45,8 @@ struct TessellationImpl {
     static constexpr int kInnerPart = kParts - 1;  // a triangle's own points, numbered one after the other
     std::vector<std::int32_t> face_first_sample, face_patch, face_blocks;
     std::vector<std::int32_t> input_patch_points;  // 12 per patch of the input's own points
+    // The input's vertices of no triangle with a surface (loose, or of triangles without one): their input positions.
+    std::vector<std::int32_t> lone_vertices;
     // A block per part of a pattern, its rate and its patch's shape, shared by every triangle that has the same: its
     // samples, its stride and where its weights start.
     struct Block {

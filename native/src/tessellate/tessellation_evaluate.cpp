@@ -199,6 +199,8 @@ void Tessellation::evaluate(const float* positions, float* points, float* normal
     detail::check_values(interleaved(positions, 3), d.num_input_vertices, InputProblem::Element::Vertex, -1,
                          kLargestPosition, kPositionSummedTerms, detail::ThrowFirst{"tessellation: "});
     evaluate_bands(d, positions);
+    for (const std::int32_t v : d.lone_vertices)
+        copy_point(positions + 3 * std::size_t(v), points + 3 * std::size_t(v));
     // Each part's scratch takes the largest block once: resized block by block, it was zeroed again for every face.
     std::size_t largest_block = 0;
     for (const TessellationImpl::Block& block : d.blocks)

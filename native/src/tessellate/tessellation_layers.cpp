@@ -88,8 +88,11 @@ void cut_layer(TessellationImpl& d, int k, const LayerMesh& layer_mesh, int num_
     layer_rates.num_edges = int(layer_mesh.edge_rates.size());
     // The layer's cut spends what the surface's left of the memory limit.
     cut.memory_limit_bytes = options.memory_limit_bytes - std::min(options.memory_limit_bytes, d.estimated_bytes);
+    // The layer's triangles are the mesh's: those without a surface are its holes.
+    MeshView view = layer_mesh.tags.view(num_values);
+    view.hole_triangles = d.input->holes.data(), view.num_holes = int(d.input->holes.size());
     try {
-        layer.surface = std::make_unique<Tessellation>(layer_mesh.tags.view(num_values), cut, layer_rates, kept);
+        layer.surface = std::make_unique<Tessellation>(view, cut, layer_rates, kept);
     } catch (const MemoryLimitError& error) {
         const std::uint64_t total = d.estimated_bytes + error.required_bytes;
         throw MemoryLimitError("tessellation: with face-varying layer " + std::to_string(k) + " it would need about " +

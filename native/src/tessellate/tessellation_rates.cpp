@@ -24,8 +24,15 @@ EdgeRates edges_with_rates(const KeptInput& input, int num_vertices, const Tesse
     edges.rates.assign(input.edges.keys.size(), rates.uniform_rate);
     check_rated_edges(input, rates, ThrowFirst{"tessellation: "},
                       [&edges](int, int e, int rate) { edges.rates[std::size_t(e)] = rate; });
+    std::vector<std::uint8_t> on_surface(input.surface_everywhere() ? 0 : edges.rates.size(), 0);
+    for (std::size_t c = 0; c < std::size_t(3) * input.has_surface.size(); ++c)
+        if (input.has_surface[c / 3]) on_surface[std::size_t(input.edges.corner_edges[c])] = 1;
     std::int64_t next = num_vertices;
-    for (int rate : edges.rates) edges.first_point.push_back(next), next += rate - 1;
+    for (std::size_t e = 0; e < edges.rates.size(); ++e) {
+        edges.first_point.push_back(next);
+        if (on_surface.empty() || on_surface[e]) next += edges.rates[e] - 1;
+    }
+    edges.end_point = next;
     return edges;
 }
 

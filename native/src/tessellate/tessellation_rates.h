@@ -45,10 +45,12 @@ bool check_rated_edges(const KeptInput& input, const TessellationRates& rates, R
     return true;
 }
 
-// The input's edges' rates (in KeptInput::edges' order), and the number of each one's first inner point.
+// The input's edges' rates (in KeptInput::edges' order), and the number of each one's first inner point (an edge of
+// no triangle with a surface has none), and the number after the last.
 struct EdgeRates {
     std::vector<int> rates;
     std::vector<std::int64_t> first_point;
+    std::int64_t end_point = 0;
 };
 
 EdgeRates edges_with_rates(const KeptInput& input, int num_vertices, const TessellationRates& rates);
