@@ -175,8 +175,7 @@ class TessellationOutput:
 
     def __init__(self, tessellation, cage, options):
         self.tessellation = tessellation
-        # What the core's checks tell of the cage (as a Plan's notes).
-        self.notes = [item for item in cage.diagnose() if item.is_note]
+        self.notes = tessellation.notes  # what the core's checks tell of the cage, as a Plan's notes
         self.cage = cage
         self.options = options
         self.triangles = tessellation.triangles
@@ -259,12 +258,14 @@ class TessellationOutput:
     def refine_vertices(self, source, into):
         """(the vertex channels (N_out, C), the normals per face point): positions and normals on the limit surface,
         the other channels linear in the cage triangles; positions alone into the Destination's array. The channels
-        interpolated here, which the core does not evaluate, pass its checks first (native.refusal)."""
-        values = {"face_varying": source.corners.packed()} if source.corners.parts else {}
-        problems = [item for item in source.cage.diagnose(positions=source.vertex.packed(), **values)
-                    if not item.is_note]
-        if problems:
-            raise native.refusal(problems[0])
+        interpolated here pass the core's checks first (native.refusal), as the positions pass them in its evaluation:
+        each frame, where there are any."""
+        if source.vertex.width > 3 or source.corners.parts:
+            values = {"face_varying": source.corners.packed()} if source.corners.parts else {}
+            problems = [item for item in source.cage.diagnose(positions=source.vertex.packed(), **values)
+                        if not item.is_note]
+            if problems:
+                raise native.refusal(problems[0])
         points, normals = native.run(self.tessellation.evaluate, source.cage.positions,
                                      into.positions_for(source.vertex.width))
         vertex = points

@@ -11,6 +11,7 @@
 #include "arguments.h"
 #include "loopsub/tessellation.h"
 #include "plan.h"
+#include "problems.h"
 
 namespace loopsub::python {
 
@@ -246,6 +247,10 @@ void bind_result(TessellationClass& tessellation) {
             "estimated_bytes", [](PyTessellation& p) { return p.tessellation.estimated_bytes(); },
             "int: bytes the memory check counted against memory_limit_bytes: the result's arrays, the plans of the "
             "input triangles that are no patch, each UV layer's own cut.")
+        .def_property_readonly(
+            "notes", [](PyTessellation& p) { return notes_of(p.tessellation.notes()); },
+            "list: what the core's checks found to tell of the input that is no error, as Plan.notes (each edge two "
+            "triangles run along the same way).")
         .def_property_readonly(
             "triangles",
             [](py::object self) {

@@ -192,6 +192,9 @@ def test_edges_run_the_same_way_are_notes():
     plan = _loopsub.Plan(t, 6)
     assert sorted((note.index, note.corner, note.other) for note in plan.notes) == expected
     assert _loopsub.Plan(tetrahedron()[1], 4).notes == []
+    tessellation = _loopsub.Tessellation(t, 6, 2)
+    assert sorted((note.index, note.corner, note.other) for note in tessellation.notes) == expected
+    assert _loopsub.Tessellation(tetrahedron()[1], 4, 2).notes == []
 
 
 def test_measure_names_come_from_the_core():
