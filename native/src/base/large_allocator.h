@@ -1,15 +1,17 @@
 // Allocator for the plan's big arrays (megabytes per level). Fresh memory costs a page fault per 4 KiB on first
 // touch, which measured as more time than the topology work itself; asking the kernel for transparent huge
-// pages (2 MiB) on large blocks cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode).
-// Huge pages also make a plan's speed steady: with 4 KiB pages the physical placement of the arrays the passes read
-// side by side changes from process to process, and the plan's time with it (docs/benchmark.md); so arrays from
-// 1 MiB up get whole huge pages. Elsewhere large blocks are just aligned to 2 MiB.
+// pages (2 MiB) cuts those faults by 512x where the system allows it (Linux, THP "madvise" mode), and the kernel's
+// time with them (docs/benchmark.md, "Fresh processes and first touches"). Huge pages also make a plan's speed
+// steady: with 4 KiB pages the physical placement of the arrays the passes read side by side changes from process to
+// process, and the plan's time with it. So arrays from 1 MiB up get whole huge pages, and middling ones (16 KiB up)
+// runs of 64 KiB units in shared 2 MiB slabs of huge pages (Slabs): a first plan of a few thousand triangles had
+// nearly all its faults in such arrays, each its own mapping of 4 KiB pages.
 //
-// Freed blocks of 16 KiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool): a plan built
-// again (the modifier after an edit that changes the topology, a benchmark loop) then finds its arrays already
-// faulted in, instead of paying the kernel again to map and zero them, which is most of what a fresh plan's memory
-// costs. The budget bounds what stays mapped once plans are gone, and what a large refinement holds on top of its
-// own arrays.
+// Freed blocks of 1 MiB and up, and slabs left empty, are kept for reuse, up to kPoolBytes (64 MiB) in all
+// (BlockPool): a plan built again (the modifier after an edit that changes the topology, a benchmark loop) then finds
+// its arrays already faulted in, instead of paying the kernel again to map and zero them, which is most of what a
+// fresh plan's memory costs. The budget bounds what stays mapped once plans are gone, and what a large refinement
+// holds on top of its own arrays.
 #pragma once
 
 #include <atomic>
@@ -91,18 +93,106 @@ private:
     std::size_t held_ = 0;
 };
 
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+
+// A block of `bytes` (a whole number of huge pages, or one slab) aligned to `alignment`, from the system: huge pages
+// asked for where it has them. Given back by free_block.
+inline void* fresh_block(std::size_t bytes, std::size_t alignment) {
+#if defined(_WIN32)
+    void* block = _aligned_malloc(bytes, alignment);  // Windows has no aligned_alloc
+#else
+    void* block = std::aligned_alloc(alignment, bytes);
+#endif
+    if (!block) throw std::bad_alloc();
+#if defined(__linux__)
+    if (bytes >= kHugePage) madvise(block, bytes, MADV_HUGEPAGE);  // advisory: else it is ordinary memory
+#endif
+    return block;
+}
+
+inline void free_block(void* block, std::size_t) noexcept {
+#if defined(_WIN32)
+    _aligned_free(block);  // every block came from _aligned_malloc
+#else
+    std::free(block);
+#endif
+}
+
+// Middling blocks: runs of 64 KiB units in 2 MiB slabs, first fit. A freed run is free for any size at once; a slab
+// left empty goes to the pool as a 2 MiB block, where a new slab, or an array of 2 MiB, is taken from first.
+class Slabs {
+public:
+    static constexpr std::size_t kUnit = std::size_t(64) << 10;
+    static constexpr std::size_t kSlab = kHugePage;
+    static constexpr unsigned kUnits = unsigned(kSlab / kUnit);  // 32: a slab's units are the bits of a word
+
+    static Slabs& instance() {  // never destroyed, as the pool
+        static Slabs* slabs = new Slabs;
+        return *slabs;
+    }
+
+    // `units` (1 to kUnits) consecutive units, aligned to kUnit.
+    void* take(unsigned units) {
+        const std::uint32_t run = units >= kUnits ? ~std::uint32_t(0) : (std::uint32_t(1) << units) - 1;
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (Slab& slab : slabs_) {
+            for (unsigned first = 0; first + units <= kUnits; ++first) {
+                if (slab.used & (run << first)) continue;
+                slab.used |= run << first;
+                return slab.base + first * kUnit;
+            }
+        }
+        char* base = static_cast<char*>(BlockPool::instance().take(kSlab));
+        if (!base) base = static_cast<char*>(fresh_block(kSlab, kSlab));
+        slabs_.push_back({base, run});
+        return base;
+    }
+
+    void give(void* block, unsigned units) noexcept {
+        const std::uint32_t run = units >= kUnits ? ~std::uint32_t(0) : (std::uint32_t(1) << units) - 1;
+        char* base = reinterpret_cast<char*>(reinterpret_cast<std::uintptr_t>(block) & ~std::uintptr_t(kSlab - 1));
+        char* emptied = nullptr;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (std::size_t k = 0; k < slabs_.size(); ++k) {
+                if (slabs_[k].base != base) continue;
+                slabs_[k].used &= ~(run << unsigned((static_cast<char*>(block) - base) / kUnit));
+                if (slabs_[k].used == 0) {
+                    emptied = base;
+                    slabs_[k] = slabs_.back();
+                    slabs_.pop_back();
+                }
+                break;
+            }
+        }
+        if (!emptied) return;
+        try {
+            if (BlockPool::instance().keep(emptied, kSlab, free_block)) return;
+        } catch (...) {  // no memory left to remember the slab: give it back
+        }
+        free_block(emptied, kSlab);
+    }
+
+private:
+    struct Slab {
+        char* base;
+        std::uint32_t used;  // bit k: unit k is part of a block
+    };
+    std::mutex mutex_;
+    std::vector<Slab> slabs_;
+};
+
 template <typename T>
 struct LargeAllocator {
     using value_type = T;
-    static constexpr std::size_t kHugePage = std::size_t(2) << 20;
-    static constexpr std::size_t kPooled = std::size_t(64) << 10;  // the unit of middling blocks
+    static constexpr std::size_t kHugePage = detail::kHugePage;
+    static constexpr std::size_t kPooled = Slabs::kUnit;  // the unit of middling blocks
     // Smaller arrays are malloc's business. Not from 64 KiB: a base level's arrays of a few thousand triangles
     // (just under 64 KiB each) came from the top of malloc's heap, which it gives back to the system when they are
     // freed, and were faulted in again by the next plan.
     static constexpr std::size_t kPooledFrom = std::size_t(16) << 10;
 
-    // Large blocks (1 MiB up) are whole huge pages; middling ones (kPooledFrom up) whole multiples of 64 KiB, so that
-    // plans of one mesh ask for the same sizes again.
+    // Large blocks (1 MiB up) are whole huge pages; middling ones (kPooledFrom up) whole multiples of 64 KiB.
     static std::size_t block_size(std::size_t bytes) {
         const std::size_t unit = bytes >= kHugePage / 2 ? kHugePage : kPooled;
         return (bytes + unit - 1) / unit * unit;
@@ -130,39 +220,32 @@ struct LargeAllocator {
             throw std::bad_alloc();
         }
         const std::size_t rounded = block_size(bytes);
-        void* block = BlockPool::instance().take(rounded);
-        if (!block) {
-#if defined(_WIN32)
-            block = _aligned_malloc(rounded, block_alignment(rounded));  // Windows has no aligned_alloc
-#else
-            block = std::aligned_alloc(block_alignment(rounded), rounded);
-#endif
-            if (!block) throw std::bad_alloc();
-#if defined(__linux__)
-            if (rounded >= kHugePage) madvise(block, rounded, MADV_HUGEPAGE);  // advisory: else it is ordinary memory
-#endif
-        }
-        return reinterpret_cast<T*>(static_cast<char*>(block) + (rounded - bytes >= kColourRoom ? next_colour() : 0));
+        char* block = static_cast<char*>(take_block(rounded));
+        return reinterpret_cast<T*>(block + (rounded - bytes >= kColourRoom ? next_colour() : 0));
     }
     void deallocate(T* p, std::size_t n) noexcept {
         const std::size_t bytes = n * sizeof(T);
         if (bytes < kPooledFrom) return std::free(p);
         const std::size_t rounded = block_size(bytes);
         // The block starts at the alignment below the array (its colour is less than that).
-        void* block = reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) &
-                                              ~std::uintptr_t(block_alignment(rounded) - 1));
+        give_block(reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) &
+                                           ~std::uintptr_t(block_alignment(rounded) - 1)),
+                   rounded);
+    }
+
+    // A block of block_size() bytes: a run in a slab, or whole huge pages (from the pool where it has them).
+    static void* take_block(std::size_t rounded) {
+        if (rounded < kHugePage) return Slabs::instance().take(unsigned(rounded / kPooled));
+        if (void* block = BlockPool::instance().take(rounded)) return block;
+        return fresh_block(rounded, kHugePage);
+    }
+    static void give_block(void* block, std::size_t rounded) noexcept {
+        if (rounded < kHugePage) return Slabs::instance().give(block, unsigned(rounded / kPooled));
         try {
-            if (BlockPool::instance().keep(block, rounded, free_large)) return;
+            if (BlockPool::instance().keep(block, rounded, free_block)) return;
         } catch (...) {  // no memory left to remember the block: give it back
         }
-        free_large(block, rounded);
-    }
-    static void free_large(void* p, std::size_t) noexcept {
-#if defined(_WIN32)
-        _aligned_free(p);  // every pooled block came from _aligned_malloc
-#else
-        std::free(p);
-#endif
+        free_block(block, rounded);
     }
 
     // resize(n) leaves new elements uninitialised: every array here is filled right after it is sized, so

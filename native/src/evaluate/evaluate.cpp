@@ -239,7 +239,7 @@ void Plan::evaluate(ChannelsView<const float> in, ChannelsView<float> out, float
     PlanImpl& p = *impl_;
     check_normals_input(p, in);
     if (corner_normals == nullptr && num_output_triangles() > 0) fail("evaluate: missing (null) normals");
-    std::vector<float>& normals = p.frame.normals;
+    detail::LargeVector<float>& normals = p.frame.normals;
     normals.resize(3 * std::size_t(num_limit_normals()));
     evaluate(in, out, LimitNormals{normals.data()});
     const auto start = Clock::now();

@@ -148,7 +148,7 @@ void PlanBuilder::run() {
     assert(std::all_of(plan_.stencils.begin(), plan_.stencils.end(), follows_table_layout));
     assert(!plan_.limit || plan_.limit->from_grandparent || follows_table_layout(plan_.limit->positions));
     kept_base_ = Topology();  // back to the pool before a large plan empties it
-    if (needed > 4 * BlockPool::kPoolBytes) BlockPool::instance().release_all(LargeAllocator<char>::free_large);
+    if (needed > 4 * BlockPool::kPoolBytes) BlockPool::instance().release_all(free_block);
 }
 
 LevelState PlanBuilder::base_level() {

@@ -67,7 +67,7 @@ struct PlanImpl {
     // What an evaluation writes besides its output, kept for the next (Plan::evaluate is not reentrant).
     struct Frame {
         detail::LargeVector<float> scratch[2];  // the passes' sources and targets, in turn (run_passes)
-        std::vector<float> normals;             // the compact limit normals, for the per-corner evaluate to gather from
+        detail::LargeVector<float> normals;     // the compact limit normals, for the per-corner evaluate to gather from
         // run_passes' lists, kept so that a frame allocates nothing once the plan has run one of each kind.
         std::vector<const detail::LevelStencils*> passes;
         std::vector<int> counts;
