@@ -82,11 +82,39 @@ py::array output_array(py::handle out, const std::vector<Dim>& dims, const py::a
     if (out.is_none()) {
         std::vector<py::ssize_t> shape;
         for (const Dim& d : dims) shape.push_back(d.size);
-        return py::array(py::dtype::of<float>(), shape);
+        return new_array<float>(shape);
     }
     py::array a = require_array<float>(out, "out", dims, /*writeable=*/true);
     if (overlaps(a, input)) throw py::value_error("out must not share memory with the input values");
     return a;
+}
+
+py::array new_array(const py::dtype& dtype, std::size_t item_size, const std::vector<py::ssize_t>& shape) {
+    std::size_t bytes = item_size;
+    for (py::ssize_t n : shape) bytes *= std::size_t(n);
+    struct Memory {
+        void* data;
+        std::size_t bytes;
+    };
+    auto* memory = new Memory{nullptr, bytes};
+    try {
+        memory->data = loopsub::allocate_array_memory(bytes);
+    } catch (...) {
+        delete memory;
+        throw;
+    }
+    py::capsule owner(memory, [](void* m) {
+        auto* memory = static_cast<Memory*>(m);
+        loopsub::free_array_memory(memory->data, memory->bytes);
+        delete memory;
+    });
+    std::vector<py::ssize_t> strides(shape.size());
+    py::ssize_t stride = py::ssize_t(item_size);
+    for (std::size_t k = shape.size(); k-- > 0;) {
+        strides[k] = stride;
+        stride *= shape[k];
+    }
+    return py::array(dtype, shape, strides, memory->data, owner);
 }
 
 }  // namespace loopsub::python

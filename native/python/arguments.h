@@ -75,6 +75,17 @@ const T* data_of(const py::array& a) {
     return static_cast<const T*>(a.data());
 }
 
+// A new C-contiguous array of `shape`, uninitialised, in the memory of loopsub::allocate_array_memory, which the array
+// owns and gives back when it is freed. numpy's own memory would fault in every 4 KiB of a first call's result below
+// 4 MiB, and be mapped anew on every call where malloc's thresholds say so (a tessellation's 7.8 MB points and
+// normals: 1,600 faults a warm call). The item size and strides are the caller's: pybind11 2.10 reads a dtype's size
+// in numpy 1's layout, 0 under numpy 2.
+py::array new_array(const py::dtype& dtype, std::size_t item_size, const std::vector<py::ssize_t>& shape);
+template <typename T>
+py::array new_array(const std::vector<py::ssize_t>& shape) {
+    return new_array(py::dtype::of<T>(), sizeof(T), shape);
+}
+
 // Writing the output over the input would read already-overwritten values mid-evaluation.
 bool overlaps(const py::array& a, const py::array& b);
 

@@ -428,7 +428,7 @@ py::tuple output_edges(PyPlan& p, py::handle edge_vertices_out, py::handle trian
     const std::vector<Dim> edge_dims{{num_output_edges(p), "E_out"}, {2, "2"}};
     const std::vector<Dim> triangle_dims{{p.plan.num_output_triangles(), "M_out"}, {3, "3"}};
     auto array = [](py::handle out, const char* name, const std::vector<Dim>& dims) {
-        if (out.is_none()) return py::array(py::array_t<std::int32_t>({dims[0].size, dims[1].size}));
+        if (out.is_none()) return new_array<std::int32_t>({dims[0].size, dims[1].size});
         return require_array<std::int32_t>(out, name, dims, /*writeable=*/true);
     };
     py::array edge_vertices = array(edge_vertices_out, "edge_vertices", edge_dims);
@@ -452,7 +452,7 @@ py::array output_edge_parents(PyPlan& p, py::handle side_edges_in, py::handle pa
     const std::vector<Dim> side_dims{{p.num_input_triangles, "M"}, {3, "3"}};
     const py::array side_edges = require_array<std::int32_t>(side_edges_in, "side_edges", side_dims);
     const std::vector<Dim> parent_dims{{num_output_edges(p), "E_out"}};
-    py::array parents = parents_out.is_none() ? py::array(py::array_t<std::int32_t>(parent_dims[0].size))
+    py::array parents = parents_out.is_none() ? new_array<std::int32_t>({parent_dims[0].size})
                                               : require_array<std::int32_t>(parents_out, "parents", parent_dims, true);
     if (overlaps(parents, side_edges)) throw py::value_error("side_edges and parents must not share memory");
     const auto* sides = static_cast<const std::int32_t*>(side_edges.data());

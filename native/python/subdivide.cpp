@@ -25,8 +25,8 @@ std::pair<py::array, py::array> weld_layer(const py::array& triangles, int num_v
     const int channels = corner_values.ndim() == 3 ? int(corner_values.shape(2)) : 1;
     const std::int32_t* corner_vertices = data_of<std::int32_t>(triangles);
     const float* values_in = data_of<float>(corner_values);
-    py::array_t<std::int32_t> indices({py::ssize_t(num_triangles), py::ssize_t(3)});
-    std::int32_t* corner_indices = indices.mutable_data();
+    py::array indices = new_array<std::int32_t>({py::ssize_t(num_triangles), py::ssize_t(3)});
+    auto* corner_indices = static_cast<std::int32_t*>(indices.mutable_data());
     int num_values = 0;
     {
         py::gil_scoped_release nogil;
@@ -35,7 +35,7 @@ std::pair<py::array, py::array> weld_layer(const py::array& triangles, int num_v
     }
     std::vector<py::ssize_t> shape{num_values};
     if (corner_values.ndim() == 3) shape.push_back(channels);
-    py::array values(py::dtype::of<float>(), shape);
+    py::array values = new_array<float>(shape);
     float* values_out = static_cast<float*>(values.mutable_data());
     {
         py::gil_scoped_release nogil;
@@ -95,7 +95,7 @@ WeldedLayers weld_layers(const std::vector<Named>& corner_arrays, const py::arra
             loopsub::diagnose_corner_values(data_of<float>(a), m, channels, first_layer + int(k));
         if (!problems.empty()) throw loopsub::InputError(problems[0], corner_arrays[k].name + ": ");
         if (!plan_takes_them) {
-            welded.indices.push_back(py::array(py::dtype::of<std::int32_t>(), {py::ssize_t(m), py::ssize_t(3)}));
+            welded.indices.push_back(new_array<std::int32_t>({py::ssize_t(m), py::ssize_t(3)}));
             std::fill_n(static_cast<std::int32_t*>(welded.indices.back().mutable_data()), 3 * std::size_t(m), 0);
             continue;
         }

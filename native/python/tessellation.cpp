@@ -175,10 +175,10 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
         rates = loopsub::screen_space_rates(mesh, data_of<float>(points), camera, float(pixels), max_rate, by,
                                             float(offscreen_scale));
     }
-    py::array_t<std::int32_t> edges({py::ssize_t(rates.rates.size()), py::ssize_t(2)});
-    py::array_t<std::int32_t> edge_rates(py::ssize_t(rates.rates.size()));
-    std::copy(rates.edges.begin(), rates.edges.end(), edges.mutable_data());
-    std::copy(rates.rates.begin(), rates.rates.end(), edge_rates.mutable_data());
+    py::array edges = new_array<std::int32_t>({py::ssize_t(rates.rates.size()), py::ssize_t(2)});
+    py::array edge_rates = new_array<std::int32_t>({py::ssize_t(rates.rates.size())});
+    std::copy(rates.edges.begin(), rates.edges.end(), static_cast<std::int32_t*>(edges.mutable_data()));
+    std::copy(rates.rates.begin(), rates.rates.end(), static_cast<std::int32_t*>(edge_rates.mutable_data()));
     return py::make_tuple(edges, edge_rates);
 }
 
@@ -188,10 +188,12 @@ py::tuple output_edges(PyTessellation& p) {
         py::gil_scoped_release nogil;
         edges = p.tessellation.output_edges();
     }
-    py::array_t<std::int32_t> edge_vertices({py::ssize_t(edges.edge_vertices.size() / 2), py::ssize_t(2)});
-    py::array_t<std::int32_t> triangle_edges({py::ssize_t(edges.triangle_edges.size() / 3), py::ssize_t(3)});
-    std::copy(edges.edge_vertices.begin(), edges.edge_vertices.end(), edge_vertices.mutable_data());
-    std::copy(edges.triangle_edges.begin(), edges.triangle_edges.end(), triangle_edges.mutable_data());
+    py::array edge_vertices = new_array<std::int32_t>({py::ssize_t(edges.edge_vertices.size() / 2), py::ssize_t(2)});
+    py::array triangle_edges = new_array<std::int32_t>({py::ssize_t(edges.triangle_edges.size() / 3), py::ssize_t(3)});
+    std::copy(edges.edge_vertices.begin(), edges.edge_vertices.end(),
+              static_cast<std::int32_t*>(edge_vertices.mutable_data()));
+    std::copy(edges.triangle_edges.begin(), edges.triangle_edges.end(),
+              static_cast<std::int32_t*>(triangle_edges.mutable_data()));
     return py::make_tuple(edge_vertices, triangle_edges);
 }
 

@@ -202,6 +202,36 @@ def test_subdivide_arrays_outlive_the_call():
     assert triangles.max() < triangles.base.num_output_vertices
 
 
+def test_new_results_are_plain_arrays_that_own_their_memory():
+    """Results without `out` are in the core's memory (huge pages, reused when freed): each must still be an ordinary
+    C-contiguous, writeable array of its own, valid after its plan and the next results are gone, and freed memory
+    must go back (many results made and dropped do not grow the process)."""
+    import resource
+    p, t = grid(40, seed=3)
+    uvs = np.stack([p[:, 0], p[:, 1]], 1).astype(np.float32)
+    plan = _loopsub.Plan(t, len(p), 3, limit_surface=True, face_varying_indices=[t])
+    results = [plan.evaluate(p), plan.evaluate_with_normals(p)[1], plan.evaluate_with_limit_normals(p)[1],
+               plan.evaluate_face_varying(uvs, layer=0), plan.output_edges()[0]]
+    expected = [r.copy() for r in results]
+    for r in results:
+        assert r.flags.c_contiguous and r.flags.writeable and r.flags.aligned
+        assert r.strides[-1] == r.itemsize and r.strides[0] == r.itemsize * int(np.prod(r.shape[1:]))
+        assert sum(np.shares_memory(r, other) for other in results) == 1
+    del plan
+    gc.collect()
+    churn = [_loopsub.Plan(t, len(p), 3).evaluate(p) for _ in range(10)]
+    del churn
+    for r, e in zip(results, expected):
+        np.testing.assert_array_equal(r, e)
+    results[0][:] = 1.0  # writeable
+    assert (results[0] == 1.0).all()
+    big = _loopsub.Plan(t, len(p), 5)
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for _ in range(40):
+        big.evaluate(p)  # 18.7 MB each, dropped at once
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 100 * 1024  # kB: not 40 results kept
+
+
 def test_module_docstring_example_runs():
     import doctest
     result = doctest.testmod(_loopsub)

@@ -490,6 +490,12 @@ int weld_corner_values(std::int32_t* corner_value_indices, const std::int32_t* t
 void gather_welded_values(float* values, const std::int32_t* corner_value_indices, int num_triangles,
                           const float* corner_values, int num_channels);
 
+// Memory for a front end's output arrays (the Python module's results), from the allocator of the plans' own arrays:
+// from 16 KiB up in huge pages where the system has them, not zeroed, and kept for the next array when freed
+// (docs/architecture.md, "pool, slab"). Aligned to 16 bytes at least; free it with its size. Throws std::bad_alloc.
+void* allocate_array_memory(std::size_t bytes);
+void free_array_memory(void* memory, std::size_t bytes) noexcept;
+
 // A size as MemoryLimitError's messages give it: "467.00 MiB (489684798 bytes)", in GiB from 1 GiB.
 std::string describe_bytes(std::uint64_t bytes);
 

@@ -7,11 +7,11 @@
 // runs of 64 KiB units in shared 2 MiB slabs of huge pages (Slabs): a first plan of a few thousand triangles had
 // nearly all its faults in such arrays, each its own mapping of 4 KiB pages.
 //
-// Freed blocks of 1 MiB and up, and slabs left empty, are kept for reuse, up to kPoolBytes (64 MiB) in all
-// (BlockPool): a plan built again (the modifier after an edit that changes the topology, a benchmark loop) then finds
-// its arrays already faulted in, instead of paying the kernel again to map and zero them, which is most of what a
-// fresh plan's memory costs. The budget bounds what stays mapped once plans are gone, and what a large refinement
-// holds on top of its own arrays.
+// Freed blocks of 1 MiB and up are kept for reuse, up to kPoolBytes (64 MiB) in all (BlockPool), and so are up to 16
+// slabs left empty (Slabs): a plan built again (the modifier after an edit that changes the topology, a benchmark loop)
+// then finds its arrays already faulted in, instead of paying the kernel again to map and zero them, which is most of
+// what a fresh plan's memory costs. The budget bounds what stays mapped once plans are gone, and what a large
+// refinement holds on top of its own arrays.
 #pragma once
 
 #include <atomic>
@@ -118,13 +118,16 @@ inline void free_block(void* block, std::size_t) noexcept {
 #endif
 }
 
-// Middling blocks: runs of 64 KiB units in 2 MiB slabs, first fit. A freed run is free for any size at once; a slab
-// left empty goes to the pool as a 2 MiB block, where a new slab, or an array of 2 MiB, is taken from first.
+// Middling blocks: runs of 64 KiB units in 2 MiB slabs, first fit. A freed run is free for any size at once; up to
+// kKeptEmpty slabs left empty (32 MiB) are kept for the next plan, more are given back. They are kept apart from the
+// pool: handed through it as 2 MiB blocks, warm frames in Python turned bimodal (evaluate_face_varying of a level-4
+// icosphere 3.3 or 21 ms, runs of each; docs/benchmark.md, "Fresh processes and first touches").
 class Slabs {
 public:
     static constexpr std::size_t kUnit = std::size_t(64) << 10;
     static constexpr std::size_t kSlab = kHugePage;
     static constexpr unsigned kUnits = unsigned(kSlab / kUnit);  // 32: a slab's units are the bits of a word
+    static constexpr std::size_t kKeptEmpty = 16;
 
     static Slabs& instance() {  // never destroyed, as the pool
         static Slabs* slabs = new Slabs;
@@ -142,8 +145,14 @@ public:
                 return slab.base + first * kUnit;
             }
         }
-        char* base = static_cast<char*>(BlockPool::instance().take(kSlab));
-        if (!base) base = static_cast<char*>(fresh_block(kSlab, kSlab));
+        slabs_.reserve(slabs_.size() + 1);  // before a slab is taken, so that nothing is lost if it throws
+        char* base = nullptr;
+        if (!empty_.empty()) {
+            base = empty_.back();
+            empty_.pop_back();
+        } else {
+            base = static_cast<char*>(fresh_block(kSlab, kSlab));
+        }
         slabs_.push_back({base, run});
         return base;
     }
@@ -151,26 +160,22 @@ public:
     void give(void* block, unsigned units) noexcept {
         const std::uint32_t run = units >= kUnits ? ~std::uint32_t(0) : (std::uint32_t(1) << units) - 1;
         char* base = reinterpret_cast<char*>(reinterpret_cast<std::uintptr_t>(block) & ~std::uintptr_t(kSlab - 1));
-        char* emptied = nullptr;
+        char* released = nullptr;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             for (std::size_t k = 0; k < slabs_.size(); ++k) {
                 if (slabs_[k].base != base) continue;
                 slabs_[k].used &= ~(run << unsigned((static_cast<char*>(block) - base) / kUnit));
                 if (slabs_[k].used == 0) {
-                    emptied = base;
                     slabs_[k] = slabs_.back();
                     slabs_.pop_back();
+                    if (empty_.size() < kKeptEmpty) empty_.push_back(base);  // capacity reserved: no throw
+                    else released = base;
                 }
                 break;
             }
         }
-        if (!emptied) return;
-        try {
-            if (BlockPool::instance().keep(emptied, kSlab, free_block)) return;
-        } catch (...) {  // no memory left to remember the slab: give it back
-        }
-        free_block(emptied, kSlab);
+        if (released) free_block(released, kSlab);
     }
 
 private:
@@ -178,8 +183,11 @@ private:
         char* base;
         std::uint32_t used;  // bit k: unit k is part of a block
     };
+    Slabs() { empty_.reserve(kKeptEmpty); }
+
     std::mutex mutex_;
     std::vector<Slab> slabs_;
+    std::vector<char*> empty_;  // slabs of no block, kept for the next plan
 };
 
 template <typename T>
