@@ -190,6 +190,14 @@ private:
     std::vector<char*> empty_;  // slabs of no block, kept for the next plan
 };
 
+// Under AddressSanitizer each middling block is an allocation of its own, whose end the sanitizer watches: in a slab,
+// an overrun would land in the next block unseen.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSlabs = false;
+#else
+constexpr bool kSlabs = true;
+#endif
+
 template <typename T>
 struct LargeAllocator {
     using value_type = T;
@@ -243,11 +251,13 @@ struct LargeAllocator {
 
     // A block of block_size() bytes: a run in a slab, or whole huge pages (from the pool where it has them).
     static void* take_block(std::size_t rounded) {
+        if (rounded < kHugePage && !kSlabs) return fresh_block(rounded, kPooled);
         if (rounded < kHugePage) return Slabs::instance().take(unsigned(rounded / kPooled));
         if (void* block = BlockPool::instance().take(rounded)) return block;
         return fresh_block(rounded, kHugePage);
     }
     static void give_block(void* block, std::size_t rounded) noexcept {
+        if (rounded < kHugePage && !kSlabs) return free_block(block, rounded);
         if (rounded < kHugePage) return Slabs::instance().give(block, unsigned(rounded / kPooled));
         try {
             if (BlockPool::instance().keep(block, rounded, free_block)) return;
