@@ -96,18 +96,20 @@ py::array new_array(const py::dtype& dtype, std::size_t item_size, const std::ve
         void* data;
         std::size_t bytes;
     };
-    auto* memory = new Memory{nullptr, bytes};
-    try {
-        memory->data = loopsub::allocate_array_memory(bytes);
-    } catch (...) {
-        delete memory;
-        throw;
-    }
-    py::capsule owner(memory, [](void* m) {
+    void (*release)(void*) = [](void* m) {
         auto* memory = static_cast<Memory*>(m);
         loopsub::free_array_memory(memory->data, memory->bytes);
         delete memory;
-    });
+    };
+    auto* memory = new Memory{nullptr, bytes};
+    py::capsule owner;
+    try {
+        memory->data = loopsub::allocate_array_memory(bytes);
+        owner = py::capsule(memory, release);
+    } catch (...) {
+        release(memory);  // free_array_memory takes null
+        throw;
+    }
     std::vector<py::ssize_t> strides(shape.size());
     py::ssize_t stride = py::ssize_t(item_size);
     for (std::size_t k = shape.size(); k-- > 0;) {

@@ -492,7 +492,8 @@ void gather_welded_values(float* values, const std::int32_t* corner_value_indice
 
 // Memory for a front end's output arrays (the Python module's results), from the allocator of the plans' own arrays:
 // from 16 KiB up in huge pages where the system has them, not zeroed, and kept for the next array when freed
-// (docs/architecture.md, "pool, slab"). Aligned to 16 bytes at least; free it with its size. Throws std::bad_alloc.
+// (docs/architecture.md, "pool, slab"). Aligned to 16 bytes at least; free it with its size (null is ignored).
+// Throws std::bad_alloc.
 void* allocate_array_memory(std::size_t bytes);
 void free_array_memory(void* memory, std::size_t bytes) noexcept;
 

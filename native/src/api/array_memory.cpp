@@ -9,7 +9,7 @@ namespace loopsub {
 void* allocate_array_memory(std::size_t bytes) { return detail::LargeAllocator<char>().allocate(bytes); }
 
 void free_array_memory(void* memory, std::size_t bytes) noexcept {
-    detail::LargeAllocator<char>().deallocate(static_cast<char*>(memory), bytes);
+    if (memory) detail::LargeAllocator<char>().deallocate(static_cast<char*>(memory), bytes);
 }
 
 }  // namespace loopsub
