@@ -487,6 +487,47 @@ TEST_P(TessellationLayerAgainstBfr, LayersAreBfrsFaceVaryingSurfaces) {
 INSTANTIATE_TEST_SUITE_P(Shapes, TessellationLayerAgainstBfr, ::testing::ValuesIn(layer_shapes()),
                          case_name<LayerCase>);
 
+// The pillow of the tests below (two faces on the same three vertices) on an icosahedron's vertex `apex`, which is then
+// a vertex of two fans; the pillow's other vertices are v (valence 2) and v + 1.
+struct PillowOnIcosahedron {
+    TestMesh mesh;
+    std::int32_t v, apex;
+};
+
+PillowOnIcosahedron pillow_on_icosahedron() {
+    PillowOnIcosahedron p{icosahedron(), 0, 0};
+    p.v = p.mesh.num_vertices(), p.apex = p.mesh.triangles[0];
+    const float* at = &p.mesh.positions[3 * std::size_t(p.apex)];
+    p.mesh.positions.insert(p.mesh.positions.end(),
+                            {at[0] + 0.6f, at[1] + 0.2f, at[2] + 0.3f, at[0] + 0.1f, at[1] + 0.7f, at[2] - 0.2f});
+    p.mesh.triangles.insert(p.mesh.triangles.end(), {p.v, p.apex, p.v + 1, p.v, p.v + 1, p.apex});
+    return p;
+}
+
+// The largest distance, over the bounding box's diagonal, from the tessellation's points at `rate` to the limit that
+// OpenSubdiv alone computes (far_refined_limit, 8 levels down); and from Bfr's points to it.
+std::pair<double, double> worst_from_refined_limit(const TestMesh& mesh, int rate) {
+    const TessellationRates rates{rate};
+    const Tessellation tessellation(mesh.view(), options_for(mesh), rates);
+    std::vector<float> points(3 * std::size_t(tessellation.num_points()));
+    tessellation.evaluate(mesh.positions.data(), points.data(), nullptr);
+    const auto [asked, point_of] = face_points_of(tessellation);
+    const std::vector<double> expected = far_refined_limit(mesh, asked, 8);
+    const BfrLimit bfr = bfr_evaluate(mesh, asked);
+    double worst = 0.0, bfr_worst = 0.0;
+    for (std::size_t fp = 0; fp < asked.size(); ++fp) {
+        double d2 = 0.0, bfr_d2 = 0.0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            d2 += std::pow(points[3 * std::size_t(point_of[fp]) + c] - expected[3 * fp + c], 2);
+            bfr_d2 += std::pow(bfr.positions[3 * fp + c] - expected[3 * fp + c], 2);
+        }
+        worst = std::max(worst, std::sqrt(d2));
+        bfr_worst = std::max(bfr_worst, std::sqrt(bfr_d2));
+    }
+    const double diagonal = bounding_box_diagonal(mesh.positions);
+    return {worst / diagonal, bfr_worst / diagonal};
+}
+
 // An interior vertex of valence 2 has its two faces on the same three vertices (a pillow), and so has every level's
 // vertex there: the two edges between its neighbours, one inside each face, share their ends. A regular patch beside
 // it walks its rings by the split's edges, not their ends (which took those edges for one of four faces, and the patch
@@ -498,33 +539,10 @@ TEST(Tessellation, AtAnInteriorVertexOfValenceTwoNonDyadicRatesAreTheRefinedLimi
     TestMesh pillow;
     pillow.positions = {0, 0, 0, 1, 0.1f, 0.2f, 0.2f, 1, -0.1f};
     pillow.triangles = {0, 1, 2, 0, 2, 1};
-    // The same pillow on an icosahedron's vertex (a vertex of two fans, so a corner), its other corner apart.
-    TestMesh attached = icosahedron();
-    const std::int32_t v = attached.num_vertices(), b = v + 1, apex = attached.triangles[0];
-    const float* at = &attached.positions[3 * std::size_t(apex)];
-    attached.positions.insert(attached.positions.end(),
-                              {at[0] + 0.6f, at[1] + 0.2f, at[2] + 0.3f, at[0] + 0.1f, at[1] + 0.7f, at[2] - 0.2f});
-    attached.triangles.insert(attached.triangles.end(), {v, apex, b, v, b, apex});
+    TestMesh attached = pillow_on_icosahedron().mesh;
     for (const TestMesh* mesh : {&pillow, &attached}) {
-        const double diagonal = bounding_box_diagonal(mesh->positions);
         for (int rate : {3, 4, 6}) {
-            const TessellationRates rates{rate};
-            const Tessellation tessellation(mesh->view(), options_for(*mesh), rates);
-            std::vector<float> points(3 * std::size_t(tessellation.num_points()));
-            tessellation.evaluate(mesh->positions.data(), points.data(), nullptr);
-            const auto [asked, point_of] = face_points_of(tessellation);
-            const std::vector<double> expected = far_refined_limit(*mesh, asked, 8);
-            const BfrLimit bfr = bfr_evaluate(*mesh, asked);
-            double worst = 0.0, bfr_worst = 0.0;
-            for (std::size_t fp = 0; fp < asked.size(); ++fp) {
-                double d2 = 0.0, bfr_d2 = 0.0;
-                for (std::size_t c = 0; c < 3; ++c) {
-                    d2 += std::pow(points[3 * std::size_t(point_of[fp]) + c] - expected[3 * fp + c], 2);
-                    bfr_d2 += std::pow(bfr.positions[3 * fp + c] - expected[3 * fp + c], 2);
-                }
-                worst = std::max(worst, std::sqrt(d2) / diagonal);
-                bfr_worst = std::max(bfr_worst, std::sqrt(bfr_d2) / diagonal);
-            }
+            const auto [worst, bfr_worst] = worst_from_refined_limit(*mesh, rate);
             const std::string where = (mesh == &pillow ? "pillow" : "pillow on an icosahedron") +
                                       std::string(", rate ") + std::to_string(rate);
             EXPECT_LE(worst, 2e-6) << where;
@@ -538,31 +556,13 @@ TEST(Tessellation, AtAnInteriorVertexOfValenceTwoNonDyadicRatesAreTheRefinedLimi
 // need the neighbourhood refined on its own (rate 6), the first is right; the second is right at rates 3 and 4 only
 // (docs/rules.md: at rate 6 it is off by 2.2e-2 of the diagonal, the local refinement reading edges by their ends).
 TEST(Tessellation, SemiSharpCreasesNearAValenceTwoVertexAreTheRefinedLimit) {
-    TestMesh attached = icosahedron();
-    const std::int32_t v = attached.num_vertices(), b = v + 1, apex = attached.triangles[0];
-    const float* at = &attached.positions[3 * std::size_t(apex)];
-    attached.positions.insert(attached.positions.end(),
-                              {at[0] + 0.6f, at[1] + 0.2f, at[2] + 0.3f, at[0] + 0.1f, at[1] + 0.7f, at[2] - 0.2f});
-    attached.triangles.insert(attached.triangles.end(), {v, apex, b, v, b, apex});
-    TestMesh beside = attached, along = attached;
-    beside.add_crease(apex, attached.triangles[1], 1.5f);
-    along.add_crease(v, apex, 1.5f);
+    const PillowOnIcosahedron attached = pillow_on_icosahedron();
+    TestMesh beside = attached.mesh, along = attached.mesh;
+    beside.add_crease(attached.apex, attached.mesh.triangles[1], 1.5f);
+    along.add_crease(attached.v, attached.apex, 1.5f);
     for (const auto& [mesh, rate] :
          {std::pair{&beside, 3}, std::pair{&beside, 6}, std::pair{&along, 3}, std::pair{&along, 4}}) {
-        const TessellationRates rates{rate};
-        const Tessellation tessellation(mesh->view(), options_for(*mesh), rates);
-        std::vector<float> points(3 * std::size_t(tessellation.num_points()));
-        tessellation.evaluate(mesh->positions.data(), points.data(), nullptr);
-        const auto [asked, point_of] = face_points_of(tessellation);
-        const std::vector<double> expected = far_refined_limit(*mesh, asked, 8);
-        double worst = 0.0;
-        for (std::size_t fp = 0; fp < asked.size(); ++fp) {
-            double d2 = 0.0;
-            for (std::size_t c = 0; c < 3; ++c)
-                d2 += std::pow(points[3 * std::size_t(point_of[fp]) + c] - expected[3 * fp + c], 2);
-            worst = std::max(worst, std::sqrt(d2));
-        }
-        EXPECT_LE(worst / bounding_box_diagonal(mesh->positions), 2e-6)
+        EXPECT_LE(worst_from_refined_limit(*mesh, rate).first, 2e-6)
             << (mesh == &beside ? "beside" : "along") << ", rate " << rate;
     }
 }
