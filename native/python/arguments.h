@@ -6,6 +6,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -84,6 +85,15 @@ py::array new_array(const py::dtype& dtype, std::size_t item_size, const std::ve
 template <typename T>
 py::array new_array(const std::vector<py::ssize_t>& shape) {
     return new_array(py::dtype::of<T>(), sizeof(T), shape);
+}
+
+// A new array of `values`, `width` to a row ((N, width); (N,) for 1).
+template <typename T>
+py::array rows(const std::vector<T>& values, py::ssize_t width = 1) {
+    const py::ssize_t n = py::ssize_t(values.size()) / width;
+    py::array a = width > 1 ? new_array<T>({n, width}) : new_array<T>({n});
+    std::copy(values.begin(), values.end(), static_cast<T*>(a.mutable_data()));
+    return a;
 }
 
 // Writing the output over the input would read already-overwritten values mid-evaluation.

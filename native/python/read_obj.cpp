@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "arguments.h"
 #include "obj/obj_io.h"
 
 namespace loopsub::python {
@@ -14,15 +15,6 @@ namespace loopsub::python {
 namespace py = pybind11;
 
 namespace {
-
-// A new array of `v`'s values, `width` to a row ((N, width); (N,) for 1).
-template <typename T>
-py::array rows(const std::vector<T>& v, py::ssize_t width = 1) {
-    const py::ssize_t n = py::ssize_t(v.size()) / width;
-    py::array_t<T> a = width > 1 ? py::array_t<T>({n, width}) : py::array_t<T>(n);
-    std::copy(v.begin(), v.end(), a.mutable_data());
-    return a;
-}
 
 // An option a tag set, by the name Plan's keyword takes; None where the file has no such tag.
 template <typename Option>

@@ -175,11 +175,7 @@ py::tuple screen_rates(py::handle positions, py::handle triangles, py::handle wo
         rates = loopsub::screen_space_rates(mesh, data_of<float>(points), camera, float(pixels), max_rate, by,
                                             float(offscreen_scale));
     }
-    py::array edges = new_array<std::int32_t>({py::ssize_t(rates.rates.size()), py::ssize_t(2)});
-    py::array edge_rates = new_array<std::int32_t>({py::ssize_t(rates.rates.size())});
-    std::copy(rates.edges.begin(), rates.edges.end(), static_cast<std::int32_t*>(edges.mutable_data()));
-    std::copy(rates.rates.begin(), rates.rates.end(), static_cast<std::int32_t*>(edge_rates.mutable_data()));
-    return py::make_tuple(edges, edge_rates);
+    return py::make_tuple(rows(rates.edges, 2), rows(rates.rates));
 }
 
 py::tuple output_edges(PyTessellation& p) {
@@ -188,13 +184,7 @@ py::tuple output_edges(PyTessellation& p) {
         py::gil_scoped_release nogil;
         edges = p.tessellation.output_edges();
     }
-    py::array edge_vertices = new_array<std::int32_t>({py::ssize_t(edges.edge_vertices.size() / 2), py::ssize_t(2)});
-    py::array triangle_edges = new_array<std::int32_t>({py::ssize_t(edges.triangle_edges.size() / 3), py::ssize_t(3)});
-    std::copy(edges.edge_vertices.begin(), edges.edge_vertices.end(),
-              static_cast<std::int32_t*>(edge_vertices.mutable_data()));
-    std::copy(edges.triangle_edges.begin(), edges.triangle_edges.end(),
-              static_cast<std::int32_t*>(triangle_edges.mutable_data()));
-    return py::make_tuple(edge_vertices, triangle_edges);
+    return py::make_tuple(rows(edges.edge_vertices, 2), rows(edges.triangle_edges, 3));
 }
 
 using TessellationClass = py::class_<PyTessellation>;

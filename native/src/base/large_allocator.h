@@ -136,7 +136,7 @@ public:
 
     // `units` (1 to kUnits) consecutive units, aligned to kUnit.
     void* take(unsigned units) {
-        const std::uint32_t run = units >= kUnits ? ~std::uint32_t(0) : (std::uint32_t(1) << units) - 1;
+        const std::uint32_t run = run_of(units);
         std::lock_guard<std::mutex> lock(mutex_);
         for (Slab& slab : slabs_) {
             for (unsigned first = 0; first + units <= kUnits; ++first) {
@@ -158,7 +158,7 @@ public:
     }
 
     void give(void* block, unsigned units) noexcept {
-        const std::uint32_t run = units >= kUnits ? ~std::uint32_t(0) : (std::uint32_t(1) << units) - 1;
+        const std::uint32_t run = run_of(units);
         char* base = reinterpret_cast<char*>(reinterpret_cast<std::uintptr_t>(block) & ~std::uintptr_t(kSlab - 1));
         char* released = nullptr;
         {
@@ -184,6 +184,10 @@ private:
         std::uint32_t used;  // bit k: unit k is part of a block
     };
     Slabs() { empty_.reserve(kKeptEmpty); }
+    // The bits of `units` units from unit 0.
+    static std::uint32_t run_of(unsigned units) {
+        return units >= kUnits ? ~std::uint32_t(0) : (std::uint32_t(1) << units) - 1;
+    }
 
     std::mutex mutex_;
     std::vector<Slab> slabs_;
@@ -207,10 +211,12 @@ struct LargeAllocator {
     // (just under 64 KiB each) came from the top of malloc's heap, which it gives back to the system when they are
     // freed, and were faulted in again by the next plan.
     static constexpr std::size_t kPooledFrom = std::size_t(16) << 10;
+    static constexpr std::size_t kLargeFrom = kHugePage / 2;
+    static bool middling(std::size_t bytes) { return bytes >= kPooledFrom && bytes < kLargeFrom; }
 
-    // Large blocks (1 MiB up) are whole huge pages; middling ones (kPooledFrom up) whole multiples of 64 KiB.
+    // Large blocks (kLargeFrom up) are whole huge pages; middling ones whole multiples of 64 KiB.
     static std::size_t block_size(std::size_t bytes) {
-        const std::size_t unit = bytes >= kHugePage / 2 ? kHugePage : kPooled;
+        const std::size_t unit = bytes >= kLargeFrom ? kHugePage : kPooled;
         return (bytes + unit - 1) / unit * unit;
     }
     static std::size_t block_alignment(std::size_t rounded) { return rounded >= kHugePage ? kHugePage : kPooled; }
@@ -251,14 +257,14 @@ struct LargeAllocator {
 
     // A block of block_size() bytes: a run in a slab, or whole huge pages (from the pool where it has them).
     static void* take_block(std::size_t rounded) {
-        if (rounded < kHugePage && !kSlabs) return fresh_block(rounded, kPooled);
-        if (rounded < kHugePage) return Slabs::instance().take(unsigned(rounded / kPooled));
+        if (rounded < kHugePage)
+            return kSlabs ? Slabs::instance().take(unsigned(rounded / kPooled)) : fresh_block(rounded, kPooled);
         if (void* block = BlockPool::instance().take(rounded)) return block;
         return fresh_block(rounded, kHugePage);
     }
     static void give_block(void* block, std::size_t rounded) noexcept {
-        if (rounded < kHugePage && !kSlabs) return free_block(block, rounded);
-        if (rounded < kHugePage) return Slabs::instance().give(block, unsigned(rounded / kPooled));
+        if (rounded < kHugePage)
+            return kSlabs ? Slabs::instance().give(block, unsigned(rounded / kPooled)) : free_block(block, rounded);
         try {
             if (BlockPool::instance().keep(block, rounded, free_block)) return;
         } catch (...) {  // no memory left to remember the block: give it back
@@ -300,14 +306,12 @@ struct TransientAllocator : std::allocator<T> {
     TransientAllocator() = default;
     template <typename U>
     TransientAllocator(const TransientAllocator<U>&) noexcept {}
-    static bool middling(std::size_t n) {
-        return n * sizeof(T) >= LargeAllocator<T>::kPooledFrom && n * sizeof(T) < kHugePage / 2;
-    }
     T* allocate(std::size_t n) {
-        return middling(n) ? LargeAllocator<T>().allocate(n) : std::allocator<T>::allocate(n);
+        return LargeAllocator<T>::middling(n * sizeof(T)) ? LargeAllocator<T>().allocate(n)
+                                                          : std::allocator<T>::allocate(n);
     }
     void deallocate(T* p, std::size_t n) noexcept {
-        if (middling(n)) return LargeAllocator<T>().deallocate(p, n);
+        if (LargeAllocator<T>::middling(n * sizeof(T))) return LargeAllocator<T>().deallocate(p, n);
         std::allocator<T>::deallocate(p, n);
     }
     template <typename U, typename... Args>
