@@ -9,7 +9,12 @@
 //   face-varying channels per corner and the layer's values (raw float bits). "Closed" takes an octahedron's 6
 //   vertices and 8 triangles instead of the counts and the triangles' indices (the bytes are read all the same): a
 //   closed surface, which random triangles hardly ever are, and whose limit comes from the last level's grandparent.
+//   Last, the triangles' own edges (MeshView::triangle_edges): a byte that gives them (bit 0), numbered by their ends
+//   (bit 1, so that they pass) or else from the bytes; then a byte per corner, from which a numbered corner's edge may
+//   take a number of its own (a second edge on the same ends, as a refined level has next to a valence-2 vertex).
 #include <algorithm>
+#include <map>
+#include <utility>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -91,11 +96,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (float& value : face_varying) value = in.number();
     std::vector<std::vector<float>> values(1, std::vector<float>(2 * std::size_t(layer_values)));
     for (float& value : values[0]) value = in.number();
+    const std::uint8_t edges_byte = in.byte();
+    std::vector<std::int32_t> triangle_edges(3 * std::size_t(triangles));
+    std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> number_of_ends;
+    for (int c = 0; c < 3 * triangles; ++c) {
+        const std::int32_t a = mesh.triangles[std::size_t(c)], b = mesh.triangles[std::size_t(c - c % 3 + (c + 1) % 3)];
+        const std::uint8_t split = in.byte();
+        std::int32_t& edge = triangle_edges[std::size_t(c)];
+        if (edges_byte & 2)  // a number is the first corner on its ends, or a corner's own (no other corner takes it)
+            edge = split % 8 == 0 ? c : number_of_ends.try_emplace(std::minmax(a, b), c).first->second;
+        else edge = in.index(3 * triangles);
+    }
 
     try {
         const FaceVaryingLayer layer{corner_values.data(), layer_values};
         MeshView view = mesh.view();
         if (with_layer) view.face_varying = &layer, view.num_face_varying = 1;
+        if (edges_byte & 1) view.triangle_edges = triangle_edges.data();
         Plan plan(view, options);
         fuzz::exercise(plan, mesh.positions, face_varying, 2, values);
         try {

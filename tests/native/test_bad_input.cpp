@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "loopsub/loopsub.h"
+#include "loopsub/tessellation.h"
 
 namespace {
 
@@ -172,6 +173,28 @@ TEST(BadInput, FaceVaryingLayerIndicesAndValues) {
             EXPECT_NE(std::string(e.what()).find("non-finite"), std::string::npos) << e.what();
         }
         EXPECT_THROW(plan.output_face_varying_indices(1), std::out_of_range);
+    }
+}
+
+// Face-varying layers are read by their values' ends, and a tessellation by its edges' ends: neither takes the
+// triangles' own edges (MeshView::triangle_edges).
+TEST(BadInput, TriangleEdgesWithFaceVaryingLayersOrForATessellation) {
+    Tetrahedron mesh;
+    std::vector<std::int32_t> edges = {0, 1, 2, 2, 3, 4, 1, 5, 3, 4, 5, 0};
+    std::vector<std::int32_t> corner_values = {0, 1, 2, 0, 2, 3, 2, 1, 3, 0, 3, 1};
+    loopsub::FaceVaryingLayer layer{corner_values.data(), 4};
+    loopsub::MeshView view = mesh.view();
+    view.triangle_edges = edges.data();
+    view.face_varying = &layer;
+    view.num_face_varying = 1;
+    expect_plan_error(view, options_for(Rules::OpenSubdiv), {"triangle edges", "face-varying layers"});
+    view.face_varying = nullptr, view.num_face_varying = 0;
+    try {
+        loopsub::Tessellation tessellation(view, options_for(Rules::OpenSubdiv), loopsub::TessellationRates{4});
+        ADD_FAILURE() << "no InputError";
+    } catch (const loopsub::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("tessellation: triangle_edges are not supported"), std::string::npos)
+            << e.what();
     }
 }
 

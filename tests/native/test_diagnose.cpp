@@ -136,6 +136,25 @@ TEST(Diagnose, BadSharpness) {
     EXPECT_EQ(found[0].message(), "crease edge 0 has sharpness -1.000000; it must be a finite number >= 0");
 }
 
+// MeshView::triangle_edges: each number below 3 * num_triangles, one pair of vertices to a number. The tetrahedron's
+// edges numbered by hand (triangle 0's first), then one number out of range and one on other ends.
+TEST(Diagnose, TriangleEdgesOutOfRangeOrOnOtherEnds) {
+    const Tetrahedron mesh;
+    std::vector<std::int32_t> edges = {0, 1, 2, 2, 3, 4, 1, 5, 3, 4, 5, 0};
+    loopsub::MeshView view = mesh.view();
+    view.triangle_edges = edges.data();
+    EXPECT_TRUE(loopsub::diagnose(view).empty());
+    edges[4] = 12;  // triangle 1, corner 1
+    edges[7] = 0;   // triangle 2's edge from vertex 2 to 3, numbered as triangle 0's from 0 to 2
+    expect_diagnosis(view, {{Kind::EdgeOutOfRange, Element::Triangle, 1, 1, 12, 12, -1, -1},
+                            {Kind::EdgeEndsDiffer, Element::Triangle, 2, 1, 0, 0, -1, -1}});
+    const std::vector<InputProblem> found = loopsub::diagnose(view);
+    EXPECT_EQ(found[0].message(), "triangle 1, corner 1 numbers its edge 12, outside 0..11 (triangle_edges)");
+    EXPECT_EQ(found[1].message(),
+              "triangle 2, corner 1 numbers its edge 0, which joins other vertices in triangle 0 (triangle_edges: one "
+              "number, one pair of vertices)");
+}
+
 TEST(Diagnose, CreaseThatIsNoEdge) {
     // A quad of two triangles: 0-2 is its diagonal, 1-3 is not an edge; nor is a vertex to itself.
     loopsub::MeshData quad;

@@ -581,5 +581,47 @@ std::vector<FeedBackCase> feed_back_cases() {
 INSTANTIATE_TEST_SUITE_P(BothRules, FeedBack, ::testing::ValuesIn(feed_back_cases()),
                          [](const ::testing::TestParamInfo<FeedBackCase>& info) { return info.param.name; });
 
+// A refined level fed back in with its edges (MeshView::triangle_edges, from Plan::output_edges) goes on to the same
+// surface, where two of its edges share their ends: next to an interior vertex of valence 2. Two levels of two levels
+// are four levels, corner for corner (both number their faces by the splits: face 16 f + 4 i + j of either is child j
+// of child i of level-2 face f). Read by their ends, the pairs were one edge of four faces, sharp.
+TEST(RefinedLevel, FedBackWithItsEdgesGoesOnToTheSameSurface) {
+    const PillowOnIcosahedron pillow = pillow_on_icosahedron();
+    TestMesh mesh = pillow.mesh;
+    mesh.add_crease(pillow.v, pillow.apex, 3.5f);
+    Options options;
+    options.levels = 4;
+    Plan four(mesh.view(), options);
+    const std::vector<float> four_positions = evaluate_positions(four, mesh);
+
+    options.levels = 2;
+    Plan two(mesh.view(), options);
+    TestMesh level2;
+    level2.positions = evaluate_positions(two, mesh);
+    level2.triangles.resize(3 * std::size_t(two.num_output_triangles()));
+    std::vector<std::int32_t> edge_vertices(2 * std::size_t(two.num_output_edges())),
+        triangle_edges(level2.triangles.size());
+    two.output_edges(edge_vertices.data(), triangle_edges.data(), level2.triangles.data());
+    level2.crease_edges = two.output_crease_edges();
+    level2.crease_sharpness = two.output_crease_sharpness();
+    ASSERT_FALSE(level2.crease_sharpness.empty()) << "test set-up: the crease must outlast level 2";
+    MeshView view = level2.view();
+    view.triangle_edges = triangle_edges.data();
+    Plan again(view, options);
+    const std::vector<float> again_positions = evaluate_positions(again, level2);
+
+    ASSERT_EQ(again.num_output_triangles(), four.num_output_triangles());
+    const double tolerance = 1e-6 * bounding_box_diagonal(mesh.positions);
+    double worst = 0.0;
+    for (std::size_t c = 0; c < 3 * std::size_t(four.num_output_triangles()); ++c) {
+        const std::int32_t a = again.output_triangles()[c], b = four.output_triangles()[c];
+        double d2 = 0.0;
+        for (std::size_t k = 0; k < 3; ++k)
+            d2 += std::pow(double(again_positions[3 * std::size_t(a) + k]) - four_positions[3 * std::size_t(b) + k], 2);
+        worst = std::max(worst, std::sqrt(d2));
+    }
+    EXPECT_LE(worst, tolerance);
+}
+
 }  // namespace
 }  // namespace loopsub::testing

@@ -487,23 +487,6 @@ TEST_P(TessellationLayerAgainstBfr, LayersAreBfrsFaceVaryingSurfaces) {
 INSTANTIATE_TEST_SUITE_P(Shapes, TessellationLayerAgainstBfr, ::testing::ValuesIn(layer_shapes()),
                          case_name<LayerCase>);
 
-// The pillow of the tests below (two faces on the same three vertices) on an icosahedron's vertex `apex`, which is then
-// a vertex of two fans; the pillow's other vertices are v (valence 2) and v + 1.
-struct PillowOnIcosahedron {
-    TestMesh mesh;
-    std::int32_t v, apex;
-};
-
-PillowOnIcosahedron pillow_on_icosahedron() {
-    PillowOnIcosahedron p{icosahedron(), 0, 0};
-    p.v = p.mesh.num_vertices(), p.apex = p.mesh.triangles[0];
-    const float* at = &p.mesh.positions[3 * std::size_t(p.apex)];
-    p.mesh.positions.insert(p.mesh.positions.end(),
-                            {at[0] + 0.6f, at[1] + 0.2f, at[2] + 0.3f, at[0] + 0.1f, at[1] + 0.7f, at[2] - 0.2f});
-    p.mesh.triangles.insert(p.mesh.triangles.end(), {p.v, p.apex, p.v + 1, p.v, p.v + 1, p.apex});
-    return p;
-}
-
 // The largest distance, over the bounding box's diagonal, from the tessellation's points at `rate` to the limit that
 // OpenSubdiv alone computes (far_refined_limit, 8 levels down); and from Bfr's points to it.
 std::pair<double, double> worst_from_refined_limit(const TestMesh& mesh, int rate) {
@@ -551,20 +534,66 @@ TEST(Tessellation, AtAnInteriorVertexOfValenceTwoNonDyadicRatesAreTheRefinedLimi
     }
 }
 
-// Semi-sharp creases near a valence-2 vertex: the pillow on an icosahedron's vertex with a crease of sharpness 1.5 on
-// an icosahedron edge at the pillow, and one along the pillow's own edge from its valence-2 vertex. Where the points
-// need the neighbourhood refined on its own (rate 6), the first is right; the second is right at rates 3 and 4 only
-// (docs/rules.md: at rate 6 it is off by 2.2e-2 of the diagonal, the local refinement reading edges by their ends).
+// Semi-sharp creases near a valence-2 vertex: the pillow on an icosahedron's vertex with a crease on an icosahedron
+// edge at the pillow, or along one of the pillow's own edges from its valence-2 vertex. Two edges of a refined level
+// share their ends there (the edges inside the pillow's two faces), and two readings of the level must keep them
+// apart. The limit of a vertex beside them whose crease outlasts the level (rate 6's midpoint of a crease of
+// sharpness 1.5, a vertex of level 1) was off by 2.2e-2 of the diagonal where its ring's two places on one
+// neighbour were read as one. A triangle's neighbourhood refined on its own (the crease of sharpness 3.5, rates 3
+// and 6) was off by up to 6.3e-4 where its plan read the two edges as one edge of four faces, sharp.
 TEST(Tessellation, SemiSharpCreasesNearAValenceTwoVertexAreTheRefinedLimit) {
     const PillowOnIcosahedron attached = pillow_on_icosahedron();
-    TestMesh beside = attached.mesh, along = attached.mesh;
-    beside.add_crease(attached.apex, attached.mesh.triangles[1], 1.5f);
-    along.add_crease(attached.v, attached.apex, 1.5f);
-    for (const auto& [mesh, rate] :
-         {std::pair{&beside, 3}, std::pair{&beside, 6}, std::pair{&along, 3}, std::pair{&along, 4}}) {
-        EXPECT_LE(worst_from_refined_limit(*mesh, rate).first, 2e-6)
-            << (mesh == &beside ? "beside" : "along") << ", rate " << rate;
+    struct Case {
+        std::int32_t a, b;
+        float sharpness;
+        const char* name;
+    };
+    const Case cases[] = {{attached.apex, attached.mesh.triangles[1], 1.5f, "beside"},
+                          {attached.v, attached.apex, 1.5f, "along"},
+                          {attached.v, attached.v + 1, 1.2f, "along the other edge"},
+                          {attached.v, attached.apex, 3.5f, "along, sharper"}};
+    for (const Case& c : cases) {
+        TestMesh mesh = attached.mesh;
+        mesh.add_crease(c.a, c.b, c.sharpness);
+        for (int rate : {3, 4, 6})
+            EXPECT_LE(worst_from_refined_limit(mesh, rate).first, 2e-6) << c.name << ", rate " << rate;
     }
+}
+
+// A plan's limit surface there: each vertex of a level-1 plan of that pillow, creased along its edge from the
+// valence-2 vertex (sharpness 1.5, which outlasts the level), is the refined limit at its place on its input
+// triangle. The creased edge's midpoint was off by 2.2e-2 of the diagonal (its ring's two places on one neighbour
+// read as one).
+TEST(LimitSurface, BesideAValenceTwoVertexIsTheRefinedLimit) {
+    const PillowOnIcosahedron attached = pillow_on_icosahedron();
+    TestMesh mesh = attached.mesh;
+    mesh.add_crease(attached.v, attached.apex, 1.5f);
+    Options options = options_for(mesh);
+    options.levels = 1, options.limit_surface = true;
+    Plan plan(mesh.view(), options);
+    std::vector<float> points(3 * std::size_t(plan.num_output_vertices()));
+    plan.evaluate(interleaved(mesh.positions.data(), 3), interleaved(points.data(), 3));
+    // Child k < 3 of input triangle f is plan triangle 4f + k, (corner k, midpoint of edge k, midpoint of edge k - 1);
+    // child 3 joins the midpoints. The places: the corners, then the midpoints of edges 0 to 2.
+    const double place[6][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
+    std::vector<BfrPoint> asked;
+    std::vector<std::int32_t> vertex;
+    for (int t = 0; t < plan.num_output_triangles(); ++t) {
+        const int k = t % 4, at[3] = {k < 3 ? k : 3, k < 3 ? 3 + k : 4, k < 3 ? 3 + (k + 2) % 3 : 5};
+        for (int c = 0; c < 3; ++c) {
+            asked.push_back({plan.output_parent_triangles()[t], place[at[c]][0], place[at[c]][1]});
+            vertex.push_back(plan.output_triangles()[3 * t + c]);
+        }
+    }
+    const std::vector<double> expected = far_refined_limit(mesh, asked, 8);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < asked.size(); ++i) {
+        double d2 = 0.0;
+        for (std::size_t c = 0; c < 3; ++c)
+            d2 += std::pow(points[3 * std::size_t(vertex[i]) + c] - expected[3 * i + c], 2);
+        worst = std::max(worst, std::sqrt(d2));
+    }
+    EXPECT_LE(worst / bounding_box_diagonal(mesh.positions), 2e-6);
 }
 
 // On a closed mesh every edge of the result has exactly two triangles and V - E + F stays the input's: no crack,

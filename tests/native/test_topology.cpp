@@ -170,6 +170,55 @@ TEST(Topology, BaseLevelMatchesLookups) {
         for (int threads : {1, 2, 3}) expect_base_matches_lookup(mesh, threads);
 }
 
+// A refined level read as a mesh of its own with its edges given (a triangle's neighbourhood refined on its own,
+// tessellate/local_refinement.h): next to an interior vertex of valence 2 (a pillow) it keeps the level's two edges
+// that share their ends, which a reading by their ends joins into one edge of four faces; elsewhere it is that
+// reading, array for array.
+TEST(Topology, GivenEdgesKeepTwoEdgesWithTheSameEnds) {
+    using namespace loopsub::testing;
+    using loopsub::detail::build_base_topology;
+    TestMesh pillow;
+    pillow.name = "pillow";
+    pillow.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    pillow.triangles = {0, 1, 2, 0, 2, 1};
+    for (const TestMesh& mesh : {pillow, icosphere(2), fin_on_grid(), bowtie(5)}) {
+        SCOPED_TRACE(mesh.name);
+        const Topology base = build_base_topology(mesh.triangles.data(), mesh.num_triangles(), mesh.num_vertices());
+        const Topology level = loopsub::detail::refine_topology(base, loopsub::detail::Refined::Full, 1);
+        const Topology given = build_base_topology(level.face_vertices.data(), level.num_faces(), level.num_vertices, 1,
+                                                   level.face_edges.data());
+        const Topology by_ends =
+            build_base_topology(level.face_vertices.data(), level.num_faces(), level.num_vertices, 1);
+        ASSERT_EQ(given.num_edges(), level.num_edges());
+        std::map<Index, Index> level_edge;  // of each edge of `given`
+        for (std::size_t c = 0; c < given.face_edges.size(); ++c) {
+            const auto [at, added] = level_edge.emplace(given.face_edges[c], level.face_edges[c]);
+            ASSERT_EQ(at->second, level.face_edges[c]) << "corner " << c;
+        }
+        for (Index e = 0; e < given.num_edges(); ++e)
+            EXPECT_EQ(given.edge_face_count(e), level.edge_face_count(level_edge[e])) << "edge " << e;
+        if (mesh.name == "pillow") {
+            EXPECT_EQ(by_ends.num_edges(), level.num_edges() - 3);  // the three pairs inside the faces, joined
+            EXPECT_EQ(by_ends.max_edge_face_count, 4);
+            EXPECT_EQ(given.max_edge_face_count, 2);
+            continue;
+        }
+        auto same = [](const auto& x, const auto& y) { return std::equal(x.begin(), x.end(), y.begin(), y.end()); };
+        EXPECT_TRUE(same(given.face_edges, by_ends.face_edges));
+        EXPECT_TRUE(same(given.face_edge_places, by_ends.face_edge_places));
+        EXPECT_TRUE(same(given.edge_vertices, by_ends.edge_vertices));
+        EXPECT_TRUE(same(given.edge_face_offsets, by_ends.edge_face_offsets));
+        EXPECT_TRUE(same(given.edge_faces, by_ends.edge_faces));
+        EXPECT_TRUE(same(given.edge_wing_c, by_ends.edge_wing_c));
+        EXPECT_TRUE(same(given.edge_wing_d, by_ends.edge_wing_d));
+        EXPECT_TRUE(same(given.vertex_edge_offsets, by_ends.vertex_edge_offsets));
+        EXPECT_TRUE(same(given.vertex_edges, by_ends.vertex_edges));
+        EXPECT_TRUE(same(given.vertex_vertices, by_ends.vertex_vertices));
+        EXPECT_EQ(given.max_valence, by_ends.max_valence);
+        EXPECT_EQ(given.max_edge_face_count, by_ends.max_edge_face_count);
+    }
+}
+
 // Every form of a split, on one thread or two, holds the numbering its derivations from the parent read
 // (follows_split_numbering, which Debug builds assert after each split); and the check sees a child whose faces, edge
 // ends, wings or rings are off.

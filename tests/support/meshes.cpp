@@ -296,6 +296,17 @@ TestMesh bowtie(int n) {
     return mesh;
 }
 
+PillowOnIcosahedron pillow_on_icosahedron() {
+    PillowOnIcosahedron p{icosahedron(), 0, 0};
+    p.mesh.name = "pillow on an icosahedron";
+    p.v = p.mesh.num_vertices(), p.apex = p.mesh.triangles[0];
+    const float* at = &p.mesh.positions[3 * std::size_t(p.apex)];
+    p.mesh.positions.insert(p.mesh.positions.end(),
+                            {at[0] + 0.6f, at[1] + 0.2f, at[2] + 0.3f, at[0] + 0.1f, at[1] + 0.7f, at[2] - 0.2f});
+    p.mesh.triangles.insert(p.mesh.triangles.end(), {p.v, p.apex, p.v + 1, p.v, p.v + 1, p.apex});
+    return p;
+}
+
 void jitter(TestMesh& mesh, unsigned seed, float amount) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> offset(-amount, amount);

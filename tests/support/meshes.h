@@ -69,6 +69,14 @@ TestMesh hemisphere(int splits);
 TestMesh fin_on_grid();
 // Two open fans of n triangles touching only at their apex (vertex 0): a non-manifold vertex.
 TestMesh bowtie(int n);
+// A pillow (two faces on the same three vertices) on an icosahedron's vertex `apex`, which is then a vertex of two
+// fans; the pillow's other vertices are v (an interior vertex of valence 2) and v + 1. Every refined level has two
+// edges between the same two vertices next to v.
+struct PillowOnIcosahedron {
+    TestMesh mesh;
+    std::int32_t v, apex;
+};
+PillowOnIcosahedron pillow_on_icosahedron();
 
 // --- Changes applied to a mesh -------------------------------------------------------------------------------
 // Moves every vertex by a seeded random offset of up to `amount` per coordinate: breaks the symmetry under which a

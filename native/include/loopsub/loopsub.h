@@ -53,6 +53,11 @@ struct InputProblem {
         // A tessellation's rated edge `index`, from vertex `refers_to` to `other`, has rate `value`, outside 1..`limit`
         // (kMaxTessellationRate, loopsub/tessellation.h).
         RateOutOfRange,
+        // MeshView::triangle_edges: corner `corner` of triangle `index` numbers its edge (to the next corner)
+        // `refers_to`, outside 0..`other` - 1
+        EdgeOutOfRange,
+        // the same, with `refers_to` a number that joins other vertices in triangle `other`
+        EdgeEndsDiffer,
     };
     enum class Element : std::uint8_t {
         Vertex,            // MeshView::num_vertices: a vertex's values
@@ -219,6 +224,15 @@ struct MeshView {
     // part of the output; the vertices stay.
     const std::int32_t* hole_triangles = nullptr;
     int num_holes = 0;
+
+    // Optional: each triangle's edges, 3 per triangle (edge k from corner k to corner k + 1), as numbers from 0 to
+    // 3 * num_triangles - 1, one number always on the same two vertices. Without them an edge is every side with the
+    // same two ends, as OpenSubdiv reads a mesh; with them, every side with the same number, so that two edges may
+    // share their ends. A refined level has such pairs (next to an interior vertex of valence 2, the edges inside its
+    // two faces join the same two neighbours): fed back in with Plan::output_edges' numbers, it goes on to the same
+    // surface. A crease tag on two vertices tags every edge between them. Not with face-varying layers, nor for a
+    // Tessellation.
+    const std::int32_t* triangle_edges = nullptr;
 };
 
 // The owning counterpart of MeshView, for C++ callers that build a mesh: view() lends it to a Plan.

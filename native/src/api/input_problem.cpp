@@ -14,12 +14,13 @@ using Kind = InputProblem::Kind;
 using Element = InputProblem::Element;
 
 // Each list in its enum's order.
-constexpr const char* kKindNames[] = {
-    "vertex_out_of_range", "triangle_out_of_range", "value_out_of_range", "degenerate_triangle", "not_an_edge",
-    "bad_sharpness",       "non_finite_value",      "value_too_large",    "runs_the_same_way",   "rate_out_of_range"};
+constexpr const char* kKindNames[] = {"vertex_out_of_range", "triangle_out_of_range", "value_out_of_range",
+                                      "degenerate_triangle", "not_an_edge",           "bad_sharpness",
+                                      "non_finite_value",    "value_too_large",       "runs_the_same_way",
+                                      "rate_out_of_range",   "edge_out_of_range",     "edge_ends_differ"};
 constexpr const char* kElementNames[] = {"vertex", "triangle",           "crease_edge", "corner_vertex", "cone",
                                          "hole",   "face_varying_value", "rated_edge",  "camera"};
-static_assert(std::size(kKindNames) == std::size_t(Kind::RateOutOfRange) + 1 &&
+static_assert(std::size(kKindNames) == std::size_t(Kind::EdgeEndsDiffer) + 1 &&
                   std::size(kElementNames) == std::size_t(Element::Camera) + 1,
               "a name for every kind and element");
 
@@ -94,6 +95,13 @@ std::string InputProblem::message() const {
         case Kind::RateOutOfRange:
             return at + " (" + std::to_string(refers_to) + ", " + std::to_string(other) + ") has rate " +
                    shortest(value) + "; a rate must be between 1 and " + shortest(limit);
+        case Kind::EdgeOutOfRange:
+            return value_place(*this) + " numbers its edge " + std::to_string(refers_to) + ", outside " + range(other) +
+                   " (triangle_edges)";
+        case Kind::EdgeEndsDiffer:
+            return value_place(*this) + " numbers its edge " + std::to_string(refers_to) +
+                   ", which joins other vertices in triangle " + std::to_string(other) +
+                   " (triangle_edges: one number, one pair of vertices)";
     }
     return at;
 }

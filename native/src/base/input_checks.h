@@ -6,9 +6,12 @@
 // edges are in plan/validation.h.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "loopsub/loopsub.h"
 
@@ -45,6 +48,37 @@ bool check_triangles(const std::int32_t* triangles, int num_triangles, int num_v
             p.kind = Kind::DegenerateTriangle, p.element = Element::Triangle, p.index = f;
             p.corner = v[1] == v[0] ? 1 : 2;  // the later corner of the first pair that repeats
             p.refers_to = v[p.corner == 1 || v[2] == v[0] ? 0 : 1];
+            if (!report(p)) return false;
+        }
+    }
+    return true;
+}
+
+// MeshView::triangle_edges, where given: each number in 0..3 * num_triangles - 1, and on the same two vertices
+// wherever it is given.
+template <typename Report>
+bool check_triangle_edges(const MeshView& mesh, Report&& report) {
+    if (!mesh.triangle_edges) return true;
+    const std::int64_t corners = 3 * std::int64_t(mesh.num_triangles);
+    std::vector<std::int64_t> first_corner(std::size_t(corners), -1);  // of each number
+    for (std::int64_t c = 0; c < corners; ++c) {
+        const std::int32_t edge = mesh.triangle_edges[c];
+        Problem p;
+        p.element = Element::Triangle, p.index = int(c / 3), p.corner = int(c % 3), p.refers_to = edge;
+        if (edge < 0 || edge >= corners) {
+            p.kind = Kind::EdgeOutOfRange, p.other = int(corners);
+            if (!report(p)) return false;
+            continue;
+        }
+        auto ends = [&mesh](std::int64_t corner) {
+            const std::int32_t a = mesh.triangles[corner], b = mesh.triangles[corner - corner % 3 + (corner + 1) % 3];
+            return std::pair<std::int32_t, std::int32_t>(std::min(a, b), std::max(a, b));
+        };
+        std::int64_t& first = first_corner[std::size_t(edge)];
+        if (first < 0) {
+            first = c;
+        } else if (ends(first) != ends(c)) {
+            p.kind = Kind::EdgeEndsDiffer, p.other = int(first / 3);
             if (!report(p)) return false;
         }
     }
@@ -95,8 +129,8 @@ bool check_layers(const MeshView& mesh, Report&& report) {
     return true;
 }
 
-// The mesh and its tags, in the order a plan has always met them: holes, triangles, creases, corners, cones, then the
-// face-varying layers' value indices. The view must be readable (validate_view).
+// The mesh and its tags, in the order a plan has always met them: holes, triangles (and their edges), creases, corners,
+// cones, then the face-varying layers' value indices. The view must be readable (validate_view).
 template <typename Report>
 bool check_mesh(const MeshView& mesh, Report&& report) {
     for (int k = 0; k < mesh.num_holes; ++k) {
@@ -109,7 +143,7 @@ bool check_mesh(const MeshView& mesh, Report&& report) {
         }
     }
     const int n = mesh.num_vertices;
-    return check_triangles(mesh.triangles, mesh.num_triangles, n, true, report) &&
+    return check_triangles(mesh.triangles, mesh.num_triangles, n, true, report) && check_triangle_edges(mesh, report) &&
            check_tags(Element::CreaseEdge, mesh.crease_edges, 2, mesh.crease_sharpness, mesh.num_crease_edges, n,
                       report) &&
            check_tags(Element::CornerVertex, mesh.corner_vertices, 1, mesh.corner_sharpness, mesh.num_corners, n,

@@ -17,16 +17,19 @@ std::vector<InputProblem> diagnose(const MeshView& mesh, ChannelsView<const floa
     detail::check_mesh(mesh, collect);
     if (vertex_values.num_channels > 0 && vertex_values.data != nullptr)
         detail::check_values(vertex_values, mesh.num_vertices, InputProblem::Element::Vertex, -1, 0.0f, 0, collect);
-    // The edges are built from the triangles, and a crease is looked up from its ends: only where they are sound.
+    // The edges are built from the triangles (and their edges), and a crease is looked up from its ends: only where
+    // they are sound.
     auto any = [&problems](InputProblem::Element element) {
+        using Kind = InputProblem::Kind;
         for (const InputProblem& p : problems)
-            if (p.element == element &&
-                (p.kind == InputProblem::Kind::VertexOutOfRange || p.kind == InputProblem::Kind::DegenerateTriangle))
+            if (p.element == element && (p.kind == Kind::VertexOutOfRange || p.kind == Kind::DegenerateTriangle ||
+                                         p.kind == Kind::EdgeOutOfRange || p.kind == Kind::EdgeEndsDiffer))
                 return true;
         return false;
     };
     if (any(InputProblem::Element::Triangle)) return problems;
-    const detail::Topology base = detail::build_base_topology(mesh.triangles, mesh.num_triangles, mesh.num_vertices);
+    const detail::Topology base =
+        detail::build_base_topology(mesh.triangles, mesh.num_triangles, mesh.num_vertices, 1, mesh.triangle_edges);
     const bool tags_readable = !any(InputProblem::Element::CreaseEdge);
     if (tags_readable) detail::check_crease_edges(base, mesh, collect, [](int, detail::Index) {});
     detail::check_windings(base, collect);

@@ -740,16 +740,34 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         for (int i = 0; i < size; ++i)
             for (int j = 0; j < size; ++j) pulled[j] += mask[i] * x.ring.refinement[std::size_t(i) * size + j];
     };
+    // The pulled-back weights of `points` (a ring's or a side's points), taken out of `pulled`. Next to an interior
+    // vertex of valence 2, two edges of a refined level join the same two vertices (the edges inside the two faces
+    // at it): x then has two slots on one vertex, which the ring lists twice, and their weights, summed, are shared
+    // by its places. The two faces there are alike (swapping them changes nothing around them), so the two slots
+    // hold the same point on every level of the spent ring: only their sum is defined, and slot(), which finds the
+    // first, serves for the wings and the masks.
+    std::vector<double> taken;
+    auto take = [&](const Spent& x, const Index* points, int count, std::vector<float>& weights) {
+        taken.assign(std::size_t(count), 0.0);
+        for (std::size_t j = 0; j < pulled.size(); ++j) {
+            const Index at = j == 0 ? x.vertex : x.neighbours[j - 1];
+            const int places = int(std::count(points, points + count, at));
+            for (int i = 0; i < count && places > 0; ++i)
+                if (points[i] == at) taken[std::size_t(i)] += pulled[j] / places;
+            if (places > 0) pulled[j] = 0.0;
+        }
+        weights.assign(taken.begin(), taken.end());
+    };
     // Tangent weights sum to zero: the vertex's is what its points' leave, and only the points' are kept.
     auto own_tangents = [&](const Spent& x, const Index* points, int count, const float* w1, const float* w2) {
         const Index first = Index(lt.own_t1.size());
+        std::vector<float> weights;
         for (int tangent = 0; tangent < 2; ++tangent) {
             const float* w = tangent == 0 ? w1 : w2;
             mask.assign(x.neighbours.size() + 1, 0.0);
             for (int i = 0; i < count; ++i) mask[x.slot(points[i])] += w[i], mask[0] -= w[i];
             pull_back(x);
-            std::vector<float> weights(count);
-            for (int i = 0; i < count; ++i) weights[i] = float(std::exchange(pulled[x.slot(points[i])], 0.0));
+            take(x, points, count, weights);
             // A side's points refine among themselves (its sharp edges' wings weigh nothing), so nothing of a side's
             // tangent falls on the ring's other points.
             assert(std::all_of(pulled.begin() + 1, pulled.end(), [](double w) { return std::fabs(w) < 1e-9; }));
@@ -784,7 +802,9 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         const int count = found.count;
         assert(count == n);
         s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(pulled[0])});
-        for (int k = 0; k < count; ++k) s.ring_weights.push_back(float(pulled[x.slot(ring[k])]));
+        std::vector<float> weights;
+        take(x, ring, count, weights);
+        s.ring_weights.insert(s.ring_weights.end(), weights.begin(), weights.end());
         // Smooth once spent, its ring counter-clockwise: one normal.
         if (!lt.by_side[v])
             lt.own_vertex_tangents.push_back(

@@ -153,7 +153,8 @@ void PlanBuilder::run() {
 
 LevelState PlanBuilder::base_level() {
     LevelState level;
-    level.topology = build_base_topology(mesh_.triangles, mesh_.num_triangles, mesh_.num_vertices, options_.threads);
+    level.topology = build_base_topology(mesh_.triangles, mesh_.num_triangles, mesh_.num_vertices, options_.threads,
+                                         mesh_.triangle_edges);
     const Topology& t = level.topology;
 
     std::vector<float> edge_tag(t.num_edges(), 0.0f);

@@ -33,6 +33,8 @@ void validate_view(const MeshView& mesh) {
     require(mesh.cone_vertices, mesh.num_cones, "cone vertices");
     require(mesh.face_varying, mesh.num_face_varying, "face-varying layers");
     require(mesh.hole_triangles, mesh.num_holes, "hole triangles");
+    if (mesh.triangle_edges && mesh.num_face_varying > 0)
+        fail("triangle edges are given with face-varying layers, which are read by their values' ends");
     for (int k = 0; k < mesh.num_face_varying; ++k) {
         const FaceVaryingLayer& layer = mesh.face_varying[k];
         const std::string name = "face-varying layer " + std::to_string(k);
@@ -45,12 +47,6 @@ void validate_view(const MeshView& mesh) {
 void validate_mesh(const MeshView& mesh) {
     validate_view(mesh);
     check_mesh(mesh, ThrowFirst{});
-}
-
-Index find_edge(const Topology& t, Index a, Index b) {
-    for (Index k = t.vertex_edge_offsets[a]; k < t.vertex_edge_offsets[a + 1]; ++k)
-        if (t.other_end(t.vertex_edges[k], a) == b) return t.vertex_edges[k];
-    return -1;
 }
 
 void validate_vertex_values(ChannelsView<const float> in, int num_vertices, float largest, int summed_terms,

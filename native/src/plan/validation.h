@@ -20,19 +20,16 @@ void validate_view(const MeshView& mesh);
 // validate_view, then check_mesh, throwing the first problem.
 void validate_mesh(const MeshView& mesh);
 
-// The edge of `t` (the base level of `mesh`) from a to b, or -1.
-Index find_edge(const Topology& t, Index a, Index b);
-
-// Each crease tag's edge: tag(k, e) for crease k on edge e, report(NotAnEdge) for one that names no edge.
+// Each crease tag's edges: tag(k, e) for crease k on edge e (every edge of `t`, the base level of `mesh`, between
+// its two vertices: two where the mesh's triangle_edges give them), report(NotAnEdge) for one that names no edge.
 template <typename Report, typename Tag>
 bool check_crease_edges(const Topology& t, const MeshView& mesh, Report&& report, Tag&& tag) {
     for (int k = 0; k < mesh.num_crease_edges; ++k) {
         const Index a = mesh.crease_edges[2 * k], b = mesh.crease_edges[2 * k + 1];
-        const Index e = a == b ? -1 : find_edge(t, a, b);
-        if (e >= 0) {
-            tag(k, e);
-            continue;
-        }
+        bool found = false;
+        for (Index i = t.vertex_edge_offsets[a]; i < t.vertex_edge_offsets[a + 1] && a != b; ++i)
+            if (t.other_end(t.vertex_edges[i], a) == b) tag(k, t.vertex_edges[i]), found = true;
+        if (found) continue;
         Problem p;
         p.kind = Kind::NotAnEdge, p.element = Element::CreaseEdge, p.index = k, p.refers_to = a, p.other = b;
         if (!report(p)) return false;

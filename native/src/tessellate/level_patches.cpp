@@ -74,6 +74,16 @@ float LevelPatches::sharpness(int a, int b) const {
     return found == sharp_.end() ? 0.0f : found->second;
 }
 
+const std::int32_t* LevelPatches::triangle_edges() const {
+    if (!has_edges_) return nullptr;
+    if (triangle_edges_.empty()) {
+        std::vector<std::int32_t> edge_vertices(2 * std::size_t(plan_.num_output_edges()));
+        triangle_edges_.resize(3 * std::size_t(plan_.num_output_triangles()));
+        plan_.output_edges(edge_vertices.data(), triangle_edges_.data());
+    }
+    return triangle_edges_.data();
+}
+
 int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
     const int f = corner / 3, i = corner % 3, v = triangles_[corner];
     // Counter-clockwise the next face shares the edge to the corner's previous vertex, and has it next.
@@ -88,11 +98,7 @@ int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
     // Several faces run along v and `shared` that way: a non-manifold edge, or two edges with these ends (input
     // levels have none); the face across this edge by the split's numbering, if one is.
     if (!has_edges_) return -1;
-    if (triangle_edges_.empty()) {
-        std::vector<std::int32_t> edge_vertices(2 * std::size_t(plan_.num_output_edges()));
-        triangle_edges_.resize(3 * std::size_t(plan_.num_output_triangles()));
-        plan_.output_edges(edge_vertices.data(), triangle_edges_.data());
-    }
+    triangle_edges();
     // The edge from the corner's previous vertex to it (counter-clockwise), or from it to its next.
     const std::int32_t edge = triangle_edges_[3 * std::size_t(f) + std::size_t(counter_clockwise ? (i + 2) % 3 : i)];
     found = -1, candidates = 0;

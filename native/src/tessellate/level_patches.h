@@ -70,6 +70,9 @@ public:
     bool find_patch(int face, Patch& out) const;
 
     const std::int32_t* triangles() const { return triangles_; }
+    // Each triangle's edges as the plan's split numbers them (Plan::output_edges), made on the first call; nullptr
+    // for a level that is the input's, whose edges are found by their ends.
+    const std::int32_t* triangle_edges() const;
     // The faces that have v as a corner (as 3 * face + corner).
     const std::int32_t* corners_begin(int v) const { return corners_.data() + offsets_[std::size_t(v)]; }
     const std::int32_t* corners_end(int v) const { return corners_.data() + offsets_[std::size_t(v) + 1]; }
@@ -83,9 +86,8 @@ private:
 
     const Plan& plan_;
     const std::int32_t* triangles_;
-    // Each triangle's edges as the plan's split numbers them (Plan::output_edges), made on the first walk that needs
-    // them: next to an interior vertex of valence 2, two edges of a refined level join the same two vertices (the
-    // edges inside the two faces at the vertex), which their ends alone cannot tell apart.
+    // triangle_edges(), made where first needed: next to an interior vertex of valence 2, two edges of a refined level
+    // join the same two vertices (the edges inside the two faces at the vertex), which their ends cannot tell apart.
     bool has_edges_;
     mutable std::vector<std::int32_t> triangle_edges_;
     // Each vertex's corners; a smooth vertex's put in counter-clockwise order by smooth_corner, once a face asks, with

@@ -42,6 +42,7 @@ MeshView LocalMesh::view(int num_vertices) const {
     view.corner_vertices = corners.data(), view.corner_sharpness = corner_sharpness.data();
     view.num_corners = int(corners.size());
     view.cone_vertices = cones.data(), view.num_cones = int(cones.size());
+    view.triangle_edges = triangle_edges.empty() ? nullptr : triangle_edges.data();
     return view;
 }
 
@@ -281,7 +282,8 @@ LocalRefiner::Neighbourhood& LocalRefiner::neighbourhood(int face) {
         std::sort(faces.begin(), faces.end());
         faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
     }
-    std::unordered_map<std::int32_t, std::int32_t> local;
+    std::unordered_map<std::int32_t, std::int32_t> local, local_edge;
+    const std::int32_t* edges = level_.triangle_edges();
     for (int g : faces) {
         if (g == face) n.face = int(n.mesh.triangles.size() / 3);
         for (int k = 0; k < 3; ++k) {
@@ -289,6 +291,9 @@ LocalRefiner::Neighbourhood& LocalRefiner::neighbourhood(int face) {
             const auto [at, added] = local.try_emplace(v, std::int32_t(n.vertices.size()));
             if (added) n.vertices.push_back(v);
             n.mesh.triangles.push_back(at->second);
+            if (edges)
+                n.mesh.triangle_edges.push_back(
+                    local_edge.try_emplace(edges[3 * g + k], std::int32_t(local_edge.size())).first->second);
         }
     }
     std::unordered_map<std::uint64_t, bool> seen;

@@ -19,8 +19,10 @@
 // EdgesOnly's rules, the same but for the faces that leave the surface, which the input's plan decided.)
 //
 // The neighbourhood is refined by a Plan of its own, on the unit vectors (one channel per vertex), so that the refined
-// points come out as weights over the level's points; the result is a stencil, made once per mesh and rates. What the
-// refinements hold is counted as Plan::estimate_bytes counts a plan, and refused past the limit it is given.
+// points come out as weights over the level's points; the result is a stencil, made once per mesh and rates. That plan
+// is given the level's own edges (MeshView::triangle_edges): next to an interior vertex of valence 2 two of them share
+// their ends, and read as one they were an edge of four faces, sharp. What the refinements hold is counted as
+// Plan::estimate_bytes counts a plan, and refused past the limit it is given.
 #pragma once
 
 #include <cstdint>
@@ -53,8 +55,9 @@ struct FacePoint {
 
 // Part of a level as a mesh of its own (a triangle's neighbourhood, a band of triangles): its triangles and the level's
 // tags on it, in local vertex numbers, and the MeshView a plan of it reads (valid while this lives unchanged).
+// triangle_edges: a refined level's edges in local numbers (MeshView::triangle_edges), empty for the input's.
 struct LocalMesh {
-    std::vector<std::int32_t> triangles, creases, corners, cones;
+    std::vector<std::int32_t> triangles, triangle_edges, creases, corners, cones;
     std::vector<float> crease_sharpness, corner_sharpness;
     MeshView view(int num_vertices) const;
 };

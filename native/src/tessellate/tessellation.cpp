@@ -26,6 +26,8 @@ namespace loopsub {
 Tessellation::Tessellation(const MeshView& mesh, const Options& options, const TessellationRates& rates,
                            const InputTopology& reuse)
     : impl_(std::make_unique<TessellationImpl>()) {
+    if (mesh.triangle_edges)
+        detail::tessellation_fail("triangle_edges are not supported (edges are read by their ends)");
     impl_->threads = std::max(1, options.threads);
     impl_->patch_kernel = detail::kernel_functions(detail::resolve_kernel(options.kernel)).patch;
     MeshView surface = mesh;

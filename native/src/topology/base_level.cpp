@@ -55,6 +55,7 @@ void part_places(const std::vector<LargeVector<Index>>& counts, int part, Index*
 // there.
 struct BaseLevelBuild {
     const Index* triangles;
+    const Index* given_edges;  // or nullptr: the edges found by their ends
     int num_triangles, num_vertices, parts;
     // Allocated in this order, the topology's arrays last (the constructor): large_allocator.h reuses freed blocks by
     // size, oldest first.
@@ -66,8 +67,10 @@ struct BaseLevelBuild {
     std::vector<Index> part_edges, part_edge_corners;
     std::vector<int> part_max_edge_faces;
 
-    BaseLevelBuild(const Index* triangles_, int num_triangles_, int num_vertices_, int parts_)
+    BaseLevelBuild(const Index* triangles_, const Index* given_edges_, int num_triangles_, int num_vertices_,
+                   int parts_)
         : triangles(triangles_),
+          given_edges(given_edges_),
           num_triangles(num_triangles_),
           num_vertices(num_vertices_),
           parts(parts_),
@@ -108,8 +111,10 @@ struct BaseLevelBuild {
                     edge1 = step > 2 ? edge0 + part_edges[part] : 0;
         switch (step) {
             case 0: count_ends(part, c0, c1); break;
-            case 1: bucket_corners(part, c0, c1); break;
-            case 2: find_edges(part, c0, c1); break;
+            case 1:
+                if (!given_edges) bucket_corners(part, c0, c1);
+                break;
+            case 2: given_edges ? take_given_edges() : find_edges(part, c0, c1); break;
             case 3: number_edges(part, c0, c1, edge0); break;
             case 4: place_faces(part, c0, c1, edge0, edge1); break;
             case 5: link_faces_and_vertices(part, c0, c1, edge0, edge1); break;
@@ -167,6 +172,22 @@ struct BaseLevelBuild {
             corners_from_first[c] = corners;
         }
         part_edges[part] = edges;
+    }
+    // Step 2 where the edges are given (one part): an edge's first corner is the first that names it, and the corners
+    // that name it rank in corner order, as find_edges ranks those of the same ends.
+    void take_given_edges() {
+        const int num_corners = 3 * num_triangles;
+        LargeVector<Index> first_naming(std::size_t(num_corners), -1), named(std::size_t(num_corners), 0);
+        Index edges = 0;
+        for (int c = 0; c < num_corners; ++c) {
+            const Index given = given_edges[c];
+            if (first_naming[given] < 0) first_naming[given] = c, ++edges;
+            first_corner[c] = first_naming[given];
+            rank[c] = named[given]++;
+        }
+        for (int c = 0; c < num_corners; ++c)
+            if (first_corner[c] == c) corners_from_first[c] = named[given_edges[c]];
+        part_edges[0] = edges;
     }
     // Step 3: the part's first corners number their edges.
     void number_edges(int part, int c0, int c1, Index edge0) {
@@ -227,10 +248,11 @@ struct BaseLevelBuild {
 
 }  // namespace
 
-Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads) {
+Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads,
+                             const Index* triangle_edges) {
     // Below a few thousand triangles the parts' meetings would cost more than their share of the work.
-    const int parts = num_triangles >= 2048 ? std::max(1, threads) : 1;
-    BaseLevelBuild build(triangles, num_triangles, num_vertices, parts);
+    const int parts = num_triangles >= 2048 && !triangle_edges ? std::max(1, threads) : 1;
+    BaseLevelBuild build(triangles, triangle_edges, num_triangles, num_vertices, parts);
     run_levels(parts, 3, [&build](int step, int part, int) { build.run_step(step, part); });
     build.size_edges();
     run_levels(parts, 3, [&build](int later, int part, int) { build.run_step(3 + later, part); });

@@ -53,7 +53,12 @@ struct Topology {
 
 // Connectivity of a validated triangle list. Edges are numbered in order of first appearance, walking the
 // triangles and their corners in order. Large lists are split among `threads` parts (on the team in scope).
-Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads = 1);
+// An edge is the triangles' edges with the same ends; given `triangle_edges` (3 per triangle: the edge from corner k
+// to corner k + 1 by any numbers below 3 * num_triangles, the same number always on the same ends), it is those with
+// the same number: a refined level's edges, two of which may share their ends (the edges inside the two faces at an
+// interior vertex of valence 2).
+Topology build_base_topology(const Index* triangles, int num_triangles, int num_vertices, int threads = 1,
+                             const Index* triangle_edges = nullptr);
 
 // Child connectivity of one Loop split, derived from the parent without any search. The split's numbering, which
 // everything that reads a child through its parent relies on (child_edge_ends, child_edges, write_child_rings,
