@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -205,6 +206,76 @@ TEST_P(LimitAgainstBfr, PositionsAndNormalsAreTheTrueLimits) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, LimitAgainstBfr, ::testing::ValuesIn(cases()), case_name<BfrCase>);
+
+// A dart whose semi-sharp features outlast the last level (a sharpness of its own, or a second edge, semi-sharp, that
+// makes it a crease until spent) is OpenSubdiv's dart once they are spent, its sharp edge refined as a crease's: its
+// limit is the dart's own (rules.h, dart_limit_masks), not the smooth one, which put the point 3e-4 of the diagonal off
+// and turned the normal by 0.13 rad. A vertex's limit does not depend on the level it is taken from: at levels 1 to 3
+// the two darts' points and normals are those of level 4, where both are darts on the last level (plan_darts, whose
+// masks test_rules_hand.cpp checks), and their points within 3e-5 of Far's refinement 8 levels down, which converges
+// slowly at a dart (1.5e-5 off at a plain one). Bfr is no reference here: its points at these darts moved by up to 5e-4
+// of the diagonal from one plan level to the next.
+TEST(LimitAtDarts, FeaturesSpentIntoADartTakeTheDartsLimit) {
+    TestMesh mesh = icosphere(1);
+    jitter(mesh, 234, 0.02f);
+    const std::vector<std::array<std::int32_t, 2>> edges = unique_edges(mesh.triangles);
+    auto edge_at = [&edges](std::int32_t v, int nth) {
+        for (const auto& e : edges)
+            if ((e[0] == v || e[1] == v) && nth-- == 0) return e;
+        return edges[0];
+    };
+    const std::int32_t own = 0, second = 30;
+    const auto sharp_own = edge_at(own, 0), sharp_second = edge_at(second, 0), semi_second = edge_at(second, 2);
+    mesh.add_crease(sharp_own[0], sharp_own[1]);
+    mesh.add_corner(own, 2.3f);
+    mesh.add_crease(sharp_second[0], sharp_second[1]);
+    mesh.add_crease(semi_second[0], semi_second[1], 1.3f);
+    ASSERT_TRUE(std::set<std::int32_t>({sharp_own[0], sharp_own[1], sharp_second[0], sharp_second[1]}).size() == 4)
+        << "test set-up: the two darts' sharp edges must not meet";
+    // A vertex keeps its number on every level: its point, and its normal from any corner of it (one at a dart).
+    struct Limit {
+        std::array<double, 3> point, normal;
+    };
+    auto limit_at = [&mesh](int levels, std::int32_t v) {
+        Options options;
+        options.rules = Rules::OpenSubdiv;
+        options.limit_surface = true;
+        options.levels = levels;
+        Plan plan(mesh.view(), options);
+        const LimitEvaluation limit = evaluate_limit(plan, mesh);
+        const std::int32_t* triangles = plan.output_triangles();
+        const std::size_t c =
+            std::size_t(std::find(triangles, triangles + 3 * plan.num_output_triangles(), v) - triangles);
+        Limit out;
+        for (std::size_t k = 0; k < 3; ++k)
+            out.point[k] = limit.positions[3 * std::size_t(v) + k], out.normal[k] = limit.normals[3 * c + k];
+        return out;
+    };
+    const double diagonal = bounding_box_diagonal(mesh.positions);
+    auto distance = [](const double* a, const double* b) {
+        return std::sqrt(std::pow(a[0] - b[0], 2) + std::pow(a[1] - b[1], 2) + std::pow(a[2] - b[2], 2));
+    };
+    // The angle between two directions, exact for small angles (an arc cosine is not).
+    auto angle = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+        const double cross[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        return std::atan2(std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]),
+                          a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+    };
+    for (const std::int32_t v : {own, second}) {
+        SCOPED_TRACE("vertex " + std::to_string(v));
+        const int corner = int(std::find(mesh.triangles.begin(), mesh.triangles.end(), v) - mesh.triangles.begin());
+        const double uv[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+        const std::vector<double> far =
+            far_refined_limit(mesh, {{corner / 3, uv[corner % 3][0], uv[corner % 3][1]}}, 8);
+        const Limit spent = limit_at(4, v);
+        for (int levels = 1; levels <= 3; ++levels) {
+            const Limit ours = limit_at(levels, v);
+            EXPECT_LE(distance(ours.point.data(), spent.point.data()) / diagonal, 1e-6) << "level " << levels;
+            EXPECT_LE(distance(ours.point.data(), far.data()) / diagonal, 3e-5) << "level " << levels;
+            EXPECT_LE(angle(ours.normal, spent.normal), 1e-5) << "level " << levels;
+        }
+    }
+}
 
 // UVs at vertices that still have semi-sharp features on the last level go where Bfr's face-varying surface goes: a
 // value without a seam there takes the vertex's mask, a value held on a seam is held until the features in its span are

@@ -440,6 +440,27 @@ void list_redone(LimitTables& lt, const std::vector<Index>& by_side) {
                  std::lower_bound(redone.begin(), redone.end(), lt.from_grandparent->grandparent.num_vertices));
 }
 
+// OpenSubdiv's dart masks (dart_limit_masks) by valence, made on first use, read counter-clockwise from the dart's
+// sharp edge, at ring position `at`: the vertex's weight, and ring position k's.
+class DartMasks {
+public:
+    struct Masks {
+        std::vector<double> position, t1, t2;
+    };
+    const Masks& of(int valence) {
+        if (masks_.size() <= std::size_t(valence)) masks_.resize(std::size_t(valence) + 1);
+        Masks& m = masks_[std::size_t(valence)];
+        if (m.position.empty()) dart_limit_masks(valence, m.position, m.t1, m.t2);
+        return m;
+    }
+    static double at_ring(const std::vector<double>& mask, int valence, int at, int k) {
+        return mask[std::size_t(1 + (k - at + valence) % valence)];
+    }
+
+private:
+    std::vector<Masks> masks_;
+};
+
 }  // namespace
 
 // Each feature vertex's infinitely sharp edges, which part its sides, in vertex order: read off its visit rather than
@@ -665,7 +686,7 @@ std::vector<detail::Index> detail::PlanBuilder::plan_limit_sides(
 // (rules.h, dart_limit_masks) over their counter-clockwise ring, as weights of their own.
 void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>& darts, LimitTables& lt) const {
     LevelStencils& s = lt.positions;
-    std::vector<std::vector<double>> position, t1, t2;  // by valence, made on first use
+    DartMasks masks;
     for (const auto& [v, sharp_end] : darts) {
         Index buffer[6];
         const LimitRing found = limit_ring(lt, v, buffer);
@@ -673,17 +694,14 @@ void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>&
         const int n = found.count;
         const int at = int(std::find(ring, ring + n, sharp_end) - ring);
         if (at == n || lt.by_side[v]) continue;  // no disk fan to order: its sides' normals
-        if (position.size() <= std::size_t(n)) position.resize(n + 1), t1.resize(n + 1), t2.resize(n + 1);
-        if (position[n].empty()) dart_limit_masks(n, position[n], t1[n], t2[n]);
-        auto weight = [n, at](const std::vector<double>& mask, int k) {
-            return mask[std::size_t(1 + (k - at + n) % n)];
-        };
-        s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(position[n][0])});
-        for (int k = 0; k < n; ++k) s.ring_weights.push_back(float(weight(position[n], k)));
+        const DartMasks::Masks& m = masks.of(n);
+        s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(m.position[0])});
+        for (int k = 0; k < n; ++k) s.ring_weights.push_back(float(DartMasks::at_ring(m.position, n, at, k)));
         lt.own_vertex_tangents.push_back({v, Index(lt.own_t1.size())});
         for (int tangent = 0; tangent < 2; ++tangent) {
             std::vector<float> weights(static_cast<std::size_t>(n));
-            for (int k = 0; k < n; ++k) weights[std::size_t(k)] = float(weight(tangent == 0 ? t1[n] : t2[n], k));
+            for (int k = 0; k < n; ++k)
+                weights[std::size_t(k)] = float(DartMasks::at_ring(tangent == 0 ? m.t1 : m.t2, n, at, k));
             scale_to_at_most_unit_sum(weights);
             std::vector<float>& to = tangent == 0 ? lt.own_t1 : lt.own_t2;
             to.insert(to.end(), weights.begin(), weights.end());
@@ -725,6 +743,11 @@ detail::PlanBuilder::Spent detail::PlanBuilder::spend(const LevelState& level, c
     }
     out.ring = rules_->refine_until_spent(
         {n, vertex.own_sharpness(), vertex.sharpness.data(), far.data(), faces.data(), wings.data()});
+    if (out.ring.rule == SdcRule::Dart) {
+        const int k = out.ring.crease[0];
+        out.dart =
+            rules_->edge_mask({kInfiniteSharpness, VertexType::Dart, VertexType::Smooth, faces[k], true}).wings == 0.0;
+    }
     return out;
 }
 
@@ -777,38 +800,56 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         }
         return first;
     };
+    DartMasks darts;
+    std::vector<float> dart_t1, dart_t2;
     for (const Spent& x : spent) {
         const Index v = x.vertex;
         const int n = int(x.neighbours.size());
-        const LimitMask limit = rules_->limit_mask({VertexType::Smooth,
-                                                    x.ring.rule,
-                                                    n,
-                                                    0.0f,
-                                                    0.0f,
-                                                    nullptr,
-                                                    nullptr,
-                                                    0,
-                                                    {x.ring.crease[0], x.ring.crease[1]},
-                                                    {-1, -1}},
-                                                   0.5, 0.5);
-        mask.assign(n + 1, limit.ring);
-        mask[0] = limit.self;
-        if (x.ring.crease[0] >= 0) mask[1 + x.ring.crease[0]] += limit.end_a;
-        if (x.ring.crease[1] >= 0) mask[1 + x.ring.crease[1]] += limit.end_b;
-        pull_back(x);
         Index buffer[6];
         const LimitRing found = limit_ring(lt, v, buffer);
         const Index* ring = found.ring;
-        const int count = found.count;
-        assert(count == n);
+        assert(found.count == n);
+        // Spent into a dart whose fan is a disk: plan_darts' masks, from the sharp edge at ring place `at`.
+        const int at = x.dart ? int(std::find(ring, ring + n, x.neighbours[std::size_t(x.ring.crease[0])]) - ring) : n;
+        const DartMasks::Masks* dart = at < n && !lt.by_side[v] ? &darts.of(n) : nullptr;
+        if (dart) {
+            mask.assign(n + 1, 0.0);
+            mask[0] = dart->position[0];
+            for (int k = 0; k < n; ++k) mask[x.slot(ring[k])] += DartMasks::at_ring(dart->position, n, at, k);
+        } else {
+            const LimitMask limit = rules_->limit_mask({VertexType::Smooth,
+                                                        x.ring.rule,
+                                                        n,
+                                                        0.0f,
+                                                        0.0f,
+                                                        nullptr,
+                                                        nullptr,
+                                                        0,
+                                                        {x.ring.crease[0], x.ring.crease[1]},
+                                                        {-1, -1}},
+                                                       0.5, 0.5);
+            mask.assign(n + 1, limit.ring);
+            mask[0] = limit.self;
+            if (x.ring.crease[0] >= 0) mask[1 + x.ring.crease[0]] += limit.end_a;
+            if (x.ring.crease[1] >= 0) mask[1 + x.ring.crease[1]] += limit.end_b;
+        }
+        pull_back(x);
         s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(pulled[0])});
         std::vector<float> weights;
-        take(x, ring, count, weights);
+        take(x, ring, n, weights);
         s.ring_weights.insert(s.ring_weights.end(), weights.begin(), weights.end());
-        // Smooth once spent, its ring counter-clockwise: one normal.
-        if (!lt.by_side[v])
+        // Smooth or a dart once spent, its ring counter-clockwise: one normal.
+        if (lt.by_side[v]) continue;
+        if (!dart) {
             lt.own_vertex_tangents.push_back(
                 {v, own_tangents(x, ring, n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
+            continue;
+        }
+        dart_t1.resize(std::size_t(n)), dart_t2.resize(std::size_t(n));
+        for (int k = 0; k < n; ++k)
+            dart_t1[std::size_t(k)] = float(DartMasks::at_ring(dart->t1, n, at, k)),
+            dart_t2[std::size_t(k)] = float(DartMasks::at_ring(dart->t2, n, at, k));
+        lt.own_vertex_tangents.push_back({v, own_tangents(x, ring, n, dart_t1.data(), dart_t2.data())});
     }
     for (LimitTables::Side& side : lt.sides) {
         const auto found = std::lower_bound(spent.begin(), spent.end(), side.vertex,

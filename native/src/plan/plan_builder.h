@@ -67,6 +67,9 @@ private:
         Index vertex;
         std::vector<Index> neighbours;  // slot 1 + k: the other end of its k-th edge
         SpentRing ring;
+        // Spent into OpenSubdiv's dart, whose sharp edge refines as a crease's: its limit is the dart's own
+        // (plan_darts).
+        bool dart = false;
         int slot(Index x) const {
             if (x == vertex) return 0;
             const auto found = std::find(neighbours.begin(), neighbours.end(), x);
