@@ -303,17 +303,23 @@ TEST(FaceVaryingLimitAgainstBfr, ValuesAtSemiSharpVertices) {
             std::vector<float> values(2 * std::size_t(plan.num_output_face_varying_values(0)));
             plan.evaluate_face_varying(0, interleaved(mesh.uvs.data(), 2), interleaved(values.data(), 2));
             const std::vector<double> expected = bfr_face_varying_limit(mesh, plan);
-            std::vector<std::uint8_t> semi_sharp(std::size_t(plan.num_output_vertices()), 0);
+            std::vector<std::uint8_t> semi_sharp(std::size_t(plan.num_output_vertices()), 0),
+                infinite(semi_sharp.size(), 0);
             const std::vector<std::int32_t>& sharp = plan.output_sharp_edges();
-            for (std::size_t k = 0; k < plan.output_sharp_edge_sharpness().size(); ++k)
-                if (plan.output_sharp_edge_sharpness()[k] < kInfiniteSharpness)
-                    semi_sharp[sharp[2 * k]] = semi_sharp[sharp[2 * k + 1]] = 1;
+            for (std::size_t k = 0; k < plan.output_sharp_edge_sharpness().size(); ++k) {
+                std::vector<std::uint8_t>& count =
+                    plan.output_sharp_edge_sharpness()[k] < kInfiniteSharpness ? semi_sharp : infinite;
+                ++count[sharp[2 * k]], ++count[sharp[2 * k + 1]];
+            }
             const std::int32_t* triangles = plan.output_triangles();
             const std::int32_t* value_of = plan.output_face_varying_indices(0);
             double worst = 0.0;
             int compared = 0;
             for (std::size_t c = 0; c < 3 * std::size_t(plan.num_output_triangles()); ++c) {
-                if (!semi_sharp[triangles[c]]) continue;
+                // Where the features spend into a dart (one infinitely sharp edge), Bfr's surface is not the limit:
+                // its points there are 1.3-6.1e-4 off Far's refinement 9 levels down on this unit sphere, ours within
+                // 1e-6 (LimitAtDarts).
+                if (!semi_sharp[triangles[c]] || infinite[triangles[c]] == 1) continue;
                 ++compared;
                 const float* ours = &values[2 * std::size_t(value_of[c])];
                 worst = std::max(worst, std::hypot(ours[0] - expected[2 * c], ours[1] - expected[2 * c + 1]));
