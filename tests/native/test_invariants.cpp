@@ -443,6 +443,21 @@ struct FeedBackCase {
 // gtest prints a parameter with this (instead of its bytes) when a case fails.
 void PrintTo(const FeedBackCase& c, std::ostream* os) { *os << c.name; }
 
+// A plan's output as a mesh to feed back in: its positions (evaluated from `mesh`), triangles, output crease and corner
+// tags, and `mesh`'s boundary and crease method.
+TestMesh fed_back(Plan& plan, const TestMesh& mesh) {
+    TestMesh out;
+    out.positions = evaluate_positions(plan, mesh);
+    out.triangles.assign(plan.output_triangles(), plan.output_triangles() + 3 * plan.num_output_triangles());
+    out.crease_edges = plan.output_crease_edges();
+    out.crease_sharpness = plan.output_crease_sharpness();
+    out.corner_vertices = plan.output_corner_vertices();
+    out.corner_sharpness = plan.output_corner_sharpness();
+    out.boundary = mesh.boundary;
+    out.crease_method = mesh.crease_method;
+    return out;
+}
+
 // Level-1 output (positions, triangles, output crease and corner tags) refined once more equals two levels at
 // once: same vertices (level-1 vertices keep their indices; the new ones are matched through their edge), same
 // triangles, same positions, same tags.
@@ -463,15 +478,7 @@ TEST_P(FeedBack, OneLevelTwiceEqualsTwoLevels) {
 
     options.levels = 1;
     Plan first(mesh.view(), options);
-    TestMesh level1;
-    level1.positions = evaluate_positions(first, mesh);
-    level1.triangles.assign(first.output_triangles(), first.output_triangles() + 3 * first.num_output_triangles());
-    level1.crease_edges = first.output_crease_edges();
-    level1.crease_sharpness = first.output_crease_sharpness();
-    level1.corner_vertices = first.output_corner_vertices();
-    level1.corner_sharpness = first.output_corner_sharpness();
-    level1.boundary = mesh.boundary;
-    level1.crease_method = mesh.crease_method;
+    const TestMesh level1 = fed_back(first, mesh);
     ASSERT_FALSE(level1.crease_sharpness.empty()) << "test set-up: the case must carry crease tags to level 1";
     Plan second(level1.view(), options);
     const std::vector<float> second_positions = evaluate_positions(second, level1);
@@ -596,14 +603,10 @@ TEST(RefinedLevel, FedBackWithItsEdgesGoesOnToTheSameSurface) {
 
     options.levels = 2;
     Plan two(mesh.view(), options);
-    TestMesh level2;
-    level2.positions = evaluate_positions(two, mesh);
-    level2.triangles.resize(3 * std::size_t(two.num_output_triangles()));
+    const TestMesh level2 = fed_back(two, mesh);
     std::vector<std::int32_t> edge_vertices(2 * std::size_t(two.num_output_edges())),
         triangle_edges(level2.triangles.size());
-    two.output_edges(edge_vertices.data(), triangle_edges.data(), level2.triangles.data());
-    level2.crease_edges = two.output_crease_edges();
-    level2.crease_sharpness = two.output_crease_sharpness();
+    two.output_edges(edge_vertices.data(), triangle_edges.data());
     ASSERT_FALSE(level2.crease_sharpness.empty()) << "test set-up: the crease must outlast level 2";
     MeshView view = level2.view();
     view.triangle_edges = triangle_edges.data();
