@@ -13,11 +13,11 @@
 //   (bit 1, so that they pass) or else from the bytes; then a byte per corner, from which a numbered corner's edge may
 //   take a number of its own (a second edge on the same ends, as a refined level has next to a valence-2 vertex).
 #include <algorithm>
-#include <map>
-#include <utility>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "fuzz_common.h"

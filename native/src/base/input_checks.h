@@ -61,6 +61,10 @@ bool check_triangle_edges(const MeshView& mesh, Report&& report) {
     if (!mesh.triangle_edges) return true;
     const std::int64_t corners = 3 * std::int64_t(mesh.num_triangles);
     std::vector<std::int64_t> first_corner(std::size_t(corners), -1);  // of each number
+    auto ends = [&mesh](std::int64_t corner) {
+        const std::int32_t a = mesh.triangles[corner], b = mesh.triangles[corner - corner % 3 + (corner + 1) % 3];
+        return std::pair<std::int32_t, std::int32_t>(std::min(a, b), std::max(a, b));
+    };
     for (std::int64_t c = 0; c < corners; ++c) {
         const std::int32_t edge = mesh.triangle_edges[c];
         Problem p;
@@ -70,10 +74,6 @@ bool check_triangle_edges(const MeshView& mesh, Report&& report) {
             if (!report(p)) return false;
             continue;
         }
-        auto ends = [&mesh](std::int64_t corner) {
-            const std::int32_t a = mesh.triangles[corner], b = mesh.triangles[corner - corner % 3 + (corner + 1) % 3];
-            return std::pair<std::int32_t, std::int32_t>(std::min(a, b), std::max(a, b));
-        };
         std::int64_t& first = first_corner[std::size_t(edge)];
         if (first < 0) {
             first = c;

@@ -440,8 +440,8 @@ void list_redone(LimitTables& lt, const std::vector<Index>& by_side) {
                  std::lower_bound(redone.begin(), redone.end(), lt.from_grandparent->grandparent.num_vertices));
 }
 
-// OpenSubdiv's dart masks (dart_limit_masks) by valence, made on first use, read counter-clockwise from the dart's
-// sharp edge, at ring position `at`: the vertex's weight, and ring position k's.
+// OpenSubdiv's dart masks (dart_limit_masks) by valence, made on first use. Each runs counter-clockwise from the dart's
+// sharp edge, its weight for the vertex first: read around a ring whose position `at` is the sharp edge's.
 class DartMasks {
 public:
     struct Masks {
@@ -453,8 +453,15 @@ public:
         if (m.position.empty()) dart_limit_masks(valence, m.position, m.t1, m.t2);
         return m;
     }
-    static double at_ring(const std::vector<double>& mask, int valence, int at, int k) {
+    // The weight of ring position k.
+    static double at_ring(const std::vector<double>& mask, int at, int k) {
+        const int valence = int(mask.size()) - 1;
         return mask[std::size_t(1 + (k - at + valence) % valence)];
+    }
+    // The weights of ring positions 0 to valence - 1.
+    static void ring_weights(const std::vector<double>& mask, int at, std::vector<float>& out) {
+        out.resize(mask.size() - 1);
+        for (int k = 0; k < int(out.size()); ++k) out[std::size_t(k)] = float(at_ring(mask, at, k));
     }
 
 private:
@@ -695,13 +702,13 @@ void detail::PlanBuilder::plan_darts(const std::vector<std::pair<Index, Index>>&
         const int at = int(std::find(ring, ring + n, sharp_end) - ring);
         if (at == n || lt.by_side[v]) continue;  // no disk fan to order: its sides' normals
         const DartMasks::Masks& m = masks.of(n);
+        std::vector<float> weights;
+        DartMasks::ring_weights(m.position, at, weights);
         s.ring_weighted_vertices.push_back({v, Index(s.ring_weights.size()), float(m.position[0])});
-        for (int k = 0; k < n; ++k) s.ring_weights.push_back(float(DartMasks::at_ring(m.position, n, at, k)));
+        s.ring_weights.insert(s.ring_weights.end(), weights.begin(), weights.end());
         lt.own_vertex_tangents.push_back({v, Index(lt.own_t1.size())});
         for (int tangent = 0; tangent < 2; ++tangent) {
-            std::vector<float> weights(static_cast<std::size_t>(n));
-            for (int k = 0; k < n; ++k)
-                weights[std::size_t(k)] = float(DartMasks::at_ring(tangent == 0 ? m.t1 : m.t2, n, at, k));
+            DartMasks::ring_weights(tangent == 0 ? m.t1 : m.t2, at, weights);
             scale_to_at_most_unit_sum(weights);
             std::vector<float>& to = tangent == 0 ? lt.own_t1 : lt.own_t2;
             to.insert(to.end(), weights.begin(), weights.end());
@@ -815,7 +822,7 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
         if (dart) {
             mask.assign(n + 1, 0.0);
             mask[0] = dart->position[0];
-            for (int k = 0; k < n; ++k) mask[x.slot(ring[k])] += DartMasks::at_ring(dart->position, n, at, k);
+            for (int k = 0; k < n; ++k) mask[x.slot(ring[k])] += DartMasks::at_ring(dart->position, at, k);
         } else {
             const LimitMask limit = rules_->limit_mask({VertexType::Smooth,
                                                         x.ring.rule,
@@ -845,10 +852,7 @@ void detail::PlanBuilder::pull_back_spent(const std::vector<Spent>& spent, Limit
                 {v, own_tangents(x, ring, n, lt.smooth_t1[n].data(), lt.smooth_t2[n].data())});
             continue;
         }
-        dart_t1.resize(std::size_t(n)), dart_t2.resize(std::size_t(n));
-        for (int k = 0; k < n; ++k)
-            dart_t1[std::size_t(k)] = float(DartMasks::at_ring(dart->t1, n, at, k)),
-            dart_t2[std::size_t(k)] = float(DartMasks::at_ring(dart->t2, n, at, k));
+        DartMasks::ring_weights(dart->t1, at, dart_t1), DartMasks::ring_weights(dart->t2, at, dart_t2);
         lt.own_vertex_tangents.push_back({v, own_tangents(x, ring, n, dart_t1.data(), dart_t2.data())});
     }
     for (LimitTables::Side& side : lt.sides) {

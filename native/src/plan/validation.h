@@ -27,8 +27,9 @@ bool check_crease_edges(const Topology& t, const MeshView& mesh, Report&& report
     for (int k = 0; k < mesh.num_crease_edges; ++k) {
         const Index a = mesh.crease_edges[2 * k], b = mesh.crease_edges[2 * k + 1];
         bool found = false;
-        for (Index i = t.vertex_edge_offsets[a]; i < t.vertex_edge_offsets[a + 1] && a != b; ++i)
-            if (t.other_end(t.vertex_edges[i], a) == b) tag(k, t.vertex_edges[i]), found = true;
+        if (a != b)
+            for (Index i = t.vertex_edge_offsets[a]; i < t.vertex_edge_offsets[a + 1]; ++i)
+                if (t.other_end(t.vertex_edges[i], a) == b) tag(k, t.vertex_edges[i]), found = true;
         if (found) continue;
         Problem p;
         p.kind = Kind::NotAnEdge, p.element = Element::CreaseEdge, p.index = k, p.refers_to = a, p.other = b;

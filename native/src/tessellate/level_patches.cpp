@@ -97,15 +97,15 @@ int LevelPatches::next_corner(int corner, bool counter_clockwise) const {
     if (candidates < 2) return found;
     // Several faces run along v and `shared` that way: a non-manifold edge, or two edges with these ends (input
     // levels have none); the face across this edge by the split's numbering, if one is.
-    if (!has_edges_) return -1;
-    triangle_edges();
+    const std::int32_t* edges = triangle_edges();
+    if (!edges) return -1;
     // The edge from the corner's previous vertex to it (counter-clockwise), or from it to its next.
-    const std::int32_t edge = triangle_edges_[3 * std::size_t(f) + std::size_t(counter_clockwise ? (i + 2) % 3 : i)];
+    const std::int32_t edge = edges[3 * std::size_t(f) + std::size_t(counter_clockwise ? (i + 2) % 3 : i)];
     found = -1, candidates = 0;
     for (const std::int32_t* c = corners_begin(v); c != corners_end(v); ++c) {
         const int g = *c / 3, j = *c % 3;
         if (g == f || triangles_[3 * g + (counter_clockwise ? (j + 1) % 3 : (j + 2) % 3)] != shared) continue;
-        if (triangle_edges_[3 * std::size_t(g) + std::size_t(counter_clockwise ? j : (j + 2) % 3)] != edge) continue;
+        if (edges[3 * std::size_t(g) + std::size_t(counter_clockwise ? j : (j + 2) % 3)] != edge) continue;
         found = *c, ++candidates;
     }
     return candidates == 1 ? found : -1;
